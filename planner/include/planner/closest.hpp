@@ -1,0 +1,25 @@
+#pragma once
+// Closest points and distances between points and path primitives (m).
+
+#include "planner/segment.hpp"
+
+namespace blendbench {
+
+struct Closest {
+  double s = 0;         // arc length of the closest point on the segment
+  Vec3 point;           // the closest point
+  double distance = 0;  // |query - point|
+};
+
+// Exact for lines and planar arcs; for helices, Bezier curves and clothoids a dense scan
+// refined by golden-section search (relative error below 1e-10 of the segment length).
+Closest closest_point(const Segment& segment, const Vec3& query);
+Closest closest_point(const Primitive& primitive, const Vec3& query);
+
+// Hausdorff distance between two sets of segments (each treated as one curve), m: the larger of
+// the two directed distances max_{a in A} min_{b in B} |a - b| and the reverse, each measured
+// by sampling the first set every `step` m (at least 64 samples a segment) and finding exact or
+// refined closest points on the second.
+double hausdorff(const std::vector<Segment>& a, const std::vector<Segment>& b, double step);
+
+}  // namespace blendbench

@@ -1,0 +1,70 @@
+#pragma once
+// A program of Cartesian moves in the PLCopen Part 4 style (MovL / MovC), in SI units.
+// Loaders (YAML scenarios, G-code) produce it; the blender consumes it.
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "planner/input_error.hpp"
+#include "planner/segment.hpp"
+
+namespace blendbench {
+
+// How a move hands over to the next one (PLCopen buffer modes). Buffered stops between moves
+// wherever the path keeps a tangent discontinuity; the Blending modes choose the junction
+// velocity (Low: the slower move's, Previous: the first's, Next: the second's, High: the
+// faster's). Aborting starts the next move at once (treated like BlendingNext here).
+enum class BufferMode { kAborting, kBuffered, kBlendingLow, kBlendingPrevious, kBlendingNext, kBlendingHigh };
+
+// The transition curve inserted at the corner at the end of a move.
+enum class Method { kNone, kArc, kBezier, kClothoid, kBiclothoid };
+
+std::string_view to_string(BufferMode mode);
+std::string_view to_string(Method method);
+// Parse the names used in files ("Buffered", "BlendingLow", ...; "none", "arc", ...);
+// case-insensitive; nullopt when unknown.
+std::optional<BufferMode> buffer_mode_from_string(std::string_view name);
+std::optional<Method> method_from_string(std::string_view name);
+
+// The transition mode and its parameter, on the move that ends at the corner.
+struct Transition {
+  Method method = Method::kNone;
+  // m: corner distance (arc), transition parameter TP (bezier), maximum deviation from the
+  // programmed path (clothoid, biclothoid).
+  double parameter = 0;
+  // 1/m: optional curvature cap for the clothoid method (clothoid-arc-clothoid); 0 = none.
+  double kappa_max = 0;
+  // m/s: transition velocity (001: the transition takes its velocity from the transition
+  // parameter); 0 = the slower of the two moves.
+  double velocity = 0;
+};
+
+// Kinematic limits of one move along the path (PLCopen Velocity, Acceleration, Deceleration, Jerk).
+struct Limits {
+  double velocity = 0;      // m/s
+  double acceleration = 0;  // m/s^2
+  double deceleration = 0;  // m/s^2
+  double jerk = 0;          // m/s^3
+};
+
+struct Move {
+  Primitive geometry;  // as programmed; starts where the previous move ends
+  Limits limits;
+  BufferMode buffer = BufferMode::kBlendingLow;
+  Transition transition;  // applies to the corner at the end of this move
+  SourceRef where;        // where the move was written, for error messages
+  std::string name;       // e.g. "move 3" or "N120 G1", for reports
+};
+
+struct Program {
+  std::vector<Move> moves;
+};
+
+// Checks what the blender assumes: at least one move, consecutive moves joined (end of move k
+// equals start of move k+1 within 1e-9 of the program size), no zero-length move, positive
+// limits, a non-negative transition parameter. Throws InputError naming the move.
+void validate(const Program& program);
+
+}  // namespace blendbench

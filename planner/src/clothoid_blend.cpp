@@ -1,0 +1,12 @@
+#include "planner/corner.hpp"
+
+namespace blendbench {
+
+// Placeholder until the clothoid method lands: the blender turns this into an exact stop.
+CornerFit fit_clothoid_corner(const CornerInput& corner) {
+  CornerFit fit;
+  fit.outcome = {Status::kInfeasible, "the clothoid method is not available in this build (" + corner.name + ")"};
+  return fit;
+}
+
+}  // namespace blendbench

@@ -1,0 +1,127 @@
+#include "planner/program.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <sstream>
+#include <utility>
+
+namespace blendbench {
+namespace {
+
+std::string lower(std::string_view text) {
+  std::string out(text);
+  std::transform(out.begin(), out.end(), out.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return out;
+}
+
+constexpr std::array<std::pair<BufferMode, std::string_view>, 6> kBufferNames = {{
+    {BufferMode::kAborting, "Aborting"},
+    {BufferMode::kBuffered, "Buffered"},
+    {BufferMode::kBlendingLow, "BlendingLow"},
+    {BufferMode::kBlendingPrevious, "BlendingPrevious"},
+    {BufferMode::kBlendingNext, "BlendingNext"},
+    {BufferMode::kBlendingHigh, "BlendingHigh"},
+}};
+
+constexpr std::array<std::pair<Method, std::string_view>, 5> kMethodNames = {{
+    {Method::kNone, "none"},
+    {Method::kArc, "arc"},
+    {Method::kBezier, "bezier"},
+    {Method::kClothoid, "clothoid"},
+    {Method::kBiclothoid, "biclothoid"},
+}};
+
+std::string describe(const Move& move, std::size_t index) {
+  return move.name.empty() ? "move " + std::to_string(index + 1) : move.name;
+}
+
+std::string format_mm(double metres) {
+  std::ostringstream out;
+  out.precision(6);
+  out << metres * 1000.0 << " mm";
+  return out.str();
+}
+
+}  // namespace
+
+std::string_view to_string(BufferMode mode) {
+  for (const auto& [m, name] : kBufferNames) {
+    if (m == mode) return name;
+  }
+  return "unknown";
+}
+
+std::string_view to_string(Method method) {
+  for (const auto& [m, name] : kMethodNames) {
+    if (m == method) return name;
+  }
+  return "unknown";
+}
+
+std::optional<BufferMode> buffer_mode_from_string(std::string_view name) {
+  const std::string key = lower(name);
+  for (const auto& [m, n] : kBufferNames) {
+    if (lower(n) == key) return m;
+  }
+  return std::nullopt;
+}
+
+std::optional<Method> method_from_string(std::string_view name) {
+  const std::string key = lower(name);
+  for (const auto& [m, n] : kMethodNames) {
+    if (n == key) return m;
+  }
+  return std::nullopt;
+}
+
+void validate(const Program& program) {
+  if (program.moves.empty()) throw InputError("", 0, 0, "moves", "the program has no moves");
+  // size of the program, for relative tolerances
+  double size = 0;
+  for (const Move& move : program.moves) size = std::max(size, length(move.geometry));
+  const double join_tol = 1e-9 * std::max(size, 1e-3);
+
+  for (std::size_t k = 0; k < program.moves.size(); ++k) {
+    const Move& move = program.moves[k];
+    const std::string who = describe(move, k);
+    const double len = length(move.geometry);
+    if (!std::isfinite(len) || len <= join_tol) {
+      fail_at(move.where, "geometry", who + " has zero length (" + format_mm(len) + "); remove it or give it a distinct end point");
+    }
+    if (const Arc* arc = std::get_if<Arc>(&move.geometry)) {
+      if (!(arc->radius > 0) || !(arc->sweep > 0)) fail_at(move.where, "geometry", who + " is a degenerate arc");
+    }
+    const Limits& lim = move.limits;
+    const std::array<std::pair<double, const char*>, 4> limits = {{{lim.velocity, "velocity"},
+                                                                    {lim.acceleration, "acceleration"},
+                                                                    {lim.deceleration, "deceleration"},
+                                                                    {lim.jerk, "jerk"}}};
+    for (const auto& [value, field] : limits) {
+      if (!std::isfinite(value) || value <= 0) {
+        fail_at(move.where, field, who + ": " + field + " must be positive and finite, got " + std::to_string(value));
+      }
+    }
+    if (!std::isfinite(move.transition.parameter) || move.transition.parameter < 0) {
+      fail_at(move.where, "transition.parameter", who + ": the transition parameter must be >= 0");
+    }
+    if (!std::isfinite(move.transition.kappa_max) || move.transition.kappa_max < 0) {
+      fail_at(move.where, "transition.kappa_max", who + ": the curvature cap must be >= 0");
+    }
+    if (!std::isfinite(move.transition.velocity) || move.transition.velocity < 0) {
+      fail_at(move.where, "transition.velocity", who + ": the transition velocity must be >= 0");
+    }
+    if (k + 1 < program.moves.size()) {
+      const Vec3 end = point(move.geometry, len);
+      const Vec3 next = point(program.moves[k + 1].geometry, 0.0);
+      if ((end - next).norm() > join_tol) {
+        fail_at(program.moves[k + 1].where, "geometry",
+                describe(program.moves[k + 1], k + 1) + " does not start where " + who + " ends (gap " +
+                    format_mm((end - next).norm()) + ")");
+      }
+    }
+  }
+}
+
+}  // namespace blendbench

@@ -1,0 +1,64 @@
+#include "planner/blend.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace blendbench {
+namespace {
+
+Move line_move(const Vec3& a, const Vec3& b, Method method = Method::kNone, double parameter = 0) {
+  Move move;
+  move.geometry = Line{a, b};
+  move.limits = {0.2, 1.0, 1.0, 10.0};
+  move.transition.method = method;
+  move.transition.parameter = parameter;
+  return move;
+}
+
+TEST(Blend, ExactStopKeepsTheProgrammedPathAndStopsAtEveryCorner) {
+  Program program;
+  program.moves = {line_move({0, 0, 0}, {0.1, 0, 0}), line_move({0.1, 0, 0}, {0.1, 0.1, 0}),
+                   line_move({0.1, 0.1, 0}, {0, 0.1, 0})};
+  const Path path = blend(program);
+  ASSERT_EQ(path.pieces().size(), 3u);
+  ASSERT_EQ(path.corners.size(), 2u);
+  EXPECT_NEAR(path.length(), 0.3, 1e-15);
+  EXPECT_FALSE(path.pieces()[0].stop_before);
+  EXPECT_TRUE(path.pieces()[1].stop_before);
+  EXPECT_TRUE(path.pieces()[2].stop_before);
+  EXPECT_NEAR(path.pieces()[1].kink_angle, M_PI / 2, 1e-12);
+  EXPECT_EQ(path.corners[0].case_name, "exact_stop");
+  EXPECT_EQ(path.corners[0].length, 0.0);
+  EXPECT_TRUE(path.point(0.15).isApprox(Vec3(0.1, 0.05, 0), 1e-14));
+}
+
+TEST(Blend, ZeroLengthMoveIsAnInputErrorNamingTheMove) {
+  Program program;
+  program.moves = {line_move({0, 0, 0}, {0.1, 0, 0}), line_move({0.1, 0, 0}, {0.1, 0, 0})};
+  program.moves[1].name = "N20 G1";
+  program.moves[1].where = {"part.ngc", 2, 1};
+  try {
+    (void)blend(program);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), "part.ngc");
+    EXPECT_EQ(e.line(), 2);
+    EXPECT_NE(std::string(e.what()).find("N20 G1 has zero length"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Blend, DisjointMovesAreRejected) {
+  Program program;
+  program.moves = {line_move({0, 0, 0}, {0.1, 0, 0}), line_move({0.2, 0, 0}, {0.3, 0, 0})};
+  EXPECT_THROW((void)blend(program), InputError);
+}
+
+TEST(Blend, SpeedLimitOfPaper004Table1) {
+  // 004 table 1, fillet S1S2: c = 0.016 1/mm^2, kappa = 0.124 1/mm -> 12486 mm/min
+  const double v = curvature_speed_limit(124.0, 16000.0, 9.8, 200.0);
+  EXPECT_NEAR(v * 60000.0, 12486.0, 1.0);
+}
+
+}  // namespace
+}  // namespace blendbench

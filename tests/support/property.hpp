@@ -1,0 +1,34 @@
+#pragma once
+// Helpers for seeded property tests: the case count comes from BLENDBENCH_PROPERTY_CASES (so CI
+// and a developer can run more), and every failure message carries the seed to replay it.
+
+#include <cstdint>
+#include <cstdlib>
+#include <random>
+#include <string>
+
+namespace blendbench::test {
+
+// Number of random cases: BLENDBENCH_PROPERTY_CASES if set and positive, else `fallback`.
+inline int property_cases(int fallback) {
+  if (const char* env = std::getenv("BLENDBENCH_PROPERTY_CASES")) {
+    const int n = std::atoi(env);
+    if (n > 0) return n;
+  }
+  return fallback;
+}
+
+// A generator seeded per case; `seed_text(seed)` goes into failure messages.
+inline std::mt19937_64 make_rng(std::uint64_t seed) { return std::mt19937_64(seed); }
+inline std::string seed_text(std::uint64_t seed) { return "seed=" + std::to_string(seed); }
+
+inline double uniform(std::mt19937_64& rng, double lo, double hi) {
+  return std::uniform_real_distribution<double>(lo, hi)(rng);
+}
+
+// A path to a source-tree file (models, scenarios) from a test.
+inline std::string source_path(const std::string& relative) {
+  return std::string(BLENDBENCH_SOURCE_DIR) + "/" + relative;
+}
+
+}  // namespace blendbench::test
