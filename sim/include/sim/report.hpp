@@ -1,0 +1,26 @@
+#pragma once
+// Text forms of planner results for files: the sampled path as CSV and the corner reports as
+// JSON, in the units of the command-line contract (mm, 1/mm, mm/min).
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "planner/path.hpp"
+#include "planner/program.hpp"
+
+namespace blendbench {
+
+// The path sampled uniformly in s every `ds` m at most (both ends included), with the header
+// `s,x,y,z,tx,ty,tz,kappa` in mm, unit tangent and 1/mm. Pieces are sampled separately so every
+// junction appears exactly once.
+std::string path_csv(const Path& path, double ds);
+
+// The programmed moves sampled every `ds` m at most, header `s,x,y,z` (mm).
+std::string program_csv(const Program& program, double ds);
+
+// One JSON object per corner: index, method, case, fallback, note, parameter_mm, length_mm,
+// deviation_mm, kappa_max_per_mm, sharpness_max_per_mm2, feed_max_mm_per_min, trim_in_mm,
+// trim_out_mm, stop.
+nlohmann::json corners_json(const Path& path);
+
+}  // namespace blendbench
