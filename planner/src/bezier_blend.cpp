@@ -192,33 +192,19 @@ Curve circle_to_circle(const End& a, const Vec3& b, const End& c) {
   return out;
 }
 
-// The curve is regular (no cusp) and finite; the speed is sampled, since |C'| of a cubic
-// hodograph has no convenient closed-form minimum.
-bool regular(const std::vector<Vec3>& p, std::string& why) {
-  for (const Vec3& q : p) {
-    if (!q.allFinite()) {
-      why = "a control point is not finite";
-      return false;
-    }
-  }
-  const int n = static_cast<int>(p.size()) - 1;
-  std::vector<Vec3> h;
-  for (int i = 0; i < n; ++i) h.push_back(n * (p[static_cast<std::size_t>(i) + 1] - p[static_cast<std::size_t>(i)]));
+// The curve is regular (no cusp): its speed |C'(u)| stays above kMinRelativeSpeed of its
+// maximum on kSpeedSamples + 1 samples (|C'|^2 is a polynomial of degree up to 6; the
+// near-cusps that matter are wide enough to be sampled).
+bool regular(const Bezier& curve, std::string& why) {
   double lo = std::numeric_limits<double>::infinity();
   double hi = 0;
   for (int k = 0; k <= kSpeedSamples; ++k) {
-    const double u = static_cast<double>(k) / kSpeedSamples;
-    // de Casteljau on the hodograph
-    std::vector<Vec3> q = h;
-    for (std::size_t level = 1; level < q.size(); ++level) {
-      for (std::size_t i = 0; i + level < q.size(); ++i) q[i] = (1 - u) * q[i] + u * q[i + 1];
-    }
-    const double speed = q[0].norm();
+    const double speed = curve.d1(static_cast<double>(k) / kSpeedSamples).norm();
     lo = std::min(lo, speed);
     hi = std::max(hi, speed);
   }
   if (!(lo > kMinRelativeSpeed * hi)) {
-    why = "the Bezier would have a cusp (speed " + std::to_string(lo) + " of " + std::to_string(hi) + ")";
+    why = "the Bezier would have a cusp (minimum speed " + std::to_string(lo / hi) + " of the maximum)";
     return false;
   }
   return true;
@@ -288,6 +274,7 @@ CornerFit fit_bezier_corner(const CornerInput& corner) {
     fit.case_name = "reversal";
     fit.stop = true;
     fit.parameter_used = 0;
+    fit.note.clear();
     return fit;
   }
   // already G2: collinear lines, or the same circle continued in the same direction
@@ -336,8 +323,15 @@ CornerFit fit_bezier_corner(const CornerInput& corner) {
     curve = circle_to_circle(a, b_out, c);
   }
 
+  // never NaN: a non-finite or cusped curve is reported, not returned
+  const bool finite = std::all_of(curve.points.begin(), curve.points.end(), [](const Vec3& q) { return q.allFinite(); });
+  if (!finite) {
+    fit.outcome = {Status::kInfeasible, "a control point of the Bezier is not finite"};
+    return fit;
+  }
+  Bezier bezier(std::move(curve.points));
   std::string bad;
-  if (!regular(curve.points, bad)) {
+  if (!regular(bezier, bad)) {
     fit.outcome = {Status::kInfeasible, bad};
     return fit;
   }
@@ -345,7 +339,7 @@ CornerFit fit_bezier_corner(const CornerInput& corner) {
   fit.fallback = curve.fallback;
   fit.trim_in = l;
   fit.trim_out = l;
-  fit.transition.emplace_back(Bezier(std::move(curve.points)));
+  fit.transition.emplace_back(std::move(bezier));
   return fit;
 }
 

@@ -209,6 +209,17 @@ TEST(BezierBlend, NearReversalIsStillAFiniteG2Cubic) {
   EXPECT_TRUE(std::isfinite(max_curvature(fit.transition[0], 0, length(fit.transition[0]))));
 }
 
+TEST(BezierBlend, AlmostReversalWithACuspIsReportedNotReturned) {
+  // 2e-9 rad short of a reversal the cubic's speed at u = 1/2 is ~5e-10 of its maximum: a cusp
+  const double phi = kPi - 2e-9;
+  const Line in{Vec3(0, 0, 0), Vec3(0.1, 0, 0)};
+  const Line out{Vec3(0.1, 0, 0), Vec3(0.1 + 0.1 * std::cos(phi), 0.1 * std::sin(phi), 0)};
+  const CornerFit fit = fit_bezier_corner(make_corner(in, out, 5 * kMm));
+  EXPECT_EQ(fit.outcome.status, Status::kInfeasible);
+  EXPECT_NE(fit.outcome.message.find("cusp"), std::string::npos) << fit.outcome.message;
+  EXPECT_TRUE(fit.transition.empty());
+}
+
 // ---- Algorithm 1 and the blender's availability
 
 TEST(BezierBlend, Algorithm1LongMovesUseTp) {
@@ -443,6 +454,73 @@ TEST(BezierBlend, HelixIsReportedInfeasible) {
   const CornerFit fit = fit_bezier_corner(make_corner(in, out, 5 * kMm));
   EXPECT_EQ(fit.outcome.status, Status::kInfeasible);
   EXPECT_FALSE(fit.outcome.message.empty());
+}
+
+// ---- the geometry of scenarios/cases/bezier_*.yaml (in SI), blended with TP = 5 mm
+
+Move scenario_move(const Primitive& geometry) {
+  Move move;
+  move.geometry = geometry;
+  move.limits = {0.05, 0.1, 0.1, 0.2};  // 000 section 3.2
+  move.transition.method = Method::kBezier;
+  move.transition.parameter = 5 * kMm;
+  return move;
+}
+
+int degree_of_corner(const Path& path, int corner) {
+  for (const PathPiece& piece : path.pieces()) {
+    if (piece.corner == corner) return std::get<Bezier>(piece.segment).degree();
+  }
+  return 0;
+}
+
+TEST(BezierBlendScenario, LineCircle2dIsACubicThenATangentCorner) {
+  Program program;
+  const Arc arc = arc_from(Vec3(0.1, 0, 0), Vec3::UnitY(), Vec3::UnitZ(), 0.05, kPi / 2);
+  ASSERT_LT((point(arc, length(arc)) - Vec3(0.05, 0.05, 0)).norm(), 1e-15);
+  program.moves = {scenario_move(Line{Vec3::Zero(), Vec3(0.1, 0, 0)}), scenario_move(arc),
+                   scenario_move(Line{Vec3(0.05, 0.05, 0), Vec3(-0.05, 0.05, 0)})};
+  const Path path = blend(program);
+  ASSERT_EQ(path.corners.size(), 2u);
+  EXPECT_EQ(path.corners[0].case_name, "regular");
+  EXPECT_EQ(degree_of_corner(path, 0), 3);
+  EXPECT_EQ(path.corners[1].case_name, "tangent");
+  EXPECT_EQ(degree_of_corner(path, 1), 3);
+  for (const CornerReport& r : path.corners) EXPECT_NEAR(r.parameter, 5 * kMm, kExact);
+}
+
+TEST(BezierBlendScenario, LineCircle3dIsAQuartic) {
+  Program program;
+  program.moves = {scenario_move(Line{Vec3(0, 0, 0.04), Vec3(0.1, 0, 0)}),
+                   scenario_move(arc_from(Vec3(0.1, 0, 0), Vec3::UnitY(), Vec3::UnitZ(), 0.05, kPi / 2))};
+  const Path path = blend(program);
+  EXPECT_EQ(path.corners[0].case_name, "non_planar");
+  EXPECT_EQ(degree_of_corner(path, 0), 4);
+}
+
+TEST(BezierBlendScenario, CircleCircleIsAQuartic) {
+  Program program;
+  const Arc a1 = arc_from(Vec3::Zero(), -Vec3::UnitY(), Vec3::UnitZ(), 0.05, kPi);
+  const Arc a2 = arc_from(Vec3(0.1, 0, 0), Vec3(-0.8, 0.6, 0), Vec3(0.6, 0.8, 0), 0.05, kPi);
+  ASSERT_LT((point(a1, 0.5 * length(a1)) - Vec3(0.05, -0.05, 0)).norm(), 1e-15);  // via
+  ASSERT_LT((point(a2, 0.5 * length(a2)) - Vec3(0.06, 0.03, 0.05)).norm(), 1e-15);
+  ASSERT_LT((point(a2, length(a2)) - Vec3(0.1, 0, 0.1)).norm(), 1e-15);
+  program.moves = {scenario_move(a1), scenario_move(a2)};
+  const Path path = blend(program);
+  EXPECT_EQ(path.corners[0].case_name, "non_planar");
+  EXPECT_EQ(degree_of_corner(path, 0), 4);
+  EXPECT_NEAR(path.pieces()[1].kink_angle, 0.0, kG1Tol);
+}
+
+TEST(BezierBlendScenario, ShortMovesShareTheirLength) {
+  Program program;
+  const std::array<Vec3, 6> at = {Vec3(0, 0, 0), Vec3(0.1, 0, 0), Vec3(0.1, 0.006, 0), Vec3(0.2, 0.006, 0),
+                                  Vec3(0.2, 0.014, 0), Vec3(0.1, 0.014, 0)};
+  for (std::size_t k = 0; k + 1 < at.size(); ++k) program.moves.push_back(scenario_move(Line{at[k], at[k + 1]}));
+  const Path path = blend(program);
+  const std::array<double, 4> expected = {3 * kMm, 3 * kMm, 4 * kMm, 4 * kMm};
+  ASSERT_EQ(path.corners.size(), 4u);
+  for (std::size_t k = 0; k < 4; ++k) EXPECT_NEAR(path.corners[k].parameter, expected[k], kExact) << "corner " << k;
 }
 
 // ---- seeded random corners
