@@ -52,6 +52,9 @@ constexpr double kCoplanar = 1e-12;
 // rises from its end value to a sharp peak within a sliver of the curve). The quartic then
 // takes over; its line arm is at least ~0.1 L by construction (see min_energy_arm).
 constexpr double kMinCubicArm = 0.1;
+// |sin| of the angle between the line and the circle's tangent at P3 below which eq. 13 has no
+// usable solution (sin(alpha) -> 0: P2 at infinity).
+constexpr double kParallel = 1e-10;
 // Relative to the largest speed: a Bezier whose speed |C'(u)| dips below this has a cusp.
 constexpr double kMinRelativeSpeed = 1e-9;
 // Samples in u for the regularity check.
@@ -121,13 +124,15 @@ struct Curve {
 // behind P3 (l2 > 0), P1 must lie strictly between P0 and P2 (sigma < 0, l1 > 0: otherwise
 // the hodograph turns back and the curvature at P3 points away from the centre), and P2 must
 // lie within L of B, so that the whole control polygon, and by the convex hull property the
-// curve, stays within L of the corner like every other case here.
+// curve, stays within L of the corner like every other case here. Both arms must also be at
+// least kMinCubicArm L (conditioning). The paper asks only for a solution of eq. 10-13; these
+// checks are what "the cubic exists" means here, and any failure takes the quartic.
 std::optional<std::vector<Vec3>> coplanar_cubic(const End& a, const End& c, double l, std::string& why) {
   const Vec3& d = a.t;
   // P0 + t d = P3 - l2 T3, solved in the plane of d and T3
   const Vec3 dxt = d.cross(c.t);
   const double s2 = dxt.squaredNorm();
-  if (s2 < 1e-20) {
+  if (s2 < kParallel * kParallel) {
     why = "the circle's tangent at P3 is parallel to the line (eq. 13: sin(alpha) = 0)";
     return std::nullopt;
   }
