@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <utility>
 
 namespace blendbench {
 namespace {
@@ -18,30 +19,30 @@ Closest make(const Segment& segment, double s, const Vec3& query) {
   return {s, p, (query - p).norm()};
 }
 
-// Dense scan of the squared distance, then golden-section refinement around the best sample.
-Closest closest_numeric(const Segment& segment, const Vec3& query) {
-  const double len = length(segment);
+// Dense scan of the squared distance over a parameter t in [0, t_max] with position `at(t)`,
+// then golden-section refinement around the best sample; returns the best t and distance.
+template <class At>
+std::pair<double, double> scan_closest(const At& at, double t_max, const Vec3& query) {
   constexpr int kSamples = 128;
-  const double h = len / kSamples;
-  double best_s = 0;
+  const double h = t_max / kSamples;
+  double best_t = 0;
   double best_d = std::numeric_limits<double>::infinity();
   for (int i = 0; i <= kSamples; ++i) {
-    const double s = h * i;
-    const double d = (point(segment, s) - query).squaredNorm();
+    const double d = (at(h * i) - query).squaredNorm();
     if (d < best_d) {
       best_d = d;
-      best_s = s;
+      best_t = h * i;
     }
   }
-  double lo = std::max(0.0, best_s - h);
-  double hi = std::min(len, best_s + h);
+  double lo = std::max(0.0, best_t - h);
+  double hi = std::min(t_max, best_t + h);
   constexpr double kGolden = 0.6180339887498949;
-  const auto f = [&](double s) { return (point(segment, s) - query).squaredNorm(); };
+  const auto f = [&](double t) { return (at(t) - query).squaredNorm(); };
   double x1 = hi - kGolden * (hi - lo);
   double x2 = lo + kGolden * (hi - lo);
   double f1 = f(x1);
   double f2 = f(x2);
-  for (int it = 0; it < 80 && hi - lo > 1e-12 * std::max(len, 1e-9); ++it) {
+  for (int it = 0; it < 80 && hi - lo > 1e-12 * std::max(t_max, 1e-9); ++it) {
     if (f1 > f2) {
       lo = x1;
       x1 = x2;
@@ -56,10 +57,20 @@ Closest closest_numeric(const Segment& segment, const Vec3& query) {
       f1 = f(x1);
     }
   }
-  const double s = f1 < f2 ? x1 : x2;
-  Closest c = make(segment, s, query);
-  if (best_d < c.distance * c.distance) c = make(segment, best_s, query);
-  return c;
+  const double t = f1 < f2 ? x1 : x2;
+  const double d = std::min(f1, f2);
+  return d <= best_d ? std::pair{t, std::sqrt(d)} : std::pair{best_t, std::sqrt(best_d)};
+}
+
+Closest closest_numeric(const Segment& segment, const Vec3& query) {
+  const auto [s, d] = scan_closest([&](double x) { return point(segment, x); }, length(segment), query);
+  return {s, point(segment, s), d};
+}
+
+// A Bezier is scanned in its own parameter u (cheap to evaluate) and s is found once at the end.
+Closest closest_bezier(const Bezier& bezier, const Vec3& query) {
+  const auto [u, d] = scan_closest([&](double x) { return bezier.eval(x); }, 1.0, query);
+  return {bezier.length_to(u), bezier.eval(u), d};
 }
 
 Closest closest_line(const Line& line, const Vec3& query) {
@@ -94,7 +105,7 @@ Closest closest_point(const Segment& segment, const Vec3& query) {
                           return arc.rise == 0 && arc.sweep <= 2 * std::numbers::pi ? closest_planar_arc(arc, query)
                                                                                     : closest_numeric(segment, query);
                         },
-                        [&](const Bezier&) { return closest_numeric(segment, query); },
+                        [&](const Bezier& bezier) { return closest_bezier(bezier, query); },
                         [&](const Clothoid&) { return closest_numeric(segment, query); },
                     },
                     segment);
@@ -111,8 +122,10 @@ double directed(const std::vector<Segment>& from, const std::vector<Segment>& to
   for (const Segment& seg : from) {
     const double len = length(seg);
     const int n = std::max(64, static_cast<int>(std::ceil(len / std::max(step, 1e-15))));
+    // a Bezier is sampled uniformly in u: as dense, and far cheaper than inverting s
+    const Bezier* bezier = std::get_if<Bezier>(&seg);
     for (int i = 0; i <= n; ++i) {
-      const Vec3 p = point(seg, len * i / n);
+      const Vec3 p = bezier != nullptr ? bezier->eval(static_cast<double>(i) / n) : point(seg, len * i / n);
       double best = std::numeric_limits<double>::infinity();
       for (const Segment& target : to) best = std::min(best, closest_point(target, p).distance);
       worst = std::max(worst, best);
