@@ -177,6 +177,8 @@ class Reader {
   GcodeResult run() {
     check_options();
     result_.start = options_.start;
+    // a UTF-8 byte order mark (editors on Windows) is not part of the program
+    if (text_.substr(0, 3) == "\xEF\xBB\xBF") text_.remove_prefix(3);
     std::vector<std::string_view> lines;
     for (std::size_t begin = 0; begin <= text_.size();) {
       const std::size_t end = std::min(text_.find('\n', begin), text_.size());
@@ -409,7 +411,7 @@ class Reader {
         }
         case 'M': {
           const double rounded = std::round(w.value);
-          if (rounded != w.value || rounded < 0) fail(line, w.column, w.text, "not an M code");
+          if (rounded != w.value || rounded < 0 || rounded > 10000) fail(line, w.column, w.text, "not an M code");
           const int code = static_cast<int>(rounded);
           if (code == 98 || code == 99) fail(line, w.column, w.text, "subprogram calls (M98/M99) are not supported");
           if (!m_group_of(code)) fail(line, w.column, w.text, "unsupported M code");

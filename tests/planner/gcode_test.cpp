@@ -426,9 +426,23 @@ TEST(Gcode, IgnoredWordsAreListed) {
                            "M5 (line 5)", "M9 (line 5)"}) {
     EXPECT_TRUE(has_note(r, note)) << note << "\n" << notes(r);
   }
+  const GcodeResult more = parse("M4 M7 G59.3 G1 X1\nG59.3 X2");
+  for (const char* note : {"M4 (line 1)", "M7 (line 1)", "G59.3 (line 1)", "G59.3 (line 2)"}) {
+    EXPECT_TRUE(has_note(more, note)) << note << "\n" << notes(more);
+  }
   // switching coordinate systems after moves would shift the path
   expect_error("G54 G1 X1\nG55 X2", 2, 1, "G55");
   EXPECT_EQ(parse("G55\nG54 G1 X1").program.moves.size(), 1u);
+}
+
+TEST(Gcode, StartPositionFromOptions) {
+  GcodeOptions opt = options();
+  opt.start = Vec3(0.1, 0.2, 0.3);
+  const GcodeResult r = parse("G91 G1 X5\nG90 Y0", opt);
+  EXPECT_VEC_NEAR(r.start, opt.start, 0.0);
+  EXPECT_VEC_NEAR(line_of(r, 0).p0, opt.start, 0.0);
+  EXPECT_VEC_NEAR(line_of(r, 0).p1, Vec3(0.105, 0.2, 0.3), kTol);
+  EXPECT_VEC_NEAR(line_of(r, 1).p1, Vec3(0.105, 0, 0.3), kTol);
 }
 
 TEST(Gcode, CommentsLineNumbersCaseAndNumbers) {
@@ -450,6 +464,10 @@ TEST(Gcode, CommentsLineNumbersCaseAndNumbers) {
   EXPECT_EQ(r.program.moves[2].where.column, 4);
   EXPECT_EQ(r.program.moves[2].where.file, "part.ngc");
   EXPECT_NEAR(arc_of(r, 2).radius, 1 * kMm, kTol);
+  // Windows line ends and a byte order mark
+  const GcodeResult w = parse("\xEF\xBB\xBFG1 X1\r\nY1\r\n");
+  ASSERT_EQ(w.program.moves.size(), 2u);
+  EXPECT_EQ(w.program.moves[0].where.column, 1);
 }
 
 TEST(Gcode, BlockDeleteAndTapeMarkers) {
@@ -548,6 +566,8 @@ TEST(Gcode, UnsupportedWordsStopWithLineColumnAndWord) {
       {"G1 X1 L2", 1, 7, "L2"},
       {"M98 P100", 1, 1, "M98"},
       {"M60", 1, 1, "M60"},
+      {"M123456789012345678901", 1, 1, "M123456789012345678901"},
+      {"M3.5", 1, 1, "M3.5"},
       {"G1 G2 X1 I1", 1, 4, "G2"},             // two motion words
       {"G90 G91 X1", 1, 5, "G91"},
       {"M3 M4", 1, 4, "M4"},
@@ -598,6 +618,16 @@ TEST(Gcode, ArcRadiusToleranceAbsoluteLimitMm) {
   EXPECT_GT(arc_of(ok, 0).radius, 100 * kMm);
   EXPECT_LT(arc_of(ok, 0).radius, 100.0282 * kMm);
   EXPECT_TRUE(has_note(ok, "line 1 G2: end point 0.0282 mm off the circle; centre moved onto the bisector of start and end")) << notes(ok);
+  // the circle stays within the tolerance of LinuxCNC's spiral about (100, 0): the radius goes
+  // from 100 to 100.0282 mm while the angle goes from 180 to 90 degrees
+  double deviation = 0;
+  for (int k = 0; k <= 100; ++k) {
+    const double t = k / 100.0;
+    const double angle = kPi - t * kPi / 2;
+    const Vec3 spiral = mm(100, 0, 0) + (100 + 0.0282 * t) * mm(std::cos(angle), std::sin(angle), 0);
+    deviation = std::max(deviation, (point(arc, t * length(arc)) - spiral).norm());
+  }
+  EXPECT_LE(deviation, 0.02 * std::numbers::sqrt2 * kMm);
   const std::string msg = expect_error("G2 X100 Y100.0284 I100", 1, 1, "G2");
   EXPECT_NE(msg.find("r1 = 100 mm"), std::string::npos) << msg;
   EXPECT_NE(msg.find("r2 = 100.0284 mm"), std::string::npos) << msg;
