@@ -43,7 +43,8 @@ void expect_within_limits(const Scurve& c, const ScurveLimits& lim, const std::s
   const double h = total / n;
   std::vector<double> s(static_cast<std::size_t>(n) + 1);
   for (int k = 0; k <= n; ++k) s[static_cast<std::size_t>(k)] = c.at(h * k).s;
-  const double noise = 4 * kEps * std::max(c.distance, 1e-300);
+  // rounding of s and of the sample instant h k (~eps t, times v)
+  const double noise = 4 * kEps * std::max(c.distance + lim.velocity * total, 1e-300);
   for (std::size_t k = 0; k + 1 < s.size(); ++k) {
     ASSERT_GE(s[k + 1], s[k]) << where << " k=" << k;
     ASSERT_LE((s[k + 1] - s[k]) / h, lim.velocity * (1 + kRel) + 2 * noise / h) << where;

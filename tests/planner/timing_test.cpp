@@ -100,8 +100,11 @@ Margins expect_valid(const Path& path, const Timing& timing, const std::string& 
   EXPECT_LE(m.a, 1 + kRel) << where;
   EXPECT_LE(m.j, 1 + kRel) << where;
 
-  // finite differences over stencils of 2, 3 and 4 samples
-  const double noise = 4 * kEps * std::max(path.length(), 1e-300);
+  // finite differences over stencils of 2, 3 and 4 samples; the noise of a sampled s is the
+  // rounding of s itself and of the sample instant (t - t0 of its interval, ~eps t) times v
+  double v_top = 0;
+  for (const PathPiece& p : path.pieces()) v_top = std::max(v_top, p.limits.velocity);
+  const double noise = 4 * kEps * std::max(path.length() + v_top * timing.cycle_time, 1e-300);
   const auto widest = [&](std::size_t k0, std::size_t k1) {
     LocalLimits w;
     for (std::size_t k = k0; k <= k1; ++k) {
@@ -139,11 +142,17 @@ Margins expect_valid(const Path& path, const Timing& timing, const std::string& 
     if (!stop) continue;
     const double s_stop = path.offset(p);
     const double jerk = std::max(pieces[p - 1].limits.jerk, pieces[p].limits.jerk);
-    const auto after = std::lower_bound(x.begin(), x.end(), s_stop, [](const TimedSample& a, double s) { return a.s < s; });
-    if (after == x.end()) continue;
-    EXPECT_LE(after->v, 0.5 * jerk * dt * dt * (1 + kRel)) << where << " stop before piece " << p;
-    if (after != x.begin()) {
-      EXPECT_LE(std::prev(after)->v, 0.5 * jerk * dt * dt * (1 + kRel)) << where;
+    // the last sample at or before the stop position and the first one past it, each within
+    // one period of the stop instant, plus the time `lag` for which the motion from rest
+    // (j t^3 / 6) stays below the rounding of s
+    const auto past = std::upper_bound(x.begin(), x.end(), s_stop, [](double s, const TimedSample& a) { return s < a.s; });
+    const double lag = std::cbrt(6 * 4 * kEps * std::max(s_stop, 1e-300) / jerk);
+    const double bound = 0.5 * jerk * (dt + lag) * (dt + lag) * (1 + kRel);
+    if (past != x.begin()) {
+      EXPECT_LE(std::prev(past)->v, bound) << where << " stop before piece " << p;
+    }
+    if (past != x.end()) {
+      EXPECT_LE(past->v, bound) << where << " stop before piece " << p;
     }
   }
   return m;

@@ -56,6 +56,10 @@ struct Timing {
 // cbrt(j/sqrt(c(s)^2 + kappa(s)^4))) (004 eq. 25-27, a and j the piece's acceleration and
 // jerk limits): 0 <= v <= v_lim(s), |a_t| <= acceleration (speeding up) or deceleration
 // (slowing down), |j_t| <= jerk, kappa v^2 <= acceleration, and v = 0 at every stop_before.
+// Kinks and curvature jumps that are not stops get the controller-style junction velocity
+// (2 v sin(theta/2) <= min(j dt^2, a dt); dk v^2 <= j dt) and the buffer mode's choice.
+// The method (intervals with zero acceleration at their ends, backward and forward passes,
+// one S-curve per interval) and where it is conservative are described in timing.cpp.
 // Throws InputError for options.dt <= 0 or a piece with a non-positive limit. An empty path
 // gives one sample at rest.
 Timing plan_timing(const Path& path, const TimingOptions& options = {});
