@@ -30,7 +30,7 @@ inline constexpr const char* kTestArmXml = R"(
   <worldbody>
     <light directional="true" pos="0 0 3" dir="0 0 -1" diffuse="0.6 0.6 0.6"/>
     <geom name="floor" type="plane" size="1.5 1.5 0.05" material="grid" contype="1" conaffinity="1"/>
-    <camera name="overview" pos="1.5 -1.5 1.3" xyaxes="0.707 0.707 0 -0.35 0.35 0.87"/>
+    <camera name="overview" pos="1.3 -1.3 1.1" xyaxes="0.707 0.707 0 -0.236 0.236 0.943"/>
     <body name="base">
       <geom type="cylinder" size="0.075 0.04" pos="0 0 0.04" rgba="0.3 0.3 0.3 1"/>
       <body name="shoulder" pos="0 0 0.1625">

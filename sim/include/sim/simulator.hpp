@@ -95,7 +95,9 @@ class Simulator {
   [[nodiscard]] JointVector inertia_diagonal(const JointVector& q) const;
 
   // Runs the reference from rest at reference.q[0] (non-arm degrees of freedom at the model's
-  // qpos0). Throws InputError (field "reference.*" or "servo.*") for a malformed reference or
+  // qpos0). Each physics step is mj_step1, the servo tick when one falls due, mj_step2 — MuJoCo's
+  // split for control between stages; it integrates with Euler or implicit as the model says
+  // (an RK4 model is integrated with Euler). Throws InputError (field "reference.*" or "servo.*") for a malformed reference or
   // servo; a physically unstable run is not an error but a Trace with diverged = true.
   [[nodiscard]] Trace run(const JointReference& reference, const ServoConfig& servo,
                           const RunOptions& options) const;
