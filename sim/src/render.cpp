@@ -131,6 +131,11 @@ OffscreenRenderer::OffscreenRenderer(const mjModel& m, RenderOptions options) : 
   if (r.gl == nullptr) throw std::runtime_error("OSMesaCreateContextExt failed");
   r.gl_buffer.assign(static_cast<std::size_t>(o.width) * static_cast<std::size_t>(o.height) * 4, 0);
   r.make_current();
+  GLint max_size = 0;
+  glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size);
+  if (o.width > max_size || o.height > max_size)
+    throw std::runtime_error("render size " + std::to_string(o.width) + "x" + std::to_string(o.height) +
+                             " exceeds this GL's largest off-screen buffer (" + std::to_string(max_size) + ")");
 
   // MuJoCo's scene, camera and render context
   mjv_defaultScene(&r.scene);
@@ -150,8 +155,13 @@ OffscreenRenderer::OffscreenRenderer(const mjModel& m, RenderOptions options) : 
     r.camera.elevation = -25;
   }
   mjr_defaultContext(&r.context);
-  mjr_makeContext(r.model, &r.context, mjFONTSCALE_100);
-  r.context_made = true;
+  r.context_made = true;  // mjr_freeContext also frees a partly made context
+  try {
+    mjr_makeContext(r.model, &r.context, mjFONTSCALE_100);
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error("cannot create MuJoCo's render context for " + std::to_string(o.width) + "x" +
+                             std::to_string(o.height) + ": " + e.what());
+  }
   mjr_setBuffer(mjFB_OFFSCREEN, &r.context);
   if (r.context.currentBuffer != mjFB_OFFSCREEN) throw std::runtime_error("MuJoCo has no off-screen buffer");
   if (r.context.offWidth < o.width || r.context.offHeight < o.height)

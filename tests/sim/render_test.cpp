@@ -196,6 +196,23 @@ TEST(OffscreenRenderer, ModelWithoutFloorGetsOne) {
   EXPECT_GT(frame[bottom] + frame[bottom + 1] + frame[bottom + 2], 60);
 }
 
+TEST(OffscreenRenderer, SizeBeyondTheGlLimitIsAClearError) {
+  const ArmState arm(test::kTestArmXml);
+  RenderOptions options;
+  options.width = 40000;
+  options.height = 8;
+  try {
+    OffscreenRenderer renderer(arm.sim.model(), options);
+    FAIL() << "expected std::runtime_error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("40000x8 exceeds"), std::string::npos) << e.what();
+  }
+  // the failed renderer left nothing behind that breaks the next one
+  options.width = 64;
+  options.height = 48;
+  EXPECT_EQ(OffscreenRenderer(arm.sim.model(), options).render(*arm.d).size(), 64u * 48u * 3u);
+}
+
 TEST(OffscreenRenderer, NonPositiveSizeIsRejected) {
   const ArmState arm(test::kTestArmXml);
   RenderOptions options;

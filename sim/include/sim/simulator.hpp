@@ -25,7 +25,8 @@ using JointVector = Eigen::Matrix<double, 6, 1>;
 // then clamped to the actuator torque limits. c is MuJoCo's bias force qfrc_bias (gravity,
 // Coriolis, centrifugal) at the actual state. The feed-forward is the inverse dynamics of the
 // reference (mj_inverse at q_cmd, qd_cmd, qdd_cmd); when gravity compensation is also on, its
-// bias part is left out so the bias is counted once, at the actual state.
+// bias part is left out so the bias is counted once, at the actual state. The default gains are
+// zero: start from default_servo() below.
 struct ServoConfig {
   double rate_hz = 1000;  // controller rate; the physics runs at the model timestep and the torque
                           // is held between servo ticks. 1/rate_hz must be a multiple of it.
