@@ -19,7 +19,11 @@ thread_local std::string g_warnings;
 
 void throw_on_mujoco_error(const char* message) { throw std::runtime_error(std::string("MuJoCo error: ") + message); }
 
+// Recorded warnings are capped so a warning raised at every step cannot grow without bound.
+constexpr std::size_t kMaxWarningText = 4096;
+
 void record_mujoco_warning(const char* message) {
+  if (g_warnings.size() >= kMaxWarningText) return;
   if (!g_warnings.empty()) g_warnings += "; ";
   g_warnings += message;
 }
