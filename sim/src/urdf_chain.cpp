@@ -4,6 +4,7 @@
 #include <urdf_parser/urdf_parser.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -34,6 +35,12 @@ class CapturedLog : public console_bridge::OutputHandler {
   std::string text_;
 };
 
+std::string number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", value);
+  return text;
+}
+
 Eigen::Isometry3d to_isometry(const urdf::Pose& pose) {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
   t.linear() = Eigen::Quaterniond(pose.rotation.w, pose.rotation.x, pose.rotation.y, pose.rotation.z)
@@ -61,13 +68,13 @@ JointSpec to_joint_spec(const std::string& path, const urdf::Joint& joint, const
     spec.lower = joint.limits->lower;
     spec.upper = joint.limits->upper;
     if (!(spec.lower <= spec.upper)) {
-      fail("lower limit " + std::to_string(spec.lower) + " rad is above upper limit " + std::to_string(spec.upper));
+      fail("lower limit " + number(spec.lower) + " rad is above upper limit " + number(spec.upper) + " rad");
     }
   }
   spec.velocity_limit = joint.limits->velocity;
   spec.effort_limit = joint.limits->effort;
-  if (!(spec.velocity_limit > 0)) fail("velocity limit must be positive, got " + std::to_string(spec.velocity_limit));
-  if (!(spec.effort_limit > 0)) fail("effort limit must be positive, got " + std::to_string(spec.effort_limit));
+  if (!(spec.velocity_limit > 0)) fail("velocity limit must be positive, got " + number(spec.velocity_limit) + " rad/s");
+  if (!(spec.effort_limit > 0)) fail("effort limit must be positive, got " + number(spec.effort_limit) + " N*m");
   return spec;
 }
 
