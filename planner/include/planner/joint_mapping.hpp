@@ -25,8 +25,8 @@ struct JointTrajectory {
   std::size_t failed_index = 0;
 };
 
-// IK of every pose, each seeded with the previous solution (the first with q_seed), so the
-// branch stays continuous. Stops at the first pose that is
+// IK of every pose, each seeded with the previous solution so the branch stays continuous (the
+// first pose takes the branch nearest q_seed, however far). Stops at the first pose that is
 //   kUnreachable  out of reach (or the pose is not finite),
 //   kJointLimit   reachable on the continuous branch only outside a joint limit,
 //   kSingular     reachable only by a jump of more than kMaxJointStep in some joint (a branch
