@@ -21,6 +21,8 @@ constexpr float kMinHeadlightAmbient = 0.3f;
 constexpr float kMinHeadlightDiffuse = 0.5f;
 // Shadow map size when shadows are on (PLATFORM.md: 4096 is slower than 2048).
 constexpr int kShadowSize = 2048;
+// Polylines are simplified to this tolerance before drawing (m): far below what a frame shows.
+constexpr double kDrawTolerance = 0.2e-3;
 // Segments shorter than this are skipped (a connector needs a direction).
 constexpr double kMinSegmentLength = 1e-9;  // m
 
@@ -44,6 +46,43 @@ mjvGeom* new_decor(mjvScene& scn) {
   g->objtype = mjOBJ_UNKNOWN;
   g->objid = -1;
   return g;
+}
+
+// Douglas-Peucker simplification: the fewest points of `points` (end points kept) such that
+// every dropped point lies within `tolerance` (m) of the simplified polyline. Software
+// rendering pays per capsule, and a programmed path is mostly straight lines and arcs.
+std::vector<Eigen::Vector3d> simplified(const std::vector<Eigen::Vector3d>& points, double tolerance) {
+  if (points.size() < 3) return points;
+  std::vector<bool> keep(points.size(), false);
+  keep.front() = keep.back() = true;
+  std::vector<std::pair<std::size_t, std::size_t>> spans = {{0, points.size() - 1}};
+  while (!spans.empty()) {
+    const auto [a, b] = spans.back();
+    spans.pop_back();
+    const Eigen::Vector3d d = points[b] - points[a];
+    const double len2 = d.squaredNorm();
+    double worst = 0;
+    std::size_t worst_i = a;
+    for (std::size_t i = a + 1; i < b; ++i) {
+      const Eigen::Vector3d r = points[i] - points[a];
+      const double t = len2 > 0 ? std::clamp(r.dot(d) / len2, 0.0, 1.0) : 0.0;
+      const double dist = (r - t * d).norm();
+      if (dist > worst) {
+        worst = dist;
+        worst_i = i;
+      }
+    }
+    if (worst > tolerance) {
+      keep[worst_i] = true;
+      spans.emplace_back(a, worst_i);
+      spans.emplace_back(worst_i, b);
+    }
+  }
+  std::vector<Eigen::Vector3d> out;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (keep[i]) out.push_back(points[i]);
+  }
+  return out;
 }
 
 // Capsules along a polyline, subsampled to at most kMaxPolylineSegments (the end points kept).
@@ -82,6 +121,8 @@ struct OffscreenRenderer::Impl {
   bool scene_made = false, context_made = false;
   std::vector<std::uint8_t> raw, rgb;  // bottom-up as read, top-down as returned
   std::vector<Eigen::Vector3d> trail;
+  std::vector<Eigen::Vector3d> path;     // options.path_polyline, simplified once
+  std::vector<Eigen::Vector3d> planned;  // options.planned_polyline, simplified once
   int tcp_site = -1;
   bool draw_floor = false;
 
@@ -109,6 +150,8 @@ OffscreenRenderer::OffscreenRenderer(const mjModel& m, RenderOptions options) : 
   Impl& r = *impl_;
   r.options = std::move(options);
   const RenderOptions& o = r.options;
+  r.path = simplified(o.path_polyline, kDrawTolerance);
+  r.planned = simplified(o.planned_polyline, kDrawTolerance);
 
   // the renderer's model: off-screen buffer of the requested size, quality, minimum headlight
   r.model = mj_copyModel(nullptr, &m);
@@ -202,9 +245,9 @@ const std::vector<std::uint8_t>& OffscreenRenderer::render(const mjData& d) {
       ++r.scene.ngeom;
     }
   }
-  add_polyline(r.scene, o.path_polyline, kPathRgba, o.line_radius);
-  add_polyline(r.scene, o.planned_polyline, kPlannedRgba, o.line_radius);
-  if (o.draw_tcp_trail) add_polyline(r.scene, r.trail, kTrailRgba, o.line_radius);
+  add_polyline(r.scene, r.path, kPathRgba, o.line_radius);
+  add_polyline(r.scene, r.planned, kPlannedRgba, o.line_radius);
+  if (o.draw_tcp_trail) add_polyline(r.scene, simplified(r.trail, kDrawTolerance), kTrailRgba, o.line_radius);
 
   // draw and read back (the read waits for llvmpipe), then flip to top-down rows
   const mjrRect viewport{0, 0, o.width, o.height};

@@ -91,4 +91,35 @@ nlohmann::json corners_json(const Path& path) {
   return out;
 }
 
+std::string timed_csv(const Path& path, const Timing& timing) {
+  std::string out = "t,s,x,y,z,v,a,j,kappa\n";
+  out.reserve(timing.samples.size() * 96);
+  for (const TimedSample& sample : timing.samples) {
+    const Vec3 p = path.point(sample.s);
+    const double kappa = path.curvature_vector(sample.s).norm();
+    append_row(out, {sample.t, sample.s * kMm, p.x() * kMm, p.y() * kMm, p.z() * kMm, sample.v * kMm, sample.a * kMm,
+                     sample.j * kMm, kappa / kMm});
+  }
+  return out;
+}
+
+nlohmann::json plan_summary_json(const Path& path, const Timing& timing) {
+  nlohmann::json pieces = nlohmann::json::array();
+  for (const PieceTiming& p : timing.pieces) {
+    const PathPiece& piece = path.pieces()[p.piece];
+    pieces.push_back({{"index", p.piece},
+                      {"move", piece.move},
+                      {"corner", piece.corner},
+                      {"length_mm", length(piece.segment) * kMm},
+                      {"v_peak_mm_s", p.v_peak * kMm},
+                      {"binding", p.binding}});
+  }
+  return {{"cycle_time_s", timing.cycle_time},
+          {"path_length_mm", path.length() * kMm},
+          {"feed_share", timing.feed_share},
+          {"servo_period_s", timing.dt},
+          {"corners", corners_json(path)},
+          {"pieces", pieces}};
+}
+
 }  // namespace blendbench

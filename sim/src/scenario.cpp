@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "planner/arc_construction.hpp"
+#include "sim/program_io.hpp"
 
 namespace blendbench {
 namespace {
@@ -253,28 +254,65 @@ Arc transformed(const Arc& arc, const Eigen::Isometry3d& frame) {
   return out;
 }
 
+// Limits and buffer mode every move starts from.
+struct MoveDefaults {
+  Limits limits;
+  BufferMode buffer = BufferMode::kBlendingLow;
+};
+
+MoveDefaults read_defaults(const Reader& r, const Field& root, double scale) {
+  const Field defaults = r.require(root, "defaults");
+  r.check_keys(defaults, {"velocity", "acceleration", "deceleration", "jerk", "buffer"});
+  MoveDefaults d;
+  d.limits.velocity = r.positive(r.require(defaults, "velocity")) * scale;
+  d.limits.acceleration = r.positive(r.require(defaults, "acceleration")) * scale;
+  const Field dec = Reader::child(defaults, "deceleration");
+  d.limits.deceleration = dec.node.IsDefined() ? r.positive(dec) * scale : d.limits.acceleration;
+  d.limits.jerk = r.positive(r.require(defaults, "jerk")) * scale;
+  if (const Field b = Reader::child(defaults, "buffer"); b.node.IsDefined()) d.buffer = read_buffer(r, b);
+  return d;
+}
+
+// A program given as a G-code file: read in its own units (G20/G21), placed by the frame.
+// Variants replace the transitions of all its moves (the file's G61/G64 apply when a variant
+// sets no transition).
+void read_gcode_program(const Reader& r, const Field& gcode, const Field& start, double scale,
+                        const MoveDefaults& defaults, Scenario& sc) {
+  GcodeOptions options;
+  options.limits = defaults.limits;
+  options.buffer = defaults.buffer;
+  if (start.node.IsDefined()) options.start = r.vec3(start) * scale;
+  const GcodeResult parsed = load_gcode_file(r.existing_file(gcode), options);
+  sc.start = sc.frame * parsed.start;
+  sc.ignored = parsed.ignored;
+  for (Move move : parsed.program.moves) {
+    if (Line* line = std::get_if<Line>(&move.geometry)) {
+      line->p0 = sc.frame * line->p0;
+      line->p1 = sc.frame * line->p1;
+    } else {
+      move.geometry = transformed(std::get<Arc>(move.geometry), sc.frame);
+    }
+    sc.program.moves.push_back(std::move(move));
+    sc.explicit_transition.push_back(false);
+    sc.explicit_buffer.push_back(false);
+  }
+}
+
 void read_program(const Reader& r, const Field& root, double scale, Scenario& sc) {
   const Field program = r.require(root, "program");
   r.check_keys(program, {"start", "moves", "gcode"});
   const Field moves = Reader::child(program, "moves");
   const Field gcode = Reader::child(program, "gcode");
+  const MoveDefaults defaults = read_defaults(r, root, scale);
+  const Limits& base = defaults.limits;
+  const BufferMode base_buffer = defaults.buffer;
   if (gcode.node.IsDefined()) {
-    r.fail(gcode, "G-code programs are not supported by this build yet");
+    if (moves.node.IsDefined()) r.fail(moves, "give either 'moves' or 'gcode', not both");
+    read_gcode_program(r, gcode, Reader::child(program, "start"), scale, defaults, sc);
+    return;
   }
   if (!moves.node.IsDefined()) r.fail(r.require(program, "moves"), "missing required field");
   if (!moves.node.IsSequence() || moves.node.size() == 0) r.fail(moves, "expected a non-empty list of moves");
-
-  // defaults for every move
-  const Field defaults = r.require(root, "defaults");
-  r.check_keys(defaults, {"velocity", "acceleration", "deceleration", "jerk", "buffer"});
-  Limits base;
-  base.velocity = r.positive(r.require(defaults, "velocity")) * scale;
-  base.acceleration = r.positive(r.require(defaults, "acceleration")) * scale;
-  const Field dec = Reader::child(defaults, "deceleration");
-  base.deceleration = dec.node.IsDefined() ? r.positive(dec) * scale : base.acceleration;
-  base.jerk = r.positive(r.require(defaults, "jerk")) * scale;
-  BufferMode base_buffer = BufferMode::kBlendingLow;
-  if (const Field b = Reader::child(defaults, "buffer"); b.node.IsDefined()) base_buffer = read_buffer(r, b);
 
   Vec3 current = Vec3::Zero();
   if (const Field s = Reader::child(program, "start"); s.node.IsDefined()) current = r.vec3(s) * scale;
@@ -325,7 +363,8 @@ void read_robot(const Reader& r, const Field& root, Scenario& sc) {
   sc.robot.mjcf = source_root() + "/models/ur5e_like.xml";
   // default: tool pointing down (TCP z along -Z of the base)
   sc.robot.tool_rotation = rpy_deg({180, 0, 0});
-  sc.robot.q_seed << 0, -90 * kDeg, 90 * kDeg, -90 * kDeg, -90 * kDeg, 0;
+  // the ready configuration of the model (keyframe "ready"): elbow up, tool down, facing +x
+  sc.robot.q_seed << 180 * kDeg, -90 * kDeg, 90 * kDeg, -90 * kDeg, -90 * kDeg, 0;
   if (!robot.node.IsDefined()) return;
   r.check_keys(robot, {"urdf", "mjcf", "base_link", "tip_link", "tool_rpy_deg", "q_seed_deg"});
   if (const Field f = Reader::child(robot, "urdf"); f.node.IsDefined()) sc.robot.urdf = r.existing_file(f);

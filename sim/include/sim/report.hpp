@@ -6,6 +6,7 @@
 #include <string>
 
 #include "planner/path.hpp"
+#include "planner/timing.hpp"
 #include "planner/program.hpp"
 
 namespace blendbench {
@@ -22,5 +23,13 @@ std::string program_csv(const Program& program, double ds);
 // deviation_mm, kappa_max_per_mm, sharpness_max_per_mm2, feed_max_mm_per_min, trim_in_mm,
 // trim_out_mm, stop.
 nlohmann::json corners_json(const Path& path);
+
+// The timed profile, one row per sample: `t,s,x,y,z,v,a,j,kappa` in s, mm, mm/s, mm/s^2 and
+// mm/s^3 (tangential), 1/mm.
+std::string timed_csv(const Path& path, const Timing& timing);
+
+// The plan summary of the command-line contract: cycle_time_s, path_length_mm, feed_share,
+// corners (as corners_json) and pieces (index, move, corner, v_peak_mm_s, binding).
+nlohmann::json plan_summary_json(const Path& path, const Timing& timing);
 
 }  // namespace blendbench
