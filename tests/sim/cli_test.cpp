@@ -78,8 +78,8 @@ TEST_F(Cli, BadScenarioExitsTwoNamingFileLineAndField) {
     std::string from, to, expected;
   };
   const Case cases[] = {
-      {"units: mm", "units: mm\nspeed: 3", "bad.yaml:3:1: 'speed': unknown key"},
-      {"velocity: 200", "velocity: fast", "bad.yaml:5:23: 'defaults.velocity': expected a number"},
+      {"units: mm", "units: mm\nspeed: 3", "bad.yaml:4:1: 'speed': unknown key"},
+      {"velocity: 200", "velocity: fast", "bad.yaml:5:22: 'defaults.velocity': expected a number"},
       {"jerk: 20000", "jerky: 20000", "bad.yaml:5:47: 'defaults.jerky': unknown key"},
       {"defaults: {velocity: 200, acceleration: 2000, jerk: 20000}", "defaults: {velocity: 200, acceleration: 2000}",
        "bad.yaml:5:11: 'defaults.jerk': missing required field"},
