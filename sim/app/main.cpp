@@ -6,11 +6,13 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <optional>
 
 #include "planner/blend.hpp"
 #include "planner/timing.hpp"
+#include "sim/check.hpp"
 #include "sim/output.hpp"
 #include "sim/program_io.hpp"
 #include "sim/report.hpp"
@@ -167,6 +169,33 @@ int cmd_plan(const std::string& input, const ProgramFlags& flags, const std::str
   return kExitOk;
 }
 
+nlohmann::json read_json(const std::string& path, const std::string& what) {
+  std::ifstream in(path);
+  if (!in) throw bb::InputError(path, 0, 0, "", "cannot open the " + what);
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw bb::InputError(path, 0, 0, "", "invalid JSON in the " + what + ": " + e.what());
+  }
+}
+
+int cmd_check(const std::string& run_dir, std::string baseline_file, bool update) {
+  const nlohmann::json summary = read_json((std::filesystem::path(run_dir) / "summary.json").string(), "run summary");
+  if (baseline_file.empty()) {
+    baseline_file = bb::source_root() + "/results/baselines/" + summary.value("scenario", "unnamed") + ".json";
+  }
+  if (update) {
+    bb::write_file_atomic(baseline_file, bb::make_baseline(summary).dump(2) + "\n");
+    std::cout << "baseline written: " << baseline_file << std::endl;
+    return kExitOk;
+  }
+  const bb::CheckReport report = bb::check_run(summary, read_json(baseline_file, "baseline"), baseline_file);
+  for (const std::string& note : report.notes) std::cout << "note: " << note << std::endl;
+  for (const std::string& r : report.regressions) std::cout << "REGRESSION: " << r << std::endl;
+  std::cout << (report.passed() ? "check passed against " : "check FAILED against ") << baseline_file << std::endl;
+  return report.passed() ? kExitOk : kExitCheckFailed;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -214,6 +243,14 @@ int main(int argc, char** argv) {
   plan->add_option("--csv", csv, "Output CSV: t,s,x,y,z,v,a,j,kappa (s, mm, mm/s, mm/s^2, mm/s^3, 1/mm)")->required();
   plan->add_option("--summary", summary, "Output JSON: cycle_time_s, path_length_mm, corners, pieces")->required();
 
+  std::string run_dir;
+  std::string baseline;
+  bool update = false;
+  CLI::App* check = app.add_subcommand("check", "Compare a run's metrics with a committed baseline; exit 1 on regression");
+  check->add_option("run_dir", run_dir, "Folder of a run (holds summary.json)")->required();
+  check->add_option("--baseline", baseline, "Baseline JSON (default: results/baselines/<scenario>.json)");
+  check->add_flag("--update", update, "Write the baseline from this run instead of checking");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -225,6 +262,7 @@ int main(int argc, char** argv) {
     if (*run) return cmd_run(scenario_path, out_dir, no_video, no_plots, variants);
     if (*path) return cmd_path(input, flags, csv, report, ds_mm);
     if (*plan) return cmd_plan(input, flags, csv, summary);
+    if (*check) return cmd_check(run_dir, baseline, update);
   } catch (const bb::InputError& e) {
     std::cerr << "blendbench: error: " << e.what() << std::endl;
     return kExitBadInput;
