@@ -50,7 +50,7 @@ constexpr double kTwoPi = 2 * std::numbers::pi;
 
 // rad: a corner whose tangent turns by less than this is G1 (collinear / tangent); one that
 // turns by more than pi minus this is a reversal
-constexpr double kStraightAngle = 1e-12;
+constexpr double kStraightAngle = 1e-10;
 // rad: line and arc (or two arc planes) within this angle count as coplanar
 constexpr double kPlanarAngle = 1e-10;
 // relative to the radius: two arcs on the same circle
@@ -91,12 +91,14 @@ struct Corner {
   std::string name;
 };
 
-// A move near the corner as a curve of the corner plane: a line through `c` with direction `t`,
-// or a circle of centre `c` and signed radius `rho` (positive: counter-clockwise about the plane
-// normal). `kappa` is the signed curvature (0 on a line).
+// A move near the corner as a curve of the corner plane: `t` is its unit tangent at the corner.
+// A line: `p` is its end at the corner. A circle: `arc` is the move itself, `p` its centre,
+// `rho` its signed radius (positive: counter-clockwise about the plane normal). `kappa` = 1 / rho,
+// 0 on a line.
 struct PlaneCurve {
   bool line = true;
-  Vec3 c;
+  const Arc* arc = nullptr;
+  Vec3 p;
   Vec3 t;
   double rho = 0;
   double kappa = 0;
@@ -146,93 +148,151 @@ double piece_length(double tau, double kappa, double chord) {
   return std::abs(tau) / std::abs(kappa);
 }
 
-// The arc length of `other` between the corner and the point p on it: from p to the corner when
-// other is incoming, from the corner to p when outgoing. Negative when p lies before the corner
-// on a line. On a circle the first occurrence in the direction of travel; a point a rounding
-// error behind the corner counts as the corner.
-double trim_to(const PlaneCurve& pc, bool incoming, const Vec3& corner, const Vec3& p, const Vec3& n) {
-  if (pc.line) return incoming ? (corner - p).dot(pc.t) : (p - corner).dot(pc.t);
-  const Vec3 axis = pc.rho > 0 ? n : Vec3(-n);
-  const Vec3 a = corner - pc.c;
-  const Vec3 b = p - pc.c;
-  double psi = incoming ? signed_angle(b, a, axis) : signed_angle(a, b, axis);
+// p - centre of a planar arc at arc length s, without the rounding of the absolute centre.
+Vec3 radial(const Arc& arc, double s) {
+  const double phi = s / arc.radius;
+  return arc.radius * (std::cos(phi) * arc.u + std::sin(phi) * arc.v);
+}
+
+// point(arc, s_b) - point(arc, s_a) on a planar arc, from half angles (no cancellation when the
+// two points are close on a large circle).
+Vec3 arc_chord(const Arc& arc, double s_a, double s_b) {
+  const double mid = 0.5 * (s_a + s_b) / arc.radius;
+  const double half = 0.5 * (s_b - s_a) / arc.radius;
+  return 2 * arc.radius * std::sin(half) * (-std::sin(mid) * arc.u + std::cos(mid) * arc.v);
+}
+
+// Arc length between the corner and a point on a circle move, given by its offset `rel` from
+// the centre: from the point to the corner on the incoming move, from the corner to the point on
+// the outgoing one; the occurrence nearest the corner, and a point a rounding error behind the
+// corner counts as the corner.
+double trim_on_arc(const Arc& arc, bool incoming, const Vec3& rel) {
+  double phi = std::atan2(rel.dot(arc.v), rel.dot(arc.u));
+  if (phi < 0) phi += kTwoPi;
+  double psi = incoming ? std::fmod(arc.sweep - phi, kTwoPi) : phi;
   if (psi < 0) psi += kTwoPi;
-  const double r = std::abs(pc.rho);
-  if (r * (kTwoPi - psi) <= 1e-14 * (r + corner.norm())) psi = 0;
-  return r * psi;
+  if (kTwoPi - psi <= 1e-14) psi = 0;
+  return arc.radius * psi;
 }
 
 PlaneCurve plane_curve(const Primitive& move, const Vec3& n, const Vec3& c, const Vec3& t) {
   PlaneCurve pc;
   if (const Arc* arc = std::get_if<Arc>(&move)) {
     pc.line = false;
-    pc.c = arc->center;
+    pc.arc = arc;
+    pc.p = arc->center;
     pc.rho = arc->u.cross(arc->v).dot(n) > 0 ? arc->radius : -arc->radius;
     pc.kappa = 1.0 / pc.rho;
   } else {
-    pc.c = c;
-    pc.t = t;
+    pc.p = c;
   }
+  pc.t = t;
   return pc;
 }
 
 // 003 with an arc in the corner plane: the move `fixed_in ? in : out` is shortened by d, the
-// transition circle is tangent to it there and to the other move (see the file comment).
+// transition circle is tangent to it there (T1) and to the other move (T2), see the file
+// comment. The formulas are rearranged so that their small terms are formed directly (the
+// inputs of an ill-conditioned corner are themselves small differences). With n1 the left
+// normal at T1, e1 = T1 - C, n_o the other circle's left normal at C (so C - centre_o =
+// -rho_o n_o), w = T1 - centre_o = e1 - rho_o n_o and q = w + rho_o n1 = e1 + rho_o (n1 - n_o):
+//   num = 2 (n1.w + rho_o) = 2 n1.q = 2 n1.e1 + rho_o |n1 - n_o|^2,   den = rho_o^2 - |w|^2 = 2 rho_o n_o.e1 - |e1|^2,
+//   rho - rho_o = -|q|^2 / num,  O - centre_o = q + (rho - rho_o) n1,
+//   n2 = (O - centre_o) / (rho - rho_o) ~ |q|^2 n1 - num q        (the transition curvature is num / den).
+// For two circles with nearly coincident centres (Delta = centre_f - centre_o, exact in floating
+// point, e = rho_o - rho_f, T1 = centre_f - rho_f n1) the same quantities read
+//   num = 2 (n1.Delta + e),  den = e (rho_o + rho_f) + 2 rho_f n1.Delta - |Delta|^2,
+//   n2 ~ -(num Delta + (e^2 - |Delta|^2) n1).
 Candidate solve_planar(const Corner& k, const Plane& pl, bool fixed_in, double d) {
   Candidate cand;
   const Vec3& n = pl.n;
-  const Primitive& fixed = fixed_in ? *k.in : *k.out;
+  const PlaneCurve& fc = fixed_in ? pl.in : pl.out;
   const PlaneCurve& oc = fixed_in ? pl.out : pl.in;
   const double avail_other = fixed_in ? k.avail_out : k.avail_in;
 
-  // the fixed tangency point T1 and its frame
+  // the fixed tangency point T1, its left normal n1, e1 = T1 - C and n1.e1 (on a circle the
+  // chord from T1 to C bends towards the centre by rho (1 - cos(d / |rho|)))
   const double s1 = fixed_in ? k.len_in - d : d;
-  const Vec3 p1 = point(fixed, s1);
-  const Vec3 t1 = in_plane(tangent(fixed, s1), n);
-  const Vec3 n1 = n.cross(t1);
+  Vec3 e1;
+  Vec3 n1;
+  double n1e1 = 0;
+  if (fc.line) {
+    e1 = (fixed_in ? -d : d) * fc.t;
+    n1 = n.cross(fc.t).normalized();
+  } else {
+    e1 = fixed_in ? arc_chord(*fc.arc, k.len_in, s1) : arc_chord(*fc.arc, 0.0, s1);
+    const Vec3 rel1 = radial(*fc.arc, s1);
+    n1 = (fc.rho > 0 ? -rel1 : rel1).normalized();
+    const double half = std::sin(0.5 * d / std::abs(fc.rho));
+    n1e1 = -2 * fc.rho * half * half;
+  }
+  const Vec3 t1 = n1.cross(n);
 
-  // transition curvature and the tangency point T2 on the other move
+  // the transition curvature kappa and T2 - T1 (chord); rel2 = T2 - reference of the other curve
   double kappa = 0;
   bool zero_length = false;
-  Vec3 p2;
-  Vec3 t2;
+  Vec3 chord = Vec3::Zero();
+  Vec3 rel2 = Vec3::Zero();
+  Vec3 t2 = t1;
   if (!oc.line) {
-    Vec3 w = p1 - oc.c;
-    w -= n * n.dot(w);
-    const double num = 2 * (n1.dot(w) + oc.rho);
-    const double den = oc.rho * oc.rho - w.squaredNorm();
+    const Vec3 n_o = n.cross(oc.t).normalized();
+    Vec3 w = e1 - oc.rho * n_o;
+    Vec3 delta = fc.p - oc.p;
+    delta -= n * n.dot(delta);
+    double num = 0;
+    double den = 0;
+    Vec3 n2_dir;
+    if (!fc.line && delta.norm() < w.norm()) {
+      const double e = oc.rho - fc.rho;
+      const double nd = n1.dot(delta);
+      w = delta - fc.rho * n1;
+      num = 2 * (nd + e);
+      den = e * (oc.rho + fc.rho) + 2 * fc.rho * nd - delta.squaredNorm();
+      n2_dir = -(num * delta + (e * e - delta.squaredNorm()) * n1);
+    } else {
+      // n1.(n1 - n_o) = |n1 - n_o|^2 / 2 for unit vectors: second order, so formed as a square
+      const Vec3 q = e1 + oc.rho * (n1 - n_o);
+      num = 2 * n1e1 + oc.rho * (n1 - n_o).squaredNorm();
+      den = 2 * oc.rho * n_o.dot(e1) - e1.squaredNorm();
+      n2_dir = q.squaredNorm() * n1 - num * q;
+    }
     if (std::abs(den) <= kIntersection * d * std::abs(num)) {
       zero_length = true;
+      rel2 = w;
     } else {
-      kappa = num / den;
-      const double q = 1 - kappa * oc.rho;
-      if (std::abs(q) <= 1e-12) {
+      const double g_norm = n2_dir.norm();
+      if (!(g_norm > 0)) {
         cand.why = "the transition circle coincides with the other arc";
         return cand;
       }
-      const Vec3 n2 = ((kappa * w + n1) / q).normalized();
-      p2 = oc.c - oc.rho * n2;
+      kappa = num / den;
+      const Vec3 n2 = n2_dir / g_norm;
+      rel2 = -oc.rho * n2;
+      chord = rel2 - w;
       t2 = n2.cross(n);
     }
   } else {
+    // the other move is a line through C with left normal ns
     const Vec3 ns = n.cross(oc.t).normalized();
-    const double h = (p1 - oc.c).dot(ns);
-    const double cc = 1 - n1.dot(ns);
+    const double h = e1.dot(ns);
+    const double cc = 0.5 * (n1 - ns).squaredNorm();  // 1 - n1.ns without cancellation
     if (std::abs(h) <= kIntersection * d * cc) {
       zero_length = true;
+      rel2 = e1;
     } else if (cc <= 1e-300) {
       cand.why = "the transition would run parallel to the line";
       return cand;
     } else {
       kappa = cc / h;
-      p2 = p1 + (h / cc) * (n1 - ns);
+      chord = (h / cc) * (n1 - ns);
+      rel2 = e1 + chord;
       t2 = oc.t;
     }
   }
-  if (zero_length) p2 = p1;
 
   // where T2 lies on the other move
-  const double s2 = trim_to(oc, !fixed_in, k.c, p2, n);
+  const bool other_in = !fixed_in;
+  const double s2 = oc.line ? (other_in ? -rel2.dot(oc.t) : rel2.dot(oc.t)) : trim_on_arc(*oc.arc, other_in, rel2);
   const double tol = 1e-12 * (avail_other + d);
   if (!(s2 >= -tol)) {
     cand.why = "the tangency point lies before the corner";
@@ -259,22 +319,21 @@ Candidate solve_planar(const Corner& k, const Plane& pl, bool fixed_in, double d
   }
 
   // signed turning of the transition, start and end in the direction of travel
-  const Vec3& ps = fixed_in ? p1 : p2;
+  const Vec3 ps = point(*k.in, k.len_in - cand.trim_in);
   const Vec3& ts = fixed_in ? t1 : t2;
-  const Vec3& pe = fixed_in ? p2 : p1;
   const Vec3& te = fixed_in ? t2 : t1;
-  const Vec3 chord = pe - ps;
+  const Vec3 chord_se = fixed_in ? chord : Vec3(-chord);
   const double phi = signed_angle(ts, te, n);
   double tau = phi;
   if (std::abs(phi) < 0.5) {
     // near-straight: a forward chord means the short turn, a backward one a full loop
-    if (chord.dot(ts) < 0) tau = phi + (kappa >= 0 ? kTwoPi : -kTwoPi);
+    if (chord_se.dot(ts) < 0) tau = phi + (kappa >= 0 ? kTwoPi : -kTwoPi);
   } else if (kappa > 0 && phi < 0) {
     tau = phi + kTwoPi;
   } else if (kappa < 0 && phi > 0) {
     tau = phi - kTwoPi;
   }
-  const double len = piece_length(tau, kappa, chord.norm());
+  const double len = piece_length(tau, kappa, chord_se.norm());
   if (!std::isfinite(len) || !std::isfinite(tau)) {
     cand.why = "the transition circle degenerates";
     return cand;
@@ -288,32 +347,24 @@ Candidate solve_planar(const Corner& k, const Plane& pl, bool fixed_in, double d
   }
 
   const Vec3 m = tau >= 0 ? n.cross(ts) : Vec3(-n.cross(ts));
-  cand.transition.push_back(circular_piece(ps, ts, m.normalized(), std::abs(tau), len, pe));
+  cand.transition.push_back(circular_piece(ps, ts, m.normalized(), std::abs(tau), len, ps + chord_se));
   cand.case_name = std::abs(tau) <= kLineTurn ? "line_segment" : "regular";
   cand.verdict = Verdict::kValid;
   return cand;
 }
 
-// A circular arc leaving p with unit tangent t and ending at e (the plane is the one spanned by
-// t and e - p). False when e lies straight behind p (no such arc).
-bool arc_through(const Vec3& p, const Vec3& t, const Vec3& e, Segment& piece, Vec3& t_end) {
-  const Vec3 chord = e - p;
-  const double along = chord.dot(t);
-  const Vec3 perp = chord - along * t;
-  const double h = perp.norm();
-  const double c = chord.norm();
-  if (h <= 1e-14 * c) {
-    if (along <= 0) return false;
-    piece = Line{p, e};
-    t_end = t;
-    return true;
-  }
-  const Vec3 m = perp / h;
-  const double turn = 2 * std::atan2(h, along);  // twice the tangent-chord angle
-  const double len = turn < 1 ? c * (0.5 * turn) / std::sin(0.5 * turn) : turn * c * c / (2 * h);
-  piece = circular_piece(p, t, m, turn, len, e);
-  t_end = std::cos(turn) * t + std::sin(turn) * m;
-  return true;
+// The circular arc whose tangent lines at both ends meet at p + a t, at distance a > 0 from
+// both ends: it leaves p with unit tangent t and ends with unit tangent t_end (turn below pi), at
+// p + a t + a t_end. Built from the two tangents so both are exact; a turn of phi has radius
+// a / tan(phi / 2).
+Segment tangent_arc(const Vec3& p, const Vec3& t, const Vec3& t_end, double a) {
+  const double phi = angle_between(t, t_end);
+  const Vec3 end = p + a * t + a * t_end;
+  if (phi <= kLineTurn) return Line{p, end};
+  const Vec3 m = (t_end - t_end.dot(t) * t).normalized();
+  const double half = 0.5 * phi;
+  const double len = half < 1e-8 ? 2 * a : 2 * a * half * std::cos(half) / std::sin(half);
+  return circular_piece(p, t, m, phi, len, end);
 }
 
 CornerFit kink_fit(const Corner& k, const std::string& case_name, double trim_in, double trim_out) {
@@ -389,26 +440,21 @@ CornerFit fit_biarc(const Corner& k, double d_req) {
   const Vec3 p2 = point(*k.out, d);
   const Vec3 t2 = tangent(*k.out, d);
   const Vec3 v = p2 - p1;
-  const double qa = 2 * (t1.dot(t2) - 1);
+  const double qa = -(t1 - t2).squaredNorm();  // 2 (t1.t2 - 1) without cancellation
   const double qb = -2 * v.dot(t1 + t2);
   const double qc = v.squaredNorm();
   const double disc = std::sqrt(std::max(qb * qb - 4 * qa * qc, 0.0));
-  double a = qb < 0 ? 2 * qc / (disc - qb) : (qa < 0 ? (qb + disc) / (-2 * qa) : -1.0);
-  Segment first = Line{p1, p2};
-  Segment second = Line{p1, p2};
-  Vec3 tj;
-  Vec3 t_end;
-  bool ok = std::isfinite(a) && a > 0 && qc > 0;
-  if (ok) {
-    const Vec3 q0 = p1 + a * t1;
-    const Vec3 q1 = p2 - a * t2;
-    const Vec3 j = 0.5 * (q0 + q1);
-    ok = arc_through(p1, t1, j, first, tj) && arc_through(j, tj, p2, second, t_end);
-  }
-  if (!ok) {
+  const double a = qb < 0 ? 2 * qc / (disc - qb) : (qa < 0 ? (qb + disc) / (-2 * qa) : -1.0);
+  if (!(std::isfinite(a) && a > 0 && qc > 0)) {
     fit.outcome = {Status::kInfeasible, "no biarc joins the non-planar corner"};
     return fit;
   }
+  // the junction tangent is the direction of Q0 -> Q1; both arcs use it, so G1 is exact there
+  const Vec3 q0 = p1 + a * t1;
+  const Vec3 q1 = p2 - a * t2;
+  const Vec3 tj = (q1 - q0).normalized();
+  const Segment first = tangent_arc(p1, t1, tj, a);
+  const Segment second = tangent_arc(q0 + a * tj, tj, t2, a);
   fit.transition = {first, second};
   return fit;
 }

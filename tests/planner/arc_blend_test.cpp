@@ -6,8 +6,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iostream>
+#include <map>
 #include <numbers>
 #include <set>
+#include <sstream>
 #include <string>
 
 #include "planner/blend.hpp"
@@ -525,6 +528,336 @@ TEST(ArcBlendLineArc, ArcShorterThanTheCornerDistanceIsReplacedWhole) {
   const Joins joins = measure_joins(corner, fit);
   EXPECT_LE(joins.gap, kPosRel * joins.size + 1e-16);
   EXPECT_LE(joins.angle, kG1);
+}
+
+// ---- seeded random corners
+
+// Relative size below which a corner's gap is compared with an absolute floor instead (m): the
+// coordinates reach ~1 m, where one rounding is ~1e-16 m.
+constexpr double kGapFloor = 1e-15;
+
+double log_uniform(std::mt19937_64& rng, double lo, double hi) {
+  return std::exp(test::uniform(rng, std::log(lo), std::log(hi)));
+}
+
+// Tangent turn at the corner: 0.001 deg .. 179.999 deg, with extra weight near both ends.
+double random_turn(std::mt19937_64& rng) {
+  constexpr double kLo = 0.001 * kPi / 180;
+  const double pick = test::uniform(rng, 0, 1);
+  if (pick < 0.25) return log_uniform(rng, kLo, 0.1);
+  if (pick < 0.5) return kPi - log_uniform(rng, kLo, 0.1);
+  return test::uniform(rng, kLo, kPi - kLo);
+}
+
+Mat3 random_rotation(std::mt19937_64& rng) {
+  std::normal_distribution<double> normal;
+  Eigen::Quaterniond q(normal(rng), normal(rng), normal(rng), normal(rng));
+  return q.normalized().toRotationMatrix();
+}
+
+// An arc of radius r and sweep phi that ends at c with unit tangent t, its centre towards the
+// unit normal m (perpendicular to t).
+Arc arc_ending_at(const Vec3& c, const Vec3& t, const Vec3& m, double r, double phi) {
+  const Vec3 u = -m;
+  const Vec3& v = t;
+  Arc arc;
+  arc.center = c + r * m;
+  arc.radius = r;
+  arc.u = std::cos(phi) * u - std::sin(phi) * v;
+  arc.v = std::sin(phi) * u + std::cos(phi) * v;
+  arc.sweep = phi;
+  return arc;
+}
+
+// An arc of radius r and sweep phi that starts at c with unit tangent t, centre towards m.
+Arc arc_starting_at(const Vec3& c, const Vec3& t, const Vec3& m, double r, double phi) {
+  return Arc{c + r * m, -m, t, r, phi, 0.0};
+}
+
+Primitive transformed(const Primitive& prim, const Mat3& rot, const Vec3& shift) {
+  if (const Line* line = std::get_if<Line>(&prim)) return Line{rot * line->p0 + shift, rot * line->p1 + shift};
+  Arc arc = std::get<Arc>(prim);
+  arc.center = rot * arc.center + shift;
+  arc.u = rot * arc.u;
+  arc.v = rot * arc.v;
+  return arc;
+}
+
+enum class Kinds { kAny, kPlanar, kNonPlanar };
+
+// A random corner at the origin (incoming along +x, outgoing turned by theta in the x-y plane,
+// arcs in that plane or tilted about their tangent), then rotated and moved at random.
+CornerInput random_corner(std::mt19937_64& rng, Kinds kinds, double theta) {
+  const bool in_arc = test::uniform(rng, 0, 1) < 0.6;
+  const bool out_arc = test::uniform(rng, 0, 1) < 0.6;
+  const double delta = test::uniform(rng, 0, 1) < 0.5 ? theta : -theta;
+  const Vec3 t_in = Vec3::UnitX();
+  const Vec3 t_out(std::cos(delta), std::sin(delta), 0);
+  const bool tilt = kinds == Kinds::kNonPlanar || (kinds == Kinds::kAny && test::uniform(rng, 0, 1) < 0.2);
+  // side of the centre: in the plane (beta = 0 or pi) or rotated about the tangent
+  const auto side = [&](const Vec3& t) {
+    const double beta = tilt ? test::uniform(rng, 0.05, kPi - 0.05) * (test::uniform(rng, 0, 1) < 0.5 ? 1 : -1)
+                             : (test::uniform(rng, 0, 1) < 0.5 ? 0.0 : kPi);
+    return Vec3(std::cos(beta) * Vec3::UnitZ().cross(t) + std::sin(beta) * Vec3::UnitZ());
+  };
+  const auto length_or_sweep = [&](double r) { return std::min(test::uniform(rng, 0.01, 6.0), log_uniform(rng, 1e-3, 0.6) / r); };
+  Primitive in = Line{-log_uniform(rng, 1e-3, 0.5) * t_in, Vec3::Zero()};
+  Primitive out = Line{Vec3::Zero(), log_uniform(rng, 1e-3, 0.5) * t_out};
+  if (in_arc) {
+    const double r = log_uniform(rng, 1e-4, 1.0);
+    in = arc_ending_at(Vec3::Zero(), t_in, side(t_in), r, length_or_sweep(r));
+  }
+  if (out_arc) {
+    const double r = log_uniform(rng, 1e-4, 1.0);
+    out = arc_starting_at(Vec3::Zero(), t_out, side(t_out), r, length_or_sweep(r));
+  }
+  // a planar tilt of a line-line corner or a single arc in the line's plane is still planar
+  const Mat3 rot = random_rotation(rng);
+  const Vec3 shift(test::uniform(rng, -0.5, 0.5), test::uniform(rng, -0.5, 0.5), test::uniform(rng, -0.5, 0.5));
+  CornerInput corner = make_corner(transformed(in, rot, shift), transformed(out, rot, shift), log_uniform(rng, 1e-5, 0.1),
+                                   test::uniform(rng, 0, 1) < 0.5 ? BufferMode::kBuffered : BufferMode::kBlendingLow);
+  if (test::uniform(rng, 0, 1) < 0.5) corner.in_available *= 0.5;
+  if (test::uniform(rng, 0, 1) < 0.5) corner.out_available *= 0.5;
+  return corner;
+}
+
+// Worst figures over a property run, printed for the report.
+struct Worst {
+  int cases = 0;
+  int infeasible = 0;
+  double gap_rel = 0;  // position gap / corner size
+  double angle = 0;    // rad, at G1 junctions
+  std::map<std::string, int> by_case;
+  void print(const std::string& what) const {
+    std::ostringstream out;
+    out << what << ": " << cases << " corners, " << infeasible << " infeasible, worst gap/size " << gap_rel
+        << ", worst tangent angle " << angle << " rad;";
+    for (const auto& [name, count] : by_case) out << " " << name << "=" << count;
+    std::cout << out.str() << "\n";
+  }
+};
+
+bool is_circle(const Segment& seg) {
+  if (std::holds_alternative<Line>(seg)) return true;
+  if (const Arc* arc = std::get_if<Arc>(&seg)) return arc->rise == 0;
+  if (const Clothoid* c = std::get_if<Clothoid>(&seg)) return c->sharpness == 0;
+  return false;
+}
+
+// The invariants every fit must satisfy.
+void check_fit(const CornerInput& corner, const CornerFit& fit, const std::string& seed, Worst& worst) {
+  ++worst.cases;
+  if (!fit.outcome.ok()) {
+    ++worst.infeasible;
+    EXPECT_EQ(fit.outcome.status, Status::kInfeasible) << seed;
+    EXPECT_FALSE(fit.outcome.message.empty()) << seed;
+    return;
+  }
+  ++worst.by_case[fit.case_name + (fit.fallback.empty() ? "" : "/" + fit.fallback)];
+  const double d = corner.spec.parameter;
+  ASSERT_TRUE(std::isfinite(fit.trim_in) && std::isfinite(fit.trim_out) && std::isfinite(fit.parameter_used)) << seed;
+  EXPECT_GE(fit.trim_in, 0.0) << seed;
+  EXPECT_GE(fit.trim_out, 0.0) << seed;
+  EXPECT_LE(fit.trim_in, corner.in_available * (1 + 1e-12)) << seed;
+  EXPECT_LE(fit.trim_out, corner.out_available * (1 + 1e-12)) << seed;
+  EXPECT_LE(fit.parameter_used, d * (1 + 1e-12)) << seed;
+  for (const Segment& seg : fit.transition) {
+    ASSERT_TRUE(std::isfinite(length(seg)) && start_point(seg).allFinite() && end_point(seg).allFinite()) << seed;
+    EXPECT_TRUE(is_circle(seg)) << seed << " " << fit.case_name;
+  }
+
+  // continuity: positions always, tangents unless the case leaves a kink
+  const Joins joins = measure_joins(corner, fit);
+  ASSERT_TRUE(std::isfinite(joins.gap) && std::isfinite(joins.angle)) << seed;
+  EXPECT_LE(joins.gap, kPosRel * joins.size + kGapFloor) << seed << " " << fit.case_name << " size " << joins.size;
+  if (joins.size > 0) worst.gap_rel = std::max(worst.gap_rel, joins.gap / joins.size);
+  const bool kink = fit.transition.empty() && kKinkCases.count(fit.case_name) > 0;
+  if (kink) {
+    EXPECT_EQ(fit.stop, corner.buffer == BufferMode::kBuffered) << seed << " " << fit.case_name;
+  } else {
+    EXPECT_FALSE(fit.stop) << seed;
+    EXPECT_LE(joins.angle, kG1) << seed << " " << fit.case_name << " " << fit.fallback;
+    worst.angle = std::max(worst.angle, joins.angle);
+  }
+
+  // the corner distance: the larger-radius move (a line, the incoming on a tie) loses exactly d
+  if (fit.note.empty() && fit.fallback.empty() && fit.case_name != "zero_distance") {
+    const Arc* a_in = std::get_if<Arc>(&corner.in);
+    const Arc* a_out = std::get_if<Arc>(&corner.out);
+    const bool larger_in = a_in == nullptr || (a_out != nullptr && a_in->radius >= a_out->radius * (1 - 1e-12));
+    EXPECT_NEAR(larger_in ? fit.trim_in : fit.trim_out, d, 1e-12 * d) << seed << " " << fit.case_name;
+    if (a_in == nullptr && a_out == nullptr) {
+      EXPECT_NEAR(fit.trim_out, d, 1e-12 * d) << seed;
+    }
+    EXPECT_DOUBLE_EQ(fit.parameter_used, d) << seed;
+  }
+}
+
+TEST(ArcBlendProperty, RandomPlanarCornersAreContinuousAndTangent) {
+  const int n = test::property_cases(20000);
+  Worst worst;
+  for (int i = 0; i < n; ++i) {
+    const auto seed = static_cast<std::uint64_t>(1000 + i);
+    auto rng = test::make_rng(seed);
+    const CornerInput corner = random_corner(rng, Kinds::kPlanar, random_turn(rng));
+    check_fit(corner, fit_arc_corner(corner), test::seed_text(seed), worst);
+    if (HasFatalFailure()) return;
+  }
+  worst.print("planar corners");
+}
+
+TEST(ArcBlendProperty, RandomNonPlanarCornersAreJoinedByG1Biarcs) {
+  const int n = test::property_cases(10000);
+  Worst worst;
+  for (int i = 0; i < n; ++i) {
+    const auto seed = static_cast<std::uint64_t>(50000 + i);
+    auto rng = test::make_rng(seed);
+    const CornerInput corner = random_corner(rng, Kinds::kNonPlanar, random_turn(rng));
+    const CornerFit fit = fit_arc_corner(corner);
+    check_fit(corner, fit, test::seed_text(seed), worst);
+    if (HasFatalFailure()) return;
+  }
+  worst.print("non-planar corners");
+}
+
+TEST(ArcBlendProperty, NearStraightAndNearReversalCornersBehaveContinuously) {
+  // turns straddling the 1e-12 rad thresholds at 0 and 180 degrees
+  const int n = test::property_cases(10000);
+  Worst worst;
+  for (int i = 0; i < n; ++i) {
+    const auto seed = static_cast<std::uint64_t>(90000 + i);
+    auto rng = test::make_rng(seed);
+    const double small = log_uniform(rng, 1e-14, 1e-4);
+    const double theta = test::uniform(rng, 0, 1) < 0.5 ? small : kPi - small;
+    const CornerInput corner = random_corner(rng, Kinds::kAny, theta);
+    check_fit(corner, fit_arc_corner(corner), test::seed_text(seed), worst);
+    if (HasFatalFailure()) return;
+  }
+  worst.print("near 0 / 180 degree corners");
+}
+
+TEST(ArcBlendProperty, LineLineFilletRadiusFollowsTheCornerDistance) {
+  // 001: r = d / tan(theta / 2) whenever d is not shrunk
+  const int n = test::property_cases(5000);
+  for (int i = 0; i < n; ++i) {
+    const auto seed = static_cast<std::uint64_t>(130000 + i);
+    auto rng = test::make_rng(seed);
+    const double theta = random_turn(rng);
+    const Mat3 rot = random_rotation(rng);
+    const Vec3 c = rot * Vec3(test::uniform(rng, -0.5, 0.5), 0, 0);
+    const Vec3 t_in = rot * Vec3::UnitX();
+    const Vec3 t_out = rot * Vec3(std::cos(theta), std::sin(theta), 0);
+    const double d = log_uniform(rng, 1e-5, 0.1);
+    const CornerFit fit = fit_arc_corner(make_corner(Line{c - 0.2 * t_in, c}, Line{c, c + 0.2 * t_out}, d));
+    ASSERT_EQ(fit.transition.size(), 1u) << test::seed_text(seed);
+    const Segment& seg = fit.transition[0];
+    const double r_expected = d / std::tan(theta / 2);
+    const double kappa = curvature_vector(seg, 0.5 * length(seg)).norm();
+    EXPECT_NEAR(kappa * r_expected, 1.0, 1e-9) << test::seed_text(seed) << " theta " << theta;
+  }
+}
+
+// The 003 figures perturbed around their exact values: the intersection distance, the
+// line-segment distance, and a second arc on (almost) the same circle.
+TEST(ArcBlendProperty, NearIntersectionLineSegmentAndSameCircleStayContinuous) {
+  const int n = test::property_cases(10000);
+  Worst worst;
+  for (int i = 0; i < n; ++i) {
+    const auto seed = static_cast<std::uint64_t>(170000 + i);
+    auto rng = test::make_rng(seed);
+    const double scale = log_uniform(rng, 1e-2, 10.0);  // radii 0.2 mm .. 200 mm
+    const double eps = log_uniform(rng, 1e-15, 1e-3) * (test::uniform(rng, 0, 1) < 0.5 ? 1 : -1);
+    const Mat3 rot = random_rotation(rng);
+    const Vec3 shift(test::uniform(rng, -0.5, 0.5), test::uniform(rng, -0.5, 0.5), test::uniform(rng, -0.5, 0.5));
+    const double r = 0.02 * scale;
+    const int which = static_cast<int>(test::uniform(rng, 0, 3));
+    Primitive in;
+    Primitive out;
+    double d = 0;
+    if (which == 0) {
+      in = arc_from({0, 0, 0}, {-r, 0, 0}, Vec3::UnitZ(), kPi);
+      out = arc_from({r, -0.5 * r, 0}, {r, 0, 0}, Vec3::UnitZ(), 1.5 * kPi);
+      d = r * std::atan2(4.0, 3.0) * (1 + eps);
+    } else if (which == 1) {
+      in = arc_from({0, 0, 0}, {-r, 0, 0}, Vec3::UnitZ(), kPi - std::atan2(4.0, 3.0));
+      out = arc_from({r, -0.5 * r, 0}, {0.6 * r, -0.8 * r, 0}, Vec3::UnitZ(), kPi / 2);
+      d = r * (kPi / 2 - std::atan2(4.0, 3.0)) * (1 + eps);
+    } else {
+      // B through C = (r, 0) with its centre moved by |eps| r along a random direction
+      const double ang = test::uniform(rng, 0, 2 * kPi);
+      const Vec3 centre = std::abs(eps) * r * Vec3(std::cos(ang), std::sin(ang), 0);
+      in = arc_from({0, 0, 0}, {0, -r, 0}, Vec3::UnitZ(), kPi / 2);
+      out = arc_from(centre, {r, 0, 0}, (eps > 0 ? 1.0 : -1.0) * Vec3::UnitZ(), kPi / 2);
+      d = r * test::uniform(rng, 0.01, 0.5);
+    }
+    const CornerInput corner = make_corner(transformed(in, rot, shift), transformed(out, rot, shift), d,
+                                           test::uniform(rng, 0, 1) < 0.5 ? BufferMode::kBuffered : BufferMode::kBlendingLow);
+    check_fit(corner, fit_arc_corner(corner), test::seed_text(seed) + " figure " + std::to_string(which), worst);
+    if (HasFatalFailure()) return;
+  }
+  worst.print("near 003 special figures");
+}
+
+Move move_of(const Primitive& geometry, double d, BufferMode buffer) {
+  Move move;
+  move.geometry = geometry;
+  move.limits = {0.2, 2.0, 2.0, 20.0};
+  move.buffer = buffer;
+  move.transition.method = Method::kArc;
+  move.transition.parameter = d;
+  return move;
+}
+
+TEST(ArcBlendProperty, BlendedPathsAreContinuousWithKinksOnlyWhereACaseLeavesOne) {
+  const int n = test::property_cases(1000);
+  Worst worst;
+  for (int i = 0; i < n; ++i) {
+    const auto seed = static_cast<std::uint64_t>(210000 + i);
+    auto rng = test::make_rng(seed);
+    const std::string where = test::seed_text(seed);
+    const CornerInput corner = random_corner(rng, Kinds::kAny, random_turn(rng));
+    // a third move leaves the end of `out` along its tangent turned by a random angle
+    const double len_out = length(corner.out);
+    const Vec3 end = point(corner.out, len_out);
+    const Vec3 t_end = tangent(corner.out, len_out);
+    const Vec3 side = any_perpendicular(t_end);
+    const double turn = random_turn(rng);
+    const Vec3 dir = std::cos(turn) * t_end + std::sin(turn) * side;
+    Program program;
+    program.moves = {move_of(corner.in, corner.spec.parameter, corner.buffer),
+                     move_of(corner.out, log_uniform(rng, 1e-5, 0.1), corner.buffer),
+                     move_of(Line{end, end + log_uniform(rng, 1e-3, 0.3) * dir}, 0.0, corner.buffer)};
+    const Path path = blend(program);
+    ASSERT_EQ(path.corners.size(), 2u) << where;
+    ASSERT_TRUE(std::isfinite(path.length())) << where;
+    EXPECT_LE((path.point(0) - start_point(to_segment(corner.in))).norm(), 1e-12) << where;
+    EXPECT_LE((path.point(path.length()) - end_point(to_segment(program.moves[2].geometry))).norm(), 1e-12) << where;
+    const auto& pieces = path.pieces();
+    for (std::size_t k = 1; k < pieces.size(); ++k) {
+      const PathPiece& prev = pieces[k - 1];
+      const PathPiece& next = pieces[k];
+      const int c = next.corner >= 0 ? next.corner : (prev.corner >= 0 ? prev.corner : prev.move);
+      ASSERT_TRUE(c >= 0 && c < 2) << where;
+      const CornerReport& report = path.corners[static_cast<std::size_t>(c)];
+      const double size = std::max({report.trim_in, report.trim_out, report.length});
+      const double gap = (end_point(prev.segment) - start_point(next.segment)).norm();
+      EXPECT_LE(gap, kPosRel * size + kGapFloor) << where << " corner " << c << " " << report.case_name;
+      if (size > 0) worst.gap_rel = std::max(worst.gap_rel, gap / size);
+      if (next.kink_angle > kG1) {
+        EXPECT_TRUE(kKinkCases.count(report.case_name) > 0 || report.fallback == "exact_stop")
+            << where << " corner " << c << " " << report.case_name << " kink " << next.kink_angle;
+      } else {
+        worst.angle = std::max(worst.angle, next.kink_angle);
+      }
+    }
+    ++worst.cases;
+    for (const CornerReport& report : path.corners) {
+      ++worst.by_case[report.case_name + (report.fallback.empty() ? "" : "/" + report.fallback)];
+      EXPECT_TRUE(std::isfinite(report.deviation) && std::isfinite(report.kappa_max)) << where;
+    }
+    if (HasFatalFailure()) return;
+  }
+  worst.print("blended 3-move programs");
 }
 
 }  // namespace
