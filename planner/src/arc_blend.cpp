@@ -64,6 +64,8 @@ constexpr double kArcMinTurn = 1e-6;
 constexpr double kIntersection = 1e-12;
 // rad: transition turning equal to the replaced path's turning
 constexpr double kTurnTol = 1e-6;
+// a transition longer than this many times the path it replaces is a detour, not a transition
+constexpr double kMaxDetour = 4.0;
 // m: the smallest corner distance the shrink search tries (1 um, far below robot resolution)
 constexpr double kMinShrink = 1e-6;
 constexpr int kBisections = 60;
@@ -343,6 +345,11 @@ Candidate solve_planar(const Corner& k, const Plane& pl, bool fixed_in, double d
   const double tau_prog = pl.in.kappa * cand.trim_in + pl.delta + pl.out.kappa * cand.trim_out;
   if (std::abs(tau - tau_prog) > kTurnTol && std::abs(tau) > kPi + kTurnTol) {
     cand.why = "the tangent circle would add a loop";
+    return cand;
+  }
+  // no detour: a near-closed circle of huge radius is tangent to both but is no corner transition
+  if (len > kMaxDetour * (cand.trim_in + cand.trim_out)) {
+    cand.why = "the tangent circle would make a detour";
     return cand;
   }
 
