@@ -5,35 +5,39 @@
 // - line-line (001): both lines are shortened by d and the fillet arc tangent to both joins them;
 //   its radius is d / tan(theta / 2) for a tangent turn theta at the corner.
 // - with an arc (003): the move with the larger radius (a line counts as infinite radius; equal
-//   radii: the incoming move) is shortened by (arc length) d. At that point T1 the transition
-//   circle is tangent to it, so its centre is T1 + rho n1 (n1 the left normal at T1 in the
-//   corner plane, rho the signed radius, positive = counter-clockwise about the plane normal).
-//   Tangency to the other move decides rho:
+//   radii: the incoming move, as 003 says for tangent arcs) is shortened by (arc length) d. At
+//   that point T1 the transition circle is tangent to it, so its centre is O = T1 + rho n1 (n1 the
+//   left normal at T1 in the corner plane, rho the signed radius, positive = counter-clockwise
+//   about the plane normal). Tangency to the other move decides rho:
 //     other is a circle (centre Q, signed radius r): two oriented circles touch with the same
-//       direction of travel iff |centre distance| = |rho - r|. With w = T1 - Q this is
-//       |w + rho n1|^2 = (rho - r)^2, linear in rho:  rho = (r^2 - |w|^2) / (2 (n1.w + r)).
-//       The tangency point is T2 = Q - r n2 with n2 = (O - Q) / (rho - r), computed through the
-//       curvature k = 1 / rho as n2 ~ (k w + n1) / (1 - k r) so that rho -> infinity (a line)
-//       stays finite.
-//     other is a line (point C, left normal ns): the centre's signed distance to the line is rho:
-//       (T1 - C).ns + rho n1.ns = rho  ->  rho = (T1 - C).ns / (1 - n1.ns), T2 = O - rho ns.
+//       direction of travel iff |O - Q| = |rho - r|. With w = T1 - Q this is
+//       |w + rho n1|^2 = (rho - r)^2, linear in rho:  rho = (r^2 - |w|^2) / (2 (n1.w + r)),
+//       and the tangency point is T2 = Q - r n2 with n2 = (O - Q) / (rho - r).
+//     other is a line (through C, left normal ns): the centre's signed distance to the line is rho:
+//       (T1 - C).ns + rho n1.ns = rho  ->  rho = (T1 - C).ns / (1 - n1.ns),  T2 = O - rho ns.
 //   The other move is trimmed to T2. rho = 0 (T1 lies on the other curve) is 003's intersection
-//   case (zero-length transition); 1/rho = 0 is its line-segment case.
+//   case (zero-length transition); 1/rho = 0 is its line-segment case. solve_planar evaluates
+//   these in rearranged forms that keep their digits near tangency and for nearly equal circles.
 // - a candidate is accepted when T2 lies on the part of the other move the blender allows
-//   (`*_available`), and the transition does not add a loop: its signed turning equals the
-//   turning of the programmed path it replaces, or it is a short arc (|turn| <= pi) that cuts a
-//   loop off (arcs that cross twice).
-// - when no circle exists for the requested d (tangency behind the corner, or a loop), the rule
-//   is applied with the roles swapped (the smaller-radius move shortened by d; fallback
-//   "smaller_radius_shortened"); when that fails too, or T2 lies beyond the available part, d is
-//   shrunk (bisection on the 003 rule) and the note says so; when no d >= 1 um works, the corner
-//   is infeasible.
+//   (`*_available`), the transition adds no loop (its signed turning equals that of the
+//   programmed path it replaces, or it is a short arc, |turn| <= pi, that cuts a loop off where
+//   the arcs cross twice) and makes no detour (at most 4 times the length it replaces).
+// - when no circle exists for the requested d (tangency behind the corner, a loop, a detour), the
+//   rule is applied with the roles swapped (the smaller-radius move shortened by d; fallback
+//   "smaller_radius_shortened"; this keeps near-tangent corners blended with the full d); when
+//   that fails too, or T2 lies beyond the available part, d is shrunk (bisection on the 003 rule)
+//   and the note says so; when no d >= 1 um works, the corner is infeasible.
 // - tangent corners (G1 already, only a curvature jump): the larger-radius move is shortened by
 //   d and that piece becomes the transition (003's rule for tangent arcs in opposite directions,
 //   used for every tangent corner; it is also the limit of the general construction there).
+// - a 180-degree corner between a line and an arc or two arcs on different circles: the moves
+//   part at once (nothing overlaps as in 001's line reversal), so the general construction
+//   applies; it gives a small U-turn arc, the limit of the near-180-degree transitions.
 // - non-planar corners (line and arc, or two arcs, not in one plane; helices): no circle is
 //   tangent to both in general. Both moves are shortened by d and joined by a G1 biarc (two
 //   circular arcs in different planes, equal tangent lengths; fallback "biarc").
+// A transition circle turning less than 1e-6 rad is emitted as a Clothoid with zero sharpness
+// (the same circle, evaluated from its start instead of a centre a million lengths away).
 
 #include <algorithm>
 #include <cmath>
@@ -90,7 +94,6 @@ struct Corner {
   Vec3 t_out;   // unit tangent of out at the corner
   double theta = 0;  // rad, unsigned turn of the tangent at the corner, [0, pi]
   bool buffered = false;
-  std::string name;
 };
 
 // A move near the corner as a curve of the corner plane: `t` is its unit tangent at the corner.
@@ -584,7 +587,8 @@ CornerFit fit_planar(const Corner& k, const Plane& pl, bool larger_in, double d_
   return finish(fit);
 }
 
-// The corner plane when both moves lie in one plane (at least one arc), else nullopt-like false.
+// The corner plane of a corner with at least one arc: false when the moves do not lie in one
+// plane (or an arc is a helix).
 bool corner_plane(const Corner& k, Plane& pl) {
   const Arc* a_in = std::get_if<Arc>(k.in);
   const Arc* a_out = std::get_if<Arc>(k.out);
@@ -622,7 +626,6 @@ CornerFit fit_arc_corner(const CornerInput& corner) {
   k.t_out = tangent(corner.out, 0.0);
   k.theta = angle_between(k.t_in, k.t_out);
   k.buffered = corner.buffer == BufferMode::kBuffered;
-  k.name = corner.name;
   const double d_req = corner.spec.parameter;
   if (!std::isfinite(d_req) || d_req < 0) {
     CornerFit fit;
