@@ -305,6 +305,21 @@ TEST(ArcBlendLineArc, NonPlanarCornerIsJoinedByABiarc) {
   EXPECT_LE(joins.angle, kG1);
 }
 
+TEST(ArcBlendLineArc, HelixIsTreatedAsNonPlanar) {
+  // a helix is no circle: the biarc fallback joins it G1
+  const Line in{{-0.05, 0, 0}, {0, 0, 0}};
+  Arc helix = arc_from({-0.02, 0, 0}, {0, 0, 0}, Vec3::UnitZ(), kPi);
+  helix.rise = 0.01;
+  const CornerInput corner = make_corner(in, helix, 0.005);
+  const CornerFit fit = fit_arc_corner(corner);
+  ASSERT_TRUE(fit.outcome.ok()) << fit.outcome.message;
+  EXPECT_EQ(fit.case_name, "non_planar");
+  EXPECT_EQ(fit.fallback, "biarc");
+  const Joins joins = measure_joins(corner, fit);
+  EXPECT_LE(joins.gap, kPosRel * joins.size);
+  EXPECT_LE(joins.angle, kG1);
+}
+
 // ---- arc to arc (003)
 
 // A: centre 0, radius 0.05, counter-clockwise, ends at C = (0.03, 0.04). B: centre (0.03, 0.01),
@@ -426,10 +441,11 @@ TEST(ArcBlendArcArc, LineSegmentWhenTheTransitionRadiusIsInfinite) {
   const Arc out = arc_from({0.02, -0.01, 0}, {0.012, -0.016, 0}, Vec3::UnitZ(), kPi / 2);
   ASSERT_TRUE(end_point(in).isApprox(Vec3(0.012, -0.016, 0), 1e-15));
   const double d = 0.02 * (kPi / 2 - std::atan2(4.0, 3.0));
-  const CornerInput corner = make_corner(in, out, d);
+  const CornerInput corner = make_corner(in, out, d, BufferMode::kBuffered);
   const CornerFit fit = fit_arc_corner(corner);
   ASSERT_TRUE(fit.outcome.ok()) << fit.outcome.message;
   EXPECT_EQ(fit.case_name, "line_segment");
+  EXPECT_FALSE(fit.stop);  // G1 at both ends: nothing to stop for
   EXPECT_NEAR(fit.trim_in, d, kExact);
   EXPECT_NEAR(fit.trim_out, 0.01 * std::atan2(4.0, 3.0), 1e-13);
   ASSERT_EQ(fit.transition.size(), 1u);
