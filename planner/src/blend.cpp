@@ -78,7 +78,11 @@ void measure_corner(CornerReport& report, const std::vector<Segment>& transition
     replaced.push_back(to_segment(in));
     replaced.push_back(to_segment(out));
   }
-  report.deviation = hausdorff(transition, replaced, report.length / 512.0);
+  // sample step from the longer of the two curves: a tiny transition (a near-180 degree fillet)
+  // replacing long trims would otherwise take billions of samples
+  double replaced_length = 0;
+  for (const Segment& seg : replaced) replaced_length += length(seg);
+  report.deviation = hausdorff(transition, replaced, std::max(report.length, replaced_length) / 512.0);
   report.feed_max = curvature_speed_limit(report.kappa_max, report.sharpness_max, a_max, j_max);
 }
 
