@@ -19,7 +19,7 @@ struct CornerReport {
   std::string note;                   // e.g. "parameter shrunk from 5 mm to 2.1 mm: move 3 is short"
   double parameter = 0;               // m: the transition parameter actually used
   double length = 0;                  // m: transition length (0 for a kink or zero-length transition)
-  double deviation = 0;               // m: directed Hausdorff distance, transition -> programmed path
+  double deviation = 0;               // m: Hausdorff distance (both directions) between the transition and the programmed path it replaces
   double kappa_max = 0;               // 1/m
   double sharpness_max = 0;           // 1/m^2
   double feed_max = 0;                // m/s: eq. 25-27 limit of the transition (0 when no transition)
