@@ -1,11 +1,867 @@
-#include "planner/corner.hpp"
+#include "planner/biclothoid.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <deque>
+#include <limits>
+#include <numbers>
+#include <vector>
+
+#include <sstream>
+#include <string>
+
+#include "planner/clothoid_blend.hpp"
+#include "planner/input_error.hpp"
+#include "planner/segment.hpp"
 
 namespace blendbench {
+namespace {
 
-// Placeholder until the biclothoid method lands: the blender turns this into an exact stop.
-CornerFit fit_biclothoid_corner(const CornerInput& corner) {
+constexpr double kPi = std::numbers::pi;
+// Tangent angle (rad) below which a corner is G1 (as in blend.cpp), and how close to pi a
+// turn must be to count as a reversal.
+constexpr double kTangentAngle = 1e-9;
+constexpr double kReversalAngle = 1e-9;
+// Largest out-of-plane angle (rad) of a line or arc normal for a corner to count as planar.
+constexpr double kPlanarAngle = 1e-10;
+
+std::string mm(double metres) {
+  std::ostringstream out;
+  out.precision(6);
+  out << metres * 1000.0 << " mm";
+  return out.str();
+}
+
+std::string deg(double rad) {
+  std::ostringstream out;
+  out.precision(6);
+  out << rad * 180.0 / std::numbers::pi << " deg";
+  return out.str();
+}
+
+double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+Vec2 direction(double theta) { return {std::cos(theta), std::sin(theta)}; }
+
+// sin(x) / x, exact to rounding near 0
+double sinc(double x) {
+  if (std::abs(x) < 1e-4) return 1.0 - x * x / 6.0;
+  return std::sin(x) / x;
+}
+
+// Illinois false position for a root of f on [x0, x1] where f(x0) and f(x1) differ in sign.
+// Stops when |f| <= f_tol, the bracket is narrower than x_tol, or after max_it evaluations.
+// Returns the final bracket, each end with its function value, so a caller can choose the
+// side it needs.
+struct Bracket {
+  double x0, f0, x1, f1;
+};
+template <class F>
+Bracket illinois(const F& f, Bracket br, double x_tol, double f_tol, int max_it) {
+  int side = 0;
+  for (int it = 0; it < max_it; ++it) {
+    if (std::abs(br.x1 - br.x0) <= x_tol) break;
+    double x = (br.x0 * br.f1 - br.x1 * br.f0) / (br.f1 - br.f0);
+    // keep the trial strictly inside, else bisect
+    const double lo = std::min(br.x0, br.x1);
+    const double hi = std::max(br.x0, br.x1);
+    if (!(x > lo && x < hi)) x = 0.5 * (br.x0 + br.x1);
+    const double fx = f(x);
+    if (!std::isfinite(fx)) break;
+    if ((fx > 0) == (br.f1 > 0)) {
+      br.x1 = x;
+      br.f1 = fx;
+      if (side == 1) br.f0 *= 0.5;
+      side = 1;
+    } else {
+      br.x0 = x;
+      br.f0 = fx;
+      if (side == -1) br.f1 *= 0.5;
+      side = -1;
+    }
+    if (std::abs(fx) <= f_tol) break;
+  }
+  return br;
+}
+
+// Distance from x to the piece sigma in [lo, hi] of a shape; also the closest point.
+struct PieceDistance {
+  double distance;
+  Vec2 point;
+  double sigma;
+};
+PieceDistance piece_distance(const PlanarShape& q, double lo, double hi, const Vec2& x) {
+  if (q.kappa == 0) {
+    const Vec2 t = direction(q.theta);
+    const double sigma = std::clamp(x.dot(t), lo, hi);
+    const Vec2 p = sigma * t;
+    return {(x - p).norm(), p, sigma};
+  }
+  // circle: centre c, the corner is at c + (-c); sigma = (angle from -c to x - c) / kappa
+  const Vec2 c = Vec2(-std::sin(q.theta), std::cos(q.theta)) / q.kappa;
+  const Vec2 r = x - c;
+  const double radius = 1.0 / std::abs(q.kappa);
+  const double psi = std::atan2(cross(-c, r), (-c).dot(r));
+  const double sigma = psi / q.kappa;
+  if (sigma >= lo && sigma <= hi) {
+    const double rn = r.norm();
+    const Vec2 p = rn > 0 ? Vec2(c + r * (radius / rn)) : Vec2(c - c);
+    return {std::abs(rn - radius), p, sigma};
+  }
+  const Vec2 pa = shape_point(q, lo);
+  const Vec2 pb = shape_point(q, hi);
+  const double da = (x - pa).norm();
+  const double db = (x - pb).norm();
+  return da <= db ? PieceDistance{da, pa, lo} : PieceDistance{db, pb, hi};
+}
+
+// Closest point on the fillet to x by Newton on h(s) = (V(s) - x) . T(s), h' = 1 + kappa (V - x) . N,
+// started at `guess` and kept in [0, L]. Once the step is below 1e-6 L the distance follows from
+// the local quadratic model, |V - x|^2 - h^2 / h', without another evaluation (its error,
+// ~ kappa' step^3, stays below 1e-12 of the distance for the fillets here).
+struct FilletClosest {
+  double s;
+  Vec2 point;
+  double distance;
+};
+FilletClosest closest_on_fillet(const Biclothoid& curve, const Vec2& x, double guess) {
+  const double len = length(curve);
+  double s = std::clamp(guess, 0.0, len);
+  for (int it = 0; it < 30; ++it) {
+    const Posture at = posture_at(curve, s);
+    const Vec2 d = at.p - x;
+    const Vec2 t = direction(at.theta);
+    const Vec2 n(-t.y(), t.x());
+    const double h = d.dot(t);
+    // a step from the local quadratic model; damped where the model is not convex
+    const double hp = std::max(1.0 + at.kappa * d.dot(n), 0.25);
+    const double next = std::clamp(s - h / hp, 0.0, len);
+    const double step = next - s;
+    if (std::abs(step) <= 1e-6 * len) {
+      const double d2 = d.squaredNorm() - (std::abs(step) > 0 ? h * h / hp : 0.0);
+      return {next, at.p + step * t, std::sqrt(std::max(d2, 0.0))};
+    }
+    s = next;
+  }
+  const Posture at = posture_at(curve, s);
+  return {s, at.p, (at.p - x).norm()};
+}
+
+// Maximum of a function on [x0, x1] given at both ends and, in the cases of section 7.1, with
+// one interior maximum: `eval(x)` returns the value and its derivative. Evaluates the interior
+// sample points `xs`, brackets the best point by the sign change of the derivative and refines
+// by false position on the derivative. Returns the largest value seen.
+struct ValueSlope {
+  double value;
+  double slope;
+};
+template <class F, std::size_t N>
+double maximize(const F& eval, double x0, ValueSlope at0, double x1, ValueSlope at1, const std::array<double, N>& xs) {
+  std::array<double, N + 2> x{};
+  std::array<ValueSlope, N + 2> v{};
+  x[0] = x0;
+  v[0] = at0;
+  for (std::size_t i = 0; i < N; ++i) {
+    x[i + 1] = xs[i];
+    v[i + 1] = eval(xs[i]);
+  }
+  x[N + 1] = x1;
+  v[N + 1] = at1;
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < N + 2; ++i) {
+    if (v[i].value > v[best].value) best = i;
+  }
+  double top = v[best].value;
+  if (std::abs(v[best].slope) <= 1e-6) return top;
+  // the derivative changes sign from + to - on one side of the best point
+  std::size_t lo = best;
+  std::size_t hi = best;
+  if (v[best].slope > 0 && best + 1 < N + 2) hi = best + 1;
+  else if (v[best].slope < 0 && best > 0) lo = best - 1;
+  if (lo == hi || !(v[lo].slope > 0) || !(v[hi].slope < 0)) return top;
+  const auto slope = [&](double xi) {
+    const ValueSlope vi = eval(xi);
+    top = std::max(top, vi.value);
+    return vi.slope;
+  };
+  // near the maximum the value errs by about slope^2 / (2 |f''|), below 1e-9 of it for a
+  // slope of 1e-6 on these fillets
+  illinois(slope, Bracket{x[lo], v[lo].slope, x[hi], v[hi].slope}, 1e-6 * std::abs(x1 - x0), 1e-6, 30);
+  return top;
+}
+
+// Turn of the programmed corner: the tangent jump delta in (-pi, pi].
+double corner_turn(const CornerShapes& shapes) { return std::remainder(shapes.q2.theta - shapes.q1.theta, 2 * kPi); }
+
+}  // namespace
+
+Biclothoid make_biclothoid(const Posture& start, double c, double s1, double s2) {
+  Biclothoid curve;
+  curve.start = start;
+  curve.c = c;
+  curve.s1 = s1;
+  curve.s2 = s2;
+  curve.mid.p = start.p + clothoid_displacement(start.theta, start.kappa, c, s1);
+  curve.mid.kappa = start.kappa + c * s1;
+  curve.mid.theta = start.theta + (start.kappa + 0.5 * c * s1) * s1;
+  return curve;
+}
+
+// Derivation of eq. 11-13 in a form without the 0/0 of eq. 11 at kappa0 = kappa_e: with peak
+// kappa_m, the tent profile gives kappa_m - kappa0 = c s1, kappa_m - kappa_e = c s2, and
+// the turn is the area under it, 2 dtheta = (2 kappa_m^2 - kappa0^2 - kappa_e^2) / c with
+// c = (2 kappa_m - kappa0 - kappa_e) / L. Eliminating c gives the quadratic
+//   L kappa_m^2 - 2 dtheta kappa_m + dtheta (kappa0 + kappa_e) - L (kappa0^2 + kappa_e^2) / 2 = 0,
+// kappa_m = (dtheta +- sqrt(SQ)) / L with 004's SQ = A^2 + B^2, A = dtheta - L kbar,
+// B = L (kappa_e - kappa0) / 2, kbar = (kappa0 + kappa_e) / 2. The root with s1, s2 >= 0 is the
+// one whose sign matches A: D = kappa_m - kbar = (A + sign(A) sqrt(SQ)) / L, c = 2 D / L,
+// s1 = L (1 + B / (L D)) / 2. (For 004's example this is eq. 11's root.)
+std::optional<Biclothoid> biclothoid_from_turn(const Posture& start, double kappa_e, double dtheta, double length) {
+  if (!(length > 0) || !std::isfinite(length)) return std::nullopt;
+  const double kbar = 0.5 * (start.kappa + kappa_e);
+  const double half_jump = 0.5 * (kappa_e - start.kappa);
+  const double a = dtheta - length * kbar;
+  const double root = std::hypot(a, length * half_jump);
+  if (root == 0) return make_biclothoid(start, 0.0, 0.5 * length, 0.5 * length);
+  const double d = (a >= 0 ? a + root : a - root) / length;
+  const double c = 2 * d / length;
+  const double s1 = std::clamp(0.5 * length * (1 + half_jump / d), 0.0, length);
+  return make_biclothoid(start, c, s1, length - s1);
+}
+
+double length(const Biclothoid& curve) { return curve.s1 + curve.s2; }
+
+Posture posture_at(const Biclothoid& curve, double s) {
+  s = std::clamp(s, 0.0, length(curve));
+  if (s <= curve.s1) {
+    const Posture& p0 = curve.start;
+    return {p0.p + clothoid_displacement(p0.theta, p0.kappa, curve.c, s), p0.kappa + curve.c * s,
+            p0.theta + (p0.kappa + 0.5 * curve.c * s) * s};
+  }
+  const double t = s - curve.s1;
+  const Posture& pm = curve.mid;
+  return {pm.p + clothoid_displacement(pm.theta, pm.kappa, -curve.c, t), pm.kappa - curve.c * t,
+          pm.theta + (pm.kappa - 0.5 * curve.c * t) * t};
+}
+
+Posture end_posture(const Biclothoid& curve) { return posture_at(curve, length(curve)); }
+
+Biclothoid reversed(const Biclothoid& curve) {
+  const Posture e = end_posture(curve);
+  return make_biclothoid(Posture{e.p, -e.kappa, e.theta + kPi}, -curve.c, curve.s2, curve.s1);
+}
+
+Vec2 shape_point(const PlanarShape& shape, double sigma) {
+  const double half = 0.5 * shape.kappa * sigma;
+  return sigma * sinc(half) * direction(shape.theta + half);
+}
+
+double shape_angle(const PlanarShape& shape, double sigma) { return shape.theta + shape.kappa * sigma; }
+
+namespace {
+
+// fit_biclothoid_at with the Jacobian of the arc case kept in `jacobian` across calls (zero or
+// null: start from differences).
+std::optional<BiclothoidSolution> fit_at(const CornerShapes& shapes, double a, double guess_length, double guess_b,
+                                         Eigen::Matrix2d* jacobian) {
+  if (!(a > 0) || !std::isfinite(a)) return std::nullopt;
+  const PlanarShape& q1 = shapes.q1;
+  const PlanarShape& q2 = shapes.q2;
+  const double delta = corner_turn(shapes);
+  const Posture start{shape_point(q1, -a), q1.kappa, shape_angle(q1, -a)};
+  // the fillet turns as much as the path it replaces: kappa1 a + delta + kappa2 b
+  const double base_turn = delta + q1.kappa * a;
+
+  // a cold guess: the symmetric line-line fillet with tangent length a at a tangent jump
+  // (the limit of small fillets), else (curvature jump only) L = 1.5 a, b = a / 2
+  if (!(guess_length > 0 && guess_b > 0)) {
+    if (std::abs(delta) > 1e-6) {
+      const ClothoidPair pair = clothoid_pair_for_tangent_length(std::abs(delta), a);
+      guess_length = 2 * pair.half_length;
+      guess_b = a;
+    } else {
+      guess_length = 1.5 * a;
+      guess_b = 0.5 * a;
+    }
+  }
+
+  if (q2.kappa == 0) {
+    // q2 is a line: the end angle is fixed, so one equation in L: the end lies on the line.
+    // Secant from the guess, bracketed once the sign changes; a bracket search if that fails.
+    const Vec2 t2 = direction(q2.theta);
+    const auto offset = [&](double len) {
+      const auto curve = biclothoid_from_turn(start, 0.0, base_turn, len);
+      return cross(t2, end_posture(*curve).p);
+    };
+    const double f0 = cross(t2, start.p);
+    if (f0 == 0) return std::nullopt;
+    const double scale = a + guess_b;
+    const double f_tol = 1e-14 * scale;
+    const auto finish = [&](double len) -> std::optional<BiclothoidSolution> {
+      const auto curve = biclothoid_from_turn(start, 0.0, base_turn, len);
+      if (!curve) return std::nullopt;
+      const Vec2 end = end_posture(*curve).p;
+      const double b = end.dot(t2);
+      if (!(b > 0) || std::abs(cross(t2, end)) > 1e-11 * (a + b)) return std::nullopt;
+      return BiclothoidSolution{*curve, a, b};
+    };
+    double x_prev = guess_length;
+    double f_prev = offset(x_prev);
+    double x = guess_length * (1 + 1e-3);
+    double f = offset(x);
+    // bracket: lo keeps the sign of f0 (before the end crosses the line), hi the other
+    double lo = 0;
+    double f_lo = f0;
+    double hi = std::numeric_limits<double>::infinity();
+    double f_hi = 0;
+    const auto note = [&](double xi, double fi) {
+      if ((fi > 0) == (f0 > 0)) {
+        if (xi > lo) lo = xi, f_lo = fi;
+      } else if (xi < hi) {
+        hi = xi;
+        f_hi = fi;
+      }
+    };
+    note(x_prev, f_prev);
+    note(x, f);
+    for (int it = 0; it < 60; ++it) {
+      if (std::abs(f) <= f_tol) return finish(x);
+      double next = x - f * (x - x_prev) / (f - f_prev);
+      const bool bracketed = std::isfinite(hi);
+      if (!std::isfinite(next) || next <= lo || (bracketed && next >= hi) || next <= 0) {
+        next = bracketed ? 0.5 * (lo + hi) : std::max(2 * x, 2 * lo);
+      }
+      x_prev = x;
+      f_prev = f;
+      x = next;
+      f = offset(x);
+      note(x, f);
+      if (bracketed && hi - lo <= 1e-15 * hi) return finish(std::abs(f_lo) < std::abs(f_hi) ? lo : hi);
+    }
+    return std::nullopt;
+  }
+
+  // q2 is an arc: damped quasi-Newton on (L, b) for end(L, b) = q2(b): the Jacobian by forward
+  // differences (or the caller's from a neighbouring solve), then Broyden updates; a fresh
+  // difference Jacobian whenever a step fails to reduce the residual
+  struct Eval {
+    Biclothoid curve;
+    Vec2 r;
+  };
+  const auto residual = [&](double len, double b) -> std::optional<Eval> {
+    const auto curve = biclothoid_from_turn(start, q2.kappa, base_turn + q2.kappa * b, len);
+    if (!curve) return std::nullopt;
+    return Eval{*curve, end_posture(*curve).p - shape_point(q2, b)};
+  };
+  Eigen::Matrix2d local_jac = Eigen::Matrix2d::Zero();
+  Eigen::Matrix2d& jac = jacobian ? *jacobian : local_jac;
+  const auto solve_from = [&](double len, double b) -> std::optional<BiclothoidSolution> {
+    auto cur = residual(len, b);
+    bool fresh = false;
+    for (int it = 0; it < 40 && cur; ++it) {
+      const double scale = a + b;
+      if (cur->r.norm() <= 1e-14 * scale) return BiclothoidSolution{cur->curve, a, b};
+      if (!(std::abs(jac.determinant()) > 0) || !jac.allFinite()) {
+        const double h_len = 1e-7 * len;
+        const double h_b = 1e-7 * b;
+        const auto r_len = residual(len + h_len, b);
+        const auto r_b = residual(len, b + h_b);
+        if (!r_len || !r_b) return std::nullopt;
+        jac.col(0) = (r_len->r - cur->r) / h_len;
+        jac.col(1) = (r_b->r - cur->r) / h_b;
+        fresh = true;
+      }
+      const double det = jac.determinant();
+      if (!(std::abs(det) > 0) || !std::isfinite(det)) return std::nullopt;
+      const Vec2 step = -jac.inverse() * cur->r;
+      // backtrack: keep L and b positive and the residual decreasing
+      double lambda = 1;
+      bool accepted = false;
+      for (int half = 0; half < 30; ++half, lambda *= 0.5) {
+        const double len_new = len + lambda * step.x();
+        const double b_new = b + lambda * step.y();
+        if (!(len_new > 0.02 * len) || !(b_new > 0.02 * b)) continue;
+        auto next = residual(len_new, b_new);
+        if (next && next->r.norm() < cur->r.norm()) {
+          // Broyden: J += (dr - J dx) dx^T / (dx^T dx)
+          const Vec2 dx(len_new - len, b_new - b);
+          jac += ((next->r - cur->r) - jac * dx) * dx.transpose() / dx.squaredNorm();
+          len = len_new;
+          b = b_new;
+          cur = std::move(next);
+          accepted = true;
+          break;
+        }
+        if (half >= 2 && !fresh) break;  // the Jacobian is stale: rebuild it before halving more
+      }
+      if (!accepted) {
+        if (cur->r.norm() <= 1e-12 * scale) return BiclothoidSolution{cur->curve, a, b};
+        if (fresh) return std::nullopt;
+        jac.setZero();
+        continue;
+      }
+      fresh = false;
+    }
+    return std::nullopt;
+  };
+  if (auto sol = solve_from(guess_length, guess_b)) return sol;
+  // other starts: a symmetric fillet, then unequal ones (tangent corners are not symmetric)
+  for (const double ratio : {1.0, 0.5, 2.0, 0.25, 4.0, 0.1, 10.0}) {
+    jac.setZero();
+    if (auto sol = solve_from(a * (1 + ratio), a * ratio)) return sol;
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<BiclothoidSolution> fit_biclothoid_at(const CornerShapes& shapes, double a, double guess_length,
+                                                    double guess_b) {
+  return fit_at(shapes, a, guess_length, guess_b, nullptr);
+}
+
+Deviation biclothoid_deviation(const BiclothoidSolution& fillet, const CornerShapes& shapes) {
+  const Biclothoid& curve = fillet.curve;
+  const double len = length(curve);
+  const double a = fillet.a;
+  const double b = fillet.b;
+  const PlanarShape& q1 = shapes.q1;
+  const PlanarShape& q2 = shapes.q2;
+  Deviation dev;
+
+  // fillet -> original: exact distances to the two pieces of U. The distance to U is the
+  // smaller of the distances to q1[-a, 0] and q2[0, b]; its maximum is either a smooth maximum
+  // of one of them or (at a tangent jump) where they are equal.
+  struct FilletSample {
+    double s;
+    std::array<PieceDistance, 2> d;
+    std::array<double, 2> slope;  // d distance / ds to each piece
+    [[nodiscard]] int active() const { return d[0].distance <= d[1].distance ? 0 : 1; }
+    [[nodiscard]] double value() const { return d[static_cast<std::size_t>(active())].distance; }
+  };
+  const auto sample = [&](double s) {
+    const Posture at = posture_at(curve, s);
+    FilletSample f{s, {piece_distance(q1, -a, 0.0, at.p), piece_distance(q2, 0.0, b, at.p)}, {}};
+    const Vec2 t = direction(at.theta);
+    for (std::size_t k = 0; k < 2; ++k) {
+      f.slope[k] = f.d[k].distance > 0 ? t.dot(at.p - f.d[k].point) / f.d[k].distance : (k == 0 ? 1.0 : -1.0);
+    }
+    return f;
+  };
+  FilletSample top{};
+  const auto keep = [&](const FilletSample& f) {
+    if (f.value() > top.value()) top = f;
+  };
+  // the maximum between two samples l < r: where both have the same nearest piece (or at a
+  // curvature jump only, where the distance to U is C1), false position on the slope; across
+  // a tangent jump the distance has a kink where the nearest piece changes, found first
+  const bool kink = std::abs(corner_turn(shapes)) > kTangentAngle;
+  const auto refine = [&](const FilletSample& l, const FilletSample& r, const auto& self) -> void {
+    const int kl = l.active();
+    const int kr = r.active();
+    if (kl == kr || !kink) {
+      const double sl = l.slope[static_cast<std::size_t>(kl)];
+      const double sr = r.slope[static_cast<std::size_t>(kr)];
+      if (!(sl > 0 && sr < 0)) return;
+      illinois(
+          [&](double s) {
+            const FilletSample f = sample(s);
+            keep(f);
+            return f.slope[static_cast<std::size_t>(f.active())];
+          },
+          Bracket{l.s, sl, r.s, sr}, 1e-6 * len, 1e-6, 30);
+      return;
+    }
+    FilletSample cross_at = l;
+    illinois(
+        [&](double s) {
+          cross_at = sample(s);
+          keep(cross_at);
+          return cross_at.d[0].distance - cross_at.d[1].distance;
+        },
+        Bracket{l.s, l.d[0].distance - l.d[1].distance, r.s, r.d[0].distance - r.d[1].distance}, 1e-10 * len,
+        1e-13 * len, 40);
+    // a smooth maximum of the piece active on either side of the crossing
+    if (cross_at.slope[static_cast<std::size_t>(kl)] < 0 && cross_at.s > l.s) {
+      FilletSample left = cross_at;
+      left.d[static_cast<std::size_t>(kr)].distance = std::numeric_limits<double>::infinity();
+      self(l, left, self);
+    }
+    if (cross_at.slope[static_cast<std::size_t>(kr)] > 0 && cross_at.s < r.s) {
+      FilletSample right = cross_at;
+      right.d[static_cast<std::size_t>(kl)].distance = std::numeric_limits<double>::infinity();
+      self(right, r, self);
+    }
+  };
+  {
+    // the ends lie on U: distance 0, increasing inwards
+    FilletSample start{0.0, {PieceDistance{0.0, curve.start.p, -a}, PieceDistance{1.0, Vec2::Zero(), 0.0}}, {1.0, 1.0}};
+    FilletSample end{len, {PieceDistance{1.0, Vec2::Zero(), 0.0}, PieceDistance{0.0, Vec2::Zero(), b}}, {-1.0, -1.0}};
+    std::array<FilletSample, 5> f = {start, sample(0.5 * curve.s1), sample(curve.s1), sample(curve.s1 + 0.5 * curve.s2),
+                                     end};
+    std::size_t best = 1;
+    for (std::size_t i = 2; i < 4; ++i) {
+      if (f[i].value() > f[best].value()) best = i;
+    }
+    top = f[best];
+    if (f[best].slope[static_cast<std::size_t>(f[best].active())] > 0) refine(f[best], f[best + 1], refine);
+    else refine(f[best - 1], f[best], refine);
+  }
+  dev.fillet_to_original = top.value();
+
+  // original -> fillet: for a point of U its closest point on V (Newton); the maximum over U on
+  // each side of the corner, where U has its kink, with the corner as a shared candidate. Seeds:
+  // the foot on U of the fillet -> original maximum (a common normal of both curves, where a
+  // smooth maximum of this direction lies too) and each side's midpoint as a guard.
+  double guess = curve.s1;
+  const auto from_original = [&](double sigma, const PlanarShape& q) {
+    const Vec2 x = shape_point(q, sigma);
+    const FilletClosest c = closest_on_fillet(curve, x, guess);
+    guess = c.s;
+    const double slope = c.distance > 0 ? direction(shape_angle(q, sigma)).dot(x - c.point) / c.distance : 0.0;
+    return ValueSlope{c.distance, slope};
+  };
+  const FilletClosest corner = closest_on_fillet(curve, Vec2::Zero(), curve.s1);
+  const double g0 = corner.distance;
+  const ValueSlope corner_in{g0, g0 > 0 ? direction(q1.theta).dot(-corner.point) / g0 : 0.0};
+  const ValueSlope corner_out{g0, g0 > 0 ? direction(q2.theta).dot(-corner.point) / g0 : 0.0};
+  const int foot_piece = top.active();
+  const double foot = top.d[static_cast<std::size_t>(foot_piece)].sigma;
+  double side1 = 0;
+  double side2 = 0;
+  if (foot_piece == 0 && foot > -a && foot < 0) {
+    guess = top.s;
+    const ValueSlope at_foot = from_original(foot, q1);
+    guess = 0.5 * corner.s;
+    const double mid = -0.5 * a;
+    side1 = foot < mid ? maximize([&](double x) { return from_original(x, q1); }, foot, at_foot, 0.0, corner_in,
+                                  std::array<double, 1>{mid})
+                       : maximize([&](double x) { return from_original(x, q1); }, -a, ValueSlope{0.0, 1.0}, foot,
+                                  at_foot, std::array<double, 1>{mid});
+    side1 = std::max(side1, at_foot.value);
+  } else {
+    guess = 0.5 * corner.s;
+    side1 = maximize([&](double x) { return from_original(x, q1); }, -a, ValueSlope{0.0, 1.0}, 0.0, corner_in,
+                     std::array<double, 1>{-0.5 * a});
+  }
+  if (foot_piece == 1 && foot > 0 && foot < b) {
+    guess = top.s;
+    const ValueSlope at_foot = from_original(foot, q2);
+    guess = 0.5 * (corner.s + len);
+    const double mid = 0.5 * b;
+    side2 = foot > mid ? maximize([&](double x) { return from_original(x, q2); }, 0.0, corner_out, foot, at_foot,
+                                  std::array<double, 1>{mid})
+                       : maximize([&](double x) { return from_original(x, q2); }, foot, at_foot, b,
+                                  ValueSlope{0.0, -1.0}, std::array<double, 1>{mid});
+    side2 = std::max(side2, at_foot.value);
+  } else {
+    guess = 0.5 * (corner.s + len);
+    side2 = maximize([&](double x) { return from_original(x, q2); }, 0.0, corner_out, b, ValueSlope{0.0, -1.0},
+                     std::array<double, 1>{0.5 * b});
+  }
+  dev.original_to_fillet = std::max({g0, side1, side2});
+  return dev;
+}
+
+BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes, double tolerance, double a_max,
+                                                     double b_max) {
+  BiclothoidToleranceFit result;
+  // section 6: fit from the more curved shape to the less curved one
+  CornerShapes work = shapes;
+  result.swapped = std::abs(shapes.q2.kappa) > std::abs(shapes.q1.kappa);
+  if (result.swapped) {
+    work.q1 = PlanarShape{shapes.q2.theta + kPi, -shapes.q2.kappa};
+    work.q2 = PlanarShape{shapes.q1.theta + kPi, -shapes.q1.kappa};
+    std::swap(a_max, b_max);
+  }
+  // at most a quarter turn of an arc is replaced
+  const double quarter = 0.5 * kPi;
+  const double a_cap = work.q1.kappa != 0 ? std::min(a_max, quarter / std::abs(work.q1.kappa)) : a_max;
+  const double b_cap = work.q2.kappa != 0 ? std::min(b_max, quarter / std::abs(work.q2.kappa)) : b_max;
+  const bool tangent_jump = std::abs(corner_turn(work)) > 1e-9;
+
+  struct Trial {
+    BiclothoidSolution fillet;
+    Deviation deviation;
+    bool measured = false;
+    Eigen::Matrix2d jacobian = Eigen::Matrix2d::Zero();
+  };
+  std::deque<Trial> trials;  // stable addresses
+  // Algorithm 1 at start distance a, warm-started from the nearest earlier solve
+  const auto solve = [&](double a) -> Trial* {
+    double guess_len = 0;
+    double guess_b = 0;
+    Eigen::Matrix2d jacobian = Eigen::Matrix2d::Zero();
+    double best = std::numeric_limits<double>::infinity();
+    for (Trial& t : trials) {
+      if (t.fillet.a == a) return &t;
+      const double gap = std::abs(std::log(t.fillet.a / a));
+      if (gap < best) {
+        best = gap;
+        guess_len = length(t.fillet.curve) * a / t.fillet.a;
+        guess_b = t.fillet.b * a / t.fillet.a;
+        jacobian = t.jacobian;
+      }
+    }
+    ++result.solves;
+    const auto sol = fit_at(work, a, guess_len, guess_b, &jacobian);
+    if (!sol) return nullptr;
+    trials.push_back(Trial{*sol, {}, false, jacobian});
+    return &trials.back();
+  };
+  const auto measure = [&](Trial* t) {
+    if (!t->measured) {
+      t->deviation = biclothoid_deviation(t->fillet, work);
+      t->measured = true;
+    }
+    return t->deviation.max();
+  };
+  const auto fail = [&](const std::string& why) {
+    result.outcome = {Status::kNotConverged, why};
+    return result;
+  };
+
+  // Algorithm 2 with the end bound folded in: the largest a with
+  //   y(a) = max(log(dev / tol), log(b / b_cap)) <= 0,
+  // both terms growing with a. Secant steps on y against x = log a (deviation ~ a^p, p = 1 at
+  // a tangent jump, 2 at a curvature jump only, so y is nearly linear in x), bisection once
+  // bracketed steps leave the bracket, stopping at -1e-6 <= y <= 0.
+  const double delta = corner_turn(work);
+  const double x_cap = std::log(a_cap);
+  // a first start distance from the two small-fillet models: the line-line pair for the
+  // tangent jump (deviation ~ a) and, from 004 table 1 (arc R10 -> line at 0.1 mm: a = 6.5 mm),
+  // dev ~ |kappa jump| a^2 / 42 for the curvature jump; the smaller one dominates
+  const double kappa_jump = std::abs(work.q1.kappa - work.q2.kappa);
+  const double a_angle = tangent_jump ? clothoid_pair_for_deviation(std::abs(delta), tolerance).tangent_length
+                                      : std::numeric_limits<double>::infinity();
+  const double a_curvature =
+      kappa_jump > 0 ? std::sqrt(42.0 * tolerance / kappa_jump) : std::numeric_limits<double>::infinity();
+  const double a_start = std::min({a_cap, a_angle, a_curvature});
+  const double p_guess = a_angle <= a_curvature ? 1.0 : 2.0;
+  struct Point {
+    double x;
+    double y;
+    Trial* trial;
+  };
+  const auto evaluate = [&](double x) -> Point {
+    Trial* t = solve(std::exp(x));
+    if (!t) return {x, std::numeric_limits<double>::infinity(), nullptr};
+    const double y = std::max(std::log(measure(t) / tolerance), std::log(t->fillet.b / b_cap));
+    return {x, y, t};
+  };
+  // the first point: back off (halving a) while Algorithm 1 fails
+  Point cur = evaluate(std::log(a_start));
+  for (int attempt = 0; attempt < 12 && !cur.trial; ++attempt) cur = evaluate(cur.x - std::log(2.0));
+  if (!cur.trial) return fail("biclothoid (004 Algorithm 1) did not converge");
+  Point prev{0, 0, nullptr};
+  double lo = -std::numeric_limits<double>::infinity();  // y <= 0 here
+  double hi = std::numeric_limits<double>::infinity();   // y > 0 (or no solution) here
+  Trial* best = nullptr;
+  double best_y = -std::numeric_limits<double>::infinity();
+  bool at_cap = false;
+  for (int it = 0; it < 60; ++it) {
+    if (cur.y <= 0) {
+      lo = std::max(lo, cur.x);
+      if (cur.x >= std::log(best ? best->fillet.a : 0.0)) {
+        best = cur.trial;
+        best_y = cur.y;
+      }
+      at_cap = cur.x >= x_cap - 1e-12;
+      if (cur.y >= -1e-6 || at_cap) break;
+    } else {
+      hi = std::min(hi, cur.x);
+    }
+    // next x: secant towards y = -3e-7, else the slope guess; bisection when bracketed steps
+    // leave the bracket
+    double next;
+    if (prev.trial && cur.trial && std::isfinite(prev.y) && cur.y != prev.y) {
+      next = cur.x - (cur.y + 3e-7) * (cur.x - prev.x) / (cur.y - prev.y);
+    } else if (std::isfinite(cur.y)) {
+      next = cur.x - (cur.y + 3e-7) / p_guess;
+    } else {
+      next = cur.x - std::log(2.0);
+    }
+    if (std::isfinite(lo) && std::isfinite(hi)) {
+      if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+      if (hi - lo < 1e-13) break;
+    } else if (std::isfinite(hi) && !(next < hi)) {
+      next = hi - std::log(2.0);
+    } else if (std::isfinite(lo) && !(next > lo)) {
+      next = lo + std::log(2.0);
+    }
+    next = std::min(next, x_cap);
+    prev = cur;
+    cur = evaluate(next);
+  }
+  if (!best) return fail("no biclothoid fillet met the tolerance (004 Algorithm 2)");
+  // limited: the end bound or the start cap is what stops the fillet growing
+  const bool limited = at_cap || std::log(best->fillet.b / b_cap) >= std::log(measure(best) / tolerance) - 1e-12;
+  (void)best_y;
+
+  result.limited = limited;
+  measure(best);
+  result.deviation = best->deviation;
+  result.fillet = best->fillet;
+  if (result.swapped) {
+    result.fillet.curve = reversed(best->fillet.curve);
+    result.fillet.a = best->fillet.b;
+    result.fillet.b = best->fillet.a;
+  }
+  return result;
+}
+
+Vec3 to_space(const CornerPlane& plane, const Vec2& p) { return plane.origin + p.x() * plane.x + p.y() * plane.y; }
+
+std::vector<Segment> to_segments(const Biclothoid& curve, const CornerPlane& plane) {
+  std::vector<Segment> out;
+  const auto piece = [&](const Posture& at, double c, double len) {
+    if (!(len > 0)) return;
+    const double cs = std::cos(at.theta);
+    const double sn = std::sin(at.theta);
+    out.emplace_back(Clothoid{to_space(plane, at.p), cs * plane.x + sn * plane.y, -sn * plane.x + cs * plane.y,
+                              at.kappa, c, len});
+  };
+  piece(curve.start, curve.c, curve.s1);
+  piece(curve.mid, -curve.c, curve.s2);
+  return out;
+}
+
+PlanarCorner planar_corner(const Primitive& in, const Primitive& out) {
+  PlanarCorner pc;
+  const double len_in = length(in);
+  const Vec3 corner = point(in, len_in);
+  const Vec3 t1 = tangent(in, len_in);
+  const Vec3 t2 = tangent(out, 0.0);
+  pc.angle = angle_between(t1, t2);
+  const Vec3 k1 = curvature_vector(in, len_in);
+  const Vec3 k2 = curvature_vector(out, 0.0);
+  pc.same_curvature = (k1 - k2).norm() <= 1e-9 * std::max({k1.norm(), k2.norm(), 1e-300});
+  const Arc* arc1 = std::get_if<Arc>(&in);
+  const Arc* arc2 = std::get_if<Arc>(&out);
+  pc.lines = !arc1 && !arc2;
+  if (arc1 && arc2) {
+    pc.same_circle = (arc1->center - arc2->center).norm() <= 1e-9 * arc1->radius &&
+                     std::abs(arc1->radius - arc2->radius) <= 1e-9 * arc1->radius && arc1->rise == 0 &&
+                     arc2->rise == 0 &&
+                     arc1->u.cross(arc1->v).cross(arc2->u.cross(arc2->v)).norm() <= kPlanarAngle;
+  }
+
+  // the plane normal: the arc's axis, or the lines' common normal oriented with the turn
+  Vec3 normal;
+  if (arc1) normal = arc1->u.cross(arc1->v).normalized();
+  else if (arc2) normal = arc2->u.cross(arc2->v).normalized();
+  else if (t1.cross(t2).norm() > 0) normal = t1.cross(t2).normalized();
+  else normal = any_perpendicular(t1);
+
+  // planar: no helix, every line in the plane, every arc axis along the normal
+  pc.planar = true;
+  for (const Primitive* prim : {&in, &out}) {
+    if (const Arc* arc = std::get_if<Arc>(prim)) {
+      if (arc->rise != 0 || arc->u.cross(arc->v).normalized().cross(normal).norm() > kPlanarAngle) pc.planar = false;
+    } else {
+      const Line& line = std::get<Line>(*prim);
+      if (std::abs((line.p1 - line.p0).normalized().dot(normal)) > kPlanarAngle) pc.planar = false;
+    }
+  }
+
+  pc.plane.origin = corner;
+  pc.plane.x = (t1 - t1.dot(normal) * normal).normalized();
+  pc.plane.y = normal.cross(pc.plane.x);
+  const auto signed_curvature = [&](const Primitive& prim) {
+    const Arc* arc = std::get_if<Arc>(&prim);
+    if (!arc) return 0.0;
+    return (arc->u.cross(arc->v).dot(normal) > 0 ? 1.0 : -1.0) / arc->radius;
+  };
+  pc.shapes.q1 = PlanarShape{0.0, signed_curvature(in)};
+  pc.shapes.q2 = PlanarShape{std::atan2(t2.dot(pc.plane.y), t2.dot(pc.plane.x)), signed_curvature(out)};
+  return pc;
+}
+
+std::optional<CornerFit> clothoid_special_case(const CornerInput& corner, const PlanarCorner& geometry) {
   CornerFit fit;
-  fit.outcome = {Status::kInfeasible, "the biclothoid method is not available in this build (" + corner.name + ")"};
+  fit.parameter_used = 0;
+  // a reversal has no fillet: a kink that stops the path when Buffered (001, 003)
+  if (geometry.angle >= kPi - kReversalAngle) {
+    fit.case_name = geometry.same_circle ? "same_circle_opposite_direction" : "reversal";
+    fit.stop = corner.buffer == BufferMode::kBuffered;
+    fit.note = "the path reverses at the corner: no curvature-continuous transition exists, the corner stays a kink";
+    return fit;
+  }
+  const bool tangent = geometry.angle <= kTangentAngle;
+  // already G2: nothing to smooth
+  if (tangent && geometry.same_curvature) {
+    fit.case_name = geometry.same_circle ? "same_circle_same_direction" : "collinear";
+    return fit;
+  }
+  if (corner.spec.parameter <= 0) {
+    if (!tangent) {
+      fail_at(corner.where, "transition.parameter",
+              corner.name + ": a " + std::string(to_string(corner.spec.method)) +
+                  " transition with maximum deviation 0 is impossible at a tangent discontinuity of " +
+                  deg(geometry.angle) + "; give a positive deviation or use method none");
+    }
+    fit.case_name = "tangent";
+    fit.note = "maximum deviation 0: the curvature jump is left as programmed";
+    return fit;
+  }
+  return std::nullopt;
+}
+
+CornerFit fit_biclothoid_corner(const CornerInput& corner) {
+  const PlanarCorner geometry = planar_corner(corner.in, corner.out);
+  if (auto special = clothoid_special_case(corner, geometry)) return *special;
+  const double tolerance = corner.spec.parameter;
+  CornerFit fit;
+  fit.case_name = geometry.angle <= kTangentAngle ? "tangent" : "regular";
+
+  // two lines: the symmetric fillet in closed form (004 section 7.1, 002 eq. 9), shrunk to
+  // the shorter available length
+  if (geometry.lines) {
+    ClothoidPair pair = clothoid_pair_for_deviation(geometry.angle, tolerance);
+    const double available = std::min(corner.in_available, corner.out_available);
+    if (pair.tangent_length > available) {
+      pair = clothoid_pair_for_tangent_length(geometry.angle, available);
+      fit.note = "deviation shrunk from " + mm(tolerance) + " to " + mm(pair.deviation) + ": the " +
+                 (corner.in_available <= corner.out_available ? "incoming" : "outgoing") + " move is short";
+    }
+    const Posture start{Vec2(-pair.tangent_length, 0.0), 0.0, 0.0};
+    fit.transition = to_segments(make_biclothoid(start, pair.sharpness, pair.half_length, pair.half_length),
+                                 geometry.plane);
+    fit.trim_in = pair.tangent_length;
+    fit.trim_out = pair.tangent_length;
+    fit.parameter_used = pair.deviation;
+    return fit;
+  }
+
+  // 004 has no 3D form: a non-planar corner goes to the Bezier method (000, quartic in 3D),
+  // with its transition parameter set to the tolerance (a fillet that starts and ends within
+  // that distance of the corner deviates less than it)
+  if (!geometry.planar) {
+    CornerFit bezier = fit_bezier_corner(corner);
+    bezier.case_name = "non_planar";
+    bezier.fallback = "bezier";
+    if (!bezier.outcome.ok()) {
+      bezier.outcome.message = "non-planar corner, Bezier fallback failed: " + bezier.outcome.message;
+    }
+    return bezier;
+  }
+
+  // 004 Algorithms 1 and 2 in the corner plane
+  const BiclothoidToleranceFit tol_fit =
+      fit_biclothoid_with_tolerance(geometry.shapes, tolerance, corner.in_available, corner.out_available);
+  if (!tol_fit.outcome.ok()) {
+    fit.outcome = tol_fit.outcome;
+    fit.outcome.message = corner.name + ": " + fit.outcome.message;
+    return fit;
+  }
+  fit.transition = to_segments(tol_fit.fillet.curve, geometry.plane);
+  fit.trim_in = tol_fit.fillet.a;
+  fit.trim_out = tol_fit.fillet.b;
+  fit.parameter_used = tol_fit.deviation.max();
+  if (tol_fit.limited) {
+    fit.note = "deviation " + mm(fit.parameter_used) + " below the tolerance " + mm(tolerance) +
+               ": the fillet is limited by the move lengths (or a quarter turn of an arc)";
+  }
   return fit;
 }
 
