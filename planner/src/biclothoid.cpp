@@ -25,6 +25,15 @@ constexpr double kTangentAngle = 1e-9;
 constexpr double kReversalAngle = 1e-9;
 // Largest out-of-plane angle (rad) of a line or arc normal for a corner to count as planar.
 constexpr double kPlanarAngle = 1e-10;
+// Shortest chord (start to end) of a fillet accepted, relative to a + b: near a reversal of
+// 179.999 deg a fillet's chord is 8.7e-6 (a + b); where q1 and q2 cross just after the corner
+// the equations also admit vanishing hairpins with start = end, which are no fillets.
+constexpr double kMinChordRatio = 1e-6;
+// How close to a point where the moves cross again a fillet may start or end (fraction of the
+// distance from the corner).
+constexpr double kCrossingMargin = 0.98;
+// The most of an arc a fillet replaces (rad of the arc's turn).
+constexpr double kMaxArcTurn = 0.25 * std::numbers::pi;
 
 std::string mm(double metres) {
   std::ostringstream out;
@@ -172,7 +181,10 @@ double maximize(const F& eval, double x0, ValueSlope at0, double x1, ValueSlope 
     if (v[i].value > v[best].value) best = i;
   }
   double top = v[best].value;
-  if (std::abs(v[best].slope) <= 1e-6) return top;
+  // near the maximum the value errs by about slope^2 / (2 |f''|) with |f''| ~ f / w^2 (w the
+  // interval width): a slope below 1e-5 f / w keeps it below 1e-10 f
+  const double flat = 1e-5 * top / std::abs(x1 - x0);
+  if (std::abs(v[best].slope) <= flat) return top;
   // the derivative changes sign from + to - on one side of the best point
   std::size_t lo = best;
   std::size_t hi = best;
@@ -184,10 +196,38 @@ double maximize(const F& eval, double x0, ValueSlope at0, double x1, ValueSlope 
     top = std::max(top, vi.value);
     return vi.slope;
   };
-  // near the maximum the value errs by about slope^2 / (2 |f''|), below 1e-9 of it for a
-  // slope of 1e-6 on these fillets
-  illinois(slope, Bracket{x[lo], v[lo].slope, x[hi], v[hi].slope}, 1e-6 * std::abs(x1 - x0), 1e-6, 30);
+  illinois(slope, Bracket{x[lo], v[lo].slope, x[hi], v[hi].slope}, 1e-6 * std::abs(x1 - x0), flat, 30);
   return top;
+}
+
+// Where q1 (sigma in [-a_max, 0)) and q2 (sigma in (0, b_max]) meet again after the corner,
+// as (-sigma1, sigma2), or nullopt. Both pass through the origin, so a line meets a circle of
+// centre c once more at 2 (t . c) t, and two circles meet at the mirror image of the origin in
+// their line of centres.
+std::optional<std::pair<double, double>> crossing(const PlanarShape& q1, const PlanarShape& q2, double a_max,
+                                                  double b_max) {
+  const auto centre = [](const PlanarShape& q) -> Vec2 { return Vec2(-std::sin(q.theta), std::cos(q.theta)) / q.kappa; };
+  if (q1.kappa == 0 && q2.kappa == 0) return std::nullopt;
+  Vec2 x = Vec2::Zero();
+  if (q1.kappa == 0 || q2.kappa == 0) {
+    const PlanarShape& line = q1.kappa == 0 ? q1 : q2;
+    const Vec2 t = direction(line.theta);
+    x = 2 * t.dot(centre(q1.kappa == 0 ? q2 : q1)) * t;
+  } else {
+    const Vec2 c1 = centre(q1);
+    const Vec2 d = centre(q2) - c1;
+    if (!(d.squaredNorm() > 0)) return std::nullopt;
+    x = 2 * (c1 - c1.dot(d) / d.squaredNorm() * d);
+  }
+  const auto sigma = [&](const PlanarShape& q) {
+    if (q.kappa == 0) return x.dot(direction(q.theta));
+    const Vec2 c = centre(q);
+    return std::atan2(cross(-c, x - c), (-c).dot(x - c)) / q.kappa;
+  };
+  const double s1 = sigma(q1);
+  const double s2 = sigma(q2);
+  if (!(x.norm() > 0) || !(s1 < 0 && -s1 <= a_max) || !(s2 > 0 && s2 <= b_max)) return std::nullopt;
+  return std::make_pair(-s1, s2);
 }
 
 // Turn of the programmed corner: the tangent jump delta in (-pi, pi].
@@ -303,6 +343,7 @@ std::optional<BiclothoidSolution> fit_at(const CornerShapes& shapes, double a, d
       const Vec2 end = end_posture(*curve).p;
       const double b = end.dot(t2);
       if (!(b > 0) || std::abs(cross(t2, end)) > 1e-11 * (a + b)) return std::nullopt;
+      if (!((end - start.p).norm() > kMinChordRatio * (a + b))) return std::nullopt;
       return BiclothoidSolution{*curve, a, b};
     };
     double x_prev = guess_length;
@@ -331,6 +372,7 @@ std::optional<BiclothoidSolution> fit_at(const CornerShapes& shapes, double a, d
       if (!std::isfinite(next) || next <= lo || (bracketed && next >= hi) || next <= 0) {
         next = bracketed ? 0.5 * (lo + hi) : std::max(2 * x, 2 * lo);
       }
+      if (!bracketed) next = std::clamp(next, 0.5 * x, 2 * x);  // a trust region until bracketed
       x_prev = x;
       f_prev = f;
       x = next;
@@ -353,14 +395,19 @@ std::optional<BiclothoidSolution> fit_at(const CornerShapes& shapes, double a, d
     if (!curve) return std::nullopt;
     return Eval{*curve, end_posture(*curve).p - shape_point(q2, b)};
   };
+  // a solution that shrinks to a point where q1 and q2 cross (near a reversal) is not a fillet
+  const auto accept = [&](const Biclothoid& curve, double b) -> std::optional<BiclothoidSolution> {
+    if (!((end_posture(curve).p - curve.start.p).norm() > kMinChordRatio * (a + b))) return std::nullopt;
+    return BiclothoidSolution{curve, a, b};
+  };
   Eigen::Matrix2d local_jac = Eigen::Matrix2d::Zero();
   Eigen::Matrix2d& jac = jacobian ? *jacobian : local_jac;
   const auto solve_from = [&](double len, double b) -> std::optional<BiclothoidSolution> {
     auto cur = residual(len, b);
     bool fresh = false;
-    for (int it = 0; it < 40 && cur; ++it) {
+    for (int it = 0; it < 25 && cur; ++it) {
       const double scale = a + b;
-      if (cur->r.norm() <= 1e-14 * scale) return BiclothoidSolution{cur->curve, a, b};
+      if (cur->r.norm() <= 1e-14 * scale) return accept(cur->curve, b);
       if (!(std::abs(jac.determinant()) > 0) || !jac.allFinite()) {
         const double h_len = 1e-7 * len;
         const double h_b = 1e-7 * b;
@@ -374,13 +421,15 @@ std::optional<BiclothoidSolution> fit_at(const CornerShapes& shapes, double a, d
       const double det = jac.determinant();
       if (!(std::abs(det) > 0) || !std::isfinite(det)) return std::nullopt;
       const Vec2 step = -jac.inverse() * cur->r;
-      // backtrack: keep L and b positive and the residual decreasing
+      // a trust region (L and b at most halve or double per step), then backtracking while the
+      // residual does not decrease
       double lambda = 1;
+      if (std::abs(step.x()) > 0.5 * len) lambda = std::min(lambda, 0.5 * len / std::abs(step.x()));
+      if (std::abs(step.y()) > 0.5 * b) lambda = std::min(lambda, 0.5 * b / std::abs(step.y()));
       bool accepted = false;
-      for (int half = 0; half < 30; ++half, lambda *= 0.5) {
+      for (int half = 0; half < 12; ++half, lambda *= 0.5) {
         const double len_new = len + lambda * step.x();
         const double b_new = b + lambda * step.y();
-        if (!(len_new > 0.02 * len) || !(b_new > 0.02 * b)) continue;
         auto next = residual(len_new, b_new);
         if (next && next->r.norm() < cur->r.norm()) {
           // Broyden: J += (dr - J dx) dx^T / (dx^T dx)
@@ -395,7 +444,7 @@ std::optional<BiclothoidSolution> fit_at(const CornerShapes& shapes, double a, d
         if (half >= 2 && !fresh) break;  // the Jacobian is stale: rebuild it before halving more
       }
       if (!accepted) {
-        if (cur->r.norm() <= 1e-12 * scale) return BiclothoidSolution{cur->curve, a, b};
+        if (cur->r.norm() <= 1e-12 * scale) return accept(cur->curve, b);
         if (fresh) return std::nullopt;
         jac.setZero();
         continue;
@@ -406,7 +455,7 @@ std::optional<BiclothoidSolution> fit_at(const CornerShapes& shapes, double a, d
   };
   if (auto sol = solve_from(guess_length, guess_b)) return sol;
   // other starts: a symmetric fillet, then unequal ones (tangent corners are not symmetric)
-  for (const double ratio : {1.0, 0.5, 2.0, 0.25, 4.0, 0.1, 10.0}) {
+  for (const double ratio : {1.0, 0.5, 2.0}) {
     jac.setZero();
     if (auto sol = solve_from(a * (1 + ratio), a * ratio)) return sol;
   }
@@ -463,13 +512,14 @@ Deviation biclothoid_deviation(const BiclothoidSolution& fillet, const CornerSha
       const double sl = l.slope[static_cast<std::size_t>(kl)];
       const double sr = r.slope[static_cast<std::size_t>(kr)];
       if (!(sl > 0 && sr < 0)) return;
+      // a slope below 1e-5 f / L leaves the value within 1e-10 of the maximum (see maximize)
       illinois(
           [&](double s) {
             const FilletSample f = sample(s);
             keep(f);
             return f.slope[static_cast<std::size_t>(f.active())];
           },
-          Bracket{l.s, sl, r.s, sr}, 1e-6 * len, 1e-6, 30);
+          Bracket{l.s, sl, r.s, sr}, 1e-6 * len, 1e-5 * top.value() / len, 30);
       return;
     }
     FilletSample cross_at = l;
@@ -574,10 +624,14 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
     work.q2 = PlanarShape{shapes.q1.theta + kPi, -shapes.q1.kappa};
     std::swap(a_max, b_max);
   }
-  // at most a quarter turn of an arc is replaced
-  const double quarter = 0.5 * kPi;
-  const double a_cap = work.q1.kappa != 0 ? std::min(a_max, quarter / std::abs(work.q1.kappa)) : a_max;
-  const double b_cap = work.q2.kappa != 0 ? std::min(b_max, quarter / std::abs(work.q2.kappa)) : b_max;
+  // at most an eighth of a turn of an arc is replaced, and only up to where the two moves cross
+  // again (near a reversal an arc can curl back across the other move)
+  double a_cap = work.q1.kappa != 0 ? std::min(a_max, kMaxArcTurn / std::abs(work.q1.kappa)) : a_max;
+  double b_cap = work.q2.kappa != 0 ? std::min(b_max, kMaxArcTurn / std::abs(work.q2.kappa)) : b_max;
+  if (const auto meet = crossing(work.q1, work.q2, a_cap, b_cap)) {
+    a_cap = std::min(a_cap, kCrossingMargin * meet->first);
+    b_cap = std::min(b_cap, kCrossingMargin * meet->second);
+  }
   const bool tangent_jump = std::abs(corner_turn(work)) > 1e-9;
 
   struct Trial {
@@ -636,7 +690,7 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
                                       : std::numeric_limits<double>::infinity();
   const double a_curvature =
       kappa_jump > 0 ? std::sqrt(42.0 * tolerance / kappa_jump) : std::numeric_limits<double>::infinity();
-  const double a_start = std::min({a_cap, a_angle, a_curvature});
+  const double a_start = std::min({a_cap, b_cap, a_angle, a_curvature});
   const double p_guess = a_angle <= a_curvature ? 1.0 : 2.0;
   struct Point {
     double x;
@@ -860,7 +914,7 @@ CornerFit fit_biclothoid_corner(const CornerInput& corner) {
   fit.parameter_used = tol_fit.deviation.max();
   if (tol_fit.limited) {
     fit.note = "deviation " + mm(fit.parameter_used) + " below the tolerance " + mm(tolerance) +
-               ": the fillet is limited by the move lengths (or a quarter turn of an arc)";
+               ": the fillet is limited by the move lengths (or an eighth of a turn of an arc)";
   }
   return fit;
 }

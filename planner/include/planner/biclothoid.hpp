@@ -110,13 +110,13 @@ Deviation biclothoid_deviation(const BiclothoidSolution& fillet, const CornerSha
 // fillet reversed back at the end. The start distance is found by false position (Illinois)
 // on log(deviation / tolerance) against log(a); the result satisfies
 // tolerance (1 - 1e-6) <= deviation <= tolerance unless the move lengths limit it
-// (`limited` = true, deviation < tolerance). Each fillet is additionally kept to at most a
-// quarter turn of an arc it replaces. outcome: kNotConverged when a solve fails.
+// (`limited` = true, deviation < tolerance). A fillet replaces at most an eighth of a turn of
+// an arc (a larger one is no longer a corner fillet, and its turn approaches 2 pi). outcome: kNotConverged when a solve fails.
 struct BiclothoidToleranceFit {
   Outcome outcome;
   BiclothoidSolution fillet;  // in the original direction (a on q1, b on q2)
   Deviation deviation;
-  bool limited = false;  // the move lengths (a_max / b_max) or the quarter-turn cap bound it
+  bool limited = false;  // the move lengths (a_max / b_max) or the eighth-turn cap bound it
   bool swapped = false;  // solved on the reversed corner (section 6)
   int solves = 0;        // Algorithm 1 calls, for diagnostics
 };
