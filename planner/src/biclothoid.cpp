@@ -255,7 +255,9 @@ Biclothoid make_biclothoid(const Posture& start, double c, double s1, double s2)
 // kappa_m = (dtheta +- sqrt(SQ)) / L with 004's SQ = A^2 + B^2, A = dtheta - L kbar,
 // B = L (kappa_e - kappa0) / 2, kbar = (kappa0 + kappa_e) / 2. The root with s1, s2 >= 0 is the
 // one whose sign matches A: D = kappa_m - kbar = (A + sign(A) sqrt(SQ)) / L, c = 2 D / L,
-// s1 = L (1 + B / (L D)) / 2. (For 004's example this is eq. 11's root.)
+// s1 = L (1 + B / (L D)) / 2. Eq. 11, which always takes -sqrt(SQ), is this root when A >= 0
+// (the curvature peaks above both end values, as in 004's example); for A < 0 (a valley) eq. 11
+// gives s1 outside [0, L] and the valid root has +sqrt(SQ).
 std::optional<Biclothoid> biclothoid_from_turn(const Posture& start, double kappa_e, double dtheta, double length) {
   if (!(length > 0) || !std::isfinite(length)) return std::nullopt;
   const double kbar = 0.5 * (start.kappa + kappa_e);
@@ -346,41 +348,54 @@ std::optional<BiclothoidSolution> fit_at(const CornerShapes& shapes, double a, d
       if (!((end - start.p).norm() > kMinChordRatio * (a + b))) return std::nullopt;
       return BiclothoidSolution{*curve, a, b};
     };
-    double x_prev = guess_length;
-    double f_prev = offset(x_prev);
-    double x = guess_length * (1 + 1e-3);
-    double f = offset(x);
-    // bracket: lo keeps the sign of f0 (before the end crosses the line), hi the other
-    double lo = 0;
-    double f_lo = f0;
-    double hi = std::numeric_limits<double>::infinity();
-    double f_hi = 0;
-    const auto note = [&](double xi, double fi) {
-      if ((fi > 0) == (f0 > 0)) {
-        if (xi > lo) lo = xi, f_lo = fi;
-      } else if (xi < hi) {
-        hi = xi;
-        f_hi = fi;
-      }
+    // a root from a bracket: false position (Illinois), then the end with the smaller residual
+    const auto polish = [&](double x0, double g0, double x1, double g1) {
+      const Bracket br = illinois(offset, Bracket{x0, g0, x1, g1}, 1e-15 * std::max(x0, x1), f_tol, 100);
+      return std::abs(br.f0) < std::abs(br.f1) ? br.x0 : br.x1;
     };
-    note(x_prev, f_prev);
-    note(x, f);
-    for (int it = 0; it < 60; ++it) {
-      if (std::abs(f) <= f_tol) return finish(x);
-      double next = x - f * (x - x_prev) / (f - f_prev);
-      const bool bracketed = std::isfinite(hi);
-      if (!std::isfinite(next) || next <= lo || (bracketed && next >= hi) || next <= 0) {
-        next = bracketed ? 0.5 * (lo + hi) : std::max(2 * x, 2 * lo);
+    // secant steps from the guess (L may at most halve or double per step) until the residual
+    // vanishes or changes sign: the root nearest the guess. The end must then lie after the
+    // corner (b > 0): a fillet can also cross the line just after its start.
+    double x0 = guess_length;
+    double g0 = offset(x0);
+    double x1 = guess_length * (1 + 1e-3);
+    double g1 = offset(x1);
+    for (int it = 0; it < 40; ++it) {
+      if (std::abs(g1) <= f_tol) {
+        if (auto sol = finish(x1)) return sol;
+        break;
       }
-      if (!bracketed) next = std::clamp(next, 0.5 * x, 2 * x);  // a trust region until bracketed
-      x_prev = x;
-      f_prev = f;
-      x = next;
-      f = offset(x);
-      note(x, f);
-      if (bracketed && hi - lo <= 1e-15 * hi) return finish(std::abs(f_lo) < std::abs(f_hi) ? lo : hi);
+      if ((g0 > 0) != (g1 > 0)) {
+        if (auto sol = finish(polish(x0, g0, x1, g1))) return sol;
+        break;
+      }
+      double next = x1 - g1 * (x1 - x0) / (g1 - g0);
+      if (!std::isfinite(next)) next = 2 * x1;
+      next = std::clamp(next, 0.5 * x1, 2 * x1);
+      x0 = x1;
+      g0 = g1;
+      x1 = next;
+      g1 = offset(x1);
     }
-    return std::nullopt;
+    // fallback: scan L geometrically for sign changes and keep the root with b > 0 nearest the
+    // guess
+    std::optional<BiclothoidSolution> best;
+    double prev_x = 0.02 * scale;
+    double prev_g = offset(prev_x);
+    for (int k = 1; k < 48; ++k) {
+      const double x = prev_x * 1.25;
+      const double g = offset(x);
+      if ((g > 0) != (prev_g > 0)) {
+        const auto sol = finish(polish(prev_x, prev_g, x, g));
+        if (sol && (!best || std::abs(length(sol->curve) - guess_length) <
+                                 std::abs(length(best->curve) - guess_length))) {
+          best = sol;
+        }
+      }
+      prev_x = x;
+      prev_g = g;
+    }
+    return best;
   }
 
   // q2 is an arc: damped quasi-Newton on (L, b) for end(L, b) = q2(b): the Jacobian by forward
@@ -698,7 +713,7 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
     Trial* trial;
   };
   const auto evaluate = [&](double x) -> Point {
-    Trial* t = solve(std::exp(x));
+    Trial* t = solve(std::min(std::exp(x), a_cap));
     if (!t) return {x, std::numeric_limits<double>::infinity(), nullptr};
     const double y = std::max(std::log(measure(t) / tolerance), std::log(t->fillet.b / b_cap));
     return {x, y, t};
