@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <complex>
 #include <deque>
 #include <limits>
 #include <numbers>
@@ -32,6 +33,11 @@ constexpr double kMinChordRatio = 1e-6;
 // How close to a point where the moves cross again a fillet may start or end (fraction of the
 // distance from the corner).
 constexpr double kCrossingMargin = 0.98;
+// Algorithm 1 stops when the end misses q2 by less than this fraction of a + b (the blender's
+// continuity needs 1e-9).
+constexpr double kSolveTolerance = 1e-13;
+// Algorithm 2 stops once tolerance (1 - kReached) <= deviation <= tolerance (log scale).
+constexpr double kReached = 1e-4;
 // The most of an arc a fillet replaces (rad of the arc's turn).
 constexpr double kMaxArcTurn = 0.25 * std::numbers::pi;
 
@@ -93,36 +99,215 @@ Bracket illinois(const F& f, Bracket br, double x_tol, double f_tol, int max_it)
   return br;
 }
 
-// Distance from x to the piece sigma in [lo, hi] of a shape; also the closest point.
-struct PieceDistance {
-  double distance;
-  Vec2 point;
-  double sigma;
+// The piece sigma in [lo, hi] of a shape, prepared for many distance queries: for a circle its
+// centre and the radial directions of its ends, so that no angle is computed per query.
+class Piece {
+ public:
+  Piece(const PlanarShape& q, double lo, double hi)
+      : q_(q), lo_(lo), hi_(hi), start_(shape_point(q, lo)), end_(shape_point(q, hi)) {
+    if (q.kappa != 0) {
+      centre_ = Vec2(-std::sin(q.theta), std::cos(q.theta)) / q.kappa;
+      radius_ = 1.0 / std::abs(q.kappa);
+      // the radial directions at the ends, ordered counter-clockwise
+      from_ = start_ - centre_;
+      to_ = end_ - centre_;
+      if (q.kappa < 0) std::swap(from_, to_);
+      wide_ = std::abs(q.kappa) * (hi - lo) > kPi;
+    } else {
+      dir_ = direction(q.theta);
+    }
+  }
+
+  // Distance from x to the piece; also the closest point.
+  struct Distance {
+    double distance;
+    Vec2 point;
+  };
+  [[nodiscard]] Distance distance(const Vec2& x) const {
+    if (q_.kappa == 0) {
+      const Vec2 p = std::clamp(x.dot(dir_), lo_, hi_) * dir_;
+      return {(x - p).norm(), p};
+    }
+    const Vec2 r = x - centre_;
+    // inside the sector between from_ and to_ (counter-clockwise)?
+    const bool after_from = cross(from_, r) >= 0;
+    const bool before_to = cross(r, to_) >= 0;
+    if (wide_ ? (after_from || before_to) : (after_from && before_to)) {
+      const double rn = r.norm();
+      const Vec2 p = rn > 0 ? Vec2(centre_ + r * (radius_ / rn)) : start_;
+      return {std::abs(rn - radius_), p};
+    }
+    const double da = (x - start_).norm();
+    const double db = (x - end_).norm();
+    return da <= db ? Distance{da, start_} : Distance{db, end_};
+  }
+
+  // The arc length parameter of a point on the piece (its foot), within [lo, hi].
+  [[nodiscard]] double sigma_of(const Vec2& p) const {
+    if (q_.kappa == 0) return std::clamp(p.dot(dir_), lo_, hi_);
+    const Vec2 c = centre_;
+    return std::clamp(std::atan2(cross(-c, p - c), (-c).dot(p - c)) / q_.kappa, lo_, hi_);
+  }
+
+ private:
+  PlanarShape q_;
+  double lo_;
+  double hi_;
+  Vec2 start_;
+  Vec2 end_;
+  Vec2 dir_ = Vec2::Zero();
+  Vec2 centre_ = Vec2::Zero();
+  double radius_ = 0;
+  Vec2 from_ = Vec2::Zero();
+  Vec2 to_ = Vec2::Zero();
+  bool wide_ = false;
 };
-PieceDistance piece_distance(const PlanarShape& q, double lo, double hi, const Vec2& x) {
-  if (q.kappa == 0) {
-    const Vec2 t = direction(q.theta);
-    const double sigma = std::clamp(x.dot(t), lo, hi);
-    const Vec2 p = sigma * t;
-    return {(x - p).norm(), p, sigma};
+
+// 1 / n for n = 0 .. 33 (entry 0 unused).
+constexpr std::array<double, 34> kInverseOf = [] {
+  std::array<double, 34> inv{};
+  for (std::size_t n = 1; n < inv.size(); ++n) inv[n] = 1.0 / static_cast<double>(n);
+  return inv;
+}();
+
+// A fillet prepared for the many evaluations of the deviation measure: on panels of each
+// clothoid (local phase below 1 rad, as in clothoid_xy) the position and unit tangent are
+// Taylor polynomials about the panel midpoint m,
+//   T(m + t) = exp(i theta(m)) sum_n e_n t^n,   p(m + t) = p(m) + exp(i theta(m)) sum_n e_n t^(n+1) / (n+1),
+// with e_n from clothoid_xy's recurrence (e_{n+1} = i (kappa(m) e_n + c e_{n-1}) / (n + 1)),
+// so an evaluation costs two polynomials and no trigonometric function. Truncated where the
+// terms fall below 1e-15 of the panel's size (the deviation needs about 1e-12 of itself).
+class FilletTable {
+ public:
+  struct Point {
+    Vec2 p;
+    Vec2 t;  // unit tangent
+    double kappa;
+  };
+
+  explicit FilletTable(const Biclothoid& curve) : curve_(curve) {
+    add_clothoid(curve.start, curve.c, curve.s1, 0.0);
+    add_clothoid(curve.mid, -curve.c, curve.s2, curve.s1);
   }
-  // circle: centre c, the corner is at c + (-c); sigma = (angle from -c to x - c) / kappa
-  const Vec2 c = Vec2(-std::sin(q.theta), std::cos(q.theta)) / q.kappa;
-  const Vec2 r = x - c;
-  const double radius = 1.0 / std::abs(q.kappa);
-  const double psi = std::atan2(cross(-c, r), (-c).dot(r));
-  const double sigma = psi / q.kappa;
-  if (sigma >= lo && sigma <= hi) {
-    const double rn = r.norm();
-    const Vec2 p = rn > 0 ? Vec2(c + r * (radius / rn)) : Vec2(c - c);
-    return {std::abs(rn - radius), p, sigma};
+
+  [[nodiscard]] double length() const { return curve_.s1 + curve_.s2; }
+
+  [[nodiscard]] Point at(double s) const {
+    s = std::clamp(s, 0.0, length());
+    const double kappa = s <= curve_.s1 ? curve_.start.kappa + curve_.c * s : curve_.mid.kappa - curve_.c * (s - curve_.s1);
+    if (overflow_) {
+      const Posture at = posture_at(curve_, s);
+      return {at.p, direction(at.theta), kappa};
+    }
+    // the panel holding s (panels are ordered by their start)
+    std::size_t k = 0;
+    while (k + 1 < count_ && s > panels_[k + 1].start) ++k;
+    const Panel& panel = panels_[k];
+    const double t = s - panel.mid;
+    // four interleaved Horner chains in t^4 (coefficients n = 4m + j), which shortens the
+    // chain of dependent multiply-adds fourfold
+    const double t2 = t * t;
+    const double t4 = t2 * t2;
+    std::array<double, 4> tr{};
+    std::array<double, 4> ti{};
+    std::array<double, 4> pr{};
+    std::array<double, 4> pi{};
+    for (int m = (panel.terms + 3) / 4 - 1; m >= 0; --m) {
+      for (std::size_t j = 0; j < 4; ++j) {
+        const auto u = static_cast<std::size_t>(4 * m) + j;
+        tr[j] = tr[j] * t4 + panel.coef[u].x();
+        ti[j] = ti[j] * t4 + panel.coef[u].y();
+        pr[j] = pr[j] * t4 + panel.integral[u].x();
+        pi[j] = pi[j] * t4 + panel.integral[u].y();
+      }
+    }
+    const double t3 = t2 * t;
+    const Vec2 tangent_sum((tr[0] + t * tr[1]) + (t2 * tr[2] + t3 * tr[3]), (ti[0] + t * ti[1]) + (t2 * ti[2] + t3 * ti[3]));
+    const Vec2 point_sum((pr[0] + t * pr[1]) + (t2 * pr[2] + t3 * pr[3]), (pi[0] + t * pi[1]) + (t2 * pi[2] + t3 * pi[3]));
+    return {panel.base + t * point_sum, tangent_sum, kappa};
   }
-  const Vec2 pa = shape_point(q, lo);
-  const Vec2 pb = shape_point(q, hi);
-  const double da = (x - pa).norm();
-  const double db = (x - pb).norm();
-  return da <= db ? PieceDistance{da, pa, lo} : PieceDistance{db, pb, hi};
-}
+
+ private:
+  static constexpr std::size_t kMaxPanels = 12;
+  static constexpr std::size_t kMaxTerms = 32;  // a multiple of 4
+  struct Panel {
+    double start = 0;  // arc length where the panel begins
+    double mid = 0;    // its midpoint
+    Vec2 base = Vec2::Zero();  // position at mid
+    int terms = 0;
+    std::array<Vec2, kMaxTerms> coef;      // exp(i theta(mid)) e_n, as (re, im)
+    std::array<Vec2, kMaxTerms> integral;  // coef / (n + 1)
+  };
+
+  void add_clothoid(const Posture& from, double c, double len, double offset) {
+    if (!(len > 0)) return;
+    const double kappa_max = std::max(std::abs(from.kappa), std::abs(from.kappa + c * len));
+    const double phase = 0.5 * kappa_max * len + 0.125 * std::abs(c) * len * len;
+    const auto pieces = static_cast<std::size_t>(std::max(1.0, std::ceil(phase)));
+    if (count_ + pieces > kMaxPanels) {
+      overflow_ = true;
+      return;
+    }
+    const double h = 0.5 * len / static_cast<double>(pieces);
+    Vec2 edge = from.p;  // position at the start of the next panel
+    for (std::size_t j = 0; j < pieces; ++j) {
+      Panel& panel = panels_[count_++];
+      const double m = h * static_cast<double>(2 * j + 1);
+      panel.start = offset + m - h;
+      panel.mid = offset + m;
+      const double kappa = from.kappa + c * m;
+      const double theta = from.theta + (from.kappa + 0.5 * c * m) * m;
+      const std::complex<double> rot(std::cos(theta), std::sin(theta));
+      // Taylor coefficients in t (not scaled by h): e_{n+1} = i (kappa e_n + c e_{n-1}) / (n+1)
+      double prev_re = 0;
+      double prev_im = 0;
+      double cur_re = 1;
+      double cur_im = 0;
+      double scale = h;  // h^(n+1)
+      int n = 0;
+      while (n < static_cast<int>(kMaxTerms)) {
+        const auto u = static_cast<std::size_t>(n);
+        panel.coef[u] = Vec2(rot.real() * cur_re - rot.imag() * cur_im, rot.real() * cur_im + rot.imag() * cur_re);
+        panel.integral[u] = panel.coef[u] * kInverseOf[u + 1];
+        const double inv = kInverseOf[u + 1];
+        const double next_re = -(kappa * cur_im + c * prev_im) * inv;
+        const double next_im = (kappa * cur_re + c * prev_re) * inv;
+        prev_re = cur_re;
+        prev_im = cur_im;
+        cur_re = next_re;
+        cur_im = next_im;
+        ++n;
+        if ((std::abs(prev_re) + std::abs(prev_im) + (std::abs(cur_re) + std::abs(cur_im)) * h) * scale < 1e-15 * h) break;
+        scale *= h;
+      }
+      panel.terms = n;
+      for (auto u = static_cast<std::size_t>(n); u < kMaxTerms && u % 4 != 0; ++u) {
+        panel.coef[u] = Vec2::Zero();
+        panel.integral[u] = Vec2::Zero();
+      }
+      // the position at mid from the panel's start (base = edge - p_poly(-h)), and the start
+      // of the next panel (base + p_poly(h))
+      double br = 0;
+      double bi = 0;
+      double er = 0;
+      double ei = 0;
+      for (int k = panel.terms - 1; k >= 0; --k) {
+        const auto u = static_cast<std::size_t>(k);
+        br = br * -h + panel.integral[u].x();
+        bi = bi * -h + panel.integral[u].y();
+        er = er * h + panel.integral[u].x();
+        ei = ei * h + panel.integral[u].y();
+      }
+      panel.base = edge + h * Vec2(br, bi);
+      edge = panel.base + h * Vec2(er, ei);
+    }
+  }
+
+  Biclothoid curve_;
+  std::array<Panel, kMaxPanels> panels_;
+  std::size_t count_ = 0;
+  bool overflow_ = false;
+};
 
 // Closest point on the fillet to x by Newton on h(s) = (V(s) - x) . T(s), h' = 1 + kappa (V - x) . N,
 // started at `guess` and kept in [0, L]. Once the step is below 1e-6 L the distance follows from
@@ -133,26 +318,25 @@ struct FilletClosest {
   Vec2 point;
   double distance;
 };
-FilletClosest closest_on_fillet(const Biclothoid& curve, const Vec2& x, double guess) {
-  const double len = length(curve);
+FilletClosest closest_on_fillet(const FilletTable& fillet, const Vec2& x, double guess) {
+  const double len = fillet.length();
   double s = std::clamp(guess, 0.0, len);
   for (int it = 0; it < 30; ++it) {
-    const Posture at = posture_at(curve, s);
+    const FilletTable::Point at = fillet.at(s);
     const Vec2 d = at.p - x;
-    const Vec2 t = direction(at.theta);
-    const Vec2 n(-t.y(), t.x());
-    const double h = d.dot(t);
+    const Vec2 n(-at.t.y(), at.t.x());
+    const double h = d.dot(at.t);
     // a step from the local quadratic model; damped where the model is not convex
     const double hp = std::max(1.0 + at.kappa * d.dot(n), 0.25);
     const double next = std::clamp(s - h / hp, 0.0, len);
     const double step = next - s;
     if (std::abs(step) <= 1e-6 * len) {
       const double d2 = d.squaredNorm() - (std::abs(step) > 0 ? h * h / hp : 0.0);
-      return {next, at.p + step * t, std::sqrt(std::max(d2, 0.0))};
+      return {next, at.p + step * at.t, std::sqrt(std::max(d2, 0.0))};
     }
     s = next;
   }
-  const Posture at = posture_at(curve, s);
+  const FilletTable::Point at = fillet.at(s);
   return {s, at.p, (at.p - x).norm()};
 }
 
@@ -314,10 +498,13 @@ std::optional<BiclothoidSolution> fit_at(const CornerShapes& shapes, double a, d
   // the fillet turns as much as the path it replaces: kappa1 a + delta + kappa2 b
   const double base_turn = delta + q1.kappa * a;
 
-  // a cold guess: the symmetric line-line fillet with tangent length a at a tangent jump
-  // (the limit of small fillets), else (curvature jump only) L = 1.5 a, b = a / 2
+  // a cold guess: the symmetric line-line fillet with tangent length a where the tangent jump
+  // dominates (the limit of small fillets), else L = 1.5 a, b = a / 2 (004 table 1's fillets).
+  // Which dominates: the deviation of the pair grows like |delta| a / 6, that of a curvature
+  // jump like |kappa1 - kappa2| a^2 / 42 (see fit_biclothoid_with_tolerance).
   if (!(guess_length > 0 && guess_b > 0)) {
-    if (std::abs(delta) > 1e-6) {
+    const double jump = std::abs(q1.kappa - q2.kappa);
+    if (std::abs(delta) / 6 > jump * a / 42) {
       const ClothoidPair pair = clothoid_pair_for_tangent_length(std::abs(delta), a);
       guess_length = 2 * pair.half_length;
       guess_b = a;
@@ -338,7 +525,7 @@ std::optional<BiclothoidSolution> fit_at(const CornerShapes& shapes, double a, d
     const double f0 = cross(t2, start.p);
     if (f0 == 0) return std::nullopt;
     const double scale = a + guess_b;
-    const double f_tol = 1e-14 * scale;
+    const double f_tol = kSolveTolerance * scale;
     const auto finish = [&](double len) -> std::optional<BiclothoidSolution> {
       const auto curve = biclothoid_from_turn(start, 0.0, base_turn, len);
       if (!curve) return std::nullopt;
@@ -356,16 +543,25 @@ std::optional<BiclothoidSolution> fit_at(const CornerShapes& shapes, double a, d
     // secant steps from the guess (L may at most halve or double per step) until the residual
     // vanishes or changes sign: the root nearest the guess. The end must then lie after the
     // corner (b > 0): a fillet can also cross the line just after its start.
+    // The first step uses the slope df/dL kept from a neighbouring solve (jacobian(0, 0)), or
+    // a difference quotient.
     double x0 = guess_length;
     double g0 = offset(x0);
     double x1 = guess_length * (1 + 1e-3);
+    const double kept = jacobian ? (*jacobian)(0, 0) : 0.0;
+    if (std::isfinite(kept) && kept != 0) x1 = std::clamp(x0 - g0 / kept, 0.5 * x0, 2 * x0);
     double g1 = offset(x1);
+    const auto keep_slope = [&] {
+      if (jacobian && g1 != g0) (*jacobian)(0, 0) = (g1 - g0) / (x1 - x0);
+    };
     for (int it = 0; it < 40; ++it) {
       if (std::abs(g1) <= f_tol) {
+        keep_slope();
         if (auto sol = finish(x1)) return sol;
         break;
       }
       if ((g0 > 0) != (g1 > 0)) {
+        keep_slope();
         if (auto sol = finish(polish(x0, g0, x1, g1))) return sol;
         break;
       }
@@ -422,7 +618,7 @@ std::optional<BiclothoidSolution> fit_at(const CornerShapes& shapes, double a, d
     bool fresh = false;
     for (int it = 0; it < 25 && cur; ++it) {
       const double scale = a + b;
-      if (cur->r.norm() <= 1e-14 * scale) return accept(cur->curve, b);
+      if (cur->r.norm() <= kSolveTolerance * scale) return accept(cur->curve, b);
       if (!(std::abs(jac.determinant()) > 0) || !jac.allFinite()) {
         const double h_len = 1e-7 * len;
         const double h_b = 1e-7 * b;
@@ -484,8 +680,13 @@ std::optional<BiclothoidSolution> fit_biclothoid_at(const CornerShapes& shapes, 
   return fit_at(shapes, a, guess_length, guess_b, nullptr);
 }
 
-Deviation biclothoid_deviation(const BiclothoidSolution& fillet, const CornerShapes& shapes) {
+namespace {
+
+// biclothoid_deviation; with thorough = false the midpoints of the two sides of U are not
+// sampled as guards against a second maximum.
+Deviation measure_deviation(const BiclothoidSolution& fillet, const CornerShapes& shapes, bool thorough) {
   const Biclothoid& curve = fillet.curve;
+  const FilletTable table(curve);
   const double len = length(curve);
   const double a = fillet.a;
   const double b = fillet.b;
@@ -496,17 +697,18 @@ Deviation biclothoid_deviation(const BiclothoidSolution& fillet, const CornerSha
   // fillet -> original: exact distances to the two pieces of U. The distance to U is the
   // smaller of the distances to q1[-a, 0] and q2[0, b]; its maximum is either a smooth maximum
   // of one of them or (at a tangent jump) where they are equal.
+  const std::array<Piece, 2> pieces = {Piece(q1, -a, 0.0), Piece(q2, 0.0, b)};
   struct FilletSample {
     double s;
-    std::array<PieceDistance, 2> d;
+    std::array<Piece::Distance, 2> d;
     std::array<double, 2> slope;  // d distance / ds to each piece
     [[nodiscard]] int active() const { return d[0].distance <= d[1].distance ? 0 : 1; }
     [[nodiscard]] double value() const { return d[static_cast<std::size_t>(active())].distance; }
   };
   const auto sample = [&](double s) {
-    const Posture at = posture_at(curve, s);
-    FilletSample f{s, {piece_distance(q1, -a, 0.0, at.p), piece_distance(q2, 0.0, b, at.p)}, {}};
-    const Vec2 t = direction(at.theta);
+    const FilletTable::Point at = table.at(s);
+    FilletSample f{s, {pieces[0].distance(at.p), pieces[1].distance(at.p)}, {}};
+    const Vec2& t = at.t;
     for (std::size_t k = 0; k < 2; ++k) {
       f.slope[k] = f.d[k].distance > 0 ? t.dot(at.p - f.d[k].point) / f.d[k].distance : (k == 0 ? 1.0 : -1.0);
     }
@@ -537,15 +739,24 @@ Deviation biclothoid_deviation(const BiclothoidSolution& fillet, const CornerSha
           Bracket{l.s, sl, r.s, sr}, 1e-6 * len, 1e-5 * top.value() / len, 30);
       return;
     }
+    // Newton on g = d1 - d2 (g' = slope1 - slope2), kept inside the shrinking bracket
     FilletSample cross_at = l;
-    illinois(
-        [&](double s) {
-          cross_at = sample(s);
-          keep(cross_at);
-          return cross_at.d[0].distance - cross_at.d[1].distance;
-        },
-        Bracket{l.s, l.d[0].distance - l.d[1].distance, r.s, r.d[0].distance - r.d[1].distance}, 1e-10 * len,
-        1e-13 * len, 40);
+    double lo = l.s;
+    double hi = r.s;
+    const double g_lo = l.d[0].distance - l.d[1].distance;
+    double s = 0.5 * (lo + hi);
+    for (int it = 0; it < 40; ++it) {
+      cross_at = sample(s);
+      keep(cross_at);
+      const double g = cross_at.d[0].distance - cross_at.d[1].distance;
+      if ((g > 0) == (g_lo > 0)) lo = s;
+      else hi = s;
+      const double dg = cross_at.slope[0] - cross_at.slope[1];
+      double next = dg != 0 ? s - g / dg : 0.5 * (lo + hi);
+      if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+      if (std::abs(next - s) <= 1e-10 * len || std::abs(g) <= 1e-13 * len) break;
+      s = next;
+    }
     // a smooth maximum of the piece active on either side of the crossing
     if (cross_at.slope[static_cast<std::size_t>(kl)] < 0 && cross_at.s > l.s) {
       FilletSample left = cross_at;
@@ -560,8 +771,8 @@ Deviation biclothoid_deviation(const BiclothoidSolution& fillet, const CornerSha
   };
   {
     // the ends lie on U: distance 0, increasing inwards
-    FilletSample start{0.0, {PieceDistance{0.0, curve.start.p, -a}, PieceDistance{1.0, Vec2::Zero(), 0.0}}, {1.0, 1.0}};
-    FilletSample end{len, {PieceDistance{1.0, Vec2::Zero(), 0.0}, PieceDistance{0.0, Vec2::Zero(), b}}, {-1.0, -1.0}};
+    FilletSample start{0.0, {Piece::Distance{0.0, curve.start.p}, Piece::Distance{1.0, Vec2::Zero()}}, {1.0, 1.0}};
+    FilletSample end{len, {Piece::Distance{1.0, Vec2::Zero()}, Piece::Distance{0.0, Vec2::Zero()}}, {-1.0, -1.0}};
     std::array<FilletSample, 5> f = {start, sample(0.5 * curve.s1), sample(curve.s1), sample(curve.s1 + 0.5 * curve.s2),
                                      end};
     std::size_t best = 1;
@@ -581,17 +792,23 @@ Deviation biclothoid_deviation(const BiclothoidSolution& fillet, const CornerSha
   double guess = curve.s1;
   const auto from_original = [&](double sigma, const PlanarShape& q) {
     const Vec2 x = shape_point(q, sigma);
-    const FilletClosest c = closest_on_fillet(curve, x, guess);
+    const FilletClosest c = closest_on_fillet(table, x, guess);
     guess = c.s;
     const double slope = c.distance > 0 ? direction(shape_angle(q, sigma)).dot(x - c.point) / c.distance : 0.0;
     return ValueSlope{c.distance, slope};
   };
-  const FilletClosest corner = closest_on_fillet(curve, Vec2::Zero(), curve.s1);
+  const FilletClosest corner = closest_on_fillet(table, Vec2::Zero(), curve.s1);
   const double g0 = corner.distance;
   const ValueSlope corner_in{g0, g0 > 0 ? direction(q1.theta).dot(-corner.point) / g0 : 0.0};
   const ValueSlope corner_out{g0, g0 > 0 ? direction(q2.theta).dot(-corner.point) / g0 : 0.0};
   const int foot_piece = top.active();
-  const double foot = top.d[static_cast<std::size_t>(foot_piece)].sigma;
+  const double foot = pieces[static_cast<std::size_t>(foot_piece)].sigma_of(top.d[static_cast<std::size_t>(foot_piece)].point);
+  // the maximum over one side between two known points, with the midpoint as a guard
+  const auto side_max = [&](const PlanarShape& q, double x0, ValueSlope v0, double x1, ValueSlope v1, double mid) {
+    const auto f = [&](double x) { return from_original(x, q); };
+    return thorough ? maximize(f, x0, v0, x1, v1, std::array<double, 1>{mid})
+                    : maximize(f, x0, v0, x1, v1, std::array<double, 0>{});
+  };
   double side1 = 0;
   double side2 = 0;
   if (foot_piece == 0 && foot > -a && foot < 0) {
@@ -599,33 +816,33 @@ Deviation biclothoid_deviation(const BiclothoidSolution& fillet, const CornerSha
     const ValueSlope at_foot = from_original(foot, q1);
     guess = 0.5 * corner.s;
     const double mid = -0.5 * a;
-    side1 = foot < mid ? maximize([&](double x) { return from_original(x, q1); }, foot, at_foot, 0.0, corner_in,
-                                  std::array<double, 1>{mid})
-                       : maximize([&](double x) { return from_original(x, q1); }, -a, ValueSlope{0.0, 1.0}, foot,
-                                  at_foot, std::array<double, 1>{mid});
+    side1 = foot < mid ? side_max(q1, foot, at_foot, 0.0, corner_in, mid)
+                       : side_max(q1, -a, ValueSlope{0.0, 1.0}, foot, at_foot, mid);
     side1 = std::max(side1, at_foot.value);
   } else {
     guess = 0.5 * corner.s;
-    side1 = maximize([&](double x) { return from_original(x, q1); }, -a, ValueSlope{0.0, 1.0}, 0.0, corner_in,
-                     std::array<double, 1>{-0.5 * a});
+    side1 = side_max(q1, -a, ValueSlope{0.0, 1.0}, 0.0, corner_in, -0.5 * a);
   }
   if (foot_piece == 1 && foot > 0 && foot < b) {
     guess = top.s;
     const ValueSlope at_foot = from_original(foot, q2);
     guess = 0.5 * (corner.s + len);
     const double mid = 0.5 * b;
-    side2 = foot > mid ? maximize([&](double x) { return from_original(x, q2); }, 0.0, corner_out, foot, at_foot,
-                                  std::array<double, 1>{mid})
-                       : maximize([&](double x) { return from_original(x, q2); }, foot, at_foot, b,
-                                  ValueSlope{0.0, -1.0}, std::array<double, 1>{mid});
+    side2 = foot > mid ? side_max(q2, 0.0, corner_out, foot, at_foot, mid)
+                       : side_max(q2, foot, at_foot, b, ValueSlope{0.0, -1.0}, mid);
     side2 = std::max(side2, at_foot.value);
   } else {
     guess = 0.5 * (corner.s + len);
-    side2 = maximize([&](double x) { return from_original(x, q2); }, 0.0, corner_out, b, ValueSlope{0.0, -1.0},
-                     std::array<double, 1>{0.5 * b});
+    side2 = side_max(q2, 0.0, corner_out, b, ValueSlope{0.0, -1.0}, 0.5 * b);
   }
   dev.original_to_fillet = std::max({g0, side1, side2});
   return dev;
+}
+
+}  // namespace
+
+Deviation biclothoid_deviation(const BiclothoidSolution& fillet, const CornerShapes& shapes) {
+  return measure_deviation(fillet, shapes, true);
 }
 
 BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes, double tolerance, double a_max,
@@ -658,19 +875,36 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
   std::deque<Trial> trials;  // stable addresses
   // Algorithm 1 at start distance a, warm-started from the nearest earlier solve
   const auto solve = [&](double a) -> Trial* {
-    double guess_len = 0;
-    double guess_b = 0;
-    Eigen::Matrix2d jacobian = Eigen::Matrix2d::Zero();
-    double best = std::numeric_limits<double>::infinity();
+    // the guess: L and b scaled from the nearest solve, or extrapolated on log-log lines
+    // through the two nearest
+    Trial* near = nullptr;
+    Trial* second = nullptr;
     for (Trial& t : trials) {
       if (t.fillet.a == a) return &t;
       const double gap = std::abs(std::log(t.fillet.a / a));
-      if (gap < best) {
-        best = gap;
-        guess_len = length(t.fillet.curve) * a / t.fillet.a;
-        guess_b = t.fillet.b * a / t.fillet.a;
-        jacobian = t.jacobian;
+      if (!near || gap < std::abs(std::log(near->fillet.a / a))) {
+        second = near;
+        near = &t;
+      } else if (!second || gap < std::abs(std::log(second->fillet.a / a))) {
+        second = &t;
       }
+    }
+    double guess_len = 0;
+    double guess_b = 0;
+    Eigen::Matrix2d jacobian = Eigen::Matrix2d::Zero();
+    if (near) {
+      const double x = std::log(a / near->fillet.a);
+      double p_len = 1;
+      double p_b = 1;
+      if (second && second->fillet.a != near->fillet.a) {
+        const double dx = std::log(second->fillet.a / near->fillet.a);
+        p_len = std::log(length(second->fillet.curve) / length(near->fillet.curve)) / dx;
+        p_b = std::log(second->fillet.b / near->fillet.b) / dx;
+        if (!(p_len > 0 && p_len < 4 && p_b > 0 && p_b < 4)) p_len = p_b = 1;
+      }
+      guess_len = length(near->fillet.curve) * std::exp(p_len * x);
+      guess_b = near->fillet.b * std::exp(p_b * x);
+      jacobian = near->jacobian;
     }
     ++result.solves;
     const auto sol = fit_at(work, a, guess_len, guess_b, &jacobian);
@@ -680,7 +914,7 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
   };
   const auto measure = [&](Trial* t) {
     if (!t->measured) {
-      t->deviation = biclothoid_deviation(t->fillet, work);
+      t->deviation = measure_deviation(t->fillet, work, true);
       t->measured = true;
     }
     return t->deviation.max();
@@ -694,7 +928,7 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
   //   y(a) = max(log(dev / tol), log(b / b_cap)) <= 0,
   // both terms growing with a. Secant steps on y against x = log a (deviation ~ a^p, p = 1 at
   // a tangent jump, 2 at a curvature jump only, so y is nearly linear in x), bisection once
-  // bracketed steps leave the bracket, stopping at -1e-6 <= y <= 0.
+  // bracketed steps leave the bracket, stopping at -kReached <= y <= 0.
   const double delta = corner_turn(work);
   const double x_cap = std::log(a_cap);
   // a first start distance from the two small-fillet models: the line-line pair for the
@@ -736,17 +970,18 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
         best_y = cur.y;
       }
       at_cap = cur.x >= x_cap - 1e-12;
-      if (cur.y >= -1e-6 || at_cap) break;
+      if (cur.y >= -kReached || at_cap) break;
     } else {
       hi = std::min(hi, cur.x);
     }
-    // next x: secant towards y = -3e-7, else the slope guess; bisection when bracketed steps
+    // next x: secant towards the middle of the accepted band, else the slope guess; bisection
+    // when bracketed steps
     // leave the bracket
     double next;
     if (prev.trial && cur.trial && std::isfinite(prev.y) && cur.y != prev.y) {
-      next = cur.x - (cur.y + 3e-7) * (cur.x - prev.x) / (cur.y - prev.y);
+      next = cur.x - (cur.y + 0.3 * kReached) * (cur.x - prev.x) / (cur.y - prev.y);
     } else if (std::isfinite(cur.y)) {
-      next = cur.x - (cur.y + 3e-7) / p_guess;
+      next = cur.x - (cur.y + 0.3 * kReached) / p_guess;
     } else {
       next = cur.x - std::log(2.0);
     }

@@ -22,8 +22,8 @@ constexpr double kTangent = 1e-10;
 constexpr double kCurvature = 1e-7;
 // The deviation measured independently may exceed the tolerance only by this (relative).
 constexpr double kDeviationSlack = 1e-9;
-// Algorithm 2 stops with tolerance (1 - 1e-6) <= deviation <= tolerance.
-constexpr double kToleranceReached = 2e-6;
+// Algorithm 2 stops with tolerance (1 - 1e-4) <= deviation <= tolerance.
+constexpr double kToleranceReached = 1e-4;
 
 // An arc in the XY plane (metres) from start to end about centre, clockwise (G2) or not (G3).
 Arc xy_arc(const Vec3& start, const Vec3& end, const Vec3& centre, bool clockwise) {

@@ -109,7 +109,7 @@ Deviation biclothoid_deviation(const BiclothoidSolution& fillet, const CornerSha
 // Follows section 6: if q2 is more curved than q1 the corner is reversed (q1 <-> q2) and the
 // fillet reversed back at the end. The start distance is found by false position (Illinois)
 // on log(deviation / tolerance) against log(a); the result satisfies
-// tolerance (1 - 1e-6) <= deviation <= tolerance unless the move lengths limit it
+// tolerance (1 - 1e-4) <= deviation <= tolerance unless the move lengths limit it
 // (`limited` = true, deviation < tolerance). A fillet replaces at most an eighth of a turn of
 // an arc (a larger one is no longer a corner fillet, and its turn approaches 2 pi). outcome: kNotConverged when a solve fails.
 struct BiclothoidToleranceFit {
