@@ -1,11 +1,1171 @@
-#include "planner/corner.hpp"
+#include "planner/biclothoid.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <complex>
+#include <deque>
+#include <limits>
+#include <numbers>
+#include <vector>
+
+#include <sstream>
+#include <string>
+
+#include "planner/clothoid_blend.hpp"
+#include "planner/input_error.hpp"
+#include "planner/segment.hpp"
 
 namespace blendbench {
+namespace {
 
-// Placeholder until the biclothoid method lands: the blender turns this into an exact stop.
-CornerFit fit_biclothoid_corner(const CornerInput& corner) {
+constexpr double kPi = std::numbers::pi;
+// Tangent angle (rad) below which a corner is G1 (as in blend.cpp), and how close to pi a
+// turn must be to count as a reversal.
+constexpr double kTangentAngle = 1e-9;
+constexpr double kReversalAngle = 1e-9;
+// Largest out-of-plane angle (rad) of a line or arc normal for a corner to count as planar.
+constexpr double kPlanarAngle = 1e-10;
+// Shortest chord (start to end) of a fillet accepted, relative to a + b: near a reversal of
+// 179.999 deg a fillet's chord is 8.7e-6 (a + b); where q1 and q2 cross just after the corner
+// the equations also admit vanishing hairpins with start = end, which are no fillets.
+constexpr double kMinChordRatio = 1e-6;
+// How close to a point where the moves cross again a fillet may start or end (fraction of the
+// distance from the corner).
+constexpr double kCrossingMargin = 0.98;
+// Algorithm 1 stops when the end misses q2 by less than this fraction of a + b (the blender's
+// continuity needs 1e-9).
+constexpr double kSolveTolerance = 1e-13;
+// Algorithm 2 stops once tolerance (1 - kReached) <= deviation <= tolerance (log scale).
+constexpr double kReached = 1e-4;
+// The most of an arc a fillet replaces (rad of the arc's turn).
+constexpr double kMaxArcTurn = 0.25 * std::numbers::pi;
+
+std::string mm(double metres) {
+  std::ostringstream out;
+  out.precision(6);
+  out << metres * 1000.0 << " mm";
+  return out.str();
+}
+
+std::string deg(double rad) {
+  std::ostringstream out;
+  out.precision(6);
+  out << rad * 180.0 / std::numbers::pi << " deg";
+  return out.str();
+}
+
+double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+Vec2 direction(double theta) { return {std::cos(theta), std::sin(theta)}; }
+
+// sin(x) / x, exact to rounding near 0
+double sinc(double x) {
+  if (std::abs(x) < 1e-4) return 1.0 - x * x / 6.0;
+  return std::sin(x) / x;
+}
+
+// Illinois false position for a root of f on [x0, x1] where f(x0) and f(x1) differ in sign.
+// Stops when |f| <= f_tol, the bracket is narrower than x_tol, or after max_it evaluations.
+// Returns the final bracket, each end with its function value, so a caller can choose the
+// side it needs.
+struct Bracket {
+  double x0, f0, x1, f1;
+};
+template <class F>
+Bracket illinois(const F& f, Bracket br, double x_tol, double f_tol, int max_it) {
+  int side = 0;
+  for (int it = 0; it < max_it; ++it) {
+    if (std::abs(br.x1 - br.x0) <= x_tol) break;
+    double x = (br.x0 * br.f1 - br.x1 * br.f0) / (br.f1 - br.f0);
+    // keep the trial strictly inside, else bisect
+    const double lo = std::min(br.x0, br.x1);
+    const double hi = std::max(br.x0, br.x1);
+    if (!(x > lo && x < hi)) x = 0.5 * (br.x0 + br.x1);
+    const double fx = f(x);
+    if (!std::isfinite(fx)) break;
+    if ((fx > 0) == (br.f1 > 0)) {
+      br.x1 = x;
+      br.f1 = fx;
+      if (side == 1) br.f0 *= 0.5;
+      side = 1;
+    } else {
+      br.x0 = x;
+      br.f0 = fx;
+      if (side == -1) br.f1 *= 0.5;
+      side = -1;
+    }
+    if (std::abs(fx) <= f_tol) break;
+  }
+  return br;
+}
+
+// The piece sigma in [lo, hi] of a shape, prepared for many distance queries: for a circle its
+// centre and the radial directions of its ends, so that no angle is computed per query.
+class Piece {
+ public:
+  Piece(const PlanarShape& q, double lo, double hi)
+      : q_(q), lo_(lo), hi_(hi), start_(shape_point(q, lo)), end_(shape_point(q, hi)) {
+    if (q.kappa != 0) {
+      centre_ = Vec2(-std::sin(q.theta), std::cos(q.theta)) / q.kappa;
+      radius_ = 1.0 / std::abs(q.kappa);
+      // the radial directions at the ends, ordered counter-clockwise
+      from_ = start_ - centre_;
+      to_ = end_ - centre_;
+      if (q.kappa < 0) std::swap(from_, to_);
+      wide_ = std::abs(q.kappa) * (hi - lo) > kPi;
+    } else {
+      dir_ = direction(q.theta);
+    }
+  }
+
+  // Distance from x to the piece; also the closest point.
+  struct Distance {
+    double distance;
+    Vec2 point;
+  };
+  [[nodiscard]] Distance distance(const Vec2& x) const {
+    if (q_.kappa == 0) {
+      const Vec2 p = std::clamp(x.dot(dir_), lo_, hi_) * dir_;
+      return {(x - p).norm(), p};
+    }
+    const Vec2 r = x - centre_;
+    // inside the sector between from_ and to_ (counter-clockwise)?
+    const bool after_from = cross(from_, r) >= 0;
+    const bool before_to = cross(r, to_) >= 0;
+    if (wide_ ? (after_from || before_to) : (after_from && before_to)) {
+      const double rn = r.norm();
+      const Vec2 p = rn > 0 ? Vec2(centre_ + r * (radius_ / rn)) : start_;
+      return {std::abs(rn - radius_), p};
+    }
+    const double da = (x - start_).norm();
+    const double db = (x - end_).norm();
+    return da <= db ? Distance{da, start_} : Distance{db, end_};
+  }
+
+  // The arc length parameter of a point on the piece (its foot), within [lo, hi].
+  [[nodiscard]] double sigma_of(const Vec2& p) const {
+    if (q_.kappa == 0) return std::clamp(p.dot(dir_), lo_, hi_);
+    const Vec2 c = centre_;
+    return std::clamp(std::atan2(cross(-c, p - c), (-c).dot(p - c)) / q_.kappa, lo_, hi_);
+  }
+
+ private:
+  PlanarShape q_;
+  double lo_;
+  double hi_;
+  Vec2 start_;
+  Vec2 end_;
+  Vec2 dir_ = Vec2::Zero();
+  Vec2 centre_ = Vec2::Zero();
+  double radius_ = 0;
+  Vec2 from_ = Vec2::Zero();
+  Vec2 to_ = Vec2::Zero();
+  bool wide_ = false;
+};
+
+// 1 / n for n = 0 .. 33 (entry 0 unused).
+constexpr std::array<double, 34> kInverseOf = [] {
+  std::array<double, 34> inv{};
+  for (std::size_t n = 1; n < inv.size(); ++n) inv[n] = 1.0 / static_cast<double>(n);
+  return inv;
+}();
+
+// A fillet prepared for the many evaluations of the deviation measure: on panels of each
+// clothoid (local phase below 1 rad, as in clothoid_xy) the position and unit tangent are
+// Taylor polynomials about the panel midpoint m,
+//   T(m + t) = exp(i theta(m)) sum_n e_n t^n,   p(m + t) = p(m) + exp(i theta(m)) sum_n e_n t^(n+1) / (n+1),
+// with e_n from clothoid_xy's recurrence (e_{n+1} = i (kappa(m) e_n + c e_{n-1}) / (n + 1)),
+// so an evaluation costs two polynomials and no trigonometric function. Truncated where the
+// terms fall below 1e-15 of the panel's size (the deviation needs about 1e-12 of itself).
+class FilletTable {
+ public:
+  struct Point {
+    Vec2 p;
+    Vec2 t;  // unit tangent
+    double kappa;
+  };
+
+  explicit FilletTable(const Biclothoid& curve) : curve_(curve) {
+    add_clothoid(curve.start, curve.c, curve.s1, 0.0);
+    add_clothoid(curve.mid, -curve.c, curve.s2, curve.s1);
+  }
+
+  [[nodiscard]] double length() const { return curve_.s1 + curve_.s2; }
+
+  [[nodiscard]] Point at(double s) const {
+    s = std::clamp(s, 0.0, length());
+    const double kappa = s <= curve_.s1 ? curve_.start.kappa + curve_.c * s : curve_.mid.kappa - curve_.c * (s - curve_.s1);
+    if (overflow_) {
+      const Posture at = posture_at(curve_, s);
+      return {at.p, direction(at.theta), kappa};
+    }
+    // the panel holding s (panels are ordered by their start)
+    std::size_t k = 0;
+    while (k + 1 < count_ && s > panels_[k + 1].start) ++k;
+    const Panel& panel = panels_[k];
+    const double t = s - panel.mid;
+    // four interleaved Horner chains in t^4 (coefficients n = 4m + j), which shortens the
+    // chain of dependent multiply-adds fourfold
+    const double t2 = t * t;
+    const double t4 = t2 * t2;
+    std::array<double, 4> tr{};
+    std::array<double, 4> ti{};
+    std::array<double, 4> pr{};
+    std::array<double, 4> pi{};
+    for (int m = (panel.terms + 3) / 4 - 1; m >= 0; --m) {
+      for (std::size_t j = 0; j < 4; ++j) {
+        const auto u = static_cast<std::size_t>(4 * m) + j;
+        tr[j] = tr[j] * t4 + panel.coef[u].x();
+        ti[j] = ti[j] * t4 + panel.coef[u].y();
+        pr[j] = pr[j] * t4 + panel.integral[u].x();
+        pi[j] = pi[j] * t4 + panel.integral[u].y();
+      }
+    }
+    const double t3 = t2 * t;
+    const Vec2 tangent_sum((tr[0] + t * tr[1]) + (t2 * tr[2] + t3 * tr[3]), (ti[0] + t * ti[1]) + (t2 * ti[2] + t3 * ti[3]));
+    const Vec2 point_sum((pr[0] + t * pr[1]) + (t2 * pr[2] + t3 * pr[3]), (pi[0] + t * pi[1]) + (t2 * pi[2] + t3 * pi[3]));
+    return {panel.base + t * point_sum, tangent_sum, kappa};
+  }
+
+ private:
+  static constexpr std::size_t kMaxPanels = 12;
+  static constexpr std::size_t kMaxTerms = 32;  // a multiple of 4
+  struct Panel {
+    double start = 0;  // arc length where the panel begins
+    double mid = 0;    // its midpoint
+    Vec2 base = Vec2::Zero();  // position at mid
+    int terms = 0;
+    std::array<Vec2, kMaxTerms> coef;      // exp(i theta(mid)) e_n, as (re, im)
+    std::array<Vec2, kMaxTerms> integral;  // coef / (n + 1)
+  };
+
+  void add_clothoid(const Posture& from, double c, double len, double offset) {
+    if (!(len > 0)) return;
+    const double kappa_max = std::max(std::abs(from.kappa), std::abs(from.kappa + c * len));
+    const double phase = 0.5 * kappa_max * len + 0.125 * std::abs(c) * len * len;
+    const auto pieces = static_cast<std::size_t>(std::max(1.0, std::ceil(phase)));
+    if (count_ + pieces > kMaxPanels) {
+      overflow_ = true;
+      return;
+    }
+    const double h = 0.5 * len / static_cast<double>(pieces);
+    Vec2 edge = from.p;  // position at the start of the next panel
+    for (std::size_t j = 0; j < pieces; ++j) {
+      Panel& panel = panels_[count_++];
+      const double m = h * static_cast<double>(2 * j + 1);
+      panel.start = offset + m - h;
+      panel.mid = offset + m;
+      const double kappa = from.kappa + c * m;
+      const double theta = from.theta + (from.kappa + 0.5 * c * m) * m;
+      const std::complex<double> rot(std::cos(theta), std::sin(theta));
+      // Taylor coefficients in t (not scaled by h): e_{n+1} = i (kappa e_n + c e_{n-1}) / (n+1)
+      double prev_re = 0;
+      double prev_im = 0;
+      double cur_re = 1;
+      double cur_im = 0;
+      double scale = h;  // h^(n+1)
+      int n = 0;
+      while (n < static_cast<int>(kMaxTerms)) {
+        const auto u = static_cast<std::size_t>(n);
+        panel.coef[u] = Vec2(rot.real() * cur_re - rot.imag() * cur_im, rot.real() * cur_im + rot.imag() * cur_re);
+        panel.integral[u] = panel.coef[u] * kInverseOf[u + 1];
+        const double inv = kInverseOf[u + 1];
+        const double next_re = -(kappa * cur_im + c * prev_im) * inv;
+        const double next_im = (kappa * cur_re + c * prev_re) * inv;
+        prev_re = cur_re;
+        prev_im = cur_im;
+        cur_re = next_re;
+        cur_im = next_im;
+        ++n;
+        if ((std::abs(prev_re) + std::abs(prev_im) + (std::abs(cur_re) + std::abs(cur_im)) * h) * scale < 1e-15 * h) break;
+        scale *= h;
+      }
+      panel.terms = n;
+      for (auto u = static_cast<std::size_t>(n); u < kMaxTerms && u % 4 != 0; ++u) {
+        panel.coef[u] = Vec2::Zero();
+        panel.integral[u] = Vec2::Zero();
+      }
+      // the position at mid from the panel's start (base = edge - p_poly(-h)), and the start
+      // of the next panel (base + p_poly(h))
+      double br = 0;
+      double bi = 0;
+      double er = 0;
+      double ei = 0;
+      for (int k = panel.terms - 1; k >= 0; --k) {
+        const auto u = static_cast<std::size_t>(k);
+        br = br * -h + panel.integral[u].x();
+        bi = bi * -h + panel.integral[u].y();
+        er = er * h + panel.integral[u].x();
+        ei = ei * h + panel.integral[u].y();
+      }
+      panel.base = edge + h * Vec2(br, bi);
+      edge = panel.base + h * Vec2(er, ei);
+    }
+  }
+
+  Biclothoid curve_;
+  std::array<Panel, kMaxPanels> panels_;
+  std::size_t count_ = 0;
+  bool overflow_ = false;
+};
+
+// Closest point on the fillet to x by Newton on h(s) = (V(s) - x) . T(s), h' = 1 + kappa (V - x) . N,
+// started at `guess` and kept in [0, L]. Once the step is below 1e-6 L the distance follows from
+// the local quadratic model, |V - x|^2 - h^2 / h', without another evaluation (its error,
+// ~ kappa' step^3, stays below 1e-12 of the distance for the fillets here).
+struct FilletClosest {
+  double s;
+  Vec2 point;
+  double distance;
+};
+FilletClosest closest_on_fillet(const FilletTable& fillet, const Vec2& x, double guess) {
+  const double len = fillet.length();
+  double s = std::clamp(guess, 0.0, len);
+  for (int it = 0; it < 30; ++it) {
+    const FilletTable::Point at = fillet.at(s);
+    const Vec2 d = at.p - x;
+    const Vec2 n(-at.t.y(), at.t.x());
+    const double h = d.dot(at.t);
+    // a step from the local quadratic model; damped where the model is not convex
+    const double hp = std::max(1.0 + at.kappa * d.dot(n), 0.25);
+    const double next = std::clamp(s - h / hp, 0.0, len);
+    const double step = next - s;
+    if (std::abs(step) <= 1e-6 * len) {
+      const double d2 = d.squaredNorm() - (std::abs(step) > 0 ? h * h / hp : 0.0);
+      return {next, at.p + step * at.t, std::sqrt(std::max(d2, 0.0))};
+    }
+    s = next;
+  }
+  const FilletTable::Point at = fillet.at(s);
+  return {s, at.p, (at.p - x).norm()};
+}
+
+// Maximum of a function on [x0, x1] given at both ends and, in the cases of section 7.1, with
+// one interior maximum: `eval(x)` returns the value and its derivative. Evaluates the interior
+// sample points `xs`, brackets the best point by the sign change of the derivative and refines
+// by false position on the derivative. Returns the largest value seen.
+struct ValueSlope {
+  double value;
+  double slope;
+};
+template <class F, std::size_t N>
+double maximize(const F& eval, double x0, ValueSlope at0, double x1, ValueSlope at1, const std::array<double, N>& xs) {
+  std::array<double, N + 2> x{};
+  std::array<ValueSlope, N + 2> v{};
+  x[0] = x0;
+  v[0] = at0;
+  for (std::size_t i = 0; i < N; ++i) {
+    x[i + 1] = xs[i];
+    v[i + 1] = eval(xs[i]);
+  }
+  x[N + 1] = x1;
+  v[N + 1] = at1;
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < N + 2; ++i) {
+    if (v[i].value > v[best].value) best = i;
+  }
+  double top = v[best].value;
+  // near the maximum the value errs by about slope^2 / (2 |f''|) with |f''| ~ f / w^2 (w the
+  // interval width): a slope below 1e-5 f / w keeps it below 1e-10 f
+  const double flat = 1e-5 * top / std::abs(x1 - x0);
+  if (std::abs(v[best].slope) <= flat) return top;
+  // the derivative changes sign from + to - on one side of the best point
+  std::size_t lo = best;
+  std::size_t hi = best;
+  if (v[best].slope > 0 && best + 1 < N + 2) hi = best + 1;
+  else if (v[best].slope < 0 && best > 0) lo = best - 1;
+  if (lo == hi || !(v[lo].slope > 0) || !(v[hi].slope < 0)) return top;
+  const auto slope = [&](double xi) {
+    const ValueSlope vi = eval(xi);
+    top = std::max(top, vi.value);
+    return vi.slope;
+  };
+  illinois(slope, Bracket{x[lo], v[lo].slope, x[hi], v[hi].slope}, 1e-6 * std::abs(x1 - x0), flat, 30);
+  return top;
+}
+
+// Where q1 (sigma in [-a_max, 0)) and q2 (sigma in (0, b_max]) meet again after the corner,
+// as (-sigma1, sigma2), or nullopt. Both pass through the origin, so a line meets a circle of
+// centre c once more at 2 (t . c) t, and two circles meet at the mirror image of the origin in
+// their line of centres.
+std::optional<std::pair<double, double>> crossing(const PlanarShape& q1, const PlanarShape& q2, double a_max,
+                                                  double b_max) {
+  const auto centre = [](const PlanarShape& q) -> Vec2 { return Vec2(-std::sin(q.theta), std::cos(q.theta)) / q.kappa; };
+  if (q1.kappa == 0 && q2.kappa == 0) return std::nullopt;
+  Vec2 x = Vec2::Zero();
+  if (q1.kappa == 0 || q2.kappa == 0) {
+    const PlanarShape& line = q1.kappa == 0 ? q1 : q2;
+    const Vec2 t = direction(line.theta);
+    x = 2 * t.dot(centre(q1.kappa == 0 ? q2 : q1)) * t;
+  } else {
+    const Vec2 c1 = centre(q1);
+    const Vec2 d = centre(q2) - c1;
+    if (!(d.squaredNorm() > 0)) return std::nullopt;
+    x = 2 * (c1 - c1.dot(d) / d.squaredNorm() * d);
+  }
+  const auto sigma = [&](const PlanarShape& q) {
+    if (q.kappa == 0) return x.dot(direction(q.theta));
+    const Vec2 c = centre(q);
+    return std::atan2(cross(-c, x - c), (-c).dot(x - c)) / q.kappa;
+  };
+  const double s1 = sigma(q1);
+  const double s2 = sigma(q2);
+  if (!(x.norm() > 0) || !(s1 < 0 && -s1 <= a_max) || !(s2 > 0 && s2 <= b_max)) return std::nullopt;
+  return std::make_pair(-s1, s2);
+}
+
+// Turn of the programmed corner: the tangent jump delta in (-pi, pi].
+double corner_turn(const CornerShapes& shapes) { return std::remainder(shapes.q2.theta - shapes.q1.theta, 2 * kPi); }
+
+}  // namespace
+
+Biclothoid make_biclothoid(const Posture& start, double c, double s1, double s2) {
+  Biclothoid curve;
+  curve.start = start;
+  curve.c = c;
+  curve.s1 = s1;
+  curve.s2 = s2;
+  curve.mid.p = start.p + clothoid_displacement(start.theta, start.kappa, c, s1);
+  curve.mid.kappa = start.kappa + c * s1;
+  curve.mid.theta = start.theta + (start.kappa + 0.5 * c * s1) * s1;
+  return curve;
+}
+
+// Derivation of eq. 11-13 in a form without the 0/0 of eq. 11 at kappa0 = kappa_e: with peak
+// kappa_m, the tent profile gives kappa_m - kappa0 = c s1, kappa_m - kappa_e = c s2, and
+// the turn is the area under it, 2 dtheta = (2 kappa_m^2 - kappa0^2 - kappa_e^2) / c with
+// c = (2 kappa_m - kappa0 - kappa_e) / L. Eliminating c gives the quadratic
+//   L kappa_m^2 - 2 dtheta kappa_m + dtheta (kappa0 + kappa_e) - L (kappa0^2 + kappa_e^2) / 2 = 0,
+// kappa_m = (dtheta +- sqrt(SQ)) / L with 004's SQ = A^2 + B^2, A = dtheta - L kbar,
+// B = L (kappa_e - kappa0) / 2, kbar = (kappa0 + kappa_e) / 2. The root with s1, s2 >= 0 is the
+// one whose sign matches A: D = kappa_m - kbar = (A + sign(A) sqrt(SQ)) / L, c = 2 D / L,
+// s1 = L (1 + B / (L D)) / 2. Eq. 11, which always takes -sqrt(SQ), is this root when A >= 0
+// (the curvature peaks above both end values, as in 004's example); for A < 0 (a valley) eq. 11
+// gives s1 outside [0, L] and the valid root has +sqrt(SQ).
+std::optional<Biclothoid> biclothoid_from_turn(const Posture& start, double kappa_e, double dtheta, double length) {
+  if (!(length > 0) || !std::isfinite(length)) return std::nullopt;
+  const double kbar = 0.5 * (start.kappa + kappa_e);
+  const double half_jump = 0.5 * (kappa_e - start.kappa);
+  const double a = dtheta - length * kbar;
+  const double root = std::hypot(a, length * half_jump);
+  if (root == 0) return make_biclothoid(start, 0.0, 0.5 * length, 0.5 * length);
+  const double d = (a >= 0 ? a + root : a - root) / length;
+  const double c = 2 * d / length;
+  const double s1 = std::clamp(0.5 * length * (1 + half_jump / d), 0.0, length);
+  return make_biclothoid(start, c, s1, length - s1);
+}
+
+double length(const Biclothoid& curve) { return curve.s1 + curve.s2; }
+
+Posture posture_at(const Biclothoid& curve, double s) {
+  s = std::clamp(s, 0.0, length(curve));
+  if (s <= curve.s1) {
+    const Posture& p0 = curve.start;
+    return {p0.p + clothoid_displacement(p0.theta, p0.kappa, curve.c, s), p0.kappa + curve.c * s,
+            p0.theta + (p0.kappa + 0.5 * curve.c * s) * s};
+  }
+  const double t = s - curve.s1;
+  const Posture& pm = curve.mid;
+  return {pm.p + clothoid_displacement(pm.theta, pm.kappa, -curve.c, t), pm.kappa - curve.c * t,
+          pm.theta + (pm.kappa - 0.5 * curve.c * t) * t};
+}
+
+Posture end_posture(const Biclothoid& curve) { return posture_at(curve, length(curve)); }
+
+Biclothoid reversed(const Biclothoid& curve) {
+  const Posture e = end_posture(curve);
+  return make_biclothoid(Posture{e.p, -e.kappa, e.theta + kPi}, -curve.c, curve.s2, curve.s1);
+}
+
+Vec2 shape_point(const PlanarShape& shape, double sigma) {
+  const double half = 0.5 * shape.kappa * sigma;
+  return sigma * sinc(half) * direction(shape.theta + half);
+}
+
+double shape_angle(const PlanarShape& shape, double sigma) { return shape.theta + shape.kappa * sigma; }
+
+namespace {
+
+// fit_biclothoid_at with the Jacobian of the arc case kept in `jacobian` across calls (zero or
+// null: start from differences).
+std::optional<BiclothoidSolution> fit_at(const CornerShapes& shapes, double a, double guess_length, double guess_b,
+                                         Eigen::Matrix2d* jacobian) {
+  if (!(a > 0) || !std::isfinite(a)) return std::nullopt;
+  const PlanarShape& q1 = shapes.q1;
+  const PlanarShape& q2 = shapes.q2;
+  const double delta = corner_turn(shapes);
+  const Posture start{shape_point(q1, -a), q1.kappa, shape_angle(q1, -a)};
+  // the fillet turns as much as the path it replaces: kappa1 a + delta + kappa2 b
+  const double base_turn = delta + q1.kappa * a;
+
+  // a cold guess: the symmetric line-line fillet with tangent length a where the tangent jump
+  // dominates (the limit of small fillets), else L = 1.5 a, b = a / 2 (004 table 1's fillets).
+  // Which dominates: the deviation of the pair grows like |delta| a / 6, that of a curvature
+  // jump like |kappa1 - kappa2| a^2 / 42 (see fit_biclothoid_with_tolerance).
+  if (!(guess_length > 0 && guess_b > 0)) {
+    const double jump = std::abs(q1.kappa - q2.kappa);
+    if (std::abs(delta) / 6 > jump * a / 42) {
+      const ClothoidPair pair = clothoid_pair_for_tangent_length(std::abs(delta), a);
+      guess_length = 2 * pair.half_length;
+      guess_b = a;
+    } else {
+      guess_length = 1.5 * a;
+      guess_b = 0.5 * a;
+    }
+  }
+
+  if (q2.kappa == 0) {
+    // q2 is a line: the end angle is fixed, so one equation in L: the end lies on the line.
+    // Secant from the guess, bracketed once the sign changes; a bracket search if that fails.
+    const Vec2 t2 = direction(q2.theta);
+    const auto offset = [&](double len) {
+      const auto curve = biclothoid_from_turn(start, 0.0, base_turn, len);
+      return cross(t2, end_posture(*curve).p);
+    };
+    const double f0 = cross(t2, start.p);
+    if (f0 == 0) return std::nullopt;
+    const double scale = a + guess_b;
+    const double f_tol = kSolveTolerance * scale;
+    const auto finish = [&](double len) -> std::optional<BiclothoidSolution> {
+      const auto curve = biclothoid_from_turn(start, 0.0, base_turn, len);
+      if (!curve) return std::nullopt;
+      const Vec2 end = end_posture(*curve).p;
+      const double b = end.dot(t2);
+      if (!(b > 0) || std::abs(cross(t2, end)) > 1e-11 * (a + b)) return std::nullopt;
+      if (!((end - start.p).norm() > kMinChordRatio * (a + b))) return std::nullopt;
+      return BiclothoidSolution{*curve, a, b};
+    };
+    // a root from a bracket: false position (Illinois), then the end with the smaller residual
+    const auto polish = [&](double x0, double g0, double x1, double g1) {
+      const Bracket br = illinois(offset, Bracket{x0, g0, x1, g1}, 1e-15 * std::max(x0, x1), f_tol, 100);
+      return std::abs(br.f0) < std::abs(br.f1) ? br.x0 : br.x1;
+    };
+    // secant steps from the guess (L may at most halve or double per step) until the residual
+    // vanishes or changes sign: the root nearest the guess. The end must then lie after the
+    // corner (b > 0): a fillet can also cross the line just after its start.
+    // The first step uses the slope df/dL kept from a neighbouring solve (jacobian(0, 0)), or
+    // a difference quotient.
+    double x0 = guess_length;
+    double g0 = offset(x0);
+    double x1 = guess_length * (1 + 1e-3);
+    const double kept = jacobian ? (*jacobian)(0, 0) : 0.0;
+    if (std::isfinite(kept) && kept != 0) x1 = std::clamp(x0 - g0 / kept, 0.5 * x0, 2 * x0);
+    double g1 = offset(x1);
+    const auto keep_slope = [&] {
+      if (jacobian && g1 != g0) (*jacobian)(0, 0) = (g1 - g0) / (x1 - x0);
+    };
+    for (int it = 0; it < 40; ++it) {
+      if (std::abs(g1) <= f_tol) {
+        keep_slope();
+        if (auto sol = finish(x1)) return sol;
+        break;
+      }
+      if ((g0 > 0) != (g1 > 0)) {
+        keep_slope();
+        if (auto sol = finish(polish(x0, g0, x1, g1))) return sol;
+        break;
+      }
+      double next = x1 - g1 * (x1 - x0) / (g1 - g0);
+      if (!std::isfinite(next)) next = 2 * x1;
+      next = std::clamp(next, 0.5 * x1, 2 * x1);
+      x0 = x1;
+      g0 = g1;
+      x1 = next;
+      g1 = offset(x1);
+    }
+    // fallback: scan L geometrically for sign changes and keep the root with b > 0 nearest the
+    // guess
+    std::optional<BiclothoidSolution> best;
+    double prev_x = 0.02 * scale;
+    double prev_g = offset(prev_x);
+    for (int k = 1; k < 48; ++k) {
+      const double x = prev_x * 1.25;
+      const double g = offset(x);
+      if ((g > 0) != (prev_g > 0)) {
+        const auto sol = finish(polish(prev_x, prev_g, x, g));
+        if (sol && (!best || std::abs(length(sol->curve) - guess_length) <
+                                 std::abs(length(best->curve) - guess_length))) {
+          best = sol;
+        }
+      }
+      prev_x = x;
+      prev_g = g;
+    }
+    return best;
+  }
+
+  // q2 is an arc: damped quasi-Newton on (L, b) for end(L, b) = q2(b): the Jacobian by forward
+  // differences (or the caller's from a neighbouring solve), then Broyden updates; a fresh
+  // difference Jacobian whenever a step fails to reduce the residual
+  struct Eval {
+    Biclothoid curve;
+    Vec2 r;
+  };
+  const auto residual = [&](double len, double b) -> std::optional<Eval> {
+    const auto curve = biclothoid_from_turn(start, q2.kappa, base_turn + q2.kappa * b, len);
+    if (!curve) return std::nullopt;
+    return Eval{*curve, end_posture(*curve).p - shape_point(q2, b)};
+  };
+  // a solution that shrinks to a point where q1 and q2 cross (near a reversal) is not a fillet
+  const auto accept = [&](const Biclothoid& curve, double b) -> std::optional<BiclothoidSolution> {
+    if (!((end_posture(curve).p - curve.start.p).norm() > kMinChordRatio * (a + b))) return std::nullopt;
+    return BiclothoidSolution{curve, a, b};
+  };
+  Eigen::Matrix2d local_jac = Eigen::Matrix2d::Zero();
+  Eigen::Matrix2d& jac = jacobian ? *jacobian : local_jac;
+  const auto solve_from = [&](double len, double b) -> std::optional<BiclothoidSolution> {
+    auto cur = residual(len, b);
+    bool fresh = false;
+    for (int it = 0; it < 25 && cur; ++it) {
+      const double scale = a + b;
+      if (cur->r.norm() <= kSolveTolerance * scale) return accept(cur->curve, b);
+      if (!(std::abs(jac.determinant()) > 0) || !jac.allFinite()) {
+        const double h_len = 1e-7 * len;
+        const double h_b = 1e-7 * b;
+        const auto r_len = residual(len + h_len, b);
+        const auto r_b = residual(len, b + h_b);
+        if (!r_len || !r_b) return std::nullopt;
+        jac.col(0) = (r_len->r - cur->r) / h_len;
+        jac.col(1) = (r_b->r - cur->r) / h_b;
+        fresh = true;
+      }
+      const double det = jac.determinant();
+      if (!(std::abs(det) > 0) || !std::isfinite(det)) return std::nullopt;
+      const Vec2 step = -jac.inverse() * cur->r;
+      // a trust region (L and b at most halve or double per step), then backtracking while the
+      // residual does not decrease
+      double lambda = 1;
+      if (std::abs(step.x()) > 0.5 * len) lambda = std::min(lambda, 0.5 * len / std::abs(step.x()));
+      if (std::abs(step.y()) > 0.5 * b) lambda = std::min(lambda, 0.5 * b / std::abs(step.y()));
+      bool accepted = false;
+      for (int half = 0; half < 12; ++half, lambda *= 0.5) {
+        const double len_new = len + lambda * step.x();
+        const double b_new = b + lambda * step.y();
+        auto next = residual(len_new, b_new);
+        if (next && next->r.norm() < cur->r.norm()) {
+          // Broyden: J += (dr - J dx) dx^T / (dx^T dx)
+          const Vec2 dx(len_new - len, b_new - b);
+          jac += ((next->r - cur->r) - jac * dx) * dx.transpose() / dx.squaredNorm();
+          len = len_new;
+          b = b_new;
+          cur = std::move(next);
+          accepted = true;
+          break;
+        }
+        if (half >= 2 && !fresh) break;  // the Jacobian is stale: rebuild it before halving more
+      }
+      if (!accepted) {
+        if (cur->r.norm() <= 1e-12 * scale) return accept(cur->curve, b);
+        if (fresh) return std::nullopt;
+        jac.setZero();
+        continue;
+      }
+      fresh = false;
+    }
+    return std::nullopt;
+  };
+  if (auto sol = solve_from(guess_length, guess_b)) return sol;
+  // other starts: a symmetric fillet, then unequal ones (tangent corners are not symmetric)
+  for (const double ratio : {1.0, 0.5, 2.0}) {
+    jac.setZero();
+    if (auto sol = solve_from(a * (1 + ratio), a * ratio)) return sol;
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<BiclothoidSolution> fit_biclothoid_at(const CornerShapes& shapes, double a, double guess_length,
+                                                    double guess_b) {
+  return fit_at(shapes, a, guess_length, guess_b, nullptr);
+}
+
+namespace {
+
+// biclothoid_deviation; with thorough = false the midpoints of the two sides of U are not
+// sampled as guards against a second maximum.
+Deviation measure_deviation(const BiclothoidSolution& fillet, const CornerShapes& shapes, bool thorough) {
+  const Biclothoid& curve = fillet.curve;
+  const FilletTable table(curve);
+  const double len = length(curve);
+  const double a = fillet.a;
+  const double b = fillet.b;
+  const PlanarShape& q1 = shapes.q1;
+  const PlanarShape& q2 = shapes.q2;
+  Deviation dev;
+
+  // fillet -> original: exact distances to the two pieces of U. The distance to U is the
+  // smaller of the distances to q1[-a, 0] and q2[0, b]; its maximum is either a smooth maximum
+  // of one of them or (at a tangent jump) where they are equal.
+  const std::array<Piece, 2> pieces = {Piece(q1, -a, 0.0), Piece(q2, 0.0, b)};
+  struct FilletSample {
+    double s;
+    std::array<Piece::Distance, 2> d;
+    std::array<double, 2> slope;  // d distance / ds to each piece
+    [[nodiscard]] int active() const { return d[0].distance <= d[1].distance ? 0 : 1; }
+    [[nodiscard]] double value() const { return d[static_cast<std::size_t>(active())].distance; }
+  };
+  const auto sample = [&](double s) {
+    const FilletTable::Point at = table.at(s);
+    FilletSample f{s, {pieces[0].distance(at.p), pieces[1].distance(at.p)}, {}};
+    const Vec2& t = at.t;
+    for (std::size_t k = 0; k < 2; ++k) {
+      f.slope[k] = f.d[k].distance > 0 ? t.dot(at.p - f.d[k].point) / f.d[k].distance : (k == 0 ? 1.0 : -1.0);
+    }
+    return f;
+  };
+  FilletSample top{};
+  const auto keep = [&](const FilletSample& f) {
+    if (f.value() > top.value()) top = f;
+  };
+  // the maximum between two samples l < r: where both have the same nearest piece (or at a
+  // curvature jump only, where the distance to U is C1), false position on the slope; across
+  // a tangent jump the distance has a kink where the nearest piece changes, found first
+  const bool kink = std::abs(corner_turn(shapes)) > kTangentAngle;
+  const auto refine = [&](const FilletSample& l, const FilletSample& r, const auto& self) -> void {
+    const int kl = l.active();
+    const int kr = r.active();
+    if (kl == kr || !kink) {
+      const double sl = l.slope[static_cast<std::size_t>(kl)];
+      const double sr = r.slope[static_cast<std::size_t>(kr)];
+      if (!(sl > 0 && sr < 0)) return;
+      // a slope below 1e-5 f / L leaves the value within 1e-10 of the maximum (see maximize)
+      illinois(
+          [&](double s) {
+            const FilletSample f = sample(s);
+            keep(f);
+            return f.slope[static_cast<std::size_t>(f.active())];
+          },
+          Bracket{l.s, sl, r.s, sr}, 1e-6 * len, 1e-5 * top.value() / len, 30);
+      return;
+    }
+    // Newton on g = d1 - d2 (g' = slope1 - slope2), kept inside the shrinking bracket
+    FilletSample cross_at = l;
+    double lo = l.s;
+    double hi = r.s;
+    const double g_lo = l.d[0].distance - l.d[1].distance;
+    double s = 0.5 * (lo + hi);
+    for (int it = 0; it < 40; ++it) {
+      cross_at = sample(s);
+      keep(cross_at);
+      const double g = cross_at.d[0].distance - cross_at.d[1].distance;
+      if ((g > 0) == (g_lo > 0)) lo = s;
+      else hi = s;
+      const double dg = cross_at.slope[0] - cross_at.slope[1];
+      double next = dg != 0 ? s - g / dg : 0.5 * (lo + hi);
+      if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+      if (std::abs(next - s) <= 1e-10 * len || std::abs(g) <= 1e-13 * len) break;
+      s = next;
+    }
+    // a smooth maximum of the piece active on either side of the crossing
+    if (cross_at.slope[static_cast<std::size_t>(kl)] < 0 && cross_at.s > l.s) {
+      FilletSample left = cross_at;
+      left.d[static_cast<std::size_t>(kr)].distance = std::numeric_limits<double>::infinity();
+      self(l, left, self);
+    }
+    if (cross_at.slope[static_cast<std::size_t>(kr)] > 0 && cross_at.s < r.s) {
+      FilletSample right = cross_at;
+      right.d[static_cast<std::size_t>(kl)].distance = std::numeric_limits<double>::infinity();
+      self(right, r, self);
+    }
+  };
+  {
+    // the ends lie on U: distance 0, increasing inwards
+    FilletSample start{0.0, {Piece::Distance{0.0, curve.start.p}, Piece::Distance{1.0, Vec2::Zero()}}, {1.0, 1.0}};
+    FilletSample end{len, {Piece::Distance{1.0, Vec2::Zero()}, Piece::Distance{0.0, Vec2::Zero()}}, {-1.0, -1.0}};
+    std::array<FilletSample, 5> f = {start, sample(0.5 * curve.s1), sample(curve.s1), sample(curve.s1 + 0.5 * curve.s2),
+                                     end};
+    std::size_t best = 1;
+    for (std::size_t i = 2; i < 4; ++i) {
+      if (f[i].value() > f[best].value()) best = i;
+    }
+    top = f[best];
+    if (f[best].slope[static_cast<std::size_t>(f[best].active())] > 0) refine(f[best], f[best + 1], refine);
+    else refine(f[best - 1], f[best], refine);
+  }
+  dev.fillet_to_original = top.value();
+
+  // original -> fillet: for a point of U its closest point on V (Newton); the maximum over U on
+  // each side of the corner, where U has its kink, with the corner as a shared candidate. Seeds:
+  // the foot on U of the fillet -> original maximum (a common normal of both curves, where a
+  // smooth maximum of this direction lies too) and each side's midpoint as a guard.
+  double guess = curve.s1;
+  const auto from_original = [&](double sigma, const PlanarShape& q) {
+    const Vec2 x = shape_point(q, sigma);
+    const FilletClosest c = closest_on_fillet(table, x, guess);
+    guess = c.s;
+    const double slope = c.distance > 0 ? direction(shape_angle(q, sigma)).dot(x - c.point) / c.distance : 0.0;
+    return ValueSlope{c.distance, slope};
+  };
+  const FilletClosest corner = closest_on_fillet(table, Vec2::Zero(), curve.s1);
+  const double g0 = corner.distance;
+  const ValueSlope corner_in{g0, g0 > 0 ? direction(q1.theta).dot(-corner.point) / g0 : 0.0};
+  const ValueSlope corner_out{g0, g0 > 0 ? direction(q2.theta).dot(-corner.point) / g0 : 0.0};
+  const int foot_piece = top.active();
+  const double foot = pieces[static_cast<std::size_t>(foot_piece)].sigma_of(top.d[static_cast<std::size_t>(foot_piece)].point);
+  // the maximum over one side between two known points, with the midpoint as a guard
+  const auto side_max = [&](const PlanarShape& q, double x0, ValueSlope v0, double x1, ValueSlope v1, double mid) {
+    const auto f = [&](double x) { return from_original(x, q); };
+    return thorough ? maximize(f, x0, v0, x1, v1, std::array<double, 1>{mid})
+                    : maximize(f, x0, v0, x1, v1, std::array<double, 0>{});
+  };
+  double side1 = 0;
+  double side2 = 0;
+  if (foot_piece == 0 && foot > -a && foot < 0) {
+    guess = top.s;
+    const ValueSlope at_foot = from_original(foot, q1);
+    guess = 0.5 * corner.s;
+    const double mid = -0.5 * a;
+    side1 = foot < mid ? side_max(q1, foot, at_foot, 0.0, corner_in, mid)
+                       : side_max(q1, -a, ValueSlope{0.0, 1.0}, foot, at_foot, mid);
+    side1 = std::max(side1, at_foot.value);
+  } else {
+    guess = 0.5 * corner.s;
+    side1 = side_max(q1, -a, ValueSlope{0.0, 1.0}, 0.0, corner_in, -0.5 * a);
+  }
+  if (foot_piece == 1 && foot > 0 && foot < b) {
+    guess = top.s;
+    const ValueSlope at_foot = from_original(foot, q2);
+    guess = 0.5 * (corner.s + len);
+    const double mid = 0.5 * b;
+    side2 = foot > mid ? side_max(q2, 0.0, corner_out, foot, at_foot, mid)
+                       : side_max(q2, foot, at_foot, b, ValueSlope{0.0, -1.0}, mid);
+    side2 = std::max(side2, at_foot.value);
+  } else {
+    guess = 0.5 * (corner.s + len);
+    side2 = side_max(q2, 0.0, corner_out, b, ValueSlope{0.0, -1.0}, 0.5 * b);
+  }
+  dev.original_to_fillet = std::max({g0, side1, side2});
+  return dev;
+}
+
+}  // namespace
+
+Deviation biclothoid_deviation(const BiclothoidSolution& fillet, const CornerShapes& shapes) {
+  return measure_deviation(fillet, shapes, true);
+}
+
+BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes, double tolerance, double a_max,
+                                                     double b_max) {
+  BiclothoidToleranceFit result;
+  // section 6: fit from the more curved shape to the less curved one
+  CornerShapes work = shapes;
+  result.swapped = std::abs(shapes.q2.kappa) > std::abs(shapes.q1.kappa);
+  if (result.swapped) {
+    work.q1 = PlanarShape{shapes.q2.theta + kPi, -shapes.q2.kappa};
+    work.q2 = PlanarShape{shapes.q1.theta + kPi, -shapes.q1.kappa};
+    std::swap(a_max, b_max);
+  }
+  // at most an eighth of a turn of an arc is replaced, and only up to where the two moves cross
+  // again (near a reversal an arc can curl back across the other move)
+  double a_cap = work.q1.kappa != 0 ? std::min(a_max, kMaxArcTurn / std::abs(work.q1.kappa)) : a_max;
+  double b_cap = work.q2.kappa != 0 ? std::min(b_max, kMaxArcTurn / std::abs(work.q2.kappa)) : b_max;
+  if (const auto meet = crossing(work.q1, work.q2, a_cap, b_cap)) {
+    a_cap = std::min(a_cap, kCrossingMargin * meet->first);
+    b_cap = std::min(b_cap, kCrossingMargin * meet->second);
+  }
+  const bool tangent_jump = std::abs(corner_turn(work)) > 1e-9;
+
+  struct Trial {
+    BiclothoidSolution fillet;
+    Deviation deviation;
+    bool measured = false;
+    Eigen::Matrix2d jacobian = Eigen::Matrix2d::Zero();
+  };
+  std::deque<Trial> trials;  // stable addresses
+  // Algorithm 1 at start distance a, warm-started from the nearest earlier solve
+  const auto solve = [&](double a) -> Trial* {
+    // the guess: L and b scaled from the nearest solve, or extrapolated on log-log lines
+    // through the two nearest
+    Trial* near = nullptr;
+    Trial* second = nullptr;
+    for (Trial& t : trials) {
+      if (t.fillet.a == a) return &t;
+      const double gap = std::abs(std::log(t.fillet.a / a));
+      if (!near || gap < std::abs(std::log(near->fillet.a / a))) {
+        second = near;
+        near = &t;
+      } else if (!second || gap < std::abs(std::log(second->fillet.a / a))) {
+        second = &t;
+      }
+    }
+    double guess_len = 0;
+    double guess_b = 0;
+    Eigen::Matrix2d jacobian = Eigen::Matrix2d::Zero();
+    if (near) {
+      const double x = std::log(a / near->fillet.a);
+      double p_len = 1;
+      double p_b = 1;
+      if (second && second->fillet.a != near->fillet.a) {
+        const double dx = std::log(second->fillet.a / near->fillet.a);
+        p_len = std::log(length(second->fillet.curve) / length(near->fillet.curve)) / dx;
+        p_b = std::log(second->fillet.b / near->fillet.b) / dx;
+        if (!(p_len > 0 && p_len < 4 && p_b > 0 && p_b < 4)) p_len = p_b = 1;
+      }
+      guess_len = length(near->fillet.curve) * std::exp(p_len * x);
+      guess_b = near->fillet.b * std::exp(p_b * x);
+      jacobian = near->jacobian;
+    }
+    ++result.solves;
+    const auto sol = fit_at(work, a, guess_len, guess_b, &jacobian);
+    if (!sol) return nullptr;
+    trials.push_back(Trial{*sol, {}, false, jacobian});
+    return &trials.back();
+  };
+  const auto measure = [&](Trial* t) {
+    if (!t->measured) {
+      t->deviation = measure_deviation(t->fillet, work, true);
+      t->measured = true;
+    }
+    return t->deviation.max();
+  };
+  const auto fail = [&](const std::string& why) {
+    result.outcome = {Status::kNotConverged, why};
+    return result;
+  };
+
+  // Algorithm 2 with the end bound folded in: the largest a with
+  //   y(a) = max(log(dev / tol), log(b / b_cap)) <= 0,
+  // both terms growing with a. Secant steps on y against x = log a (deviation ~ a^p, p = 1 at
+  // a tangent jump, 2 at a curvature jump only, so y is nearly linear in x), bisection once
+  // bracketed steps leave the bracket, stopping at -kReached <= y <= 0.
+  const double delta = corner_turn(work);
+  const double x_cap = std::log(a_cap);
+  // a first start distance from the two small-fillet models: the line-line pair for the
+  // tangent jump (deviation ~ a) and, from 004 table 1 (arc R10 -> line at 0.1 mm: a = 6.5 mm),
+  // dev ~ |kappa jump| a^2 / 42 for the curvature jump; the smaller one dominates
+  const double kappa_jump = std::abs(work.q1.kappa - work.q2.kappa);
+  const double a_angle = tangent_jump ? clothoid_pair_for_deviation(std::abs(delta), tolerance).tangent_length
+                                      : std::numeric_limits<double>::infinity();
+  const double a_curvature =
+      kappa_jump > 0 ? std::sqrt(42.0 * tolerance / kappa_jump) : std::numeric_limits<double>::infinity();
+  const double a_start = std::min({a_cap, b_cap, a_angle, a_curvature});
+  const double p_guess = a_angle <= a_curvature ? 1.0 : 2.0;
+  struct Point {
+    double x;
+    double y;
+    Trial* trial;
+  };
+  const auto evaluate = [&](double x) -> Point {
+    Trial* t = solve(std::min(std::exp(x), a_cap));
+    if (!t) return {x, std::numeric_limits<double>::infinity(), nullptr};
+    const double y = std::max(std::log(measure(t) / tolerance), std::log(t->fillet.b / b_cap));
+    return {x, y, t};
+  };
+  // the first point: back off (halving a) while Algorithm 1 fails
+  Point cur = evaluate(std::log(a_start));
+  for (int attempt = 0; attempt < 12 && !cur.trial; ++attempt) cur = evaluate(cur.x - std::log(2.0));
+  if (!cur.trial) return fail("biclothoid (004 Algorithm 1) did not converge");
+  Point prev{0, 0, nullptr};
+  double lo = -std::numeric_limits<double>::infinity();  // y <= 0 here
+  double hi = std::numeric_limits<double>::infinity();   // y > 0 (or no solution) here
+  Trial* best = nullptr;
+  double best_y = -std::numeric_limits<double>::infinity();
+  bool at_cap = false;
+  for (int it = 0; it < 60; ++it) {
+    if (cur.y <= 0) {
+      lo = std::max(lo, cur.x);
+      if (cur.x >= std::log(best ? best->fillet.a : 0.0)) {
+        best = cur.trial;
+        best_y = cur.y;
+      }
+      at_cap = cur.x >= x_cap - 1e-12;
+      if (cur.y >= -kReached || at_cap) break;
+    } else {
+      hi = std::min(hi, cur.x);
+    }
+    // next x: secant towards the middle of the accepted band, else the slope guess; bisection
+    // when bracketed steps
+    // leave the bracket
+    double next;
+    if (prev.trial && cur.trial && std::isfinite(prev.y) && cur.y != prev.y) {
+      next = cur.x - (cur.y + 0.3 * kReached) * (cur.x - prev.x) / (cur.y - prev.y);
+    } else if (std::isfinite(cur.y)) {
+      next = cur.x - (cur.y + 0.3 * kReached) / p_guess;
+    } else {
+      next = cur.x - std::log(2.0);
+    }
+    if (std::isfinite(lo) && std::isfinite(hi)) {
+      if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+      if (hi - lo < 1e-13) break;
+    } else if (std::isfinite(hi) && !(next < hi)) {
+      next = hi - std::log(2.0);
+    } else if (std::isfinite(lo) && !(next > lo)) {
+      next = lo + std::log(2.0);
+    }
+    next = std::min(next, x_cap);
+    prev = cur;
+    cur = evaluate(next);
+  }
+  if (!best) return fail("no biclothoid fillet met the tolerance (004 Algorithm 2)");
+  // limited: the end bound or the start cap is what stops the fillet growing
+  const bool limited = at_cap || std::log(best->fillet.b / b_cap) >= std::log(measure(best) / tolerance) - 1e-12;
+  (void)best_y;
+
+  result.limited = limited;
+  measure(best);
+  result.deviation = best->deviation;
+  result.fillet = best->fillet;
+  if (result.swapped) {
+    result.fillet.curve = reversed(best->fillet.curve);
+    result.fillet.a = best->fillet.b;
+    result.fillet.b = best->fillet.a;
+  }
+  return result;
+}
+
+Vec3 to_space(const CornerPlane& plane, const Vec2& p) { return plane.origin + p.x() * plane.x + p.y() * plane.y; }
+
+std::vector<Segment> to_segments(const Biclothoid& curve, const CornerPlane& plane) {
+  std::vector<Segment> out;
+  const auto piece = [&](const Posture& at, double c, double len) {
+    if (!(len > 0)) return;
+    const double cs = std::cos(at.theta);
+    const double sn = std::sin(at.theta);
+    out.emplace_back(Clothoid{to_space(plane, at.p), cs * plane.x + sn * plane.y, -sn * plane.x + cs * plane.y,
+                              at.kappa, c, len});
+  };
+  piece(curve.start, curve.c, curve.s1);
+  piece(curve.mid, -curve.c, curve.s2);
+  return out;
+}
+
+PlanarCorner planar_corner(const Primitive& in, const Primitive& out) {
+  PlanarCorner pc;
+  const double len_in = length(in);
+  const Vec3 corner = point(in, len_in);
+  const Vec3 t1 = tangent(in, len_in);
+  const Vec3 t2 = tangent(out, 0.0);
+  pc.angle = angle_between(t1, t2);
+  const Vec3 k1 = curvature_vector(in, len_in);
+  const Vec3 k2 = curvature_vector(out, 0.0);
+  pc.same_curvature = (k1 - k2).norm() <= 1e-9 * std::max({k1.norm(), k2.norm(), 1e-300});
+  const Arc* arc1 = std::get_if<Arc>(&in);
+  const Arc* arc2 = std::get_if<Arc>(&out);
+  pc.lines = !arc1 && !arc2;
+  if (arc1 && arc2) {
+    pc.same_circle = (arc1->center - arc2->center).norm() <= 1e-9 * arc1->radius &&
+                     std::abs(arc1->radius - arc2->radius) <= 1e-9 * arc1->radius && arc1->rise == 0 &&
+                     arc2->rise == 0 &&
+                     arc1->u.cross(arc1->v).cross(arc2->u.cross(arc2->v)).norm() <= kPlanarAngle;
+  }
+
+  // the plane normal: the arc's axis, or the lines' common normal oriented with the turn
+  Vec3 normal;
+  if (arc1) normal = arc1->u.cross(arc1->v).normalized();
+  else if (arc2) normal = arc2->u.cross(arc2->v).normalized();
+  else if (t1.cross(t2).norm() > 0) normal = t1.cross(t2).normalized();
+  else normal = any_perpendicular(t1);
+
+  // planar: no helix, every line in the plane, every arc axis along the normal
+  pc.planar = true;
+  for (const Primitive* prim : {&in, &out}) {
+    if (const Arc* arc = std::get_if<Arc>(prim)) {
+      if (arc->rise != 0 || arc->u.cross(arc->v).normalized().cross(normal).norm() > kPlanarAngle) pc.planar = false;
+    } else {
+      const Line& line = std::get<Line>(*prim);
+      if (std::abs((line.p1 - line.p0).normalized().dot(normal)) > kPlanarAngle) pc.planar = false;
+    }
+  }
+
+  pc.plane.origin = corner;
+  pc.plane.x = (t1 - t1.dot(normal) * normal).normalized();
+  pc.plane.y = normal.cross(pc.plane.x);
+  const auto signed_curvature = [&](const Primitive& prim) {
+    const Arc* arc = std::get_if<Arc>(&prim);
+    if (!arc) return 0.0;
+    return (arc->u.cross(arc->v).dot(normal) > 0 ? 1.0 : -1.0) / arc->radius;
+  };
+  pc.shapes.q1 = PlanarShape{0.0, signed_curvature(in)};
+  pc.shapes.q2 = PlanarShape{std::atan2(t2.dot(pc.plane.y), t2.dot(pc.plane.x)), signed_curvature(out)};
+  return pc;
+}
+
+std::optional<CornerFit> clothoid_special_case(const CornerInput& corner, const PlanarCorner& geometry) {
   CornerFit fit;
-  fit.outcome = {Status::kInfeasible, "the biclothoid method is not available in this build (" + corner.name + ")"};
+  fit.parameter_used = 0;
+  // a reversal has no fillet: a kink that stops the path when Buffered (001, 003)
+  if (geometry.angle >= kPi - kReversalAngle) {
+    fit.case_name = geometry.same_circle ? "same_circle_opposite_direction" : "reversal";
+    fit.stop = corner.buffer == BufferMode::kBuffered;
+    fit.note = "the path reverses at the corner: no curvature-continuous transition exists, the corner stays a kink";
+    return fit;
+  }
+  const bool tangent = geometry.angle <= kTangentAngle;
+  // already G2: nothing to smooth
+  if (tangent && geometry.same_curvature) {
+    fit.case_name = geometry.same_circle ? "same_circle_same_direction" : "collinear";
+    return fit;
+  }
+  if (corner.spec.parameter <= 0) {
+    if (!tangent) {
+      fail_at(corner.where, "transition.parameter",
+              corner.name + ": a " + std::string(to_string(corner.spec.method)) +
+                  " transition with maximum deviation 0 is impossible at a tangent discontinuity of " +
+                  deg(geometry.angle) + "; give a positive deviation or use method none");
+    }
+    fit.case_name = "tangent";
+    fit.note = "maximum deviation 0: the curvature jump is left as programmed";
+    return fit;
+  }
+  return std::nullopt;
+}
+
+CornerFit fit_biclothoid_corner(const CornerInput& corner) {
+  const PlanarCorner geometry = planar_corner(corner.in, corner.out);
+  if (auto special = clothoid_special_case(corner, geometry)) return *special;
+  const double tolerance = corner.spec.parameter;
+  CornerFit fit;
+  fit.case_name = geometry.angle <= kTangentAngle ? "tangent" : "regular";
+
+  // two lines: the symmetric fillet in closed form (004 section 7.1, 002 eq. 9), shrunk to
+  // the shorter available length
+  if (geometry.lines) {
+    ClothoidPair pair = clothoid_pair_for_deviation(geometry.angle, tolerance);
+    const double available = std::min(corner.in_available, corner.out_available);
+    if (pair.tangent_length > available) {
+      pair = clothoid_pair_for_tangent_length(geometry.angle, available);
+      fit.note = "deviation shrunk from " + mm(tolerance) + " to " + mm(pair.deviation) + ": the " +
+                 (corner.in_available <= corner.out_available ? "incoming" : "outgoing") + " move is short";
+    }
+    const Posture start{Vec2(-pair.tangent_length, 0.0), 0.0, 0.0};
+    fit.transition = to_segments(make_biclothoid(start, pair.sharpness, pair.half_length, pair.half_length),
+                                 geometry.plane);
+    fit.trim_in = pair.tangent_length;
+    fit.trim_out = pair.tangent_length;
+    fit.parameter_used = pair.deviation;
+    return fit;
+  }
+
+  // 004 has no 3D form: a non-planar corner goes to the Bezier method (000, quartic in 3D),
+  // with its transition parameter set to the tolerance (a fillet that starts and ends within
+  // that distance of the corner deviates less than it)
+  if (!geometry.planar) {
+    CornerFit bezier = fit_bezier_corner(corner);
+    bezier.case_name = "non_planar";
+    bezier.fallback = "bezier";
+    if (!bezier.outcome.ok()) {
+      bezier.outcome.message = "non-planar corner, Bezier fallback failed: " + bezier.outcome.message;
+    }
+    return bezier;
+  }
+
+  // 004 Algorithms 1 and 2 in the corner plane
+  const BiclothoidToleranceFit tol_fit =
+      fit_biclothoid_with_tolerance(geometry.shapes, tolerance, corner.in_available, corner.out_available);
+  if (!tol_fit.outcome.ok()) {
+    fit.outcome = tol_fit.outcome;
+    fit.outcome.message = corner.name + ": " + fit.outcome.message;
+    return fit;
+  }
+  fit.transition = to_segments(tol_fit.fillet.curve, geometry.plane);
+  fit.trim_in = tol_fit.fillet.a;
+  fit.trim_out = tol_fit.fillet.b;
+  fit.parameter_used = tol_fit.deviation.max();
+  if (tol_fit.limited) {
+    fit.note = "deviation " + mm(fit.parameter_used) + " below the tolerance " + mm(tolerance) +
+               ": the fillet is limited by the move lengths (or an eighth of a turn of an arc)";
+  }
   return fit;
 }
 

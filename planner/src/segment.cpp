@@ -32,6 +32,17 @@ double gauss_legendre(const F& f, double a, double b) {
   return sum * half;
 }
 
+// clothoid_xy: largest phase excursion |kappa(m) t + c t^2 / 2| on a panel; with 1 the Taylor
+// terms decay like 1/n! and summing them loses at most a factor e in rounding.
+constexpr double kClothoidPanelPhase = 1.0;
+
+// 1 / n for n = 0 .. 40 (entry 0 unused), so the recurrence needs no division.
+constexpr std::array<double, 41> kInverse = [] {
+  std::array<double, 41> inv{};
+  for (std::size_t n = 1; n < inv.size(); ++n) inv[n] = 1.0 / static_cast<double>(n);
+  return inv;
+}();
+
 double clamp_s(double s, double len) { return std::clamp(s, 0.0, len); }
 
 // Helix helpers: b = rise per radian along w.
@@ -252,24 +263,63 @@ double bezier_sharpness_at_u(const Bezier& bezier, double u) {
 // ---- Clothoid
 
 Eigen::Vector2d clothoid_xy(double kappa0, double sharpness, double s) {
-  if (s <= 0) return Eigen::Vector2d::Zero();
-  // panels so that the angle turns at most 0.4 rad on each
-  const double turn = std::abs(kappa0) * s + 0.5 * std::abs(sharpness) * s * s;
-  const int panels = std::max(1, static_cast<int>(std::ceil(turn / 0.4)));
-  const double h = s / panels;
-  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
-  for (int i = 0; i < panels; ++i) {
-    const double a = h * i;
-    const double mid = a + 0.5 * h;
-    for (std::size_t k = 0; k < kGlNodes.size(); ++k) {
-      for (const double sign : {-1.0, 1.0}) {
-        const double t = mid + sign * 0.5 * h * kGlNodes[k];
-        const double theta = kappa0 * t + 0.5 * sharpness * t * t;
-        sum += kGlWeights[k] * Eigen::Vector2d(std::cos(theta), std::sin(theta));
-      }
+  return clothoid_displacement(0.0, kappa0, sharpness, s);
+}
+
+Eigen::Vector2d clothoid_displacement(double theta0, double kappa0, double sharpness, double s) {
+  if (!(s > 0)) return Eigen::Vector2d::Zero();
+  // panels of half-width h around midpoints m, the local phase kappa(m) t + c t^2 / 2 (|t| <= h)
+  // bounded by kClothoidPanelPhase
+  const double kappa_max = std::max(std::abs(kappa0), std::abs(kappa0 + sharpness * s));
+  const double phase = 0.5 * kappa_max * s + 0.125 * std::abs(sharpness) * s * s;
+  const int panels = std::max(1, static_cast<int>(std::ceil(phase / kClothoidPanelPhase)));
+  const double h = 0.5 * s / panels;
+  double x = 0;
+  double y = 0;
+  for (int j = 0; j < panels; ++j) {
+    const double m = h * (2 * j + 1);
+    const double beta = (kappa0 + sharpness * m) * h;  // kappa(m) h
+    const double gamma = sharpness * h * h;            // c h^2
+    // int_{-1}^{1} exp(i (beta u + gamma u^2 / 2)) du = 2 sum_{n even} e_n / (n + 1), with the
+    // Taylor coefficients of the integrand from e_{n+1} = i (beta e_n + gamma e_{n-1}) / (n + 1).
+    // Two steps at once, both from (e_n, e_{n-1}), halve the chain of dependent operations:
+    //   e_{n+2} = [(-beta^2 / (n+1) + i gamma) e_n - beta gamma / (n+1) e_{n-1}] / (n + 2).
+    // Once two consecutive coefficients are below 1e-18 (the sum is about 1) the rest are too,
+    // because n + 1 > |beta| + |gamma| from then on.
+    double ar = 1;  // e_n
+    double ai = 0;
+    double br = 0;  // e_{n-1}
+    double bi = 0;
+    double sum_re = 1;
+    double sum_im = 0;
+    for (std::size_t n = 0; n + 3 < kInverse.size(); n += 2) {
+      const double p = kInverse[n + 1];
+      const double q = kInverse[n + 2];
+      const double c1 = beta * p;
+      const double c2 = gamma * p;
+      const double c3 = -beta * c1 * q;
+      const double c4 = gamma * q;
+      const double c5 = -beta * c2 * q;
+      const double odd_re = -(c1 * ai + c2 * bi);
+      const double odd_im = c1 * ar + c2 * br;
+      const double even_re = (c3 * ar + c5 * br) - c4 * ai;
+      const double even_im = (c3 * ai + c5 * bi) + c4 * ar;
+      br = odd_re;
+      bi = odd_im;
+      ar = even_re;
+      ai = even_im;
+      sum_re += even_re * kInverse[n + 3];
+      sum_im += even_im * kInverse[n + 3];
+      if (std::abs(even_re) + std::abs(even_im) + std::abs(odd_re) + std::abs(odd_im) < 1e-18) break;
     }
+    // rotate by the tangent angle at the midpoint
+    const double theta = theta0 + (kappa0 + 0.5 * sharpness * m) * m;
+    const double cs = std::cos(theta);
+    const double sn = std::sin(theta);
+    x += cs * sum_re - sn * sum_im;
+    y += sn * sum_re + cs * sum_im;
   }
-  return sum * (0.5 * h);
+  return Eigen::Vector2d(2 * h * x, 2 * h * y);
 }
 
 double length(const Clothoid& clothoid) { return clothoid.length; }

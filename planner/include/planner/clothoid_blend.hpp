@@ -1,0 +1,55 @@
+#pragma once
+// Makino's clothoid corner (002): a symmetric clothoid pair between two lines, and the
+// clothoid-arc-clothoid that caps the peak curvature. fit_clothoid_corner (corner.hpp) builds
+// the transition from these; corners with arcs fall back to biclothoid fillets (004).
+//
+// Geometry of a symmetric corner (derived here; 002 gives only eq. 9): a curve that starts on
+// the incoming line at tangent length T before the corner, turns by the deflection alpha
+// (the angle between the two directions of travel, 0 < alpha < pi) and is symmetric about the
+// bisector. If its first half ends at (X, Y) in a frame at its start (x along the incoming
+// line, y towards the turn) with tangent angle alpha/2, the midpoint lies on the bisector,
+// perpendicular to that tangent, so
+//   deviation (corner to midpoint) d = Y / cos(alpha/2),   T = X + Y tan(alpha/2).
+// For Makino's pair, X = a C(u), Y = a S(u) with u = sqrt(alpha / pi) (eq. 9:
+// u_max = sqrt(phi_max / 90 deg), phi_max = alpha / 2), so d and T are linear in the scale a.
+
+namespace blendbench {
+
+// 002 eq. 4-9 for a corner of deflection alpha (rad, 0 < alpha < pi). Makino's unit clothoid
+// has kappa = pi s / a^2, so the sharpness is pi / a^2 and the peak curvature pi u / a.
+struct ClothoidPair {
+  double alpha = 0;           // rad, deflection of the corner
+  double scale = 0;           // m, Makino's scale factor a
+  double u = 0;               // Makino's u_max = sqrt(alpha / pi)
+  double half_length = 0;     // m, a u: length of each clothoid
+  double sharpness = 0;       // 1/m^2
+  double kappa_peak = 0;      // 1/m, at the midpoint
+  double tangent_length = 0;  // m, corner to either end
+  double deviation = 0;       // m, corner to the midpoint (the Hausdorff distance to the corner)
+};
+ClothoidPair clothoid_pair_for_deviation(double alpha, double deviation);
+ClothoidPair clothoid_pair_for_tangent_length(double alpha, double tangent_length);
+
+// 002 figs. 12-13: clothoid (0 -> kappa over clothoid_length), arc of curvature kappa,
+// clothoid (kappa -> 0), symmetric, for a corner of deflection alpha (0 < alpha < pi);
+// 0 <= clothoid_length <= alpha / kappa (at the upper end the arc vanishes and it is the pair
+// with peak kappa; at 0 it is the plain arc of radius 1 / kappa).
+//
+// For a fixed kappa, deviation and tangent length grow strictly with clothoid_length. Proof:
+// write the half curve by its radius of curvature as a function of the tangent angle,
+// rho(theta) = ds / dtheta. On the clothoid theta = kappa s^2 / (2 Lc), so
+// rho = sqrt(Lc / (2 kappa theta)) for theta < kappa Lc / 2 and rho = 1 / kappa on the arc;
+// both branches give rho(theta) >= the old value when Lc grows, pointwise. Then
+// Y = int_0^{alpha/2} rho sin(theta) dtheta and X = int rho cos(theta) dtheta grow (sin, cos > 0
+// below pi/2), and with them d = Y / cos(alpha/2) and T = X + Y tan(alpha/2).
+struct ClothoidArcClothoid {
+  double alpha = 0;            // rad
+  double kappa = 0;            // 1/m, peak curvature (the arc's)
+  double clothoid_length = 0;  // m, each clothoid
+  double arc_length = 0;       // m
+  double tangent_length = 0;   // m
+  double deviation = 0;        // m, corner to the arc's midpoint
+};
+ClothoidArcClothoid clothoid_arc_clothoid(double alpha, double kappa, double clothoid_length);
+
+}  // namespace blendbench
