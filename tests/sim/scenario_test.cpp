@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <numbers>
+
+#include "planner/blend.hpp"
 
 #include "../support/property.hpp"
 
@@ -120,10 +123,23 @@ variants: [{name: v}]
   EXPECT_GT(point(a.program.moves[0].geometry, 0.0785).y(), 0.049);  // cw about +z from (0,0) to (0.1,0) goes up
 }
 
-TEST(Scenario, TheShippedScenariosLoad) {
-  for (const char* name : {"scenarios/default.yaml"}) {
-    EXPECT_NO_THROW((void)load_scenario(test::source_path(name))) << name;
+TEST(Scenario, EveryShippedScenarioLoadsAndBlends) {
+  int count = 0;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(test::source_path("scenarios"))) {
+    if (entry.path().extension() != ".yaml") continue;
+    ++count;
+    SCOPED_TRACE(entry.path().string());
+    try {
+      const Scenario sc = load_scenario(entry.path().string());
+      for (const Variant& v : sc.variants) {
+        const Path path = blend(program_for(sc, v));
+        EXPECT_GT(path.length(), 0.0) << v.name;
+      }
+    } catch (const InputError& e) {
+      ADD_FAILURE() << e.what();
+    }
   }
+  EXPECT_GT(count, 10);
 }
 
 }  // namespace
