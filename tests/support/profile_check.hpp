@@ -1,0 +1,161 @@
+#pragma once
+// Checks a timed profile against its path: every limit of issue 4 on the sampled result
+// (v <= v_lim(s) with 004 eq. 25-27, kappa v^2 <= a, |a_t|, |j_t|, also by finite differences of
+// the samples) and v = 0 at every stop. Shared by the timing tests and the scenario tests.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "planner/blend.hpp"
+#include "planner/timing.hpp"
+
+namespace blendbench::test {
+
+inline constexpr double kRel = 1e-9;  // relative slack on every limit (issue 4)
+inline constexpr double kEps = std::numeric_limits<double>::epsilon();
+
+// Limits that apply at path arc length s: those of every piece touching s (both at a junction).
+struct LocalLimits {
+  double v_lim = std::numeric_limits<double>::infinity();  // v_lim(s), 004 eq. 25-27
+  double kappa = 0;                                         // largest curvature at s
+  double a_normal = std::numeric_limits<double>::infinity();  // the bound on kappa v^2
+  double acceleration = 0, deceleration = 0, jerk = 0, feed = 0;  // the largest of the pieces
+};
+
+inline LocalLimits limits_at(const Path& path, double s) {
+  LocalLimits out;
+  const auto& pieces = path.pieces();
+  const double tol = 1e-12 * std::max(1.0, path.length());
+  // the pieces touching s: around the one locate() finds
+  std::size_t first = path.locate(s).piece;
+  std::size_t last = first;
+  while (first > 0 && path.offset(first) >= s - tol) --first;
+  while (last + 1 < pieces.size() && path.offset(last + 1) <= s + tol) ++last;
+  for (std::size_t k = first; k <= last; ++k) {
+    if (s < path.offset(k) - tol || s > path.offset(k + 1) + tol) continue;
+    const PathPiece& p = pieces[k];
+    const double local = std::clamp(s - path.offset(k), 0.0, length(p.segment));
+    const double kappa = curvature_vector(p.segment, local).norm();
+    const double c = sharpness(p.segment, local);
+    out.v_lim = std::min(out.v_lim, std::min(p.limits.velocity,
+                                             curvature_speed_limit(kappa, c, p.limits.acceleration, p.limits.jerk)));
+    if (kappa > out.kappa) {
+      out.kappa = kappa;
+      out.a_normal = p.limits.acceleration;
+    }
+    out.acceleration = std::max(out.acceleration, p.limits.acceleration);
+    out.deceleration = std::max(out.deceleration, p.limits.deceleration);
+    out.jerk = std::max(out.jerk, p.limits.jerk);
+    out.feed = std::max(out.feed, p.limits.velocity);
+  }
+  return out;
+}
+
+// Margins of a sampled profile: the largest ratio value/limit seen (<= 1 + kRel required).
+struct Margins {
+  double v = 0, a = 0, j = 0, normal = 0;
+};
+
+// Checks a timing against the path: sampling grid, start and end at rest, monotone s, and on
+// every sample v <= v_lim(s), kappa v^2 <= a, |a_t|, |j_t| within the limits; finite
+// differences of s (stencil averages of v, a, j) within the largest limits of the pieces the
+// stencil touches, up to the rounding noise of s; v = 0 at every stop (the samples on either
+// side of a stop are within J dt^2 / 2 of rest: a jerk-limited arrival at rest).
+inline Margins expect_valid(const Path& path, const Timing& timing, const std::string& where,
+                     TimingOptions::Baseline baseline = TimingOptions::Baseline::kNone) {
+  Margins m;
+  const auto& x = timing.samples;
+  EXPECT_TRUE(timing.outcome.ok()) << where << " " << timing.outcome.message;
+  if (x.empty()) {
+    ADD_FAILURE() << where << ": no samples";
+    return m;
+  }
+  const double dt = timing.dt;
+  EXPECT_EQ(x.size(), static_cast<std::size_t>(std::ceil(timing.cycle_time / dt)) + 1) << where;
+  EXPECT_EQ(x.front().s, 0.0) << where;
+  EXPECT_EQ(x.front().v, 0.0) << where;
+  EXPECT_EQ(x.back().s, path.length()) << where;
+  EXPECT_EQ(x.back().v, 0.0) << where;
+  EXPECT_EQ(x.back().a, 0.0) << where;
+  std::vector<LocalLimits> lim(x.size());
+  for (std::size_t k = 0; k < x.size(); ++k) {
+    lim[k] = limits_at(path, x[k].s);
+    EXPECT_EQ(x[k].t, static_cast<double>(k) * dt) << where;
+    if (k > 0) {
+      EXPECT_GE(x[k].s, x[k - 1].s) << where << " k=" << k;
+    }
+    EXPECT_GE(x[k].v, 0.0) << where << " k=" << k;
+    m.v = std::max(m.v, x[k].v / lim[k].v_lim);
+    m.normal = std::max(m.normal, lim[k].kappa * x[k].v * x[k].v / lim[k].a_normal);
+    m.a = std::max(m.a, x[k].a >= 0 ? x[k].a / lim[k].acceleration : -x[k].a / lim[k].deceleration);
+    m.j = std::max(m.j, std::abs(x[k].j) / lim[k].jerk);
+  }
+  EXPECT_LE(m.v, 1 + kRel) << where;
+  EXPECT_LE(m.normal, 1 + kRel) << where;
+  EXPECT_LE(m.a, 1 + kRel) << where;
+  EXPECT_LE(m.j, 1 + kRel) << where;
+
+  // finite differences over stencils of 2, 3 and 4 samples; the noise of a sampled s is the
+  // rounding of s itself and of the sample instant (t - t0 of its interval, ~eps t) times v
+  double v_top = 0;
+  for (const PathPiece& p : path.pieces()) v_top = std::max(v_top, p.limits.velocity);
+  const double noise = 4 * kEps * std::max(path.length() + v_top * timing.cycle_time, 1e-300);
+  const auto widest = [&](std::size_t k0, std::size_t k1) {
+    LocalLimits w;
+    for (std::size_t k = k0; k <= k1; ++k) {
+      w.feed = std::max(w.feed, lim[k].feed);
+      w.acceleration = std::max(w.acceleration, lim[k].acceleration);
+      w.deceleration = std::max(w.deceleration, lim[k].deceleration);
+      w.jerk = std::max(w.jerk, lim[k].jerk);
+    }
+    return w;
+  };
+  for (std::size_t k = 0; k + 1 < x.size(); ++k) {
+    const double v = (x[k + 1].s - x[k].s) / dt;
+    EXPECT_LE(v, widest(k, k + 1).feed * (1 + kRel) + 2 * noise / dt) << where << " k=" << k;
+  }
+  for (std::size_t k = 1; k + 1 < x.size(); ++k) {
+    const double a = (x[k + 1].s - 2 * x[k].s + x[k - 1].s) / (dt * dt);
+    const LocalLimits w = widest(k - 1, k + 1);
+    EXPECT_LE(a, w.acceleration * (1 + kRel) + 4 * noise / (dt * dt)) << where << " k=" << k;
+    EXPECT_GE(a, -w.deceleration * (1 + kRel) - 4 * noise / (dt * dt)) << where << " k=" << k;
+  }
+  for (std::size_t k = 1; k + 2 < x.size(); ++k) {
+    const double j = (x[k + 2].s - 3 * x[k + 1].s + 3 * x[k].s - x[k - 1].s) / (dt * dt * dt);
+    EXPECT_LE(std::abs(j), widest(k - 1, k + 2).jerk * (1 + kRel) + 8 * noise / (dt * dt * dt))
+        << where << " k=" << k;
+  }
+
+  // at rest at every stop: stop_before, every junction in the exact-stop baseline, Buffered
+  // kinks only in the junction slow-down baseline
+  const auto& pieces = path.pieces();
+  for (std::size_t p = 1; p < pieces.size(); ++p) {
+    using Baseline = TimingOptions::Baseline;
+    const bool buffered_kink = pieces[p].kink_angle > 1e-9 && pieces[p - 1].buffer == BufferMode::kBuffered;
+    const bool stop = baseline == Baseline::kExactStop ||
+                      (baseline == Baseline::kNone ? pieces[p].stop_before : buffered_kink);
+    if (!stop) continue;
+    const double s_stop = path.offset(p);
+    const double jerk = std::max(pieces[p - 1].limits.jerk, pieces[p].limits.jerk);
+    // the last sample at or before the stop position and the first one past it, each within
+    // one period of the stop instant, plus the time `lag` for which the motion from rest
+    // (j t^3 / 6) stays below the rounding of s
+    const auto past = std::upper_bound(x.begin(), x.end(), s_stop, [](double s, const TimedSample& a) { return s < a.s; });
+    const double lag = std::cbrt(6 * 4 * kEps * std::max(s_stop, 1e-300) / jerk);
+    const double bound = 0.5 * jerk * (dt + lag) * (dt + lag) * (1 + kRel);
+    if (past != x.begin()) {
+      EXPECT_LE(std::prev(past)->v, bound) << where << " stop before piece " << p;
+    }
+    if (past != x.end()) {
+      EXPECT_LE(past->v, bound) << where << " stop before piece " << p;
+    }
+  }
+  return m;
+}
+
+}  // namespace blendbench::test
