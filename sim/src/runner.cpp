@@ -174,7 +174,13 @@ class VariantRun {
     topt.dt = 1.0 / sc_.servo.rate_hz;
     topt.baseline = baseline_of(variant_);
     const Timing timing = plan_timing(path, topt);
-    out["corners"] = corners_json(path);
+    {
+      // the plan's own figures: length, corners, binding constraint per piece (issue 4)
+      nlohmann::json plan = plan_summary_json(path, timing);
+      out["path_length_mm"] = plan["path_length_mm"];
+      out["corners"] = std::move(plan["corners"]);
+      out["pieces"] = std::move(plan["pieces"]);
+    }
     if (!timing.outcome.ok()) return failed(out, "planning failed: " + timing.outcome.message);
     say("planned " + fixed(path.length() * kMm, 1) + " mm in " + fixed(timing.cycle_time, 3) + " s (" +
         fixed(seconds_since(start) * 1e3, 1) + " ms)");
