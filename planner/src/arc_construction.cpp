@@ -37,9 +37,10 @@ ArcBuild arc_from_center(const Vec3& start, const Vec3& end, const Vec3& center,
     return failure("the radius to the end (" + mm(r_end) + ") differs from the radius to the start (" +
                    mm(r_start) + ")");
   }
-  // move the centre onto the chord's perpendicular bisector so both radii are equal
+  // move the centre onto the chord's perpendicular bisector so both radii are equal; a chord
+  // at rounding level (a full circle) has no usable direction and needs no correction
   const Vec3 chord = end_in_plane - start;
-  if (chord.norm() > 0) {
+  if (chord.norm() > 1e-9 * r_start) {
     const Vec3 dir = chord.normalized();
     c -= dir * (c - (start + 0.5 * chord)).dot(dir);
   }

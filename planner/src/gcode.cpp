@@ -1,5 +1,7 @@
 #include "planner/gcode.hpp"
 
+#include "planner/arc_construction.hpp"
+
 #include <algorithm>
 #include <array>
 #include <charconv>
@@ -733,26 +735,12 @@ class Reader {
       }
     }
 
-    // the arc in the plane: u from the centre to the start, v the direction of motion
-    const double radius = (s2 - c2).norm();
-    const Vec2 u2 = (s2 - c2) / radius;
-    const Vec2 v2 = sign * rot90(u2);
-    double sweep = kTwoPi;
-    if (!full_circle) {
-      const Vec2 rel = e2 - c2;
-      sweep = std::atan2(rel.dot(v2), rel.dot(u2));
-      if (sweep <= 0) sweep += kTwoPi;
-    }
-    sweep += kTwoPi * (turns - 1);
-
-    Arc arc;
-    arc.center = c2.x() * ax.a1 + c2.y() * ax.a2 + start.dot(ax.n) * ax.n;
-    arc.u = u2.x() * ax.a1 + u2.y() * ax.a2;
-    arc.v = v2.x() * ax.a1 + v2.y() * ax.a2;
-    arc.radius = radius;
-    arc.sweep = sweep;
-    // helix: the normal axis moves linearly; w = u x v = sign * n
-    arc.rise = sign * (target - start).dot(ax.n);
+    // the arc about the plane's normal (clockwise for G2), helical when the normal axis moves;
+    // the centre already satisfies the radius rule, so only rounding is left to absorb
+    const Vec3 centre = c2.x() * ax.a1 + c2.y() * ax.a2 + start.dot(ax.n) * ax.n;
+    const ArcBuild built = arc_from_center(start, target, centre, ax.a1.cross(ax.a2), sign > 0, turns - 1, tol_abs);
+    if (!built.outcome.ok()) fail(line, where.column, name, built.outcome.message);
+    const Arc& arc = built.arc;
     add_move(make_move(arc, where, name, false), target);
   }
 

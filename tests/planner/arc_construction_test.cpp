@@ -36,6 +36,17 @@ TEST(ArcConstruction, FullCircleAndHelix) {
   EXPECT_TRUE(point(Segment(helix.arc), length(helix.arc)).isApprox(Vec3(-1, 0, 0.5), kTol));
 }
 
+TEST(ArcConstruction, FullCircleWithAnEndPointOffByRoundingKeepsItsCentre) {
+  // an end point one rounding away from the start has no chord direction to correct along
+  const Vec3 start(0.1, 0.2, 0.3);
+  const Vec3 end = start + Vec3(3e-17, -2e-17, 0);
+  const ArcBuild full = arc_from_center(start, end, {0.1, 0.25, 0.3}, Vec3::UnitZ(), false, 0, 1e-6);
+  ASSERT_TRUE(full.outcome.ok());
+  EXPECT_NEAR(full.arc.radius, 0.05, kTol);
+  EXPECT_TRUE(full.arc.center.isApprox(Vec3(0.1, 0.25, 0.3), kTol));
+  EXPECT_NEAR(full.arc.sweep, 2 * kPi, 1e-9);
+}
+
 TEST(ArcConstruction, RadiusMismatchIsRejectedBeyondTheTolerance) {
   EXPECT_FALSE(arc_from_center({1, 0, 0}, {0, 1.01, 0}, {0, 0, 0}, Vec3::UnitZ(), true, 0, 1e-3).outcome.ok());
   const ArcBuild close = arc_from_center({1, 0, 0}, {0, 1.0005, 0}, {0, 0, 0}, Vec3::UnitZ(), true, 0, 1e-3);
