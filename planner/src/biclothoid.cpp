@@ -4,7 +4,6 @@
 #include <array>
 #include <cmath>
 #include <complex>
-#include <deque>
 #include <limits>
 #include <numbers>
 #include <vector>
@@ -104,7 +103,11 @@ Bracket illinois(const F& f, Bracket br, double x_tol, double f_tol, int max_it)
 class Piece {
  public:
   Piece(const PlanarShape& q, double lo, double hi)
-      : q_(q), lo_(lo), hi_(hi), start_(shape_point(q, lo)), end_(shape_point(q, hi)) {
+      : q_(q),
+        lo_(lo),
+        hi_(hi),
+        start_(lo == 0 ? Vec2::Zero() : shape_point(q, lo)),
+        end_(hi == 0 ? Vec2::Zero() : shape_point(q, hi)) {
     if (q.kappa != 0) {
       centre_ = Vec2(-std::sin(q.theta), std::cos(q.theta)) / q.kappa;
       radius_ = 1.0 / std::abs(q.kappa);
@@ -205,25 +208,21 @@ class FilletTable {
     const Panel& panel = panels_[k];
     const double t = s - panel.mid;
     // four interleaved Horner chains in t^4 (coefficients n = 4m + j), which shortens the
-    // chain of dependent multiply-adds fourfold
+    // chain of dependent multiply-adds fourfold; (re, im) pairs as 2-vectors
     const double t2 = t * t;
     const double t4 = t2 * t2;
-    std::array<double, 4> tr{};
-    std::array<double, 4> ti{};
-    std::array<double, 4> pr{};
-    std::array<double, 4> pi{};
+    std::array<Vec2, 4> tan_acc = {Vec2::Zero(), Vec2::Zero(), Vec2::Zero(), Vec2::Zero()};
+    std::array<Vec2, 4> pos_acc = {Vec2::Zero(), Vec2::Zero(), Vec2::Zero(), Vec2::Zero()};
     for (int m = (panel.terms + 3) / 4 - 1; m >= 0; --m) {
       for (std::size_t j = 0; j < 4; ++j) {
         const auto u = static_cast<std::size_t>(4 * m) + j;
-        tr[j] = tr[j] * t4 + panel.coef[u].x();
-        ti[j] = ti[j] * t4 + panel.coef[u].y();
-        pr[j] = pr[j] * t4 + panel.integral[u].x();
-        pi[j] = pi[j] * t4 + panel.integral[u].y();
+        tan_acc[j] = tan_acc[j] * t4 + panel.coef[u];
+        pos_acc[j] = pos_acc[j] * t4 + panel.integral[u];
       }
     }
     const double t3 = t2 * t;
-    const Vec2 tangent_sum((tr[0] + t * tr[1]) + (t2 * tr[2] + t3 * tr[3]), (ti[0] + t * ti[1]) + (t2 * ti[2] + t3 * ti[3]));
-    const Vec2 point_sum((pr[0] + t * pr[1]) + (t2 * pr[2] + t3 * pr[3]), (pi[0] + t * pi[1]) + (t2 * pi[2] + t3 * pi[3]));
+    const Vec2 tangent_sum = (tan_acc[0] + t * tan_acc[1]) + (t2 * tan_acc[2] + t3 * tan_acc[3]);
+    const Vec2 point_sum = (pos_acc[0] + t * pos_acc[1]) + (t2 * pos_acc[2] + t3 * pos_acc[3]);
     return {panel.base + t * point_sum, tangent_sum, kappa};
   }
 
@@ -259,47 +258,67 @@ class FilletTable {
       const double theta = from.theta + (from.kappa + 0.5 * c * m) * m;
       const std::complex<double> rot(std::cos(theta), std::sin(theta));
       // Taylor coefficients in t (not scaled by h): e_{n+1} = i (kappa e_n + c e_{n-1}) / (n+1)
+      // e_n (cur) and e_{n-1} (prev); two coefficients per step, both from (cur, prev):
+      //   e_{n+1} = i (kappa e_n + c e_{n-1}) / (n+1),
+      //   e_{n+2} = [(-kappa^2 / (n+1) + i c) e_n - kappa c / (n+1) e_{n-1}] / (n+2);
+      // the even and odd parts of sum_n coef_n h^(n+1) / (n+1) give the positions at mid -+ h
       double prev_re = 0;
       double prev_im = 0;
       double cur_re = 1;
       double cur_im = 0;
-      double scale = h;  // h^(n+1)
-      int n = 0;
-      while (n < static_cast<int>(kMaxTerms)) {
-        const auto u = static_cast<std::size_t>(n);
-        panel.coef[u] = Vec2(rot.real() * cur_re - rot.imag() * cur_im, rot.real() * cur_im + rot.imag() * cur_re);
+      double h_pow = h;  // h^(n+1)
+      double even_re = 0;
+      double even_im = 0;
+      double odd_re = 0;
+      double odd_im = 0;
+      std::size_t n = 0;
+      const auto store = [&](std::size_t u, double re, double im, double hp) {
+        panel.coef[u] = Vec2(rot.real() * re - rot.imag() * im, rot.real() * im + rot.imag() * re);
         panel.integral[u] = panel.coef[u] * kInverseOf[u + 1];
-        const double inv = kInverseOf[u + 1];
-        const double next_re = -(kappa * cur_im + c * prev_im) * inv;
-        const double next_im = (kappa * cur_re + c * prev_re) * inv;
-        prev_re = cur_re;
-        prev_im = cur_im;
-        cur_re = next_re;
-        cur_im = next_im;
-        ++n;
-        if ((std::abs(prev_re) + std::abs(prev_im) + (std::abs(cur_re) + std::abs(cur_im)) * h) * scale < 1e-15 * h) break;
-        scale *= h;
+        const Vec2 term = panel.integral[u] * hp;
+        if (u % 2 == 0) {
+          even_re += term.x();
+          even_im += term.y();
+        } else {
+          odd_re += term.x();
+          odd_im += term.y();
+        }
+      };
+      while (n + 2 <= kMaxTerms) {
+        const double p1 = kInverseOf[n + 1];
+        const double p2 = kInverseOf[n + 2];
+        const double c1 = kappa * p1;
+        const double c2 = c * p1;
+        const double c3 = -kappa * c1 * p2;
+        const double c4 = c * p2;
+        const double c5 = -kappa * c2 * p2;
+        const double next_re = -(c1 * cur_im + c2 * prev_im);
+        const double next_im = c1 * cur_re + c2 * prev_re;
+        const double after_re = (c3 * cur_re + c5 * prev_re) - c4 * cur_im;
+        const double after_im = (c3 * cur_im + c5 * prev_im) + c4 * cur_re;
+        store(n, cur_re, cur_im, h_pow);
+        store(n + 1, next_re, next_im, h_pow * h);
+        n += 2;
+        h_pow *= h * h;
+        prev_re = next_re;
+        prev_im = next_im;
+        cur_re = after_re;
+        cur_im = after_im;
+        // the next two terms are below 1e-15 of the panel's size
+        if ((std::abs(cur_re) + std::abs(cur_im) + (std::abs(prev_re) + std::abs(prev_im)) / h) * h_pow < 1e-15 * h) break;
       }
-      panel.terms = n;
-      for (auto u = static_cast<std::size_t>(n); u < kMaxTerms && u % 4 != 0; ++u) {
+      panel.terms = static_cast<int>(n);
+      for (std::size_t u = n; u < kMaxTerms && u % 4 != 0; ++u) {
         panel.coef[u] = Vec2::Zero();
         panel.integral[u] = Vec2::Zero();
       }
-      // the position at mid from the panel's start (base = edge - p_poly(-h)), and the start
-      // of the next panel (base + p_poly(h))
-      double br = 0;
-      double bi = 0;
-      double er = 0;
-      double ei = 0;
-      for (int k = panel.terms - 1; k >= 0; --k) {
-        const auto u = static_cast<std::size_t>(k);
-        br = br * -h + panel.integral[u].x();
-        bi = bi * -h + panel.integral[u].y();
-        er = er * h + panel.integral[u].x();
-        ei = ei * h + panel.integral[u].y();
-      }
-      panel.base = edge + h * Vec2(br, bi);
-      edge = panel.base + h * Vec2(er, ei);
+      // base = edge - p_poly(-h) = edge - (odd - even) ... with p_poly(t) = t sum integral_n t^n
+      const double br = even_re - odd_re;
+      const double bi = even_im - odd_im;
+      const double er = even_re + odd_re;
+      const double ei = even_im + odd_im;
+      panel.base = edge + Vec2(br, bi);
+      edge = panel.base + Vec2(er, ei);
     }
   }
 
@@ -872,14 +891,19 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
     bool measured = false;
     Eigen::Matrix2d jacobian = Eigen::Matrix2d::Zero();
   };
-  std::deque<Trial> trials;  // stable addresses
+  // the solves so far, in a fixed array (stable addresses, no allocation; unused entries are
+  // left unconstructed)
+  constexpr std::size_t kMaxTrials = 96;
+  std::array<std::optional<Trial>, kMaxTrials> store;
+  std::size_t count = 0;
   // Algorithm 1 at start distance a, warm-started from the nearest earlier solve
   const auto solve = [&](double a) -> Trial* {
     // the guess: L and b scaled from the nearest solve, or extrapolated on log-log lines
     // through the two nearest
     Trial* near = nullptr;
     Trial* second = nullptr;
-    for (Trial& t : trials) {
+    for (std::size_t k = 0; k < count; ++k) {
+      Trial& t = *store[k];
       if (t.fillet.a == a) return &t;
       const double gap = std::abs(std::log(t.fillet.a / a));
       if (!near || gap < std::abs(std::log(near->fillet.a / a))) {
@@ -906,11 +930,12 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
       guess_b = near->fillet.b * std::exp(p_b * x);
       jacobian = near->jacobian;
     }
+    if (count == kMaxTrials) return nullptr;
     ++result.solves;
     const auto sol = fit_at(work, a, guess_len, guess_b, &jacobian);
     if (!sol) return nullptr;
-    trials.push_back(Trial{*sol, {}, false, jacobian});
-    return &trials.back();
+    store[count].emplace(Trial{*sol, {}, false, jacobian});
+    return &*store[count++];
   };
   const auto measure = [&](Trial* t) {
     if (!t->measured) {
