@@ -197,7 +197,8 @@ class FilletTable {
 
   [[nodiscard]] Point at(double s) const {
     s = std::clamp(s, 0.0, length());
-    const double kappa = s <= curve_.s1 ? curve_.start.kappa + curve_.c * s : curve_.mid.kappa - curve_.c * (s - curve_.s1);
+    const double kappa =
+        s <= curve_.s1 ? curve_.start.kappa + curve_.c * s : curve_.mid.kappa - curve_.c * (s - curve_.s1);
     if (overflow_) {
       const Posture at = posture_at(curve_, s);
       return {at.p, direction(at.theta), kappa};
@@ -305,7 +306,8 @@ class FilletTable {
         cur_re = after_re;
         cur_im = after_im;
         // the next two terms are below 1e-15 of the panel's size
-        if ((std::abs(cur_re) + std::abs(cur_im) + (std::abs(prev_re) + std::abs(prev_im)) / h) * h_pow < 1e-15 * h) break;
+        const double tail = std::abs(cur_re) + std::abs(cur_im) + (std::abs(prev_re) + std::abs(prev_im)) / h;
+        if (tail * h_pow < 1e-15 * h) break;
       }
       panel.terms = static_cast<int>(n);
       for (std::size_t u = n; u < kMaxTerms && u % 4 != 0; ++u) {
@@ -409,7 +411,9 @@ double maximize(const F& eval, double x0, ValueSlope at0, double x1, ValueSlope 
 // their line of centres.
 std::optional<std::pair<double, double>> crossing(const PlanarShape& q1, const PlanarShape& q2, double a_max,
                                                   double b_max) {
-  const auto centre = [](const PlanarShape& q) -> Vec2 { return Vec2(-std::sin(q.theta), std::cos(q.theta)) / q.kappa; };
+  const auto centre = [](const PlanarShape& q) -> Vec2 {
+    return Vec2(-std::sin(q.theta), std::cos(q.theta)) / q.kappa;
+  };
   if (q1.kappa == 0 && q2.kappa == 0) return std::nullopt;
   Vec2 x = Vec2::Zero();
   if (q1.kappa == 0 || q2.kappa == 0) {
@@ -466,7 +470,8 @@ std::optional<Biclothoid> biclothoid_from_turn(const Posture& start, double kapp
   const double kbar = 0.5 * (start.kappa + kappa_e);
   const double half_jump = 0.5 * (kappa_e - start.kappa);
   const double a = dtheta - length * kbar;
-  const double root = std::hypot(a, length * half_jump);
+  const double b = length * half_jump;
+  const double root = std::sqrt(a * a + b * b);  // both terms are turns (rad): no overflow
   if (root == 0) return make_biclothoid(start, 0.0, 0.5 * length, 0.5 * length);
   const double d = (a >= 0 ? a + root : a - root) / length;
   const double c = 2 * d / length;
@@ -821,7 +826,8 @@ Deviation measure_deviation(const BiclothoidSolution& fillet, const CornerShapes
   const ValueSlope corner_in{g0, g0 > 0 ? direction(q1.theta).dot(-corner.point) / g0 : 0.0};
   const ValueSlope corner_out{g0, g0 > 0 ? direction(q2.theta).dot(-corner.point) / g0 : 0.0};
   const int foot_piece = top.active();
-  const double foot = pieces[static_cast<std::size_t>(foot_piece)].sigma_of(top.d[static_cast<std::size_t>(foot_piece)].point);
+  const auto foot_index = static_cast<std::size_t>(foot_piece);
+  const double foot = pieces[foot_index].sigma_of(top.d[foot_index].point);
   // the maximum over one side between two known points, with the midpoint as a guard
   const auto side_max = [&](const PlanarShape& q, double x0, ValueSlope v0, double x1, ValueSlope v1, double mid) {
     const auto f = [&](double x) { return from_original(x, q); };

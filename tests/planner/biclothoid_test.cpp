@@ -186,7 +186,8 @@ TEST(Biclothoid, Table2CornerIsA30DegreeDeflectionAt01Millimetre) {
   // 4487 mm/min (the paper rounds; its feed is 2 mm/min higher).
   const double alpha = 30 * kPi / 180;
   const Vec3 t2(std::cos(alpha), std::sin(alpha), 0);
-  const CornerInput c = corner_between(Line{Vec3(-0.01, 0, 0), Vec3(0, 0, 0)}, Line{Vec3(0, 0, 0), 0.01 * t2}, 0.1 * kMm);
+  const CornerInput c =
+      corner_between(Line{Vec3(-0.01, 0, 0), Vec3(0, 0, 0)}, Line{Vec3(0, 0, 0), 0.01 * t2}, 0.1 * kMm);
   const CornerFit fit = fit_biclothoid_corner(c);
   ASSERT_TRUE(fit.outcome.ok());
   double len = 0;
@@ -476,7 +477,8 @@ TEST(Biclothoid, RandomProgramsThroughTheBlender) {
     }
     const Path path = blend(program);
     for (const CornerReport& report : path.corners) {
-      EXPECT_TRUE(report.fallback.empty()) << test::seed_text(seed) << " corner " << report.index << ": " << report.note;
+      EXPECT_TRUE(report.fallback.empty())
+          << test::seed_text(seed) << " corner " << report.index << ": " << report.note;
       EXPECT_LE(report.deviation, program.moves[static_cast<std::size_t>(report.index)].transition.parameter *
                                       (1 + kDeviationSlack))
           << test::seed_text(seed);
@@ -489,7 +491,8 @@ TEST(Biclothoid, RandomProgramsThroughTheBlender) {
       // a transition's ends: G2. (Where two fillets leave less than a micrometre of a move
       // between them the blender keeps that sliver, and a Line's tangent from two points 1e-9 m
       // apart is only good to ~1e-7 rad; check_fit covers those junctions per corner.)
-      const bool sliver = (prev.move >= 0 && length(prev.segment) < 1e-6) || (piece.move >= 0 && length(piece.segment) < 1e-6);
+      const bool sliver =
+          (prev.move >= 0 && length(prev.segment) < 1e-6) || (piece.move >= 0 && length(piece.segment) < 1e-6);
       if ((piece.corner >= 0 || prev.corner >= 0) && !sliver) {
         EXPECT_LE(piece.kink_angle, kTangent) << test::seed_text(seed) << " piece " << k;
         const Vec3 ka = curvature_vector(prev.segment, la);

@@ -104,14 +104,18 @@ struct Deviation {
 };
 Deviation biclothoid_deviation(const BiclothoidSolution& fillet, const CornerShapes& shapes);
 
-// 004 Algorithm 2 (derived here): the largest fillet whose deviation (the larger of the two
-// directed distances) stays within `tolerance` (m, > 0), with a <= a_max and b <= b_max (m).
-// Follows section 6: if q2 is more curved than q1 the corner is reversed (q1 <-> q2) and the
-// fillet reversed back at the end. The start distance is found by false position (Illinois)
-// on log(deviation / tolerance) against log(a); the result satisfies
-// tolerance (1 - 1e-4) <= deviation <= tolerance unless the move lengths limit it
-// (`limited` = true, deviation < tolerance). A fillet replaces at most an eighth of a turn of
-// an arc (a larger one is no longer a corner fillet, and its turn approaches 2 pi). outcome: kNotConverged when a solve fails.
+// 004 Algorithm 2 (derived here; the paper gives only its first lines): the largest fillet
+// whose deviation (the larger of the two directed distances) stays within `tolerance` (m, > 0),
+// with a <= a_max and b <= b_max (m). Follows section 6: if q2 is more curved than q1 the corner
+// is reversed (q1 <-> q2) and the fillet reversed back at the end. The start distance comes from
+// false position on y = max(log(deviation / tolerance), log(b / b_max)) against x = log(a):
+// secant steps (y is nearly linear in x: deviation ~ a at a tangent jump, ~ a^2 at a curvature
+// jump), kept inside the bracket once there is one, bisection otherwise. The result satisfies
+// tolerance (1 - 1e-4) <= deviation <= tolerance unless the move lengths limit it (`limited` =
+// true, deviation < tolerance). A fillet replaces at most an eighth of a turn of an arc (a
+// larger one is no longer a corner fillet, and its turn approaches 2 pi) and stays short of a
+// point where q1 and q2 cross again (possible near a reversal). outcome: kNotConverged when
+// no solve succeeds.
 struct BiclothoidToleranceFit {
   Outcome outcome;
   BiclothoidSolution fillet;  // in the original direction (a on q1, b on q2)
