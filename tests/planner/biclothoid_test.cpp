@@ -444,7 +444,8 @@ TEST(Biclothoid, Listing1ThroughTheBlenderIsG2Everywhere) {
 TEST(Biclothoid, RandomProgramsThroughTheBlender) {
   // random planar programs of lines and arcs with kinks and tangent joins: every corner is
   // fitted, the path is continuous, and every transition is G2 with its neighbours
-  const int cases = test::property_cases(100);
+  // (the blender measures each corner's deviation densely, so fewer cases than above)
+  const int cases = test::property_cases(30);
   for (int i = 0; i < cases; ++i) {
     const std::uint64_t seed = 5000 + static_cast<std::uint64_t>(i);
     auto rng = test::make_rng(seed);
