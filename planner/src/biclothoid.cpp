@@ -706,9 +706,7 @@ std::optional<BiclothoidSolution> fit_biclothoid_at(const CornerShapes& shapes, 
 
 namespace {
 
-// biclothoid_deviation; with thorough = false the midpoints of the two sides of U are not
-// sampled as guards against a second maximum.
-Deviation measure_deviation(const BiclothoidSolution& fillet, const CornerShapes& shapes, bool thorough) {
+Deviation measure_deviation(const BiclothoidSolution& fillet, const CornerShapes& shapes) {
   const Biclothoid& curve = fillet.curve;
   const FilletTable table(curve);
   const double len = length(curve);
@@ -828,38 +826,22 @@ Deviation measure_deviation(const BiclothoidSolution& fillet, const CornerShapes
   const int foot_piece = top.active();
   const auto foot_index = static_cast<std::size_t>(foot_piece);
   const double foot = pieces[foot_index].sigma_of(top.d[foot_index].point);
-  // the maximum over one side between two known points, with the midpoint as a guard
-  const auto side_max = [&](const PlanarShape& q, double x0, ValueSlope v0, double x1, ValueSlope v1, double mid) {
+  // the maximum over one side, from the far end (distance 0) to the corner, sampled at the
+  // foot (when it lies on this side) and the midpoint; each evaluation starts Newton from the
+  // previous closest point
+  const auto side_max = [&](const PlanarShape& q, double lo, ValueSlope v_lo, double hi, ValueSlope v_hi,
+                            double start_guess, bool has_foot) {
     const auto f = [&](double x) { return from_original(x, q); };
-    return thorough ? maximize(f, x0, v0, x1, v1, std::array<double, 1>{mid})
-                    : maximize(f, x0, v0, x1, v1, std::array<double, 0>{});
+    const double mid = 0.5 * (lo + hi);
+    guess = start_guess;
+    if (!has_foot || foot == mid) return maximize(f, lo, v_lo, hi, v_hi, std::array<double, 1>{mid});
+    if (foot < mid) guess = top.s;
+    return maximize(f, lo, v_lo, hi, v_hi, std::array<double, 2>{std::min(foot, mid), std::max(foot, mid)});
   };
-  double side1 = 0;
-  double side2 = 0;
-  if (foot_piece == 0 && foot > -a && foot < 0) {
-    guess = top.s;
-    const ValueSlope at_foot = from_original(foot, q1);
-    guess = 0.5 * corner.s;
-    const double mid = -0.5 * a;
-    side1 = foot < mid ? side_max(q1, foot, at_foot, 0.0, corner_in, mid)
-                       : side_max(q1, -a, ValueSlope{0.0, 1.0}, foot, at_foot, mid);
-    side1 = std::max(side1, at_foot.value);
-  } else {
-    guess = 0.5 * corner.s;
-    side1 = side_max(q1, -a, ValueSlope{0.0, 1.0}, 0.0, corner_in, -0.5 * a);
-  }
-  if (foot_piece == 1 && foot > 0 && foot < b) {
-    guess = top.s;
-    const ValueSlope at_foot = from_original(foot, q2);
-    guess = 0.5 * (corner.s + len);
-    const double mid = 0.5 * b;
-    side2 = foot > mid ? side_max(q2, 0.0, corner_out, foot, at_foot, mid)
-                       : side_max(q2, foot, at_foot, b, ValueSlope{0.0, -1.0}, mid);
-    side2 = std::max(side2, at_foot.value);
-  } else {
-    guess = 0.5 * (corner.s + len);
-    side2 = side_max(q2, 0.0, corner_out, b, ValueSlope{0.0, -1.0}, 0.5 * b);
-  }
+  const double side1 = side_max(q1, -a, ValueSlope{0.0, 1.0}, 0.0, corner_in, 0.5 * corner.s,
+                                foot_piece == 0 && foot > -a && foot < 0);
+  const double side2 = side_max(q2, 0.0, corner_out, b, ValueSlope{0.0, -1.0}, corner.s,
+                                foot_piece == 1 && foot > 0 && foot < b);
   dev.original_to_fillet = std::max({g0, side1, side2});
   return dev;
 }
@@ -867,7 +849,7 @@ Deviation measure_deviation(const BiclothoidSolution& fillet, const CornerShapes
 }  // namespace
 
 Deviation biclothoid_deviation(const BiclothoidSolution& fillet, const CornerShapes& shapes) {
-  return measure_deviation(fillet, shapes, true);
+  return measure_deviation(fillet, shapes);
 }
 
 BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes, double tolerance, double a_max,
@@ -945,7 +927,7 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
   };
   const auto measure = [&](Trial* t) {
     if (!t->measured) {
-      t->deviation = measure_deviation(t->fillet, work, true);
+      t->deviation = measure_deviation(t->fillet, work);
       t->measured = true;
     }
     return t->deviation.max();
@@ -1126,6 +1108,13 @@ std::optional<CornerFit> clothoid_special_case(const CornerInput& corner, const 
   // already G2: nothing to smooth
   if (tangent && geometry.same_curvature) {
     fit.case_name = geometry.same_circle ? "same_circle_same_direction" : "collinear";
+    return fit;
+  }
+  // no length left on a move (consumed by the neighbouring corner): the corner stays as it is
+  if (!(corner.in_available > 0) || !(corner.out_available > 0)) {
+    fit.outcome = {Status::kInfeasible, corner.name + ": no length of the " +
+                                            (corner.in_available > 0 ? "outgoing" : "incoming") +
+                                            " move is left for a transition"};
     return fit;
   }
   if (corner.spec.parameter <= 0) {

@@ -319,6 +319,14 @@ TEST(Biclothoid, SpecialCorners) {
   const Arc back = xy_arc(point(first, 1.0), Vec3(1, 0, 0), Vec3(0, 0, 0), true);
   fit = fit_biclothoid_corner(corner_between(first, back, 0.1 * kMm));
   EXPECT_EQ(fit.case_name, "same_circle_opposite_direction");
+  // nothing left of a move: infeasible, with a message
+  CornerInput none = corner_between(in, Line{Vec3(0, 0, 0), Vec3(0, 1, 0)}, 0.1 * kMm);
+  none.in_available = 0;
+  fit = fit_biclothoid_corner(none);
+  EXPECT_EQ(fit.outcome.status, Status::kInfeasible);
+  EXPECT_NE(fit.outcome.message.find("incoming"), std::string::npos) << fit.outcome.message;
+  none.spec.method = Method::kClothoid;
+  EXPECT_EQ(fit_clothoid_corner(none).outcome.status, Status::kInfeasible);
   // tolerance 0 at a curvature jump only: left as programmed
   const std::vector<Primitive> moves = listing1();
   fit = fit_biclothoid_corner(corner_between(moves[0], moves[1], 0.0));
@@ -386,9 +394,13 @@ TEST(Biclothoid, RandomCornersAreG2AndWithinTolerance) {
     EXPECT_LE(check.position, kPosition) << test::seed_text(seed);
     EXPECT_LE(check.tangent, kTangent) << test::seed_text(seed);
     EXPECT_LE(check.curvature, kCurvature) << test::seed_text(seed);
-    EXPECT_LE(check.deviation, tol * (1 + kDeviationSlack)) << test::seed_text(seed) << " " << fit.note;
+    // the independent measure locates a maximum at a kink to 1e-10 of the fillet's length
+    double fillet_length = 0;
+    for (const Segment& seg : fit.transition) fillet_length += length(seg);
+    const double floor = 1e-10 * fillet_length;
+    EXPECT_LE(check.deviation, tol * (1 + kDeviationSlack) + floor) << test::seed_text(seed) << " " << fit.note;
     // the reported deviation is the measured one; it reaches the tolerance unless limited
-    EXPECT_NEAR(check.deviation, fit.parameter_used, 1e-6 * fit.parameter_used) << test::seed_text(seed);
+    EXPECT_NEAR(check.deviation, fit.parameter_used, 1e-6 * fit.parameter_used + floor) << test::seed_text(seed);
     if (fit.note.empty()) {
       EXPECT_GE(check.deviation, tol * (1 - kToleranceReached)) << test::seed_text(seed);
     } else {

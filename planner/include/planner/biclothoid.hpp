@@ -160,7 +160,8 @@ PlanarCorner planar_corner(const Primitive& in, const Primitive& out);
 //    ("collinear", or "same_circle_same_direction");
 //  - parameter 0 at a tangent discontinuity: throws InputError at corner.where
 //    (field transition.parameter), since no curve stays within a zero deviation;
-//  - parameter 0 at a curvature jump only ("tangent"): the path is left as programmed.
+//  - parameter 0 at a curvature jump only ("tangent"): the path is left as programmed;
+//  - no length available on one of the moves: outcome kInfeasible (the blender stops there).
 std::optional<CornerFit> clothoid_special_case(const CornerInput& corner, const PlanarCorner& geometry);
 
 }  // namespace blendbench
