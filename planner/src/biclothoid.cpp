@@ -6,10 +6,9 @@
 #include <complex>
 #include <limits>
 #include <numbers>
-#include <vector>
-
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "planner/clothoid_blend.hpp"
 #include "planner/input_error.hpp"
@@ -386,9 +385,9 @@ double maximize(const F& eval, double x0, ValueSlope at0, double x1, ValueSlope 
     if (v[i].value > v[best].value) best = i;
   }
   double top = v[best].value;
-  // near the maximum the value errs by about slope^2 / (2 |f''|) with |f''| ~ f / w^2 (w the
-  // interval width): a slope below 1e-5 f / w keeps it below 1e-10 f
-  const double flat = 1e-5 * top / std::abs(x1 - x0);
+  // at a point with slope f' the maximum, within the interval of width w, is at most |f'| w
+  // higher (and only f'^2 / (2 f'') near a sharp one): a slope below 1e-9 f / w is flat enough
+  const double flat = 1e-9 * top / std::abs(x1 - x0);
   if (std::abs(v[best].slope) <= flat) return top;
   // the derivative changes sign from + to - on one side of the best point
   std::size_t lo = best;
@@ -751,14 +750,14 @@ Deviation measure_deviation(const BiclothoidSolution& fillet, const CornerShapes
       const double sl = l.slope[static_cast<std::size_t>(kl)];
       const double sr = r.slope[static_cast<std::size_t>(kr)];
       if (!(sl > 0 && sr < 0)) return;
-      // a slope below 1e-5 f / L leaves the value within 1e-10 of the maximum (see maximize)
+      // a slope below 1e-9 f / L leaves the value within 1e-9 of the maximum (see maximize)
       illinois(
           [&](double s) {
             const FilletSample f = sample(s);
             keep(f);
             return f.slope[static_cast<std::size_t>(f.active())];
           },
-          Bracket{l.s, sl, r.s, sr}, 1e-6 * len, 1e-5 * top.value() / len, 30);
+          Bracket{l.s, sl, r.s, sr}, 1e-6 * len, 1e-9 * top.value() / len, 30);
       return;
     }
     // Newton on g = d1 - d2 (g' = slope1 - slope2), kept inside the shrinking bracket
