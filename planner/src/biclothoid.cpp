@@ -971,24 +971,21 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
   Point prev{0, 0, nullptr};
   double lo = -std::numeric_limits<double>::infinity();  // y <= 0 here
   double hi = std::numeric_limits<double>::infinity();   // y > 0 (or no solution) here
-  Trial* best = nullptr;
-  double best_y = -std::numeric_limits<double>::infinity();
-  bool at_cap = false;
+  Trial* best = nullptr;  // the largest a with y <= 0 so far
+  double best_y = 0;
   for (int it = 0; it < 60; ++it) {
     if (cur.y <= 0) {
       lo = std::max(lo, cur.x);
-      if (cur.x >= std::log(best ? best->fillet.a : 0.0)) {
+      if (!best || cur.trial->fillet.a >= best->fillet.a) {
         best = cur.trial;
         best_y = cur.y;
       }
-      at_cap = cur.x >= x_cap - 1e-12;
-      if (cur.y >= -kReached || at_cap) break;
+      if (cur.y >= -kReached || cur.x >= x_cap - 1e-12) break;
     } else {
       hi = std::min(hi, cur.x);
     }
     // next x: secant towards the middle of the accepted band, else the slope guess; bisection
-    // when bracketed steps
-    // leave the bracket
+    // when a bracketed step leaves the bracket
     double next;
     if (prev.trial && cur.trial && std::isfinite(prev.y) && cur.y != prev.y) {
       next = cur.x - (cur.y + 0.3 * kReached) * (cur.x - prev.x) / (cur.y - prev.y);
@@ -1010,11 +1007,12 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
     cur = evaluate(next);
   }
   if (!best) return fail("no biclothoid fillet met the tolerance (004 Algorithm 2)");
-  // limited: the end bound or the start cap is what stops the fillet growing
-  const bool limited = at_cap || std::log(best->fillet.b / b_cap) >= std::log(measure(best) / tolerance) - 1e-12;
-  (void)best_y;
-
+  // limited: the start cap or the end bound is what stops the fillet growing; otherwise the
+  // deviation reached the tolerance band unless the iterations ran out
+  const bool limited = best->fillet.a >= a_cap * (1 - 1e-12) ||
+                       std::log(best->fillet.b / b_cap) >= std::log(measure(best) / tolerance) - 1e-12;
   result.limited = limited;
+  result.converged = limited || best_y >= -kReached;
   measure(best);
   result.deviation = best->deviation;
   result.fillet = best->fillet;
@@ -1184,6 +1182,9 @@ CornerFit fit_biclothoid_corner(const CornerInput& corner) {
   if (tol_fit.limited) {
     fit.note = "deviation " + mm(fit.parameter_used) + " below the tolerance " + mm(tolerance) +
                ": the fillet is limited by the move lengths (or an eighth of a turn of an arc)";
+  } else if (!tol_fit.converged) {
+    fit.note = "deviation " + mm(fit.parameter_used) + " below the tolerance " + mm(tolerance) +
+               ": the tolerance loop (004 Algorithm 2) stopped before reaching it";
   }
   return fit;
 }

@@ -120,7 +120,8 @@ struct BiclothoidToleranceFit {
   Outcome outcome;
   BiclothoidSolution fillet;  // in the original direction (a on q1, b on q2)
   Deviation deviation;
-  bool limited = false;  // the move lengths (a_max / b_max) or the eighth-turn cap bound it
+  bool limited = false;    // the move lengths (a_max / b_max) or the caps bound it
+  bool converged = false;  // limited, or the deviation reached the tolerance band
   bool swapped = false;  // solved on the reversed corner (section 6)
   int solves = 0;        // Algorithm 1 calls, for diagnostics
 };
