@@ -44,8 +44,8 @@ CornerInput corner(const Primitive& in, const Primitive& out, Method method, dou
 // 004 table 2: two lines with 150 deg between them (a 30 deg deflection)
 CornerInput line_line(Method method, double kappa_max = 0) {
   const double alpha = 30 * std::numbers::pi / 180;
-  return corner(Line{Vec3(-0.01, 0, 0), Vec3(0, 0, 0)}, Line{Vec3(0, 0, 0), 0.01 * Vec3(std::cos(alpha), std::sin(alpha), 0)},
-                method, 0.1 * kMm, kappa_max);
+  const Vec3 t2(std::cos(alpha), std::sin(alpha), 0);
+  return corner(Line{Vec3(-0.01, 0, 0), Vec3(0, 0, 0)}, Line{Vec3(0, 0, 0), 0.01 * t2}, method, 0.1 * kMm, kappa_max);
 }
 
 // a line into an R10 arc with a 20 deg kink (tangent discontinuity)

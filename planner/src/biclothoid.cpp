@@ -4,13 +4,11 @@
 #include <array>
 #include <cmath>
 #include <complex>
-#include <deque>
 #include <limits>
 #include <numbers>
-#include <vector>
-
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "planner/clothoid_blend.hpp"
 #include "planner/input_error.hpp"
@@ -104,7 +102,11 @@ Bracket illinois(const F& f, Bracket br, double x_tol, double f_tol, int max_it)
 class Piece {
  public:
   Piece(const PlanarShape& q, double lo, double hi)
-      : q_(q), lo_(lo), hi_(hi), start_(shape_point(q, lo)), end_(shape_point(q, hi)) {
+      : q_(q),
+        lo_(lo),
+        hi_(hi),
+        start_(lo == 0 ? Vec2::Zero() : shape_point(q, lo)),
+        end_(hi == 0 ? Vec2::Zero() : shape_point(q, hi)) {
     if (q.kappa != 0) {
       centre_ = Vec2(-std::sin(q.theta), std::cos(q.theta)) / q.kappa;
       radius_ = 1.0 / std::abs(q.kappa);
@@ -194,7 +196,8 @@ class FilletTable {
 
   [[nodiscard]] Point at(double s) const {
     s = std::clamp(s, 0.0, length());
-    const double kappa = s <= curve_.s1 ? curve_.start.kappa + curve_.c * s : curve_.mid.kappa - curve_.c * (s - curve_.s1);
+    const double kappa =
+        s <= curve_.s1 ? curve_.start.kappa + curve_.c * s : curve_.mid.kappa - curve_.c * (s - curve_.s1);
     if (overflow_) {
       const Posture at = posture_at(curve_, s);
       return {at.p, direction(at.theta), kappa};
@@ -205,25 +208,21 @@ class FilletTable {
     const Panel& panel = panels_[k];
     const double t = s - panel.mid;
     // four interleaved Horner chains in t^4 (coefficients n = 4m + j), which shortens the
-    // chain of dependent multiply-adds fourfold
+    // chain of dependent multiply-adds fourfold; (re, im) pairs as 2-vectors
     const double t2 = t * t;
     const double t4 = t2 * t2;
-    std::array<double, 4> tr{};
-    std::array<double, 4> ti{};
-    std::array<double, 4> pr{};
-    std::array<double, 4> pi{};
+    std::array<Vec2, 4> tan_acc = {Vec2::Zero(), Vec2::Zero(), Vec2::Zero(), Vec2::Zero()};
+    std::array<Vec2, 4> pos_acc = {Vec2::Zero(), Vec2::Zero(), Vec2::Zero(), Vec2::Zero()};
     for (int m = (panel.terms + 3) / 4 - 1; m >= 0; --m) {
       for (std::size_t j = 0; j < 4; ++j) {
         const auto u = static_cast<std::size_t>(4 * m) + j;
-        tr[j] = tr[j] * t4 + panel.coef[u].x();
-        ti[j] = ti[j] * t4 + panel.coef[u].y();
-        pr[j] = pr[j] * t4 + panel.integral[u].x();
-        pi[j] = pi[j] * t4 + panel.integral[u].y();
+        tan_acc[j] = tan_acc[j] * t4 + panel.coef[u];
+        pos_acc[j] = pos_acc[j] * t4 + panel.integral[u];
       }
     }
     const double t3 = t2 * t;
-    const Vec2 tangent_sum((tr[0] + t * tr[1]) + (t2 * tr[2] + t3 * tr[3]), (ti[0] + t * ti[1]) + (t2 * ti[2] + t3 * ti[3]));
-    const Vec2 point_sum((pr[0] + t * pr[1]) + (t2 * pr[2] + t3 * pr[3]), (pi[0] + t * pi[1]) + (t2 * pi[2] + t3 * pi[3]));
+    const Vec2 tangent_sum = (tan_acc[0] + t * tan_acc[1]) + (t2 * tan_acc[2] + t3 * tan_acc[3]);
+    const Vec2 point_sum = (pos_acc[0] + t * pos_acc[1]) + (t2 * pos_acc[2] + t3 * pos_acc[3]);
     return {panel.base + t * point_sum, tangent_sum, kappa};
   }
 
@@ -259,47 +258,68 @@ class FilletTable {
       const double theta = from.theta + (from.kappa + 0.5 * c * m) * m;
       const std::complex<double> rot(std::cos(theta), std::sin(theta));
       // Taylor coefficients in t (not scaled by h): e_{n+1} = i (kappa e_n + c e_{n-1}) / (n+1)
+      // e_n (cur) and e_{n-1} (prev); two coefficients per step, both from (cur, prev):
+      //   e_{n+1} = i (kappa e_n + c e_{n-1}) / (n+1),
+      //   e_{n+2} = [(-kappa^2 / (n+1) + i c) e_n - kappa c / (n+1) e_{n-1}] / (n+2);
+      // the even and odd parts of sum_n coef_n h^(n+1) / (n+1) give the positions at mid -+ h
       double prev_re = 0;
       double prev_im = 0;
       double cur_re = 1;
       double cur_im = 0;
-      double scale = h;  // h^(n+1)
-      int n = 0;
-      while (n < static_cast<int>(kMaxTerms)) {
-        const auto u = static_cast<std::size_t>(n);
-        panel.coef[u] = Vec2(rot.real() * cur_re - rot.imag() * cur_im, rot.real() * cur_im + rot.imag() * cur_re);
+      double h_pow = h;  // h^(n+1)
+      double even_re = 0;
+      double even_im = 0;
+      double odd_re = 0;
+      double odd_im = 0;
+      std::size_t n = 0;
+      const auto store = [&](std::size_t u, double re, double im, double hp) {
+        panel.coef[u] = Vec2(rot.real() * re - rot.imag() * im, rot.real() * im + rot.imag() * re);
         panel.integral[u] = panel.coef[u] * kInverseOf[u + 1];
-        const double inv = kInverseOf[u + 1];
-        const double next_re = -(kappa * cur_im + c * prev_im) * inv;
-        const double next_im = (kappa * cur_re + c * prev_re) * inv;
-        prev_re = cur_re;
-        prev_im = cur_im;
-        cur_re = next_re;
-        cur_im = next_im;
-        ++n;
-        if ((std::abs(prev_re) + std::abs(prev_im) + (std::abs(cur_re) + std::abs(cur_im)) * h) * scale < 1e-15 * h) break;
-        scale *= h;
+        const Vec2 term = panel.integral[u] * hp;
+        if (u % 2 == 0) {
+          even_re += term.x();
+          even_im += term.y();
+        } else {
+          odd_re += term.x();
+          odd_im += term.y();
+        }
+      };
+      while (n + 2 <= kMaxTerms) {
+        const double p1 = kInverseOf[n + 1];
+        const double p2 = kInverseOf[n + 2];
+        const double c1 = kappa * p1;
+        const double c2 = c * p1;
+        const double c3 = -kappa * c1 * p2;
+        const double c4 = c * p2;
+        const double c5 = -kappa * c2 * p2;
+        const double next_re = -(c1 * cur_im + c2 * prev_im);
+        const double next_im = c1 * cur_re + c2 * prev_re;
+        const double after_re = (c3 * cur_re + c5 * prev_re) - c4 * cur_im;
+        const double after_im = (c3 * cur_im + c5 * prev_im) + c4 * cur_re;
+        store(n, cur_re, cur_im, h_pow);
+        store(n + 1, next_re, next_im, h_pow * h);
+        n += 2;
+        h_pow *= h * h;
+        prev_re = next_re;
+        prev_im = next_im;
+        cur_re = after_re;
+        cur_im = after_im;
+        // the next two terms are below 1e-15 of the panel's size
+        const double tail = std::abs(cur_re) + std::abs(cur_im) + (std::abs(prev_re) + std::abs(prev_im)) / h;
+        if (tail * h_pow < 1e-15 * h) break;
       }
-      panel.terms = n;
-      for (auto u = static_cast<std::size_t>(n); u < kMaxTerms && u % 4 != 0; ++u) {
+      panel.terms = static_cast<int>(n);
+      for (std::size_t u = n; u < kMaxTerms && u % 4 != 0; ++u) {
         panel.coef[u] = Vec2::Zero();
         panel.integral[u] = Vec2::Zero();
       }
-      // the position at mid from the panel's start (base = edge - p_poly(-h)), and the start
-      // of the next panel (base + p_poly(h))
-      double br = 0;
-      double bi = 0;
-      double er = 0;
-      double ei = 0;
-      for (int k = panel.terms - 1; k >= 0; --k) {
-        const auto u = static_cast<std::size_t>(k);
-        br = br * -h + panel.integral[u].x();
-        bi = bi * -h + panel.integral[u].y();
-        er = er * h + panel.integral[u].x();
-        ei = ei * h + panel.integral[u].y();
-      }
-      panel.base = edge + h * Vec2(br, bi);
-      edge = panel.base + h * Vec2(er, ei);
+      // base = edge - p_poly(-h) = edge - (odd - even) ... with p_poly(t) = t sum integral_n t^n
+      const double br = even_re - odd_re;
+      const double bi = even_im - odd_im;
+      const double er = even_re + odd_re;
+      const double ei = even_im + odd_im;
+      panel.base = edge + Vec2(br, bi);
+      edge = panel.base + Vec2(er, ei);
     }
   }
 
@@ -365,9 +385,9 @@ double maximize(const F& eval, double x0, ValueSlope at0, double x1, ValueSlope 
     if (v[i].value > v[best].value) best = i;
   }
   double top = v[best].value;
-  // near the maximum the value errs by about slope^2 / (2 |f''|) with |f''| ~ f / w^2 (w the
-  // interval width): a slope below 1e-5 f / w keeps it below 1e-10 f
-  const double flat = 1e-5 * top / std::abs(x1 - x0);
+  // at a point with slope f' the maximum, within the interval of width w, is at most |f'| w
+  // higher (and only f'^2 / (2 f'') near a sharp one): a slope below 1e-9 f / w is flat enough
+  const double flat = 1e-9 * top / std::abs(x1 - x0);
   if (std::abs(v[best].slope) <= flat) return top;
   // the derivative changes sign from + to - on one side of the best point
   std::size_t lo = best;
@@ -390,7 +410,9 @@ double maximize(const F& eval, double x0, ValueSlope at0, double x1, ValueSlope 
 // their line of centres.
 std::optional<std::pair<double, double>> crossing(const PlanarShape& q1, const PlanarShape& q2, double a_max,
                                                   double b_max) {
-  const auto centre = [](const PlanarShape& q) -> Vec2 { return Vec2(-std::sin(q.theta), std::cos(q.theta)) / q.kappa; };
+  const auto centre = [](const PlanarShape& q) -> Vec2 {
+    return Vec2(-std::sin(q.theta), std::cos(q.theta)) / q.kappa;
+  };
   if (q1.kappa == 0 && q2.kappa == 0) return std::nullopt;
   Vec2 x = Vec2::Zero();
   if (q1.kappa == 0 || q2.kappa == 0) {
@@ -447,7 +469,8 @@ std::optional<Biclothoid> biclothoid_from_turn(const Posture& start, double kapp
   const double kbar = 0.5 * (start.kappa + kappa_e);
   const double half_jump = 0.5 * (kappa_e - start.kappa);
   const double a = dtheta - length * kbar;
-  const double root = std::hypot(a, length * half_jump);
+  const double b = length * half_jump;
+  const double root = std::sqrt(a * a + b * b);  // both terms are turns (rad): no overflow
   if (root == 0) return make_biclothoid(start, 0.0, 0.5 * length, 0.5 * length);
   const double d = (a >= 0 ? a + root : a - root) / length;
   const double c = 2 * d / length;
@@ -682,9 +705,7 @@ std::optional<BiclothoidSolution> fit_biclothoid_at(const CornerShapes& shapes, 
 
 namespace {
 
-// biclothoid_deviation; with thorough = false the midpoints of the two sides of U are not
-// sampled as guards against a second maximum.
-Deviation measure_deviation(const BiclothoidSolution& fillet, const CornerShapes& shapes, bool thorough) {
+Deviation measure_deviation(const BiclothoidSolution& fillet, const CornerShapes& shapes) {
   const Biclothoid& curve = fillet.curve;
   const FilletTable table(curve);
   const double len = length(curve);
@@ -729,14 +750,14 @@ Deviation measure_deviation(const BiclothoidSolution& fillet, const CornerShapes
       const double sl = l.slope[static_cast<std::size_t>(kl)];
       const double sr = r.slope[static_cast<std::size_t>(kr)];
       if (!(sl > 0 && sr < 0)) return;
-      // a slope below 1e-5 f / L leaves the value within 1e-10 of the maximum (see maximize)
+      // a slope below 1e-9 f / L leaves the value within 1e-9 of the maximum (see maximize)
       illinois(
           [&](double s) {
             const FilletSample f = sample(s);
             keep(f);
             return f.slope[static_cast<std::size_t>(f.active())];
           },
-          Bracket{l.s, sl, r.s, sr}, 1e-6 * len, 1e-5 * top.value() / len, 30);
+          Bracket{l.s, sl, r.s, sr}, 1e-6 * len, 1e-9 * top.value() / len, 30);
       return;
     }
     // Newton on g = d1 - d2 (g' = slope1 - slope2), kept inside the shrinking bracket
@@ -802,39 +823,24 @@ Deviation measure_deviation(const BiclothoidSolution& fillet, const CornerShapes
   const ValueSlope corner_in{g0, g0 > 0 ? direction(q1.theta).dot(-corner.point) / g0 : 0.0};
   const ValueSlope corner_out{g0, g0 > 0 ? direction(q2.theta).dot(-corner.point) / g0 : 0.0};
   const int foot_piece = top.active();
-  const double foot = pieces[static_cast<std::size_t>(foot_piece)].sigma_of(top.d[static_cast<std::size_t>(foot_piece)].point);
-  // the maximum over one side between two known points, with the midpoint as a guard
-  const auto side_max = [&](const PlanarShape& q, double x0, ValueSlope v0, double x1, ValueSlope v1, double mid) {
+  const auto foot_index = static_cast<std::size_t>(foot_piece);
+  const double foot = pieces[foot_index].sigma_of(top.d[foot_index].point);
+  // the maximum over one side, from the far end (distance 0) to the corner, sampled at the
+  // foot (when it lies on this side) and the midpoint; each evaluation starts Newton from the
+  // previous closest point
+  const auto side_max = [&](const PlanarShape& q, double lo, ValueSlope v_lo, double hi, ValueSlope v_hi,
+                            double start_guess, bool has_foot) {
     const auto f = [&](double x) { return from_original(x, q); };
-    return thorough ? maximize(f, x0, v0, x1, v1, std::array<double, 1>{mid})
-                    : maximize(f, x0, v0, x1, v1, std::array<double, 0>{});
+    const double mid = 0.5 * (lo + hi);
+    guess = start_guess;
+    if (!has_foot || foot == mid) return maximize(f, lo, v_lo, hi, v_hi, std::array<double, 1>{mid});
+    if (foot < mid) guess = top.s;
+    return maximize(f, lo, v_lo, hi, v_hi, std::array<double, 2>{std::min(foot, mid), std::max(foot, mid)});
   };
-  double side1 = 0;
-  double side2 = 0;
-  if (foot_piece == 0 && foot > -a && foot < 0) {
-    guess = top.s;
-    const ValueSlope at_foot = from_original(foot, q1);
-    guess = 0.5 * corner.s;
-    const double mid = -0.5 * a;
-    side1 = foot < mid ? side_max(q1, foot, at_foot, 0.0, corner_in, mid)
-                       : side_max(q1, -a, ValueSlope{0.0, 1.0}, foot, at_foot, mid);
-    side1 = std::max(side1, at_foot.value);
-  } else {
-    guess = 0.5 * corner.s;
-    side1 = side_max(q1, -a, ValueSlope{0.0, 1.0}, 0.0, corner_in, -0.5 * a);
-  }
-  if (foot_piece == 1 && foot > 0 && foot < b) {
-    guess = top.s;
-    const ValueSlope at_foot = from_original(foot, q2);
-    guess = 0.5 * (corner.s + len);
-    const double mid = 0.5 * b;
-    side2 = foot > mid ? side_max(q2, 0.0, corner_out, foot, at_foot, mid)
-                       : side_max(q2, foot, at_foot, b, ValueSlope{0.0, -1.0}, mid);
-    side2 = std::max(side2, at_foot.value);
-  } else {
-    guess = 0.5 * (corner.s + len);
-    side2 = side_max(q2, 0.0, corner_out, b, ValueSlope{0.0, -1.0}, 0.5 * b);
-  }
+  const double side1 = side_max(q1, -a, ValueSlope{0.0, 1.0}, 0.0, corner_in, 0.5 * corner.s,
+                                foot_piece == 0 && foot > -a && foot < 0);
+  const double side2 = side_max(q2, 0.0, corner_out, b, ValueSlope{0.0, -1.0}, corner.s,
+                                foot_piece == 1 && foot > 0 && foot < b);
   dev.original_to_fillet = std::max({g0, side1, side2});
   return dev;
 }
@@ -842,7 +848,7 @@ Deviation measure_deviation(const BiclothoidSolution& fillet, const CornerShapes
 }  // namespace
 
 Deviation biclothoid_deviation(const BiclothoidSolution& fillet, const CornerShapes& shapes) {
-  return measure_deviation(fillet, shapes, true);
+  return measure_deviation(fillet, shapes);
 }
 
 BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes, double tolerance, double a_max,
@@ -872,14 +878,19 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
     bool measured = false;
     Eigen::Matrix2d jacobian = Eigen::Matrix2d::Zero();
   };
-  std::deque<Trial> trials;  // stable addresses
+  // the solves so far, in a fixed array (stable addresses, no allocation; unused entries are
+  // left unconstructed)
+  constexpr std::size_t kMaxTrials = 96;
+  std::array<std::optional<Trial>, kMaxTrials> store;
+  std::size_t count = 0;
   // Algorithm 1 at start distance a, warm-started from the nearest earlier solve
   const auto solve = [&](double a) -> Trial* {
     // the guess: L and b scaled from the nearest solve, or extrapolated on log-log lines
     // through the two nearest
     Trial* near = nullptr;
     Trial* second = nullptr;
-    for (Trial& t : trials) {
+    for (std::size_t k = 0; k < count; ++k) {
+      Trial& t = *store[k];
       if (t.fillet.a == a) return &t;
       const double gap = std::abs(std::log(t.fillet.a / a));
       if (!near || gap < std::abs(std::log(near->fillet.a / a))) {
@@ -906,15 +917,16 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
       guess_b = near->fillet.b * std::exp(p_b * x);
       jacobian = near->jacobian;
     }
+    if (count == kMaxTrials) return nullptr;
     ++result.solves;
     const auto sol = fit_at(work, a, guess_len, guess_b, &jacobian);
     if (!sol) return nullptr;
-    trials.push_back(Trial{*sol, {}, false, jacobian});
-    return &trials.back();
+    store[count].emplace(Trial{*sol, {}, false, jacobian});
+    return &*store[count++];
   };
   const auto measure = [&](Trial* t) {
     if (!t->measured) {
-      t->deviation = measure_deviation(t->fillet, work, true);
+      t->deviation = measure_deviation(t->fillet, work);
       t->measured = true;
     }
     return t->deviation.max();
@@ -959,24 +971,21 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
   Point prev{0, 0, nullptr};
   double lo = -std::numeric_limits<double>::infinity();  // y <= 0 here
   double hi = std::numeric_limits<double>::infinity();   // y > 0 (or no solution) here
-  Trial* best = nullptr;
-  double best_y = -std::numeric_limits<double>::infinity();
-  bool at_cap = false;
+  Trial* best = nullptr;  // the largest a with y <= 0 so far
+  double best_y = 0;
   for (int it = 0; it < 60; ++it) {
     if (cur.y <= 0) {
       lo = std::max(lo, cur.x);
-      if (cur.x >= std::log(best ? best->fillet.a : 0.0)) {
+      if (!best || cur.trial->fillet.a >= best->fillet.a) {
         best = cur.trial;
         best_y = cur.y;
       }
-      at_cap = cur.x >= x_cap - 1e-12;
-      if (cur.y >= -kReached || at_cap) break;
+      if (cur.y >= -kReached || cur.x >= x_cap - 1e-12) break;
     } else {
       hi = std::min(hi, cur.x);
     }
     // next x: secant towards the middle of the accepted band, else the slope guess; bisection
-    // when bracketed steps
-    // leave the bracket
+    // when a bracketed step leaves the bracket
     double next;
     if (prev.trial && cur.trial && std::isfinite(prev.y) && cur.y != prev.y) {
       next = cur.x - (cur.y + 0.3 * kReached) * (cur.x - prev.x) / (cur.y - prev.y);
@@ -998,11 +1007,12 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
     cur = evaluate(next);
   }
   if (!best) return fail("no biclothoid fillet met the tolerance (004 Algorithm 2)");
-  // limited: the end bound or the start cap is what stops the fillet growing
-  const bool limited = at_cap || std::log(best->fillet.b / b_cap) >= std::log(measure(best) / tolerance) - 1e-12;
-  (void)best_y;
-
+  // limited: the start cap or the end bound is what stops the fillet growing; otherwise the
+  // deviation reached the tolerance band unless the iterations ran out
+  const bool limited = best->fillet.a >= a_cap * (1 - 1e-12) ||
+                       std::log(best->fillet.b / b_cap) >= std::log(measure(best) / tolerance) - 1e-12;
   result.limited = limited;
+  result.converged = limited || best_y >= -kReached;
   measure(best);
   result.deviation = best->deviation;
   result.fillet = best->fillet;
@@ -1097,6 +1107,13 @@ std::optional<CornerFit> clothoid_special_case(const CornerInput& corner, const 
     fit.case_name = geometry.same_circle ? "same_circle_same_direction" : "collinear";
     return fit;
   }
+  // no length left on a move (consumed by the neighbouring corner): the corner stays as it is
+  if (!(corner.in_available > 0) || !(corner.out_available > 0)) {
+    fit.outcome = {Status::kInfeasible, corner.name + ": no length of the " +
+                                            (corner.in_available > 0 ? "outgoing" : "incoming") +
+                                            " move is left for a transition"};
+    return fit;
+  }
   if (corner.spec.parameter <= 0) {
     if (!tangent) {
       fail_at(corner.where, "transition.parameter",
@@ -1165,6 +1182,9 @@ CornerFit fit_biclothoid_corner(const CornerInput& corner) {
   if (tol_fit.limited) {
     fit.note = "deviation " + mm(fit.parameter_used) + " below the tolerance " + mm(tolerance) +
                ": the fillet is limited by the move lengths (or an eighth of a turn of an arc)";
+  } else if (!tol_fit.converged) {
+    fit.note = "deviation " + mm(fit.parameter_used) + " below the tolerance " + mm(tolerance) +
+               ": the tolerance loop (004 Algorithm 2) stopped before reaching it";
   }
   return fit;
 }

@@ -161,8 +161,9 @@ CornerFit fit_clothoid_corner(const CornerInput& corner) {
       double peak = 0;
       for (const Segment& seg : fit.transition) peak = std::max(peak, max_curvature(seg, 0, length(seg)));
       if (peak > cap * (1 + 1e-9)) {
-        fit.note += std::string(fit.note.empty() ? "" : "; ") + "the biclothoid fallback does not cap curvature: peak " +
-                    per_mm(peak) + " > kappa_max " + per_mm(cap);
+        fit.note += std::string(fit.note.empty() ? "" : "; ") +
+                    "the biclothoid fallback does not cap curvature: peak " + per_mm(peak) + " > kappa_max " +
+                    per_mm(cap);
       }
     }
     return fit;

@@ -186,7 +186,8 @@ TEST(Biclothoid, Table2CornerIsA30DegreeDeflectionAt01Millimetre) {
   // 4487 mm/min (the paper rounds; its feed is 2 mm/min higher).
   const double alpha = 30 * kPi / 180;
   const Vec3 t2(std::cos(alpha), std::sin(alpha), 0);
-  const CornerInput c = corner_between(Line{Vec3(-0.01, 0, 0), Vec3(0, 0, 0)}, Line{Vec3(0, 0, 0), 0.01 * t2}, 0.1 * kMm);
+  const CornerInput c =
+      corner_between(Line{Vec3(-0.01, 0, 0), Vec3(0, 0, 0)}, Line{Vec3(0, 0, 0), 0.01 * t2}, 0.1 * kMm);
   const CornerFit fit = fit_biclothoid_corner(c);
   ASSERT_TRUE(fit.outcome.ok());
   double len = 0;
@@ -318,6 +319,14 @@ TEST(Biclothoid, SpecialCorners) {
   const Arc back = xy_arc(point(first, 1.0), Vec3(1, 0, 0), Vec3(0, 0, 0), true);
   fit = fit_biclothoid_corner(corner_between(first, back, 0.1 * kMm));
   EXPECT_EQ(fit.case_name, "same_circle_opposite_direction");
+  // nothing left of a move: infeasible, with a message
+  CornerInput none = corner_between(in, Line{Vec3(0, 0, 0), Vec3(0, 1, 0)}, 0.1 * kMm);
+  none.in_available = 0;
+  fit = fit_biclothoid_corner(none);
+  EXPECT_EQ(fit.outcome.status, Status::kInfeasible);
+  EXPECT_NE(fit.outcome.message.find("incoming"), std::string::npos) << fit.outcome.message;
+  none.spec.method = Method::kClothoid;
+  EXPECT_EQ(fit_clothoid_corner(none).outcome.status, Status::kInfeasible);
   // tolerance 0 at a curvature jump only: left as programmed
   const std::vector<Primitive> moves = listing1();
   fit = fit_biclothoid_corner(corner_between(moves[0], moves[1], 0.0));
@@ -385,9 +394,13 @@ TEST(Biclothoid, RandomCornersAreG2AndWithinTolerance) {
     EXPECT_LE(check.position, kPosition) << test::seed_text(seed);
     EXPECT_LE(check.tangent, kTangent) << test::seed_text(seed);
     EXPECT_LE(check.curvature, kCurvature) << test::seed_text(seed);
-    EXPECT_LE(check.deviation, tol * (1 + kDeviationSlack)) << test::seed_text(seed) << " " << fit.note;
+    // the independent measure locates a maximum at a kink to 1e-10 of the fillet's length
+    double fillet_length = 0;
+    for (const Segment& seg : fit.transition) fillet_length += length(seg);
+    const double floor = 1e-10 * fillet_length;
+    EXPECT_LE(check.deviation, tol * (1 + kDeviationSlack) + floor) << test::seed_text(seed) << " " << fit.note;
     // the reported deviation is the measured one; it reaches the tolerance unless limited
-    EXPECT_NEAR(check.deviation, fit.parameter_used, 1e-6 * fit.parameter_used) << test::seed_text(seed);
+    EXPECT_NEAR(check.deviation, fit.parameter_used, 1e-6 * fit.parameter_used + floor) << test::seed_text(seed);
     if (fit.note.empty()) {
       EXPECT_GE(check.deviation, tol * (1 - kToleranceReached)) << test::seed_text(seed);
     } else {
@@ -443,7 +456,8 @@ TEST(Biclothoid, Listing1ThroughTheBlenderIsG2Everywhere) {
 TEST(Biclothoid, RandomProgramsThroughTheBlender) {
   // random planar programs of lines and arcs with kinks and tangent joins: every corner is
   // fitted, the path is continuous, and every transition is G2 with its neighbours
-  const int cases = test::property_cases(100);
+  // (the blender measures each corner's deviation densely, so fewer cases than above)
+  const int cases = test::property_cases(30);
   for (int i = 0; i < cases; ++i) {
     const std::uint64_t seed = 5000 + static_cast<std::uint64_t>(i);
     auto rng = test::make_rng(seed);
@@ -476,7 +490,8 @@ TEST(Biclothoid, RandomProgramsThroughTheBlender) {
     }
     const Path path = blend(program);
     for (const CornerReport& report : path.corners) {
-      EXPECT_TRUE(report.fallback.empty()) << test::seed_text(seed) << " corner " << report.index << ": " << report.note;
+      EXPECT_TRUE(report.fallback.empty())
+          << test::seed_text(seed) << " corner " << report.index << ": " << report.note;
       EXPECT_LE(report.deviation, program.moves[static_cast<std::size_t>(report.index)].transition.parameter *
                                       (1 + kDeviationSlack))
           << test::seed_text(seed);
@@ -489,7 +504,8 @@ TEST(Biclothoid, RandomProgramsThroughTheBlender) {
       // a transition's ends: G2. (Where two fillets leave less than a micrometre of a move
       // between them the blender keeps that sliver, and a Line's tangent from two points 1e-9 m
       // apart is only good to ~1e-7 rad; check_fit covers those junctions per corner.)
-      const bool sliver = (prev.move >= 0 && length(prev.segment) < 1e-6) || (piece.move >= 0 && length(piece.segment) < 1e-6);
+      const bool sliver =
+          (prev.move >= 0 && length(prev.segment) < 1e-6) || (piece.move >= 0 && length(piece.segment) < 1e-6);
       if ((piece.corner >= 0 || prev.corner >= 0) && !sliver) {
         EXPECT_LE(piece.kink_angle, kTangent) << test::seed_text(seed) << " piece " << k;
         const Vec3 ka = curvature_vector(prev.segment, la);

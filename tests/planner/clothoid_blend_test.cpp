@@ -253,7 +253,11 @@ TEST(ClothoidPair, RandomCornersAreG2WithinToleranceAndCap) {
     EXPECT_LE(check.position, kPosition) << test::seed_text(seed);
     EXPECT_LE(check.tangent, kTangent) << test::seed_text(seed);
     EXPECT_LE(check.curvature, kCurvature) << test::seed_text(seed);
-    EXPECT_LE(check.deviation, cc.input.spec.parameter * (1 + kDeviationSlack)) << test::seed_text(seed);
+    // the independent measure locates a maximum at a kink to 1e-10 of the transition's length
+    double transition_length = 0;
+    for (const Segment& seg : fit.transition) transition_length += length(seg);
+    EXPECT_LE(check.deviation, cc.input.spec.parameter * (1 + kDeviationSlack) + 1e-10 * transition_length)
+        << test::seed_text(seed);
     if (fit.case_name == "clothoid_arc_clothoid") {
       ++capped;
       EXPECT_LE(peak_curvature(fit), cc.input.spec.kappa_max * (1 + 1e-9)) << test::seed_text(seed);

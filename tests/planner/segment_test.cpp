@@ -155,7 +155,8 @@ TEST(Segment, ClothoidXyMatchesLongDoubleQuadratureInEveryRegime) {
     EXPECT_LE((xy - ref).norm(), kXyTol * s) << test::seed_text(seed) << " case " << i << " k=" << k << " c=" << c
                                               << " s=" << s;
     const Eigen::Vector2d rot = clothoid_reference(theta0, k, c, s);
-    EXPECT_LE((clothoid_displacement(theta0, k, c, s) - rot).norm(), kXyTol * s) << test::seed_text(seed) << " case " << i;
+    EXPECT_LE((clothoid_displacement(theta0, k, c, s) - rot).norm(), kXyTol * s)
+        << test::seed_text(seed) << " case " << i;
   }
   EXPECT_EQ(clothoid_xy(1.0, 1.0, 0.0), Eigen::Vector2d::Zero());
   EXPECT_EQ(clothoid_xy(1.0, 1.0, -1.0), Eigen::Vector2d::Zero());

@@ -17,7 +17,7 @@ namespace blendbench::test {
 // A chain of segments parameterised by its total arc length.
 class Chain {
  public:
-  explicit Chain(std::vector<Segment> segments, int samples = 256) : segments_(std::move(segments)) {
+  explicit Chain(std::vector<Segment> segments, int samples = 128) : segments_(std::move(segments)) {
     exact_ = std::all_of(segments_.begin(), segments_.end(), [](const Segment& seg) {
       return std::holds_alternative<Line>(seg) || (std::holds_alternative<Arc>(seg) && std::get<Arc>(seg).rise == 0);
     });
@@ -105,7 +105,7 @@ class Chain {
     double x2 = lo + kRatio * (hi - lo);
     double f1 = g(x1);
     double f2 = g(x2);
-    for (int it = 0; it < 45; ++it) {
+    for (int it = 0; it < 40; ++it) {
       if (f1 < f2) {
         hi = x2;
         x2 = x1;

@@ -104,19 +104,24 @@ struct Deviation {
 };
 Deviation biclothoid_deviation(const BiclothoidSolution& fillet, const CornerShapes& shapes);
 
-// 004 Algorithm 2 (derived here): the largest fillet whose deviation (the larger of the two
-// directed distances) stays within `tolerance` (m, > 0), with a <= a_max and b <= b_max (m).
-// Follows section 6: if q2 is more curved than q1 the corner is reversed (q1 <-> q2) and the
-// fillet reversed back at the end. The start distance is found by false position (Illinois)
-// on log(deviation / tolerance) against log(a); the result satisfies
-// tolerance (1 - 1e-4) <= deviation <= tolerance unless the move lengths limit it
-// (`limited` = true, deviation < tolerance). A fillet replaces at most an eighth of a turn of
-// an arc (a larger one is no longer a corner fillet, and its turn approaches 2 pi). outcome: kNotConverged when a solve fails.
+// 004 Algorithm 2 (derived here; the paper gives only its first lines): the largest fillet
+// whose deviation (the larger of the two directed distances) stays within `tolerance` (m, > 0),
+// with a <= a_max and b <= b_max (m). Follows section 6: if q2 is more curved than q1 the corner
+// is reversed (q1 <-> q2) and the fillet reversed back at the end. The start distance comes from
+// false position on y = max(log(deviation / tolerance), log(b / b_max)) against x = log(a):
+// secant steps (y is nearly linear in x: deviation ~ a at a tangent jump, ~ a^2 at a curvature
+// jump), kept inside the bracket once there is one, bisection otherwise. The result satisfies
+// tolerance (1 - 1e-4) <= deviation <= tolerance unless the move lengths limit it (`limited` =
+// true, deviation < tolerance). A fillet replaces at most an eighth of a turn of an arc (a
+// larger one is no longer a corner fillet, and its turn approaches 2 pi) and stays short of a
+// point where q1 and q2 cross again (possible near a reversal). outcome: kNotConverged when
+// no solve succeeds.
 struct BiclothoidToleranceFit {
   Outcome outcome;
   BiclothoidSolution fillet;  // in the original direction (a on q1, b on q2)
   Deviation deviation;
-  bool limited = false;  // the move lengths (a_max / b_max) or the eighth-turn cap bound it
+  bool limited = false;    // the move lengths (a_max / b_max) or the caps bound it
+  bool converged = false;  // limited, or the deviation reached the tolerance band
   bool swapped = false;  // solved on the reversed corner (section 6)
   int solves = 0;        // Algorithm 1 calls, for diagnostics
 };
@@ -156,7 +161,8 @@ PlanarCorner planar_corner(const Primitive& in, const Primitive& out);
 //    ("collinear", or "same_circle_same_direction");
 //  - parameter 0 at a tangent discontinuity: throws InputError at corner.where
 //    (field transition.parameter), since no curve stays within a zero deviation;
-//  - parameter 0 at a curvature jump only ("tangent"): the path is left as programmed.
+//  - parameter 0 at a curvature jump only ("tangent"): the path is left as programmed;
+//  - no length available on one of the moves: outcome kInfeasible (the blender stops there).
 std::optional<CornerFit> clothoid_special_case(const CornerInput& corner, const PlanarCorner& geometry);
 
 }  // namespace blendbench
