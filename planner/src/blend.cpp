@@ -131,14 +131,19 @@ Path blend(const Program& program) {
   bool stop_next = false;  // the next appended piece starts at rest
   // appends a piece, recording the tangent kink at its start; a kink left at a Buffered
   // junction forces a stop (001, 003: the path velocity goes to zero)
-  const auto append = [&](PathPiece piece, BufferMode junction_buffer) {
+  // The tangents at a junction come from the programmed move for move pieces: a sliver left
+  // between two fillets (nanometres long) has a chord direction good to only ~1e-7 rad, which
+  // would read as a kink and force a spurious stop in Buffered mode.
+  Vec3 end_tangent = Vec3::Zero();
+  const auto append = [&](PathPiece piece, BufferMode junction_buffer, const Vec3& start_tangent,
+                          const Vec3& piece_end_tangent) {
     if (!path.pieces().empty()) {
-      const Segment& prev = path.pieces().back().segment;
-      piece.kink_angle = angle_between(tangent(prev, length(prev)), tangent(piece.segment, 0.0));
+      piece.kink_angle = angle_between(end_tangent, start_tangent);
       if (piece.kink_angle > kG1Angle && junction_buffer == BufferMode::kBuffered) piece.stop_before = true;
     }
     piece.stop_before = piece.stop_before || stop_next;
     stop_next = false;
+    end_tangent = piece_end_tangent;
     path.append(std::move(piece));
   };
   for (std::size_t k = 0; k < n; ++k) {
@@ -148,7 +153,8 @@ Path blend(const Program& program) {
     if (s1 - s0 > 1e-12 * lengths[k]) {
       append(PathPiece{to_segment(sub_segment(move.geometry, s0, s1)), static_cast<int>(k), -1, move.limits,
                        move.buffer, false, 0.0},
-             k > 0 ? program.moves[k - 1].buffer : move.buffer);
+             k > 0 ? program.moves[k - 1].buffer : move.buffer, tangent(move.geometry, s0),
+             tangent(move.geometry, s1));
     }
     if (k + 1 == n) break;
 
@@ -169,7 +175,8 @@ Path blend(const Program& program) {
     const Limits lim = transition_limits(move, next);
     for (const Segment& seg : fit.transition) {
       if (length(seg) <= 0) continue;
-      append(PathPiece{seg, -1, static_cast<int>(k), lim, move.buffer, false, 0.0}, move.buffer);
+      append(PathPiece{seg, -1, static_cast<int>(k), lim, move.buffer, false, 0.0}, move.buffer, tangent(seg, 0.0),
+             tangent(seg, length(seg)));
     }
     path.corners.push_back(std::move(report));
   }

@@ -54,6 +54,25 @@ TEST(Blend, DisjointMovesAreRejected) {
   EXPECT_THROW((void)blend(program), InputError);
 }
 
+TEST(Blend, NoSpuriousKinkWhereTwoFilletsMeetInTheMiddleOfAMove) {
+  // the middle move (20 mm + 0.1 nm) is eaten from both ends by 10 mm corner distances: whatever
+  // rounding sliver is left between the arcs must not read as a kink (a stop when Buffered)
+  for (const double angle : {0.3, 1.0, 2.0}) {
+    Program program;
+    const Vec3 a(0.3, 0.1, 0.2);
+    const Vec3 b = a + Vec3(0.1, 0, 0);
+    const Vec3 c = b + (0.02 + 1e-10) * Vec3(std::cos(angle), std::sin(angle), 0);
+    const Vec3 d = c + 0.1 * Vec3(std::cos(2 * angle), std::sin(2 * angle), 0);
+    program.moves = {line_move(a, b, Method::kArc, 0.01), line_move(b, c, Method::kArc, 0.01), line_move(c, d)};
+    for (Move& m : program.moves) m.buffer = BufferMode::kBuffered;
+    const Path path = blend(program);
+    for (std::size_t k = 0; k < path.pieces().size(); ++k) {
+      EXPECT_FALSE(path.pieces()[k].stop_before) << "angle " << angle << " piece " << k;
+      EXPECT_LT(path.pieces()[k].kink_angle, 1e-9) << "angle " << angle << " piece " << k;
+    }
+  }
+}
+
 TEST(Blend, SpeedLimitOfPaper004Table1) {
   // 004 table 1, fillet S1S2: c = 0.016 1/mm^2, kappa = 0.124 1/mm -> 12486 mm/min
   const double v = curvature_speed_limit(124.0, 16000.0, 9.8, 200.0);
