@@ -117,7 +117,76 @@ Closest closest_point(const Primitive& primitive, const Vec3& query) {
 
 namespace {
 
+// A segment prepared for many closest-point queries: lines and planar arcs are answered
+// exactly; other curves keep a dense table of positions (in s, or in u for a Bezier) so each
+// query scans the table without evaluating the curve and refines around the best entry.
+class Target {
+ public:
+  explicit Target(const Segment& segment) : segment_(segment) {
+    const Arc* arc = std::get_if<Arc>(&segment);
+    exact_ = std::holds_alternative<Line>(segment) ||
+             (arc != nullptr && arc->rise == 0 && arc->sweep <= 2 * std::numbers::pi);
+    if (exact_) return;
+    bezier_ = std::get_if<Bezier>(&segment);
+    t_max_ = bezier_ != nullptr ? 1.0 : length(segment);
+    table_.resize(kTable + 1);
+    for (int i = 0; i <= kTable; ++i) table_[static_cast<std::size_t>(i)] = at(t_max_ * i / kTable);
+  }
+
+  double distance(const Vec3& query) const {
+    if (exact_) return closest_point(segment_, query).distance;
+    std::size_t best = 0;
+    double best_d = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < table_.size(); ++i) {
+      const double d = (table_[i] - query).squaredNorm();
+      if (d < best_d) {
+        best_d = d;
+        best = i;
+      }
+    }
+    // golden-section refinement on the bracket around the best entry
+    const double h = t_max_ / kTable;
+    double lo = std::max(0.0, static_cast<double>(best) * h - h);
+    double hi = std::min(t_max_, static_cast<double>(best) * h + h);
+    constexpr double kGolden = 0.6180339887498949;
+    const auto f = [&](double t) { return (at(t) - query).squaredNorm(); };
+    double x1 = hi - kGolden * (hi - lo);
+    double x2 = lo + kGolden * (hi - lo);
+    double f1 = f(x1);
+    double f2 = f(x2);
+    for (int it = 0; it < 60 && hi - lo > 1e-12 * t_max_; ++it) {
+      if (f1 > f2) {
+        lo = x1;
+        x1 = x2;
+        f1 = f2;
+        x2 = lo + kGolden * (hi - lo);
+        f2 = f(x2);
+      } else {
+        hi = x2;
+        x2 = x1;
+        f2 = f1;
+        x1 = hi - kGolden * (hi - lo);
+        f1 = f(x1);
+      }
+    }
+    return std::sqrt(std::min({best_d, f1, f2}));
+  }
+
+ private:
+  static constexpr int kTable = 256;
+  Vec3 at(double t) const { return bezier_ != nullptr ? bezier_->eval(t) : point(segment_, t); }
+
+  const Segment& segment_;
+  bool exact_ = false;
+  const Bezier* bezier_ = nullptr;
+  double t_max_ = 0;
+  std::vector<Vec3> table_;
+};
+
 double directed(const std::vector<Segment>& from, const std::vector<Segment>& to, double step) {
+  std::vector<Target> targets;
+  targets.reserve(to.size());
+  for (const Segment& seg : to) targets.emplace_back(seg);
   double worst = 0;
   for (const Segment& seg : from) {
     const double len = length(seg);
@@ -127,7 +196,7 @@ double directed(const std::vector<Segment>& from, const std::vector<Segment>& to
     for (int i = 0; i <= n; ++i) {
       const Vec3 p = bezier != nullptr ? bezier->eval(static_cast<double>(i) / n) : point(seg, len * i / n);
       double best = std::numeric_limits<double>::infinity();
-      for (const Segment& target : to) best = std::min(best, closest_point(target, p).distance);
+      for (const Target& target : targets) best = std::min(best, target.distance(p));
       worst = std::max(worst, best);
     }
   }
