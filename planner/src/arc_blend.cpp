@@ -44,6 +44,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "planner/format.hpp"
 #include "planner/corner.hpp"
 
 namespace blendbench {
@@ -73,13 +74,6 @@ constexpr double kMaxDetour = 4.0;
 // m: the smallest corner distance the shrink search tries (1 um, far below robot resolution)
 constexpr double kMinShrink = 1e-6;
 constexpr int kBisections = 60;
-
-std::string mm(double metres) {
-  std::ostringstream out;
-  out.precision(6);
-  out << metres * 1000.0 << " mm";
-  return out.str();
-}
 
 // The corner as the fitting functions see it.
 struct Corner {
@@ -388,7 +382,7 @@ CornerFit kink_fit(const Corner& k, const std::string& case_name, double trim_in
 }
 
 std::string shrink_note(double requested, double used, const std::string& why) {
-  return "corner distance shrunk from " + mm(requested) + " to " + mm(used) + ": " + why;
+  return "corner distance shrunk from " + format_mm(requested) + " to " + format_mm(used) + ": " + why;
 }
 
 // 001: two lines.
@@ -443,7 +437,7 @@ CornerFit fit_biarc(const Corner& k, double d_req) {
   fit.trim_in = d;
   fit.trim_out = d;
   fit.parameter_used = d;
-  fit.note = "non-planar corner: both moves shortened by " + mm(d) + " and joined by two circular arcs";
+  fit.note = "non-planar corner: both moves shortened by " + format_mm(d) + " and joined by two circular arcs";
   if (d < d_req) fit.note += "; " + shrink_note(d_req, d, "a move is short");
   const Vec3 p1 = point(*k.in, k.len_in - d);
   const Vec3 t1 = tangent(*k.in, k.len_in - d);
@@ -551,7 +545,7 @@ CornerFit fit_planar(const Corner& k, const Plane& pl, bool larger_in, double d_
       if (swapped.verdict == Verdict::kValid) {
         CornerFit fit = from_candidate(k, swapped, d_swap);
         fit.fallback = "smaller_radius_shortened";
-        fit.note = "no transition arc with the larger-radius move shortened by " + mm(d) + " (" + cand.why +
+        fit.note = "no transition arc with the larger-radius move shortened by " + format_mm(d) + " (" + cand.why +
                    "); the smaller-radius move is shortened instead";
         if (d_swap < d_req) fit.note += "; " + shrink_note(d_req, d_swap, "the smaller-radius move is short");
         return finish(fit);

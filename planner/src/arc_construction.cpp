@@ -1,5 +1,7 @@
 #include "planner/arc_construction.hpp"
 
+#include "planner/format.hpp"
+
 #include <cmath>
 #include <numbers>
 #include <sstream>
@@ -10,13 +12,6 @@ namespace {
 constexpr double kTwoPi = 2 * std::numbers::pi;
 
 ArcBuild failure(const std::string& message) { return {{Status::kInfeasible, message}, Arc{}}; }
-
-std::string mm(double metres) {
-  std::ostringstream out;
-  out.precision(9);
-  out << metres * 1e3 << " mm";
-  return out.str();
-}
 
 }  // namespace
 
@@ -34,8 +29,8 @@ ArcBuild arc_from_center(const Vec3& start, const Vec3& end, const Vec3& center,
   const double r_end = (end_in_plane - c).norm();
   if (!(r_start > radius_tolerance)) return failure("the arc's start point lies on its centre");
   if (std::abs(r_start - r_end) > radius_tolerance) {
-    return failure("the radius to the end (" + mm(r_end) + ") differs from the radius to the start (" +
-                   mm(r_start) + ")");
+    return failure("the radius to the end (" + format_mm(r_end) + ") differs from the radius to the start (" +
+                   format_mm(r_start) + ")");
   }
   // move the centre onto the chord's perpendicular bisector so both radii are equal; a chord
   // at rounding level (a full circle) has no usable direction and needs no correction
@@ -73,7 +68,7 @@ ArcBuild arc_from_radius(const Vec3& start, const Vec3& end, double radius, cons
   const double r = std::abs(radius);
   if (!(d > 0)) return failure("an arc given by its radius needs an end point distinct from its start");
   if (d > 2 * r + radius_tolerance) {
-    return failure("the radius " + mm(r) + " is too small for the chord " + mm(d));
+    return failure("the radius " + format_mm(r) + " is too small for the chord " + format_mm(d));
   }
   // centre on the perpendicular bisector of the chord, on the left of the motion (ccw about w)
   // for the short arc and on the right for the long one

@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "planner/format.hpp"
 #include "planner/corner.hpp"
 
 namespace blendbench {
@@ -61,13 +62,6 @@ constexpr double kMinRelativeSpeed = 1e-9;
 constexpr int kSpeedSamples = 256;
 // A helix (Arc with rise) whose rise per radian is below this fraction of its radius is a circle.
 constexpr double kFlatHelix = 1e-12;
-
-std::string mm(double metres) {
-  std::ostringstream out;
-  out.precision(6);
-  out << metres * 1000.0 << " mm";
-  return out.str();
-}
 
 // One side of the corner at its transition point: position, unit tangent in the direction of
 // travel, curvature vector (1/m). `radius` is 0 on a line.
@@ -144,7 +138,7 @@ std::optional<std::vector<Vec3>> coplanar_cubic(const End& a, const End& c, doub
     return std::nullopt;
   }
   if (std::abs(t - l) > l) {
-    why = "P2 would lie " + mm(std::abs(t - l)) + " from the corner, farther than the transition length";
+    why = "P2 would lie " + format_mm(std::abs(t - l)) + " from the corner, farther than the transition length";
     return std::nullopt;
   }
   const double kdot = d.dot(c.k);
@@ -259,11 +253,11 @@ CornerFit fit_bezier_corner(const CornerInput& corner) {
       why = reason;
     }
   };
-  shrink(corner.in_available, "the incoming move is short (" + mm(corner.in_available) + " available)");
-  shrink(corner.out_available, "the outgoing move is short (" + mm(corner.out_available) + " available)");
-  if (!in_line) shrink(kMaxArcTurn * r_in, "the incoming arc (radius " + mm(r_in) + ") gives at most a half-turn");
-  if (!out_line) shrink(kMaxArcTurn * r_out, "the outgoing arc (radius " + mm(r_out) + ") gives at most a half-turn");
-  if (l < tp) fit.note = "TP shrunk from " + mm(tp) + " to " + mm(l) + ": " + why;
+  shrink(corner.in_available, "the incoming move is short (" + format_mm(corner.in_available) + " available)");
+  shrink(corner.out_available, "the outgoing move is short (" + format_mm(corner.out_available) + " available)");
+  if (!in_line) shrink(kMaxArcTurn * r_in, "the incoming arc (radius " + format_mm(r_in) + ") gives at most a half-turn");
+  if (!out_line) shrink(kMaxArcTurn * r_out, "the outgoing arc (radius " + format_mm(r_out) + ") gives at most a half-turn");
+  if (l < tp) fit.note = "TP shrunk from " + format_mm(tp) + " to " + format_mm(l) + ": " + why;
   fit.parameter_used = l;
 
   // tangents and curvature vectors at the corner

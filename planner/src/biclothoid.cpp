@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "planner/format.hpp"
 #include "planner/clothoid_blend.hpp"
 #include "planner/input_error.hpp"
 #include "planner/segment.hpp"
@@ -38,20 +39,6 @@ constexpr double kSolveTolerance = 1e-13;
 constexpr double kReached = 1e-4;
 // The most of an arc a fillet replaces (rad of the arc's turn).
 constexpr double kMaxArcTurn = 0.25 * std::numbers::pi;
-
-std::string mm(double metres) {
-  std::ostringstream out;
-  out.precision(6);
-  out << metres * 1000.0 << " mm";
-  return out.str();
-}
-
-std::string deg(double rad) {
-  std::ostringstream out;
-  out.precision(6);
-  out << rad * 180.0 / std::numbers::pi << " deg";
-  return out.str();
-}
 
 double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
 Vec2 direction(double theta) { return {std::cos(theta), std::sin(theta)}; }
@@ -1119,7 +1106,7 @@ std::optional<CornerFit> clothoid_special_case(const CornerInput& corner, const 
       fail_at(corner.where, "transition.parameter",
               corner.name + ": a " + std::string(to_string(corner.spec.method)) +
                   " transition with maximum deviation 0 is impossible at a tangent discontinuity of " +
-                  deg(geometry.angle) + "; give a positive deviation or use method none");
+                  format_deg(geometry.angle) + "; give a positive deviation or use method none");
     }
     fit.case_name = "tangent";
     fit.note = "maximum deviation 0: the curvature jump is left as programmed";
@@ -1142,7 +1129,7 @@ CornerFit fit_biclothoid_corner(const CornerInput& corner) {
     const double available = std::min(corner.in_available, corner.out_available);
     if (pair.tangent_length > available) {
       pair = clothoid_pair_for_tangent_length(geometry.angle, available);
-      fit.note = "deviation shrunk from " + mm(tolerance) + " to " + mm(pair.deviation) + ": the " +
+      fit.note = "deviation shrunk from " + format_mm(tolerance) + " to " + format_mm(pair.deviation) + ": the " +
                  (corner.in_available <= corner.out_available ? "incoming" : "outgoing") + " move is short";
     }
     const Posture start{Vec2(-pair.tangent_length, 0.0), 0.0, 0.0};
@@ -1180,10 +1167,10 @@ CornerFit fit_biclothoid_corner(const CornerInput& corner) {
   fit.trim_out = tol_fit.fillet.b;
   fit.parameter_used = tol_fit.deviation.max();
   if (tol_fit.limited) {
-    fit.note = "deviation " + mm(fit.parameter_used) + " below the tolerance " + mm(tolerance) +
+    fit.note = "deviation " + format_mm(fit.parameter_used) + " below the tolerance " + format_mm(tolerance) +
                ": the fillet is limited by the move lengths (or an eighth of a turn of an arc)";
   } else if (!tol_fit.converged) {
-    fit.note = "deviation " + mm(fit.parameter_used) + " below the tolerance " + mm(tolerance) +
+    fit.note = "deviation " + format_mm(fit.parameter_used) + " below the tolerance " + format_mm(tolerance) +
                ": the tolerance loop (004 Algorithm 2) stopped before reaching it";
   }
   return fit;

@@ -6,6 +6,7 @@
 #include <sstream>
 #include <string>
 
+#include "planner/format.hpp"
 #include "planner/biclothoid.hpp"
 #include "planner/corner.hpp"
 #include "planner/fresnel.hpp"
@@ -14,20 +15,6 @@ namespace blendbench {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-
-std::string mm(double metres) {
-  std::ostringstream out;
-  out.precision(6);
-  out << metres * 1000.0 << " mm";
-  return out.str();
-}
-
-std::string per_mm(double per_metre) {
-  std::ostringstream out;
-  out.precision(6);
-  out << per_metre / 1000.0 << " 1/mm";
-  return out.str();
-}
 
 // The pair of scale a: d = a S(u) / cos(alpha/2), T = a (C(u) + S(u) tan(alpha/2)).
 ClothoidPair pair_of_scale(double alpha, double scale) {
@@ -162,8 +149,8 @@ CornerFit fit_clothoid_corner(const CornerInput& corner) {
       for (const Segment& seg : fit.transition) peak = std::max(peak, max_curvature(seg, 0, length(seg)));
       if (peak > cap * (1 + 1e-9)) {
         fit.note += std::string(fit.note.empty() ? "" : "; ") +
-                    "the biclothoid fallback does not cap curvature: peak " + per_mm(peak) + " > kappa_max " +
-                    per_mm(cap);
+                    "the biclothoid fallback does not cap curvature: peak " + format_per_mm(peak) + " > kappa_max " +
+                    format_per_mm(cap);
       }
     }
     return fit;
@@ -181,7 +168,7 @@ CornerFit fit_clothoid_corner(const CornerInput& corner) {
   std::string shrink_note;
   if (pair.tangent_length > available) {
     pair = clothoid_pair_for_tangent_length(alpha, available);
-    shrink_note = "deviation shrunk from " + mm(tolerance) + " to " + mm(pair.deviation) + ": the " + short_move +
+    shrink_note = "deviation shrunk from " + format_mm(tolerance) + " to " + format_mm(pair.deviation) + ": the " + short_move +
                   " move is short";
   }
   const auto use_pair = [&](const std::string& note) {
@@ -204,10 +191,10 @@ CornerFit fit_clothoid_corner(const CornerInput& corner) {
   if (arc_only.deviation > tolerance || arc_only.tangent_length > available) {
     fit.case_name = "curvature_cap_unmet";
     const std::string why = arc_only.deviation > tolerance
-                                ? "an arc of that curvature deviates " + mm(arc_only.deviation) + " > " + mm(tolerance)
-                                : "an arc of that curvature needs " + mm(arc_only.tangent_length) + " of the " +
-                                      short_move + " move, which has " + mm(available);
-    std::string note = "peak curvature " + per_mm(pair.kappa_peak) + " exceeds kappa_max " + per_mm(cap) + ": " + why +
+                                ? "an arc of that curvature deviates " + format_mm(arc_only.deviation) + " > " + format_mm(tolerance)
+                                : "an arc of that curvature needs " + format_mm(arc_only.tangent_length) + " of the " +
+                                      short_move + " move, which has " + format_mm(available);
+    std::string note = "peak curvature " + format_per_mm(pair.kappa_peak) + " exceeds kappa_max " + format_per_mm(cap) + ": " + why +
                        "; the clothoid pair is kept";
     if (!shrink_note.empty()) note += "; " + shrink_note;
     return use_pair(note);
@@ -222,7 +209,7 @@ CornerFit fit_clothoid_corner(const CornerInput& corner) {
   fit.trim_out = cac.tangent_length;
   fit.parameter_used = cac.deviation;
   if (cac.deviation < tolerance * (1 - 1e-9)) {
-    fit.note = "deviation " + mm(cac.deviation) + " below the tolerance " + mm(tolerance) + ": the " + short_move +
+    fit.note = "deviation " + format_mm(cac.deviation) + " below the tolerance " + format_mm(tolerance) + ": the " + short_move +
                " move is short";
   }
   return fit;

@@ -1,5 +1,7 @@
 #include "planner/program.hpp"
 
+#include "planner/format.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cctype>
@@ -35,13 +37,6 @@ constexpr std::array<std::pair<Method, std::string_view>, 5> kMethodNames = {{
 
 std::string describe(const Move& move, std::size_t index) {
   return move.name.empty() ? "move " + std::to_string(index + 1) : move.name;
-}
-
-std::string format_mm(double metres) {
-  std::ostringstream out;
-  out.precision(6);
-  out << metres * 1000.0 << " mm";
-  return out.str();
 }
 
 }  // namespace

@@ -1,0 +1,13 @@
+#pragma once
+// Human-readable quantities for messages and notes: SI values in, text in the units users
+// read (mm, deg, 1/mm), six significant digits.
+
+#include <string>
+
+namespace blendbench {
+
+std::string format_mm(double metres);          // "12.5 mm"
+std::string format_deg(double radians);        // "90 deg"
+std::string format_per_mm(double per_metre);   // "0.124 1/mm"
+
+}  // namespace blendbench

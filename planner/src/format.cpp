@@ -1,0 +1,22 @@
+#include "planner/format.hpp"
+
+#include <numbers>
+#include <sstream>
+
+namespace blendbench {
+namespace {
+
+std::string with_unit(double value, const char* unit) {
+  std::ostringstream out;
+  out.precision(6);
+  out << value << ' ' << unit;
+  return out.str();
+}
+
+}  // namespace
+
+std::string format_mm(double metres) { return with_unit(metres * 1e3, "mm"); }
+std::string format_deg(double radians) { return with_unit(radians * 180.0 / std::numbers::pi, "deg"); }
+std::string format_per_mm(double per_metre) { return with_unit(per_metre * 1e-3, "1/mm"); }
+
+}  // namespace blendbench
