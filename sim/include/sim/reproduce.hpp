@@ -62,6 +62,7 @@ struct ProfileMargins {
   double axis_jerk = 0;                // max over x, y, z of |d3x/dt3| / jerk limit
   double axis_jerk_time = 0;           // s: where axis_jerk is reached (the stencil's centre)
   double axis_jerk_s = 0;              // m: path arc length there
+  double axis_jerk_over_time = 0;      // s: total time (stencils x dt) with an axis jerk above its limit
 };
 
 // Checks a planned profile against its path (see ProfileMargins). At a junction of pieces the
