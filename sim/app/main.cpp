@@ -16,6 +16,7 @@
 #include "sim/output.hpp"
 #include "sim/program_io.hpp"
 #include "sim/report.hpp"
+#include "sim/reproduce.hpp"
 #include "sim/runner.hpp"
 #include "sim/scenario.hpp"
 
@@ -251,6 +252,14 @@ int main(int argc, char** argv) {
   check->add_option("--baseline", baseline, "Baseline JSON (default: results/baselines/<scenario>.json)");
   check->add_flag("--update", update, "Write the baseline from this run instead of checking");
 
+  std::string paper;
+  std::string papers_out = "results/papers";
+  bool no_paper_plots = false;
+  CLI::App* reproduce = app.add_subcommand("reproduce", "Reproduce a source paper's published numbers: report and data");
+  reproduce->add_option("name", paper, "004, 000 or all")->required();
+  reproduce->add_option("--out", papers_out, "Parent folder; each paper goes to DIR/<paper>/ (default: results/papers)");
+  reproduce->add_flag("--no-plots", no_paper_plots, "Do not draw the figures");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -263,6 +272,7 @@ int main(int argc, char** argv) {
     if (*path) return cmd_path(input, flags, csv, report, ds_mm);
     if (*plan) return cmd_plan(input, flags, csv, summary);
     if (*check) return cmd_check(run_dir, baseline, update);
+    if (*reproduce) return bb::reproduce(paper, papers_out, !no_paper_plots, std::cout);
   } catch (const bb::InputError& e) {
     std::cerr << "blendbench: error: " << e.what() << std::endl;
     return kExitBadInput;
