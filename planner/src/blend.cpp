@@ -60,7 +60,27 @@ void measure_corner(CornerReport& report, const std::vector<Segment>& transition
   report.sharpness_max = 0;
   report.deviation = 0;
   report.feed_max = 0;
-  if (transition.empty()) return;
+  const double len_in = length(in);
+  const double len_out = length(out);
+  if (transition.empty()) {
+    // a zero-length transition still skips the trimmed programmed path (a reversal, an
+    // intersection, the same circle backwards): it deviates by how far that part lies from the
+    // path that is kept
+    std::vector<Segment> skipped;
+    std::vector<Segment> kept;
+    if (report.trim_in > 0) {
+      skipped.push_back(to_segment(sub_segment(in, len_in - report.trim_in, len_in)));
+      if (report.trim_in < len_in) kept.push_back(to_segment(sub_segment(in, 0, len_in - report.trim_in)));
+    }
+    if (report.trim_out > 0) {
+      skipped.push_back(to_segment(sub_segment(out, 0, report.trim_out)));
+      if (report.trim_out < len_out) kept.push_back(to_segment(sub_segment(out, report.trim_out, len_out)));
+    }
+    if (!skipped.empty() && !kept.empty()) {
+      report.deviation = directed_hausdorff(skipped, kept, (report.trim_in + report.trim_out) / 512.0);
+    }
+    return;
+  }
   for (const Segment& seg : transition) {
     const double len = length(seg);
     report.length += len;
@@ -69,7 +89,6 @@ void measure_corner(CornerReport& report, const std::vector<Segment>& transition
   }
   // the programmed path replaced by the transition: the trimmed end of `in` and start of `out`
   std::vector<Segment> replaced;
-  const double len_in = length(in);
   if (report.trim_in > 0) replaced.push_back(to_segment(sub_segment(in, len_in - report.trim_in, len_in)));
   if (report.trim_out > 0) replaced.push_back(to_segment(sub_segment(out, 0, report.trim_out)));
   if (replaced.empty()) {

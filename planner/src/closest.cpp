@@ -210,4 +210,9 @@ double hausdorff(const std::vector<Segment>& a, const std::vector<Segment>& b, d
   return std::max(directed(a, b, step), directed(b, a, step));
 }
 
+double directed_hausdorff(const std::vector<Segment>& from, const std::vector<Segment>& to, double step) {
+  if (from.empty() || to.empty()) return 0;
+  return directed(from, to, step);
+}
+
 }  // namespace blendbench

@@ -22,4 +22,8 @@ Closest closest_point(const Primitive& primitive, const Vec3& query);
 // refined closest points on the second.
 double hausdorff(const std::vector<Segment>& a, const std::vector<Segment>& b, double step);
 
+// The directed part alone: max over points of `from` of the distance to the closest point of
+// `to` (m), sampled as above. 0 when either set is empty.
+double directed_hausdorff(const std::vector<Segment>& from, const std::vector<Segment>& to, double step);
+
 }  // namespace blendbench
