@@ -148,6 +148,7 @@ CornerFit fit_clothoid_corner(const CornerInput& corner) {
       double peak = 0;
       for (const Segment& seg : fit.transition) peak = std::max(peak, max_curvature(seg, 0, length(seg)));
       if (peak > cap * (1 + 1e-9)) {
+        if (fit.case_name == "regular") fit.case_name = "curvature_cap_unmet";
         fit.note += std::string(fit.note.empty() ? "" : "; ") +
                     "the biclothoid fallback does not cap curvature: peak " + format_per_mm(peak) + " > kappa_max " +
                     format_per_mm(cap);

@@ -227,6 +227,7 @@ TEST(ClothoidPair, CornersWithArcsFallBackToBiclothoids) {
   ASSERT_TRUE(fit.outcome.ok());
   EXPECT_EQ(fit.fallback, "biclothoid");
   EXPECT_NE(fit.note.find("does not cap curvature"), std::string::npos) << fit.note;
+  EXPECT_EQ(fit.case_name, "curvature_cap_unmet");
   expect_g2(c, fit, "line-arc");
   EXPECT_LE(test::check_fit(c, fit).deviation, 0.1 * kMm * (1 + kDeviationSlack));
 }
