@@ -1,5 +1,7 @@
 #include "planner/closest.hpp"
 
+#include "planner/golden.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -36,29 +38,8 @@ std::pair<double, double> scan_closest(const At& at, double t_max, const Vec3& q
   }
   double lo = std::max(0.0, best_t - h);
   double hi = std::min(t_max, best_t + h);
-  constexpr double kGolden = 0.6180339887498949;
-  const auto f = [&](double t) { return (at(t) - query).squaredNorm(); };
-  double x1 = hi - kGolden * (hi - lo);
-  double x2 = lo + kGolden * (hi - lo);
-  double f1 = f(x1);
-  double f2 = f(x2);
-  for (int it = 0; it < 80 && hi - lo > 1e-12 * std::max(t_max, 1e-9); ++it) {
-    if (f1 > f2) {
-      lo = x1;
-      x1 = x2;
-      f1 = f2;
-      x2 = lo + kGolden * (hi - lo);
-      f2 = f(x2);
-    } else {
-      hi = x2;
-      x2 = x1;
-      f2 = f1;
-      x1 = hi - kGolden * (hi - lo);
-      f1 = f(x1);
-    }
-  }
-  const double t = f1 < f2 ? x1 : x2;
-  const double d = std::min(f1, f2);
+  const auto [t, d] = golden_minimum([&](double x) { return (at(x) - query).squaredNorm(); }, lo, hi,
+                                     1e-12 * std::max(t_max, 1e-9));
   return d <= best_d ? std::pair{t, std::sqrt(d)} : std::pair{best_t, std::sqrt(best_d)};
 }
 
@@ -148,28 +129,9 @@ class Target {
     const double h = t_max_ / kTable;
     double lo = std::max(0.0, static_cast<double>(best) * h - h);
     double hi = std::min(t_max_, static_cast<double>(best) * h + h);
-    constexpr double kGolden = 0.6180339887498949;
-    const auto f = [&](double t) { return (at(t) - query).squaredNorm(); };
-    double x1 = hi - kGolden * (hi - lo);
-    double x2 = lo + kGolden * (hi - lo);
-    double f1 = f(x1);
-    double f2 = f(x2);
-    for (int it = 0; it < 60 && hi - lo > 1e-12 * t_max_; ++it) {
-      if (f1 > f2) {
-        lo = x1;
-        x1 = x2;
-        f1 = f2;
-        x2 = lo + kGolden * (hi - lo);
-        f2 = f(x2);
-      } else {
-        hi = x2;
-        x2 = x1;
-        f2 = f1;
-        x1 = hi - kGolden * (hi - lo);
-        f1 = f(x1);
-      }
-    }
-    return std::sqrt(std::min({best_d, f1, f2}));
+    const auto refined =
+        golden_minimum([&](double t) { return (at(t) - query).squaredNorm(); }, lo, hi, 1e-12 * t_max_, 60);
+    return std::sqrt(std::min(best_d, refined.second));
   }
 
  private:

@@ -1,5 +1,7 @@
 #include "planner/segment.hpp"
 
+#include "planner/golden.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cassert>
@@ -88,27 +90,8 @@ double scan_max(const F& f, double a, double b, int samples) {
   // refine around the best sample
   double lo = std::max(a, best_x - h);
   double hi = std::min(b, best_x + h);
-  constexpr double kGolden = 0.6180339887498949;
-  double x1 = hi - kGolden * (hi - lo);
-  double x2 = lo + kGolden * (hi - lo);
-  double f1 = f(x1);
-  double f2 = f(x2);
-  for (int it = 0; it < 60 && hi - lo > 1e-14 * (b - a); ++it) {
-    if (f1 < f2) {
-      lo = x1;
-      x1 = x2;
-      f1 = f2;
-      x2 = lo + kGolden * (hi - lo);
-      f2 = f(x2);
-    } else {
-      hi = x2;
-      x2 = x1;
-      f2 = f1;
-      x1 = hi - kGolden * (hi - lo);
-      f1 = f(x1);
-    }
-  }
-  return std::max({best, f1, f2});
+  const auto refined = golden_minimum([&f](double x) { return -f(x); }, lo, hi, 1e-14 * (b - a), 60);
+  return std::max(best, -refined.second);
 }
 
 }  // namespace
