@@ -12,7 +12,7 @@
 //
 // 1. The path is cut into intervals at every piece junction and, on pieces whose curvature
 //    varies along s (clothoids with non-zero sharpness, Bezier curves), into kSubdivisions
-//    equal sub-intervals. Each interval gets a cap: the smallest v_lim on it, from the maximum
+//    equal sub-intervals, and at the ends of hand-over zones (below). Each interval gets a cap: the smallest v_lim on it, from the maximum
 //    curvature and sharpness over the interval (004 eq. 25-27 are decreasing in both, so this
 //    bounds v_lim(s) from below everywhere on the interval). Conservative: within an interval
 //    the speed never uses the headroom of its less curved end.
@@ -37,11 +37,16 @@
 //       v <= min(j dt^2, a dt) / (2 sin(theta/2));
 //   - a curvature jump dk (e.g. line -> tangent arc) makes the normal acceleration dk v^2 appear
 //     within one period; keeping that step within j dt gives v <= sqrt(j dt / dk);
-//   - the buffer mode of the junction (the earlier piece's) chooses the velocity at a kink from
-//     the two programmed velocities (Low: the lower, Previous, Next (and Aborting), High: the
-//     higher); Buffered stops. The caps of the two pieces still apply on either side, so above
-//     the lower programmed velocity a mode has no effect.
+//   - Buffered stops at a kink;
 //   a and j are the lowest of the two pieces' limits.
+// The buffer mode of the junction (the earlier piece's) chooses the junction velocity v_J from
+// the two programmed velocities (junction_velocity, program.hpp). Where v_J is above a piece's
+// programmed velocity, that piece gets a hand-over zone next to the junction (timing.hpp):
+// its feed term is v_J over the distance a jerk-limited change between v_J and its own
+// velocity needs, so the profile can cross the junction at v_J and reach the slower velocity
+// at the end of the zone at the latest. v_J is first lowered to the kink and curvature-jump
+// bounds above, so a zone never lets a piece run faster than the junction allows. The
+// curvature and sharpness terms are never relaxed.
 
 namespace blendbench {
 namespace {
@@ -70,7 +75,7 @@ struct CapTerms {
   }
 };
 
-CapTerms cap_terms(const PathPiece& piece, double s0, double s1) {
+CapTerms cap_terms(const PathPiece& piece, double s0, double s1, double feed) {
   double kappa = max_curvature(piece.segment, s0, s1);
   double c = max_sharpness(piece.segment, s0, s1);
   if (std::holds_alternative<Bezier>(piece.segment)) {
@@ -79,7 +84,7 @@ CapTerms cap_terms(const PathPiece& piece, double s0, double s1) {
   }
   const double a = piece.limits.acceleration;
   CapTerms terms;
-  terms.feed = piece.limits.velocity;
+  terms.feed = feed;
   terms.curvature = kappa > 0 ? std::sqrt(a / kappa) : kInf;
   // eq. 26 alone: the combined limit with no curvature term
   terms.sharpness = curvature_speed_limit(0.0, std::hypot(c, kappa * kappa), a, piece.limits.jerk);
@@ -122,75 +127,127 @@ void validate(const Path& path, const TimingOptions& options) {
   }
 }
 
-// Junction velocity by buffer mode at a kink (program.hpp).
-double mode_velocity(BufferMode mode, double v_prev, double v_next) {
-  switch (mode) {
-    case BufferMode::kBuffered: return 0.0;
-    case BufferMode::kBlendingLow: return std::min(v_prev, v_next);
-    case BufferMode::kBlendingPrevious: return v_prev;
-    case BufferMode::kAborting:
-    case BufferMode::kBlendingNext: return v_next;
-    case BufferMode::kBlendingHigh: return std::max(v_prev, v_next);
-  }
-  return std::min(v_prev, v_next);
-}
-
 // The velocity bound at the junction from piece `prev` to piece `next` (both of non-zero
-// length; `stop` when a piece in between or `next` has stop_before). See the rules above.
+// length; `stop` when a piece in between or `next` has stop_before): 0 at a stop, else the
+// kink and curvature-jump rules above (infinity where the path is G2). The buffer mode's
+// junction velocity is not part of it: the neighbouring intervals' caps carry it.
 double junction_cap(const PathPiece& prev, const PathPiece& next, bool stop, const TimingOptions& options) {
   using Baseline = TimingOptions::Baseline;
   if (options.baseline == Baseline::kExactStop) return 0.0;
   const double theta =
       angle_between(tangent(prev.segment, length(prev.segment)), tangent(next.segment, 0.0));
   const bool kink = theta > kG1Angle;
-  const BufferMode mode = prev.buffer;
+  const bool buffered_kink = kink && prev.buffer == BufferMode::kBuffered;
   // the junction slow-down baseline keeps only the stops of Buffered kinks
-  if (options.baseline == Baseline::kJunctionSlowdown) stop = kink && mode == BufferMode::kBuffered;
-  if (stop) return 0.0;
+  if (options.baseline == Baseline::kJunctionSlowdown) stop = buffered_kink;
+  if (stop || buffered_kink) return 0.0;
   const double a = std::min({prev.limits.acceleration, prev.limits.deceleration, next.limits.acceleration,
                              next.limits.deceleration});
   const double j = std::min(prev.limits.jerk, next.limits.jerk);
   const double dt = options.dt;
   double cap = kInf;
-  if (kink) {
-    cap = std::min(mode_velocity(mode, prev.limits.velocity, next.limits.velocity),
-                   std::min(j * dt * dt, a * dt) / (2.0 * std::sin(0.5 * theta)));
-  }
+  if (kink) cap = std::min(j * dt * dt, a * dt) / (2.0 * std::sin(0.5 * theta));
   const double dk = (curvature_vector(prev.segment, length(prev.segment)) - curvature_vector(next.segment, 0.0)).norm();
   if (dk > 0) cap = std::min(cap, std::sqrt(j * dt / dk));
   return cap;
 }
 
+// A junction between two pieces of non-zero length, with its velocity bound (junction_cap).
+struct Junction {
+  std::size_t prev = 0;
+  std::size_t next = 0;
+  double cap = 0;
+};
+
+// Every junction of the path in order (the first piece of non-zero length has none).
+std::vector<Junction> junctions(const Path& path, const TimingOptions& options) {
+  const auto& pieces = path.pieces();
+  std::vector<Junction> out;
+  std::size_t prev = pieces.size();
+  bool stop = false;
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    stop = stop || pieces[k].stop_before;
+    if (length(pieces[k].segment) <= 0) continue;
+    if (prev < pieces.size()) out.push_back({prev, k, junction_cap(pieces[prev], pieces[k], stop, options)});
+    stop = false;
+    prev = k;
+  }
+  return out;
+}
+
+// The hand-over zones of one junction (see above and timing.hpp), appended to `zones`.
+void junction_zones(const Path& path, const Junction& junction, std::vector<HandoverZone>& zones) {
+  const PathPiece& prev = path.pieces()[junction.prev];
+  const PathPiece& next = path.pieces()[junction.next];
+  const double v_j = std::min(junction_velocity(prev.buffer, prev.limits.velocity, next.limits.velocity), junction.cap);
+  // the slower next piece slows down from v_J after the junction
+  if (v_j > next.limits.velocity) {
+    const double d = velocity_change(v_j, next.limits.velocity, next.limits.deceleration, next.limits.jerk).distance;
+    zones.push_back({junction.next, 0.0, std::min(d, length(next.segment)), v_j});
+  }
+  // the slower previous piece speeds up to v_J before the junction
+  if (v_j > prev.limits.velocity) {
+    const double d = velocity_change(prev.limits.velocity, v_j, prev.limits.acceleration, prev.limits.jerk).distance;
+    const double len = length(prev.segment);
+    zones.push_back({junction.prev, std::max(0.0, len - d), len, v_j});
+  }
+}
+
+// The hand-over zones of every junction, ordered by piece and start.
+std::vector<HandoverZone> all_zones(const Path& path, const std::vector<Junction>& joints) {
+  std::vector<HandoverZone> zones;
+  for (const Junction& junction : joints) junction_zones(path, junction, zones);
+  std::sort(zones.begin(), zones.end(),
+            [](const HandoverZone& a, const HandoverZone& b) { return a.piece != b.piece ? a.piece < b.piece : a.s0 < b.s0; });
+  return zones;
+}
+
 // Cuts the path into intervals; knot_cap[i] bounds the velocity at the start of interval i
-// (knot_cap.back() at the end of the path).
+// (knot_cap.back() at the end of the path). Pieces are cut at their sub-interval points and at
+// the ends of their hand-over zones.
 void build_intervals(const Path& path, const TimingOptions& options, std::vector<Interval>& intervals,
                      std::vector<double>& knot_cap) {
   const auto& pieces = path.pieces();
-  const PathPiece* prev = nullptr;
-  bool stop = false;
+  const std::vector<Junction> joints = junctions(path, options);
+  const std::vector<HandoverZone> zones = all_zones(path, joints);
+  std::size_t next_joint = 0;
+  std::size_t first_zone = 0;
+  std::vector<double> cuts;
   for (std::size_t k = 0; k < pieces.size(); ++k) {
     const PathPiece& piece = pieces[k];
-    stop = stop || piece.stop_before;
     const double len = length(piece.segment);
     if (len <= 0) continue;
-    const double cap_in = prev == nullptr ? 0.0 : junction_cap(*prev, piece, stop, options);
-    stop = false;
+    double cap_in = 0.0;
+    if (next_joint < joints.size() && joints[next_joint].next == k) cap_in = joints[next_joint++].cap;
+    // cut points: sub-intervals of varying curvature, ends of hand-over zones
     const int m = varying_curvature(piece.segment) ? kSubdivisions : 1;
+    while (first_zone < zones.size() && zones[first_zone].piece < k) ++first_zone;
+    std::size_t end_zone = first_zone;
+    while (end_zone < zones.size() && zones[end_zone].piece == k) ++end_zone;
+    cuts.clear();
+    for (int i = 0; i <= m; ++i) cuts.push_back(i == m ? len : len * i / m);
+    for (std::size_t z = first_zone; z < end_zone; ++z) cuts.insert(cuts.end(), {zones[z].s0, zones[z].s1});
+    std::sort(cuts.begin(), cuts.end());
+    cuts.erase(std::unique(cuts.begin(), cuts.end()), cuts.end());
     const ScurveLimits lim{0.0, piece.limits.acceleration, piece.limits.deceleration, piece.limits.jerk};
-    for (int i = 0; i < m; ++i) {
+    for (std::size_t i = 0; i + 1 < cuts.size(); ++i) {
+      const double a = cuts[i];
+      const double b = cuts[i + 1];
+      // the feed term: the programmed velocity, or the junction velocity in a hand-over zone
+      double feed = piece.limits.velocity;
+      for (std::size_t z = first_zone; z < end_zone; ++z) {
+        if (zones[z].s0 <= a && b <= zones[z].s1) feed = std::max(feed, zones[z].velocity);
+      }
       Interval iv;
-      const double a = len * i / m;
-      const double b = i + 1 == m ? len : len * (i + 1) / m;
       iv.s0 = i == 0 ? path.offset(k) : path.offset(k) + a;
-      iv.s1 = i + 1 == m ? path.offset(k + 1) : path.offset(k) + b;
+      iv.s1 = i + 2 == cuts.size() ? path.offset(k + 1) : path.offset(k) + b;
       iv.piece = iv.piece_last = k;
-      iv.terms = cap_terms(piece, a, b);
+      iv.terms = cap_terms(piece, a, b, feed);
       iv.limits = lim;
       iv.limits.velocity = iv.terms.min();
       intervals.push_back(iv);
       knot_cap.push_back(i == 0 ? cap_in : kInf);
     }
-    prev = &piece;
   }
   knot_cap.push_back(0.0);
 }
@@ -372,6 +429,11 @@ std::vector<PieceTiming> piece_reports(const Path& path, const std::vector<Inter
 }
 
 }  // namespace
+
+std::vector<HandoverZone> handover_zones(const Path& path, const TimingOptions& options) {
+  validate(path, options);
+  return all_zones(path, junctions(path, options));
+}
 
 Timing plan_timing(const Path& path, const TimingOptions& options) {
   validate(path, options);
