@@ -17,6 +17,12 @@ struct TimingOptions {
   // between pieces; kJunctionSlowdown ignores exact stops that the blender set (except at
   // Buffered kinks) and slows down at every kink and curvature jump as a controller does.
   enum class Baseline { kNone, kExactStop, kJunctionSlowdown } baseline = Baseline::kNone;
+  // true: one S-curve may span several intervals of a curved stretch, carrying acceleration
+  // through the knots between them (timing.cpp); false: zero tangential acceleration at every
+  // interval boundary (the more conservative method, kept for comparison: its cycle time never
+  // grows when a limit is raised, and the default was never slower on thousands of random
+  // paths, timing_test).
+  bool carry_acceleration = true;
 };
 
 // One servo tick: time (s), arc length (m), path velocity (m/s), tangential acceleration
@@ -85,8 +91,9 @@ std::vector<HandoverZone> handover_zones(const Path& path, const TimingOptions& 
 // |j_t| <= jerk, kappa v^2 <= acceleration, and v = 0 at every stop_before.
 // Kinks and curvature jumps that are not stops get the controller-style junction velocity
 // (2 v sin(theta/2) <= min(j dt^2, a dt); dk v^2 <= j dt); a Buffered kink is a stop.
-// The method (intervals with zero acceleration at their ends, backward and forward passes,
-// one S-curve per interval) and where it is conservative are described in timing.cpp.
+// The method (intervals with a cap each; S-curves between knots of zero acceleration, each
+// spanning one interval or a run of them under their caps; backward and forward passes) and
+// where it is conservative are described in timing.cpp.
 // Throws InputError for options.dt <= 0 or a piece with a non-positive limit. An empty path
 // gives one sample at rest.
 Timing plan_timing(const Path& path, const TimingOptions& options = {});
