@@ -34,12 +34,14 @@ CornerFit fit_corner(const CornerInput& corner) {
   return {};
 }
 
-// Limits on a transition (001): velocity from the transition parameter, or the slower move's;
-// acceleration, deceleration and jerk from the next move.
+// Limits on a transition (001): velocity from the transition parameter, or else the junction
+// velocity of the buffer mode (PLCopen: the blend runs at the velocity the mode chooses, so a
+// blended corner honours BlendingPrevious/Next/High as a kink would); acceleration,
+// deceleration and jerk from the next move.
 Limits transition_limits(const Move& in, const Move& out) {
   Limits lim = out.limits;
   lim.velocity = in.transition.velocity > 0 ? in.transition.velocity
-                                            : std::min(in.limits.velocity, out.limits.velocity);
+                                            : junction_velocity(in.buffer, in.limits.velocity, out.limits.velocity);
   return lim;
 }
 

@@ -55,6 +55,18 @@ std::string_view to_string(Method method) {
   return "unknown";
 }
 
+double junction_velocity(BufferMode mode, double v_prev, double v_next) {
+  switch (mode) {
+    case BufferMode::kBlendingPrevious: return v_prev;
+    case BufferMode::kAborting:
+    case BufferMode::kBlendingNext: return v_next;
+    case BufferMode::kBlendingHigh: return std::max(v_prev, v_next);
+    case BufferMode::kBuffered:
+    case BufferMode::kBlendingLow: break;
+  }
+  return std::min(v_prev, v_next);
+}
+
 std::optional<BufferMode> buffer_mode_from_string(std::string_view name) {
   const std::string key = lower(name);
   for (const auto& [m, n] : kBufferNames) {

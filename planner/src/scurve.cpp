@@ -115,6 +115,28 @@ ScurveState Scurve::at(double t) const {
   return x;
 }
 
+double Scurve::time_at_distance(double x) const {
+  const double total = duration();
+  if (x <= 0 || distance <= 0) return 0.0;
+  if (x >= distance) return total;
+  // bracket [lo, hi] around the crossing; Newton steps with v = ds/dt, bisection when a step
+  // leaves the bracket (near rest v is ~0 and Newton is slow)
+  double lo = 0;
+  double hi = total;
+  double t = total * (x / distance);
+  const double tol = 2 * kEps * distance;
+  for (int it = 0; it < kMaxIterations; ++it) {
+    const ScurveState y = at(t);
+    if (std::abs(y.s - x) <= tol) return t;
+    (y.s < x ? lo : hi) = t;
+    double next = y.v > 0 ? t - (y.s - x) / y.v : 0.5 * (lo + hi);
+    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+    if (next == t || hi - lo <= kEps * total) break;
+    t = next;
+  }
+  return t;
+}
+
 VelocityChange velocity_change(double v0, double v1, double a_max, double j_max) {
   assert(a_max > 0 && j_max > 0);
   const double dv = std::abs(v1 - v0);

@@ -33,6 +33,35 @@ TEST(Blend, ExactStopKeepsTheProgrammedPathAndStopsAtEveryCorner) {
   EXPECT_TRUE(path.point(0.15).isApprox(Vec3(0.1, 0.05, 0), 1e-14));
 }
 
+TEST(Blend, TransitionVelocityIsTheBufferModesJunctionVelocity) {
+  // a 90 degree corner blended by a 10 mm arc, moves at 0.2 and 0.1 m/s: the arc runs at the
+  // velocity the mode gives the junction, unless the transition names its own
+  struct Case {
+    BufferMode mode;
+    double v_fast_first, v_slow_first;  // expected with (0.2 -> 0.1) and (0.1 -> 0.2)
+  };
+  const Case cases[] = {{BufferMode::kBlendingLow, 0.1, 0.1},      {BufferMode::kBlendingPrevious, 0.2, 0.1},
+                        {BufferMode::kBlendingNext, 0.1, 0.2},     {BufferMode::kBlendingHigh, 0.2, 0.2},
+                        {BufferMode::kAborting, 0.1, 0.2},         {BufferMode::kBuffered, 0.1, 0.1}};
+  for (const Case& c : cases) {
+    for (const bool fast_first : {true, false}) {
+      Program program;
+      program.moves = {line_move({0, 0, 0}, {0.1, 0, 0}, Method::kArc, 0.01), line_move({0.1, 0, 0}, {0.1, 0.1, 0})};
+      program.moves[0].buffer = c.mode;
+      program.moves[0].limits.velocity = fast_first ? 0.2 : 0.1;
+      program.moves[1].limits.velocity = fast_first ? 0.1 : 0.2;
+      program.moves[1].limits.acceleration = 3.0;  // the transition takes the next move's
+      const Path path = blend(program);
+      ASSERT_EQ(path.pieces().size(), 3u);
+      const Limits& lim = path.pieces()[1].limits;
+      EXPECT_EQ(lim.velocity, fast_first ? c.v_fast_first : c.v_slow_first) << to_string(c.mode) << fast_first;
+      EXPECT_EQ(lim.acceleration, 3.0);
+      program.moves[0].transition.velocity = 0.15;
+      EXPECT_EQ(blend(program).pieces()[1].limits.velocity, 0.15) << to_string(c.mode);
+    }
+  }
+}
+
 TEST(Blend, ZeroLengthMoveIsAnInputErrorNamingTheMove) {
   Program program;
   program.moves = {line_move({0, 0, 0}, {0.1, 0, 0}), line_move({0.1, 0, 0}, {0.1, 0, 0})};

@@ -13,6 +13,7 @@ namespace {
 
 constexpr double kRel = 1e-9;  // relative slack on every limit (issue 4)
 constexpr double kEps = std::numeric_limits<double>::epsilon();
+constexpr double kDistanceTol = 8 * kEps;  // relative, on s(time_at_distance(x)) - x
 
 // Checks every limit on the analytic profile at `n` instants plus the phase boundaries, and on
 // finite differences of positions sampled every h = duration/n (averages of v, a, j over the
@@ -214,7 +215,30 @@ TEST(Scurve, PropertyLimitsHeldEndReachedPeakOptimal) {
       ASSERT_GT(ramps, dist) << where;
     }
     expect_within_limits(c, lim, where, 400);
+    // time_at_distance inverts s(t) to within a few ulps of the distance
+    for (int k = 0; k <= 8; ++k) {
+      const double x = dist * k / 8;
+      const double t = c.time_at_distance(x);
+      ASSERT_GE(t, 0.0) << where;
+      ASSERT_LE(t, c.duration()) << where;
+      ASSERT_NEAR(c.at(t).s, x, kDistanceTol * dist) << where << " x=" << x;
+    }
   }
+}
+
+TEST(Scurve, TimeAtDistanceByHand) {
+  // rest to rest over 1 m with v = 0.5, a = 2, j = 20 (timing_test's single line): ramps of
+  // 0.35 s over 0.0875 m each, cruise of 1.65 s; the middle of the cruise is 0.5 m at 1.175 s,
+  // and s(t) = j t^3 / 6 in the first jerk phase (0.1 s): 1/600 m at 0.05 s
+  const Scurve c = plan_scurve(1.0, 0.0, 0.0, {0.5, 2.0, 2.0, 20.0}).curve;
+  EXPECT_NEAR(c.time_at_distance(0.5), 1.175, 1e-12);
+  EXPECT_NEAR(c.time_at_distance(20.0 * 0.05 * 0.05 * 0.05 / 6), 0.05, 1e-9);
+  EXPECT_EQ(c.time_at_distance(0.0), 0.0);
+  EXPECT_EQ(c.time_at_distance(-1.0), 0.0);
+  EXPECT_EQ(c.time_at_distance(1.0), c.duration());
+  EXPECT_EQ(c.time_at_distance(2.0), c.duration());
+  // a profile of zero length
+  EXPECT_EQ(plan_scurve(0.0, 0.0, 0.0, {1.0, 1.0, 1.0, 1.0}).curve.time_at_distance(0.5), 0.0);
 }
 
 }  // namespace

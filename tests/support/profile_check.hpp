@@ -2,6 +2,9 @@
 // Checks a timed profile against its path: every limit of issue 4 on the sampled result
 // (v <= v_lim(s) with 004 eq. 25-27, kappa v^2 <= a, |a_t|, |j_t|, also by finite differences of
 // the samples) and v = 0 at every stop. Shared by the timing tests and the scenario tests.
+// The one place the check takes the planner's word: in a hand-over zone of a buffer mode
+// (handover_zones, timing.hpp) the feed limit is the zone's junction velocity; timing_test
+// checks the zones themselves against the rule.
 
 #include <gtest/gtest.h>
 
@@ -27,7 +30,19 @@ struct LocalLimits {
   double acceleration = 0, deceleration = 0, jerk = 0, feed = 0;  // the largest of the pieces
 };
 
-inline LocalLimits limits_at(const Path& path, double s) {
+// The feed limit at local arc length `local` of piece k: its velocity, or the highest junction
+// velocity of the hand-over zones (ordered by piece) that contain it.
+inline double feed_at(const Path& path, const std::vector<HandoverZone>& zones, std::size_t k, double local) {
+  double feed = path.pieces()[k].limits.velocity;
+  const auto first = std::lower_bound(zones.begin(), zones.end(), k,
+                                      [](const HandoverZone& z, std::size_t piece) { return z.piece < piece; });
+  for (auto z = first; z != zones.end() && z->piece == k; ++z) {
+    if (z->s0 <= local && local <= z->s1) feed = std::max(feed, z->velocity);
+  }
+  return feed;
+}
+
+inline LocalLimits limits_at(const Path& path, double s, const std::vector<HandoverZone>& zones = {}) {
   LocalLimits out;
   const auto& pieces = path.pieces();
   const double tol = 1e-12 * std::max(1.0, path.length());
@@ -42,8 +57,8 @@ inline LocalLimits limits_at(const Path& path, double s) {
     const double local = std::clamp(s - path.offset(k), 0.0, length(p.segment));
     const double kappa = curvature_vector(p.segment, local).norm();
     const double c = sharpness(p.segment, local);
-    out.v_lim = std::min(out.v_lim, std::min(p.limits.velocity,
-                                             curvature_speed_limit(kappa, c, p.limits.acceleration, p.limits.jerk)));
+    const double feed = feed_at(path, zones, k, local);
+    out.v_lim = std::min(out.v_lim, std::min(feed, curvature_speed_limit(kappa, c, p.limits.acceleration, p.limits.jerk)));
     if (kappa > out.kappa) {
       out.kappa = kappa;
       out.a_normal = p.limits.acceleration;
@@ -51,7 +66,7 @@ inline LocalLimits limits_at(const Path& path, double s) {
     out.acceleration = std::max(out.acceleration, p.limits.acceleration);
     out.deceleration = std::max(out.deceleration, p.limits.deceleration);
     out.jerk = std::max(out.jerk, p.limits.jerk);
-    out.feed = std::max(out.feed, p.limits.velocity);
+    out.feed = std::max(out.feed, feed);
   }
   return out;
 }
@@ -82,9 +97,13 @@ inline Margins expect_valid(const Path& path, const Timing& timing, const std::s
   EXPECT_EQ(x.back().s, path.length()) << where;
   EXPECT_EQ(x.back().v, 0.0) << where;
   EXPECT_EQ(x.back().a, 0.0) << where;
+  TimingOptions options;
+  options.dt = dt;
+  options.baseline = baseline;
+  const std::vector<HandoverZone> zones = handover_zones(path, options);
   std::vector<LocalLimits> lim(x.size());
   for (std::size_t k = 0; k < x.size(); ++k) {
-    lim[k] = limits_at(path, x[k].s);
+    lim[k] = limits_at(path, x[k].s, zones);
     EXPECT_EQ(x[k].t, static_cast<double>(k) * dt) << where;
     if (k > 0) {
       EXPECT_GE(x[k].s, x[k - 1].s) << where << " k=" << k;
@@ -104,6 +123,7 @@ inline Margins expect_valid(const Path& path, const Timing& timing, const std::s
   // rounding of s itself and of the sample instant (t - t0 of its interval, ~eps t) times v
   double v_top = 0;
   for (const PathPiece& p : path.pieces()) v_top = std::max(v_top, p.limits.velocity);
+  for (const HandoverZone& z : zones) v_top = std::max(v_top, z.velocity);
   const double noise = 4 * kEps * std::max(path.length() + v_top * timing.cycle_time, 1e-300);
   const auto widest = [&](std::size_t k0, std::size_t k1) {
     LocalLimits w;

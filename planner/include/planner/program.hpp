@@ -18,6 +18,11 @@ namespace blendbench {
 // faster's). Aborting starts the next move at once (treated like BlendingNext here).
 enum class BufferMode { kAborting, kBuffered, kBlendingLow, kBlendingPrevious, kBlendingNext, kBlendingHigh };
 
+// The velocity (m/s) the buffer mode gives the junction from a move programmed at v_prev to one
+// programmed at v_next where the path does not stop: min (BlendingLow, and Buffered where it
+// keeps no kink), v_prev (BlendingPrevious), v_next (BlendingNext, Aborting), max (BlendingHigh).
+double junction_velocity(BufferMode mode, double v_prev, double v_next);
+
 // The transition curve inserted at the corner at the end of a move.
 enum class Method { kNone, kArc, kBezier, kClothoid, kBiclothoid };
 
@@ -37,7 +42,8 @@ struct Transition {
   // 1/m: optional curvature cap for the clothoid method (clothoid-arc-clothoid); 0 = none.
   double kappa_max = 0;
   // m/s: transition velocity (001: the transition takes its velocity from the transition
-  // parameter); 0 = the slower of the two moves.
+  // parameter); 0 = the junction velocity of the move's buffer mode (junction_velocity; with
+  // BlendingLow the slower of the two moves).
   double velocity = 0;
 };
 

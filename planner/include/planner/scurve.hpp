@@ -53,6 +53,10 @@ struct Scurve {
   // the start and phases 4-6 backward from the end, so s(0) = 0 and s(duration()) = distance
   // hold exactly, and s is non-decreasing and v >= 0 up to rounding of one ulp.
   [[nodiscard]] ScurveState at(double t) const;
+  // The time (s) at which at(t).s reaches x (m, clamped to [0, distance]): safeguarded Newton
+  // on the non-decreasing s(t), to within a few ulps of s. 0 for x <= 0, duration() for
+  // x >= distance.
+  [[nodiscard]] double time_at_distance(double x) const;
 };
 
 // Duration (s) and distance (m) of the velocity change v0 -> v1 with zero acceleration at both
