@@ -69,7 +69,9 @@ Eigen::Isometry3d tool_pose(const Vec3& position, const Eigen::Matrix3d& rotatio
 }
 
 std::string pose_text(const Vec3& p) {
-  return "(" + fixed(p.x() * kMm, 1) + ", " + fixed(p.y() * kMm, 1) + ", " + fixed(p.z() * kMm, 1) + ") mm";
+  char buffer[96];
+  std::snprintf(buffer, sizeof buffer, "(%.1f, %.1f, %.1f) mm", p.x() * kMm, p.y() * kMm, p.z() * kMm);
+  return buffer;
 }
 
 // The programmed move a path arc length belongs to (a transition counts as its incoming move).
@@ -109,7 +111,11 @@ std::string trace_csv(const Trace& trace, const Timing& timing, const Metrics& m
   std::string out = "t,s_mm,v_mm_s,a_mm_s2,j_mm_s3,cmd_x,cmd_y,cmd_z,act_x,act_y,act_z,tracking_error_mm,contour_error_mm";
   const char* groups[] = {"q_cmd_", "q_", "qd_cmd_", "qd_", "tau_"};
   for (const char* g : groups) {
-    for (int i = 1; i <= 6; ++i) out += "," + std::string(g) + std::to_string(i);
+    for (int i = 1; i <= 6; ++i) {
+      out += ',';
+      out += g;
+      out += std::to_string(i);
+    }
   }
   out += '\n';
   const TimedSample rest_end = timing.samples.back();
@@ -128,7 +134,10 @@ std::string trace_csv(const Trace& trace, const Timing& timing, const Metrics& m
       first = false;
     }
     for (const JointVector* v : {&s.q_cmd, &s.q, &s.qd_cmd, &s.qd, &s.tau}) {
-      for (int i = 0; i < 6; ++i) out += "," + format_number((*v)[i], 10);
+      for (int i = 0; i < 6; ++i) {
+        out += ',';
+        out += format_number((*v)[i], 10);
+      }
     }
     out += '\n';
   }
@@ -337,7 +346,8 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
   for (const Variant* variant : selected) {
     ++index;
     if (request.progress) {
-      request.progress("[" + std::to_string(index) + "/" + std::to_string(selected.size()) + "] " + variant->name);
+      request.progress(std::string("[") + std::to_string(index) + "/" + std::to_string(selected.size()) + "] " +
+                       variant->name);
     }
     nlohmann::json v = VariantRun(scenario, robot, request, *variant).run();
     result.all_ok = result.all_ok && v["status"] == "ok";
