@@ -50,6 +50,19 @@ Biclothoid make_biclothoid(const Posture& start, double c, double s1, double s2)
 // is 0/0. nullopt only for a non-positive or non-finite length.
 std::optional<Biclothoid> biclothoid_from_turn(const Posture& start, double kappa_e, double dtheta, double length);
 
+// The curve of biclothoid_from_turn with its end point and the derivatives of that end point
+// with respect to the length and the turn (kappa_e and start held), in closed form from the
+// first three moments of each clothoid's tangent (derived in biclothoid.cpp); Algorithm 1
+// uses them for Newton's method. nullopt as for biclothoid_from_turn.
+struct BiclothoidEnd {
+  Biclothoid curve;
+  Vec2 p = Vec2::Zero();         // end point
+  Vec2 tangent = Vec2::Zero();   // unit tangent at the end
+  Vec2 d_length = Vec2::Zero();  // d p / d length (dimensionless)
+  Vec2 d_turn = Vec2::Zero();    // d p / d dtheta (m/rad)
+};
+std::optional<BiclothoidEnd> biclothoid_end(const Posture& start, double kappa_e, double dtheta, double length);
+
 double length(const Biclothoid& curve);
 // The posture at arc length s in [0, length] (clamped).
 Posture posture_at(const Biclothoid& curve, double s);
