@@ -559,31 +559,63 @@ std::optional<Biclothoid> biclothoid_from_turn(const Posture& start, double kapp
   return make_biclothoid(start, profile.c, profile.s1, length - profile.s1);
 }
 
-// Derivatives of the end point (derived here; 004 solves Algorithm 1 without them). With c and
-// s1 the tangent angle is
+// Derivatives of a point of the curve and of its end (derived here; 004 solves Algorithm 1
+// without them). With c and s1 the tangent angle is
 //   theta(s) = theta0 + kappa0 s + c s^2 / 2 - c (s - s1)_+^2
 // (curvature kappa0 + c s up to s1, then falling with slope c). The length L and the turn
 // dtheta fix c and s1 through the end curvature and the turn,
 //   kappa0 + c (2 s1 - L) = kappa_e,   kappa0 L + c (2 s1 L - s1^2 - L^2 / 2) = dtheta.
 // Differentiating both and eliminating w = c ds1 (regular as c -> 0, where s1 is not) leaves
 //   dc = (d dtheta - kappa_m dL) / Q,   Q = (s1 - L/2)^2 + L^2/4 > 0,   w = (c dL - (2 s1 - L) dc) / 2,
-// kappa_m = kappa0 + c s1 the peak. The end p = p0 + int_0^L T(s) ds, T = exp(i theta), moves by
-//   dp = T(L) dL + i int_0^L (d theta(s)) T(s) ds,
-// with d theta(s) = (s^2/2 - (s - s1)_+^2) dc + 2 (s - s1)_+ w. In the tangent moments A_k of the
-// first clothoid (about the start) and B_k of the second (about the peak, s = s1 + v):
-//   dp = T(L) dL + i [dc (A_2 / 2 + s1^2 B_0 / 2 + s1 B_1 - B_2 / 2) + 2 w B_1].
+// kappa_m = kappa0 + c s1 the peak. A point V(s) = p0 + int_0^s T(u) du, T = exp(i theta), at a
+// fixed s moves by
+//   dV(s) = i int_0^s (d theta(u)) T(u) du,   d theta(u) = (u^2/2 - (u - s1)_+^2) dc + 2 (u - s1)_+ w,
+// which in the tangent moments A_k of the first clothoid (about the start, up to min(s, s1))
+// and B_k of the second (about the peak, u = s1 + v, up to s - s1; zero when s <= s1) is
+//   dV(s) = i [dc (A_2 / 2 + s1^2 B_0 / 2 + s1 B_1 - B_2 / 2) + 2 w B_1];
+// the end p = V(L) moves by T(L) dL more, as L is its arc length.
+namespace {
+
+struct PointSlopes {
+  Vec2 d_length;  // d V(s) / d L at a fixed turn (without the end's T(L))
+  Vec2 d_turn;    // d V(s) / d dtheta at a fixed length
+};
+PointSlopes point_slopes(const Biclothoid& curve, const ClothoidMoments& first, const ClothoidMoments& second) {
+  const double c = curve.c;
+  const double s1 = curve.s1;
+  const double len = curve.s1 + curve.s2;
+  const Vec2 phi = 0.5 * first.m2 + 0.5 * s1 * s1 * second.m0 + s1 * second.m1 - 0.5 * second.m2;
+  const double q = (s1 - 0.5 * len) * (s1 - 0.5 * len) + 0.25 * len * len;
+  const auto moved = [&](double dc, double w) { return perp(dc * phi + 2 * w * second.m1); };
+  const double dc_length = -curve.mid.kappa / q;
+  const double dc_turn = 1 / q;
+  return {moved(dc_length, 0.5 * (c - (2 * s1 - len) * dc_length)), moved(dc_turn, -0.5 * (2 * s1 - len) * dc_turn)};
+}
+
+// point_slopes at arc length s in [0, L]; `offset` receives V(s) - p0.
+PointSlopes point_slopes_at(const Biclothoid& curve, double s, Vec2& offset) {
+  s = std::clamp(s, 0.0, length(curve));
+  const ClothoidMoments first =
+      clothoid_moments(curve.start.theta, curve.start.kappa, curve.c, std::min(s, curve.s1));
+  const ClothoidMoments second =
+      s > curve.s1 ? clothoid_moments(curve.mid.theta, curve.mid.kappa, -curve.c, s - curve.s1) : ClothoidMoments{};
+  offset = first.m0 + second.m0;
+  return point_slopes(curve, first, second);
+}
+
+}  // namespace
+
 std::optional<BiclothoidEnd> biclothoid_end(const Posture& start, double kappa_e, double dtheta, double length) {
   if (!(length > 0) || !std::isfinite(length)) return std::nullopt;
   const TurnProfile profile = turn_profile(start.kappa, kappa_e, dtheta, length);
   const double c = profile.c;
   const double s1 = profile.s1;
-  const double len = length;
   BiclothoidEnd out;
   Biclothoid& curve = out.curve;
   curve.start = start;
   curve.c = c;
   curve.s1 = s1;
-  curve.s2 = len - s1;
+  curve.s2 = length - s1;
   const ClothoidMoments first = clothoid_moments(start.theta, start.kappa, c, s1);
   curve.mid.p = start.p + first.m0;
   curve.mid.kappa = start.kappa + c * s1;
@@ -591,15 +623,9 @@ std::optional<BiclothoidEnd> biclothoid_end(const Posture& start, double kappa_e
   const ClothoidMoments second = clothoid_moments(curve.mid.theta, curve.mid.kappa, -c, curve.s2);
   out.p = curve.mid.p + second.m0;
   out.tangent = direction(start.theta + dtheta);
-  // dp for (dc, w): the integral term above
-  const Vec2 phi = 0.5 * first.m2 + 0.5 * s1 * s1 * second.m0 + s1 * second.m1 - 0.5 * second.m2;
-  const double q = (s1 - 0.5 * len) * (s1 - 0.5 * len) + 0.25 * len * len;
-  const auto moved = [&](double dc, double w) { return perp(dc * phi + 2 * w * second.m1); };
-  // the length varied at a fixed turn, then the turn at a fixed length
-  double dc = -curve.mid.kappa / q;
-  out.d_length = out.tangent + moved(dc, 0.5 * (c - (2 * s1 - len) * dc));
-  dc = 1 / q;
-  out.d_turn = moved(dc, -0.5 * (2 * s1 - len) * dc);
+  const PointSlopes slopes = point_slopes(curve, first, second);
+  out.d_length = out.tangent + slopes.d_length;
+  out.d_turn = slopes.d_turn;
   return out;
 }
 
@@ -820,7 +846,27 @@ std::optional<BiclothoidSolution> fit_biclothoid_at(const CornerShapes& shapes, 
 
 namespace {
 
-Deviation measure_deviation(const BiclothoidSolution& fillet, const CornerShapes& shapes) {
+// Where the larger directed distance D is attained, for its derivative with respect to the
+// start distance a (fit_biclothoid_with_tolerance): the fillet point V(s) and the unit vector u
+// from its partner (a point of U, or the foot of V(s) on U) to it. The partner is a critical
+// point (the foot, or a smooth maximum over U) or fixed (the corner), so by the envelope
+// theorem dD/da = u . dV(s)/da at a fixed s. At a crossing of a tangent jump, where V(s) is as
+// far from both pieces (D = d1(s) = d2(s), slopes d1', d2'), s moves too:
+//   dD/da = (d1' dd2/da - d2' dd1/da) / (d1' - d2'),   ddk/da = uk . dV(s)/da.
+struct Witness {
+  double s = 0;
+  Vec2 u = Vec2::Zero();
+  bool crossing = false;
+  Vec2 u2 = Vec2::Zero();  // the crossing: u for the second piece, and both slopes
+  double slope1 = 0;
+  double slope2 = 0;
+};
+struct Measured {
+  Deviation deviation;
+  Witness witness;
+};
+
+Measured measure_deviation(const BiclothoidSolution& fillet, const CornerShapes& shapes) {
   const Biclothoid& curve = fillet.curve;
   const FilletTable table(curve);
   const double len = length(curve);
@@ -828,7 +874,8 @@ Deviation measure_deviation(const BiclothoidSolution& fillet, const CornerShapes
   const double b = fillet.b;
   const PlanarShape& q1 = shapes.q1;
   const PlanarShape& q2 = shapes.q2;
-  Deviation dev;
+  Measured out;
+  Deviation& dev = out.deviation;
 
   // fillet -> original: exact distances to the two pieces of U. The distance to U is the
   // smaller of the distances to q1[-a, 0] and q2[0, b]; its maximum is either a smooth maximum
@@ -836,6 +883,7 @@ Deviation measure_deviation(const BiclothoidSolution& fillet, const CornerShapes
   const std::array<Piece, 2> pieces = {Piece(q1, -a, 0.0), Piece(q2, 0.0, b)};
   struct FilletSample {
     double s;
+    Vec2 p;  // V(s)
     std::array<Piece::Distance, 2> d;
     std::array<double, 2> slope;  // d distance / ds to each piece
     [[nodiscard]] int active() const { return d[0].distance <= d[1].distance ? 0 : 1; }
@@ -843,7 +891,7 @@ Deviation measure_deviation(const BiclothoidSolution& fillet, const CornerShapes
   };
   const auto sample = [&](double s) {
     const FilletTable::Point at = table.at(s);
-    FilletSample f{s, {pieces[0].distance(at.p), pieces[1].distance(at.p)}, {}};
+    FilletSample f{s, at.p, {pieces[0].distance(at.p), pieces[1].distance(at.p)}, {}};
     const Vec2& t = at.t;
     for (std::size_t k = 0; k < 2; ++k) {
       f.slope[k] = f.d[k].distance > 0 ? t.dot(at.p - f.d[k].point) / f.d[k].distance : (k == 0 ? 1.0 : -1.0);
@@ -907,8 +955,10 @@ Deviation measure_deviation(const BiclothoidSolution& fillet, const CornerShapes
   };
   {
     // the ends lie on U: distance 0, increasing inwards
-    FilletSample start{0.0, {Piece::Distance{0.0, curve.start.p}, Piece::Distance{1.0, Vec2::Zero()}}, {1.0, 1.0}};
-    FilletSample end{len, {Piece::Distance{1.0, Vec2::Zero()}, Piece::Distance{0.0, Vec2::Zero()}}, {-1.0, -1.0}};
+    FilletSample start{0.0, curve.start.p, {Piece::Distance{0.0, curve.start.p}, Piece::Distance{1.0, Vec2::Zero()}},
+                       {1.0, 1.0}};
+    FilletSample end{len, Vec2::Zero(), {Piece::Distance{1.0, Vec2::Zero()}, Piece::Distance{0.0, Vec2::Zero()}},
+                     {-1.0, -1.0}};
     std::array<FilletSample, 5> f = {start, sample(0.5 * curve.s1), sample(curve.s1), sample(curve.s1 + 0.5 * curve.s2),
                                      end};
     std::size_t best = 1;
@@ -926,14 +976,24 @@ Deviation measure_deviation(const BiclothoidSolution& fillet, const CornerShapes
   // the foot on U of the fillet -> original maximum (a common normal of both curves, where a
   // smooth maximum of this direction lies too) and each side's midpoint as a guard.
   double guess = curve.s1;
+  struct Farthest {
+    double distance = -1;
+    double s = 0;
+    Vec2 u = Vec2::Zero();
+  } farthest;
+  const auto keep_farthest = [&](const Vec2& x, const FilletClosest& c) {
+    if (c.distance > farthest.distance) farthest = {c.distance, c.s, c.distance > 0 ? Vec2((c.point - x) / c.distance) : Vec2::Zero()};
+  };
   const auto from_original = [&](double sigma, const PlanarShape& q) {
     const Vec2 x = shape_point(q, sigma);
     const FilletClosest c = closest_on_fillet(table, x, guess);
+    keep_farthest(x, c);
     guess = c.s;
     const double slope = c.distance > 0 ? direction(shape_angle(q, sigma)).dot(x - c.point) / c.distance : 0.0;
     return ValueSlope{c.distance, slope};
   };
   const FilletClosest corner = closest_on_fillet(table, Vec2::Zero(), curve.s1);
+  keep_farthest(Vec2::Zero(), corner);
   const double g0 = corner.distance;
   const ValueSlope corner_in{g0, g0 > 0 ? direction(q1.theta).dot(-corner.point) / g0 : 0.0};
   const ValueSlope corner_out{g0, g0 > 0 ? direction(q2.theta).dot(-corner.point) / g0 : 0.0};
@@ -957,13 +1017,35 @@ Deviation measure_deviation(const BiclothoidSolution& fillet, const CornerShapes
   const double side2 = side_max(q2, 0.0, corner_out, b, ValueSlope{0.0, -1.0}, corner.s,
                                 foot_piece == 1 && foot > 0 && foot < b);
   dev.original_to_fillet = std::max({g0, side1, side2});
-  return dev;
+
+  // the witness of the larger distance
+  Witness& w = out.witness;
+  if (dev.original_to_fillet >= dev.fillet_to_original) {
+    w.s = farthest.s;
+    w.u = farthest.u;
+  } else {
+    const auto k = static_cast<std::size_t>(top.active());
+    const auto unit = [&](std::size_t j) {
+      return top.d[j].distance > 0 ? Vec2((top.p - top.d[j].point) / top.d[j].distance) : Vec2::Zero();
+    };
+    w.s = top.s;
+    w.u = unit(k);
+    w.crossing = kink && std::abs(top.d[0].distance - top.d[1].distance) <= 1e-6 * top.value() &&
+                 top.slope[0] != top.slope[1];
+    if (w.crossing) {
+      w.u = unit(0);
+      w.u2 = unit(1);
+      w.slope1 = top.slope[0];
+      w.slope2 = top.slope[1];
+    }
+  }
+  return out;
 }
 
 }  // namespace
 
 Deviation biclothoid_deviation(const BiclothoidSolution& fillet, const CornerShapes& shapes) {
-  return measure_deviation(fillet, shapes);
+  return measure_deviation(fillet, shapes).deviation;
 }
 
 BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes, double tolerance, double a_max,
@@ -992,6 +1074,7 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
     double dlen_da = 0;  // sensitivities of Algorithm 1 (Solve)
     double db_da = 0;
     Deviation deviation;
+    Witness witness;
     bool measured = false;
   };
   // the solves so far, in a fixed array (stable addresses, no allocation; unused entries are
@@ -1026,12 +1109,14 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
     ++result.solves;
     const auto sol = fit_at(work, a, guess_len, guess_b);
     if (!sol) return nullptr;
-    store[count].emplace(Trial{sol->fillet, sol->dlen_da, sol->db_da, {}, false});
+    store[count].emplace(Trial{sol->fillet, sol->dlen_da, sol->db_da, {}, {}, false});
     return &*store[count++];
   };
   const auto measure = [&](Trial* t) {
     if (!t->measured) {
-      t->deviation = measure_deviation(t->fillet, work);
+      const Measured m = measure_deviation(t->fillet, work);
+      t->deviation = m.deviation;
+      t->witness = m.witness;
       t->measured = true;
     }
     return t->deviation.max();
@@ -1041,22 +1126,45 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
     return result;
   };
 
+  // dy/dx (x = log a, y below) at a measured trial, from the term that sets y: the end bound
+  // through db/da, the deviation D through its witness (measure_deviation) and the motion of
+  // the fillet point V(s) at a fixed s as a grows: the start slides back along q1
+  // (-T0), the fillet turns with its start tangent (by -kappa1 per unit of a), and its length
+  // and turn (delta + kappa1 a + kappa2 b) change along the solve's sensitivities
+  const auto slope_at = [&](const Trial& t) {
+    const BiclothoidSolution& f = t.fillet;
+    const double dev = t.deviation.max();
+    if (std::log(f.b / b_cap) >= std::log(dev / tolerance)) return f.a * t.db_da / f.b;
+    const Witness& w = t.witness;
+    Vec2 offset;
+    const PointSlopes at = point_slopes_at(f.curve, w.s, offset);
+    const Vec2 dv = -direction(f.curve.start.theta) - work.q1.kappa * perp(offset) + at.d_length * t.dlen_da +
+                    at.d_turn * (work.q1.kappa + work.q2.kappa * t.db_da);
+    double dd = w.u.dot(dv);
+    if (w.crossing) dd = (w.slope1 * w.u2.dot(dv) - w.slope2 * dd) / (w.slope1 - w.slope2);
+    return f.a * dd / dev;
+  };
+
   // Algorithm 2 with the end bound folded in: the largest a with
   //   y(a) = max(log(dev / tol), log(b / b_cap)) <= 0,
-  // both terms growing with a. Secant steps on y against x = log a (deviation ~ a^p, p = 1 at
-  // a tangent jump, 2 at a curvature jump only, so y is nearly linear in x), bisection once
-  // bracketed steps leave the bracket, stopping at -kReached <= y <= 0.
+  // both terms growing with a. Newton steps on y against x = log a with the slope above
+  // (deviation ~ a^p, p = 1 at a tangent jump, 2 at a curvature jump only, so y is nearly
+  // linear in x), secant steps where the slope is not usable, bisection once bracketed steps
+  // leave the bracket, stopping at -kReached <= y <= 0.
   const double delta = corner_turn(work);
   const double x_cap = std::log(a_cap);
   // a first start distance from the two small-fillet models: the line-line pair for the
   // tangent jump (deviation ~ a) and, from 004 table 1 (arc R10 -> line at 0.1 mm: a = 6.5 mm),
-  // dev ~ |kappa jump| a^2 / 42 for the curvature jump; the smaller one dominates
+  // dev ~ |kappa jump| a^2 / 42 for the curvature jump; where both act, the harmonic blend
+  // 1 / a^2 = 1 / a_angle^2 + 1 / a_curvature^2 (an empirical fit: within about 1% of the
+  // solution for 004 listing 1 point C and a 20 deg line-arc kink, against 6% for the smaller)
   const double kappa_jump = std::abs(work.q1.kappa - work.q2.kappa);
   const double a_angle = tangent_jump ? clothoid_pair_for_deviation(std::abs(delta), tolerance).tangent_length
                                       : std::numeric_limits<double>::infinity();
   const double a_curvature =
       kappa_jump > 0 ? std::sqrt(42.0 * tolerance / kappa_jump) : std::numeric_limits<double>::infinity();
-  const double a_start = std::min({a_cap, b_cap, a_angle, a_curvature});
+  const double a_model = 1 / std::hypot(1 / a_angle, 1 / a_curvature);
+  const double a_start = std::min({a_cap, b_cap, a_model});
   const double p_guess = a_angle <= a_curvature ? 1.0 : 2.0;
   struct Point {
     double x;
@@ -1089,10 +1197,14 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
     } else {
       hi = std::min(hi, cur.x);
     }
-    // next x: secant towards the middle of the accepted band, else the slope guess; bisection
-    // when a bracketed step leaves the bracket
+    // next x: Newton towards the middle of the accepted band (a at most halved or doubled),
+    // else a secant step, else the slope guess; bisection when a bracketed step leaves the
+    // bracket
     double next;
-    if (prev.trial && cur.trial && std::isfinite(prev.y) && cur.y != prev.y) {
+    const double slope = cur.trial && std::isfinite(cur.y) ? slope_at(*cur.trial) : 0.0;
+    if (slope > 0 && std::isfinite(slope)) {
+      next = cur.x - std::clamp((cur.y + 0.3 * kReached) / slope, -std::log(2.0), std::log(2.0));
+    } else if (prev.trial && cur.trial && std::isfinite(prev.y) && cur.y != prev.y) {
       next = cur.x - (cur.y + 0.3 * kReached) * (cur.x - prev.x) / (cur.y - prev.y);
     } else if (std::isfinite(cur.y)) {
       next = cur.x - (cur.y + 0.3 * kReached) / p_guess;
