@@ -107,15 +107,21 @@ class Piece {
     }
   }
 
-  // Distance from x to the piece; also the closest point.
+  // Distance from x to the piece; also the closest point, and how the distance bends: its
+  // Hessian at x is bend (I - u u^T), u the unit vector from the closest point to x, with
+  // bend = 0 near the inside of a line, 1 / |x - centre| outside a circle and -1 / |x - centre|
+  // inside it, and 1 / distance near an end point.
   struct Distance {
     double distance;
     Vec2 point;
+    double bend = 0;  // 1/m
   };
   [[nodiscard]] Distance distance(const Vec2& x) const {
     if (q_.kappa == 0) {
-      const Vec2 p = std::clamp(x.dot(dir_), lo_, hi_) * dir_;
-      return {(x - p).norm(), p};
+      const double along = x.dot(dir_);
+      const Vec2 p = std::clamp(along, lo_, hi_) * dir_;
+      const double d = (x - p).norm();
+      return {d, p, along > lo_ && along < hi_ ? 0.0 : end_bend(d)};
     }
     const Vec2 r = x - centre_;
     // inside the sector between from_ and to_ (counter-clockwise)?
@@ -124,12 +130,14 @@ class Piece {
     if (wide_ ? (after_from || before_to) : (after_from && before_to)) {
       const double rn = r.norm();
       const Vec2 p = rn > 0 ? Vec2(centre_ + r * (radius_ / rn)) : start_;
-      return {std::abs(rn - radius_), p};
+      return {std::abs(rn - radius_), p, rn > 0 ? (rn > radius_ ? 1.0 : -1.0) / rn : 0.0};
     }
     const double da = (x - start_).norm();
     const double db = (x - end_).norm();
-    return da <= db ? Distance{da, start_} : Distance{db, end_};
+    return da <= db ? Distance{da, start_, end_bend(da)} : Distance{db, end_, end_bend(db)};
   }
+
+  static double end_bend(double d) { return d > 0 ? 1 / d : 0.0; }
 
   // The arc length parameter of a point on the piece (its foot), within [lo, hi].
   [[nodiscard]] double sigma_of(const Vec2& p) const {
@@ -885,16 +893,26 @@ Measured measure_deviation(const BiclothoidSolution& fillet, const CornerShapes&
     double s;
     Vec2 p;  // V(s)
     std::array<Piece::Distance, 2> d;
-    std::array<double, 2> slope;  // d distance / ds to each piece
+    std::array<double, 2> slope;   // d distance / ds to each piece
+    std::array<double, 2> second;  // d^2 distance / ds^2
     [[nodiscard]] int active() const { return d[0].distance <= d[1].distance ? 0 : 1; }
     [[nodiscard]] double value() const { return d[static_cast<std::size_t>(active())].distance; }
   };
+  // with u the unit vector from the foot to V(s): slope = u . T, and from the Hessian of the
+  // distance (Piece::Distance) and dT/ds = kappa N, second = kappa u . N + bend (1 - slope^2)
   const auto sample = [&](double s) {
     const FilletTable::Point at = table.at(s);
-    FilletSample f{s, at.p, {pieces[0].distance(at.p), pieces[1].distance(at.p)}, {}};
+    FilletSample f{s, at.p, {pieces[0].distance(at.p), pieces[1].distance(at.p)}, {}, {}};
     const Vec2& t = at.t;
     for (std::size_t k = 0; k < 2; ++k) {
-      f.slope[k] = f.d[k].distance > 0 ? t.dot(at.p - f.d[k].point) / f.d[k].distance : (k == 0 ? 1.0 : -1.0);
+      const Piece::Distance& d = f.d[k];
+      if (d.distance > 0) {
+        const Vec2 u = (at.p - d.point) / d.distance;
+        f.slope[k] = t.dot(u);
+        f.second[k] = at.kappa * cross(t, u) + d.bend * (1 - f.slope[k] * f.slope[k]);
+      } else {
+        f.slope[k] = k == 0 ? 1.0 : -1.0;
+      }
     }
     return f;
   };
@@ -903,8 +921,8 @@ Measured measure_deviation(const BiclothoidSolution& fillet, const CornerShapes&
     if (f.value() > top.value()) top = f;
   };
   // the maximum between two samples l < r: where both have the same nearest piece (or at a
-  // curvature jump only, where the distance to U is C1), false position on the slope; across
-  // a tangent jump the distance has a kink where the nearest piece changes, found first
+  // curvature jump only, where the distance to U is C1), Newton on the slope; across a tangent
+  // jump the distance has a kink where the nearest piece changes, found first
   const bool kink = std::abs(corner_turn(shapes)) > kTangentAngle;
   const auto refine = [&](const FilletSample& l, const FilletSample& r, const auto& self) -> void {
     const int kl = l.active();
@@ -913,14 +931,23 @@ Measured measure_deviation(const BiclothoidSolution& fillet, const CornerShapes&
       const double sl = l.slope[static_cast<std::size_t>(kl)];
       const double sr = r.slope[static_cast<std::size_t>(kr)];
       if (!(sl > 0 && sr < 0)) return;
-      // a slope below 1e-9 f / L leaves the value within 1e-9 of the maximum (see maximize)
-      illinois(
-          [&](double s) {
-            const FilletSample f = sample(s);
-            keep(f);
-            return f.slope[static_cast<std::size_t>(f.active())];
-          },
-          Bracket{l.s, sl, r.s, sr}, 1e-6 * len, 1e-9 * top.value() / len, 30);
+      // from the higher end, kept inside the shrinking bracket (false position where a step
+      // leaves it or the distance is not concave); a slope below 1e-9 f / L leaves the value
+      // within 1e-9 of the maximum (see maximize)
+      const double flat = 1e-9 * top.value() / len;
+      Bracket br{l.s, sl, r.s, sr};
+      FilletSample at = l.value() >= r.value() ? l : r;
+      for (int it = 0; it < 30 && br.x1 - br.x0 > 1e-6 * len; ++it) {
+        const auto k = static_cast<std::size_t>(at.active());
+        double next = at.second[k] < 0 ? at.s - at.slope[k] / at.second[k] : br.x0;
+        if (!(next > br.x0 && next < br.x1)) next = (br.x0 * br.f1 - br.x1 * br.f0) / (br.f1 - br.f0);
+        at = sample(next);
+        keep(at);
+        const double slope = at.slope[static_cast<std::size_t>(at.active())];
+        if (std::abs(slope) <= flat) break;
+        (slope > 0 ? br.x0 : br.x1) = next;
+        (slope > 0 ? br.f0 : br.f1) = slope;
+      }
       return;
     }
     // Newton on g = d1 - d2 (g' = slope1 - slope2), kept inside the shrinking bracket
@@ -956,9 +983,9 @@ Measured measure_deviation(const BiclothoidSolution& fillet, const CornerShapes&
   {
     // the ends lie on U: distance 0, increasing inwards
     FilletSample start{0.0, curve.start.p, {Piece::Distance{0.0, curve.start.p}, Piece::Distance{1.0, Vec2::Zero()}},
-                       {1.0, 1.0}};
+                       {1.0, 1.0}, {0.0, 0.0}};
     FilletSample end{len, Vec2::Zero(), {Piece::Distance{1.0, Vec2::Zero()}, Piece::Distance{0.0, Vec2::Zero()}},
-                     {-1.0, -1.0}};
+                     {-1.0, -1.0}, {0.0, 0.0}};
     std::array<FilletSample, 5> f = {start, sample(0.5 * curve.s1), sample(curve.s1), sample(curve.s1 + 0.5 * curve.s2),
                                      end};
     std::size_t best = 1;
@@ -1077,18 +1104,17 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
     Witness witness;
     bool measured = false;
   };
-  // the solves so far, in a fixed array (stable addresses, no allocation; unused entries are
-  // left unconstructed)
+  // the solves so far; the capacity is reserved once, so addresses stay stable (an array of
+  // optionals would be cleared in full on every call, 20 kB)
   constexpr std::size_t kMaxTrials = 96;
-  std::array<std::optional<Trial>, kMaxTrials> store;
-  std::size_t count = 0;
+  std::vector<Trial> store;
+  store.reserve(kMaxTrials);
   // Algorithm 1 at start distance a, warm-started from the nearest earlier solve: its L and b
   // moved along their sensitivities in log-log coordinates, L (a) ~ L_n (a / a_n)^p with
   // p = (a_n / L_n) dL/da (exact for the line-line pair, where L and b are proportional to a)
   const auto solve = [&](double a) -> Trial* {
     Trial* near = nullptr;
-    for (std::size_t k = 0; k < count; ++k) {
-      Trial& t = *store[k];
+    for (Trial& t : store) {
       if (t.fillet.a == a) return &t;
       if (!near || std::abs(std::log(t.fillet.a / a)) < std::abs(std::log(near->fillet.a / a))) near = &t;
     }
@@ -1105,12 +1131,12 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
       guess_len = len * std::exp(p_len * x);
       guess_b = f.b * std::exp(p_b * x);
     }
-    if (count == kMaxTrials) return nullptr;
+    if (store.size() == kMaxTrials) return nullptr;
     ++result.solves;
     const auto sol = fit_at(work, a, guess_len, guess_b);
     if (!sol) return nullptr;
-    store[count].emplace(Trial{sol->fillet, sol->dlen_da, sol->db_da, {}, {}, false});
-    return &*store[count++];
+    store.push_back(Trial{sol->fillet, sol->dlen_da, sol->db_da, {}, {}, false});
+    return &store.back();
   };
   const auto measure = [&](Trial* t) {
     if (!t->measured) {
