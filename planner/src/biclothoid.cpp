@@ -167,6 +167,9 @@ constexpr std::array<double, 48> kInverseOf = [] {
   return inv;
 }();
 
+// clothoid_moments: largest phase excursion on a panel (rad).
+constexpr double kMomentPanelPhase = 2.0;
+
 // i v: v turned by +90 deg; and r v as complex numbers (r a unit vector: v turned by its angle).
 Vec2 perp(const Vec2& v) { return {-v.y(), v.x()}; }
 Vec2 rotate(const Vec2& r, const Vec2& v) { return {r.x() * v.x() - r.y() * v.y(), r.x() * v.y() + r.y() * v.x()}; }
@@ -175,14 +178,17 @@ Vec2 rotate(const Vec2& r, const Vec2& v) { return {r.x() * v.x() - r.y() * v.y(
 // clothoid_xy sums only the zeroth): with T(u) = exp(i theta(u)),
 // theta(u) = theta0 + kappa0 u + c u^2 / 2,
 //   M_k = int_0^len u^k T(u) du   (k = 0, 1, 2; M_0 is the displacement).
-// On clothoid_xy's panels (half-width h about midpoints m, local phase below 1 rad),
+// On panels of half-width h about midpoints m as in clothoid_xy, but with the local phase
+// below 2 rad (half as many panels; the terms below decay like 2^n / n!, so summing them loses
+// at most a factor e^2 in rounding, about 1e-15 relative),
 // T(m + h tau) = R sum_n e_n tau^n with R = exp(i theta(m)), e_0 = 1 and
 // e_{n+1} = i (beta e_n + gamma e_{n-1}) / (n + 1), beta = kappa(m) h, gamma = c h^2. Since
 // int_{-1}^{1} tau^j dtau is 2 / (j + 1) for even j and 0 for odd j, with
 //   S_0 = sum_{n even} e_n / (n + 1),  S_1 = sum_{n odd} e_n / (n + 2),  S_2 = sum_{n even} e_n / (n + 3)
 // and (m + h tau)^k expanded, a panel adds
 //   M_0 += 2 h R S_0,   M_1 += 2 h R (m S_0 + h S_1),   M_2 += 2 h R (m^2 S_0 + 2 m h S_1 + h^2 S_2).
-// The series stop as clothoid_xy's (terms below 1e-18 of a sum near 1).
+// The series stop as clothoid_xy's (two successive terms below 1e-18 of a sum near 1: from
+// there on n + 1 > |beta| + |gamma| and the terms keep falling).
 struct ClothoidMoments {
   Vec2 m0 = Vec2::Zero();  // m
   Vec2 m1 = Vec2::Zero();  // m^2
@@ -193,7 +199,7 @@ ClothoidMoments clothoid_moments(double theta0, double kappa0, double c, double 
   if (!(len > 0)) return out;
   const double kappa_max = std::max(std::abs(kappa0), std::abs(kappa0 + c * len));
   const double phase = 0.5 * kappa_max * len + 0.125 * std::abs(c) * len * len;
-  const int panels = std::max(1, static_cast<int>(std::ceil(phase)));
+  const int panels = std::max(1, static_cast<int>(std::ceil(phase / kMomentPanelPhase)));
   const double h = 0.5 * len / panels;
   for (int j = 0; j < panels; ++j) {
     const double m = h * (2 * j + 1);
@@ -668,6 +674,20 @@ double shape_angle(const PlanarShape& shape, double sigma) { return shape.theta 
 
 namespace {
 
+// shape_point and the unit tangent there from one sine and cosine: with h = kappa sigma / 2
+// and t0 the tangent at the corner, the chord is sigma sinc(h) along t0 turned by h, and the
+// tangent is turned by 2 h.
+struct ShapeAt {
+  Vec2 p;
+  Vec2 t;
+};
+ShapeAt shape_at(const PlanarShape& shape, const Vec2& t0, double sigma) {
+  const double half = 0.5 * shape.kappa * sigma;
+  const Vec2 turn(std::cos(half), std::sin(half));
+  const Vec2 chord = rotate(turn, t0);
+  return {sigma * (std::abs(half) < 1e-4 ? 1.0 - half * half / 6.0 : turn.y() / half) * chord, rotate(turn, chord)};
+}
+
 // A solution of Algorithm 1 and how it moves with the start distance a (implicit function
 // theorem on its end conditions): warm starts for the next solve of Algorithm 2.
 struct Solve {
@@ -681,13 +701,14 @@ std::optional<Solve> fit_at(const CornerShapes& shapes, double a, double guess_l
   const PlanarShape& q1 = shapes.q1;
   const PlanarShape& q2 = shapes.q2;
   const double delta = corner_turn(shapes);
-  const Posture start{shape_point(q1, -a), q1.kappa, shape_angle(q1, -a)};
+  const ShapeAt on_q1 = shape_at(q1, direction(q1.theta), -a);
+  const Posture start{on_q1.p, q1.kappa, shape_angle(q1, -a)};
   // the fillet turns as much as the path it replaces: kappa1 a + delta + kappa2 b
   const double base_turn = delta + q1.kappa * a;
   // how the end of a fillet of fixed length moves with a: the start slides back along q1
   // (d p0 / d a = -T0), the curve turns with its start tangent (by -kappa1 per unit of a) and
   // its turn grows by kappa1
-  const Vec2 t0 = direction(start.theta);
+  const Vec2 t0 = on_q1.t;
   const auto end_da = [&](const BiclothoidEnd& e) -> Vec2 {
     return -t0 - q1.kappa * perp(e.p - start.p) + q1.kappa * e.d_turn;
   };
@@ -794,12 +815,14 @@ std::optional<Solve> fit_at(const CornerShapes& shapes, double a, double guess_l
     Vec2 r;
     Eigen::Matrix2d jac;
   };
+  const Vec2 t2 = direction(q2.theta);
   const auto evaluate = [&](double len, double b) -> std::optional<Eval> {
     const auto e = biclothoid_end(start, q2.kappa, base_turn + q2.kappa * b, len);
     if (!e) return std::nullopt;
-    Eval ev{*e, e->p - shape_point(q2, b), Eigen::Matrix2d()};
+    const ShapeAt on_q2 = shape_at(q2, t2, b);
+    Eval ev{*e, e->p - on_q2.p, Eigen::Matrix2d()};
     ev.jac.col(0) = e->d_length;
-    ev.jac.col(1) = q2.kappa * e->d_turn - direction(shape_angle(q2, b));
+    ev.jac.col(1) = q2.kappa * e->d_turn - on_q2.t;
     return ev;
   };
   // a solution that shrinks to a point where q1 and q2 cross (near a reversal) is not a fillet
@@ -1009,39 +1032,42 @@ Measured measure_deviation(const BiclothoidSolution& fillet, const CornerShapes&
     Vec2 u = Vec2::Zero();
   } farthest;
   const auto keep_farthest = [&](const Vec2& x, const FilletClosest& c) {
-    if (c.distance > farthest.distance) farthest = {c.distance, c.s, c.distance > 0 ? Vec2((c.point - x) / c.distance) : Vec2::Zero()};
+    if (!(c.distance > farthest.distance)) return;
+    farthest = {c.distance, c.s, c.distance > 0 ? Vec2((c.point - x) / c.distance) : Vec2::Zero()};
   };
-  const auto from_original = [&](double sigma, const PlanarShape& q) {
-    const Vec2 x = shape_point(q, sigma);
-    const FilletClosest c = closest_on_fillet(table, x, guess);
-    keep_farthest(x, c);
+  const std::array<Vec2, 2> corner_tangent = {direction(q1.theta), direction(q2.theta)};
+  const auto from_original = [&](double sigma, std::size_t side) {
+    const ShapeAt x = shape_at(side == 0 ? q1 : q2, corner_tangent[side], sigma);
+    const FilletClosest c = closest_on_fillet(table, x.p, guess);
+    keep_farthest(x.p, c);
     guess = c.s;
-    const double slope = c.distance > 0 ? direction(shape_angle(q, sigma)).dot(x - c.point) / c.distance : 0.0;
-    return ValueSlope{c.distance, slope};
+    return ValueSlope{c.distance, c.distance > 0 ? x.t.dot(x.p - c.point) / c.distance : 0.0};
   };
   const FilletClosest corner = closest_on_fillet(table, Vec2::Zero(), curve.s1);
   keep_farthest(Vec2::Zero(), corner);
   const double g0 = corner.distance;
-  const ValueSlope corner_in{g0, g0 > 0 ? direction(q1.theta).dot(-corner.point) / g0 : 0.0};
-  const ValueSlope corner_out{g0, g0 > 0 ? direction(q2.theta).dot(-corner.point) / g0 : 0.0};
+  const ValueSlope corner_in{g0, g0 > 0 ? corner_tangent[0].dot(-corner.point) / g0 : 0.0};
+  const ValueSlope corner_out{g0, g0 > 0 ? corner_tangent[1].dot(-corner.point) / g0 : 0.0};
   const int foot_piece = top.active();
   const auto foot_index = static_cast<std::size_t>(foot_piece);
   const double foot = pieces[foot_index].sigma_of(top.d[foot_index].point);
   // the maximum over one side, from the far end (distance 0) to the corner, sampled at the
   // foot (when it lies on this side) and the midpoint; each evaluation starts Newton from the
-  // previous closest point
-  const auto side_max = [&](const PlanarShape& q, double lo, ValueSlope v_lo, double hi, ValueSlope v_hi,
+  // previous closest point, the foot's from the fillet point it is the foot of
+  const auto side_max = [&](std::size_t side, double lo, ValueSlope v_lo, double hi, ValueSlope v_hi,
                             double start_guess, bool has_foot) {
-    const auto f = [&](double x) { return from_original(x, q); };
+    const auto f = [&](double x) {
+      if (has_foot && x == foot) guess = top.s;
+      return from_original(x, side);
+    };
     const double mid = 0.5 * (lo + hi);
     guess = start_guess;
     if (!has_foot || foot == mid) return maximize(f, lo, v_lo, hi, v_hi, std::array<double, 1>{mid});
-    if (foot < mid) guess = top.s;
     return maximize(f, lo, v_lo, hi, v_hi, std::array<double, 2>{std::min(foot, mid), std::max(foot, mid)});
   };
-  const double side1 = side_max(q1, -a, ValueSlope{0.0, 1.0}, 0.0, corner_in, 0.5 * corner.s,
+  const double side1 = side_max(0, -a, ValueSlope{0.0, 1.0}, 0.0, corner_in, 0.5 * corner.s,
                                 foot_piece == 0 && foot > -a && foot < 0);
-  const double side2 = side_max(q2, 0.0, corner_out, b, ValueSlope{0.0, -1.0}, corner.s,
+  const double side2 = side_max(1, 0.0, corner_out, b, ValueSlope{0.0, -1.0}, corner.s,
                                 foot_piece == 1 && foot > 0 && foot < b);
   dev.original_to_fillet = std::max({g0, side1, side2});
 
