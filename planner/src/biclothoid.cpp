@@ -201,6 +201,12 @@ ClothoidMoments clothoid_moments(double theta0, double kappa0, double c, double 
   const double phase = 0.5 * kappa_max * len + 0.125 * std::abs(c) * len * len;
   const int panels = std::max(1, static_cast<int>(std::ceil(phase / kMomentPanelPhase)));
   const double h = 0.5 * len / panels;
+  double m0x = 0;
+  double m0y = 0;
+  double m1x = 0;
+  double m1y = 0;
+  double m2x = 0;
+  double m2y = 0;
   for (int j = 0; j < panels; ++j) {
     const double m = h * (2 * j + 1);
     const double beta = (kappa0 + c * m) * h;
@@ -242,14 +248,31 @@ ClothoidMoments clothoid_moments(double theta0, double kappa0, double c, double 
       ai = even_i;
       if (std::abs(even_r) + std::abs(even_i) + std::abs(odd_r) + std::abs(odd_i) < 1e-18) break;
     }
-    const Vec2 rot = direction(theta0 + (kappa0 + 0.5 * c * m) * m);
-    const Vec2 a0 = rotate(rot, Vec2(s0r, s0i));
-    const Vec2 a1 = rotate(rot, Vec2(s1r, s1i));
-    const Vec2 a2 = rotate(rot, Vec2(s2r, s2i));
-    out.m0 += 2 * h * a0;
-    out.m1 += 2 * h * (m * a0 + h * a1);
-    out.m2 += 2 * h * (m * m * a0 + 2 * m * h * a1 + h * h * a2);
+    // the panel's moments in its frame, turned by theta(m); in scalars, as an Eigen 2-vector
+    // built from two scalars and read back as a pair stalls store forwarding
+    const double theta = theta0 + (kappa0 + 0.5 * c * m) * m;
+    const double cs = std::cos(theta);
+    const double sn = std::sin(theta);
+    const double w = 2 * h;
+    const double p0r = w * s0r;
+    const double p0i = w * s0i;
+    const double p1r = w * (m * s0r + h * s1r);
+    const double p1i = w * (m * s0i + h * s1i);
+    const double p2r = w * (m * m * s0r + 2 * m * h * s1r + h * h * s2r);
+    const double p2i = w * (m * m * s0i + 2 * m * h * s1i + h * h * s2i);
+    m0x += cs * p0r - sn * p0i;
+    m0y += sn * p0r + cs * p0i;
+    m1x += cs * p1r - sn * p1i;
+    m1y += sn * p1r + cs * p1i;
+    m2x += cs * p2r - sn * p2i;
+    m2y += sn * p2r + cs * p2i;
   }
+  out.m0.x() = m0x;
+  out.m0.y() = m0y;
+  out.m1.x() = m1x;
+  out.m1.y() = m1y;
+  out.m2.x() = m2x;
+  out.m2.y() = m2y;
   return out;
 }
 
