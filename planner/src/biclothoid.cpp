@@ -518,13 +518,16 @@ double maximize(const F& eval, double x0, ValueSlope at0, double x1, ValueSlope 
 // Where q1 (sigma in [-a_max, 0)) and q2 (sigma in (0, b_max]) meet again after the corner,
 // as (-sigma1, sigma2), or nullopt. Both pass through the origin, so a line meets a circle of
 // centre c once more at 2 (t . c) t, and two circles meet at the mirror image of the origin in
-// their line of centres.
+// their line of centres. At a tangent corner (no tangent jump) they touch at the origin and meet
+// nowhere else; the formulas then give the origin up to rounding (a point 1e-33 m away once
+// capped a tangent S-bend's fillet to nothing), so there is no crossing.
 std::optional<std::pair<double, double>> crossing(const PlanarShape& q1, const PlanarShape& q2, double a_max,
                                                   double b_max) {
   const auto centre = [](const PlanarShape& q) -> Vec2 {
     return Vec2(-std::sin(q.theta), std::cos(q.theta)) / q.kappa;
   };
   if (q1.kappa == 0 && q2.kappa == 0) return std::nullopt;
+  if (std::abs(std::remainder(q2.theta - q1.theta, 2 * kPi)) <= kTangentAngle) return std::nullopt;
   Vec2 x = Vec2::Zero();
   if (q1.kappa == 0 || q2.kappa == 0) {
     const PlanarShape& line = q1.kappa == 0 ? q1 : q2;

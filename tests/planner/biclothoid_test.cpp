@@ -312,6 +312,23 @@ TEST(Biclothoid, Section6SwapsWhenTheOutgoingShapeIsMoreCurved) {
   EXPECT_GE(fit.deviation.max(), 0.05 * kMm * (1 - kToleranceReached));
 }
 
+TEST(Biclothoid, TangentSBendIsBoundedOnlyByTheMoves) {
+  // arcs R 143 mm and R 54 mm tangent at the corner, turning opposite ways: they touch there
+  // and meet nowhere else, so only the tolerance bounds the fillet. (Solved reversed, the
+  // circles' centres carry sin(pi) ~ 1e-16, and the crossing computed from them once landed
+  // 1e-33 m from the corner and capped the fillet to nothing: RandomProgramsThroughTheBlender,
+  // seed 13213.)
+  const CornerShapes shapes{{0.0, 7.0}, {0.0, -18.6}};
+  const BiclothoidToleranceFit fit = fit_biclothoid_with_tolerance(shapes, 0.012 * kMm, 0.02, 0.02);
+  ASSERT_TRUE(fit.outcome.ok()) << fit.outcome.message;
+  EXPECT_TRUE(fit.swapped);
+  EXPECT_FALSE(fit.limited);
+  EXPECT_GT(fit.fillet.a, 1 * kMm);
+  EXPECT_GT(fit.fillet.b, 1 * kMm);
+  EXPECT_LE(fit.deviation.max(), 0.012 * kMm);
+  EXPECT_GE(fit.deviation.max(), 0.012 * kMm * (1 - kToleranceReached));
+}
+
 TEST(Biclothoid, ShortMovesLimitTheFilletAndSaySo) {
   const std::vector<Primitive> moves = listing1();
   CornerInput c = corner_between(moves[2], moves[3], 0.1 * kMm);
