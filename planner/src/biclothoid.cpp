@@ -988,8 +988,11 @@ Measured measure_deviation(const BiclothoidSolution& fillet, const CornerShapes&
       FilletSample at = l.value() >= r.value() ? l : r;
       for (int it = 0; it < 30 && br.x1 - br.x0 > 1e-6 * len; ++it) {
         const auto k = static_cast<std::size_t>(at.active());
-        double next = at.second[k] < 0 ? at.s - at.slope[k] / at.second[k] : br.x0;
-        if (!(next > br.x0 && next < br.x1)) next = (br.x0 * br.f1 - br.x1 * br.f0) / (br.f1 - br.f0);
+        double next = (br.x0 * br.f1 - br.x1 * br.f0) / (br.f1 - br.f0);
+        if (at.second[k] < 0) {
+          const double newton = at.s - at.slope[k] / at.second[k];
+          if (newton > br.x0 && newton < br.x1) next = newton;
+        }
         at = sample(next);
         keep(at);
         const double slope = at.slope[static_cast<std::size_t>(at.active())];
