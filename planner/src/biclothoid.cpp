@@ -1168,10 +1168,12 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
   // moved along their sensitivities in log-log coordinates, L (a) ~ L_n (a / a_n)^p with
   // p = (a_n / L_n) dL/da (exact for the line-line pair, where L and b are proportional to a)
   const auto solve = [&](double a) -> Trial* {
+    // the nearest in log a: the smallest ratio max(a_n / a, a / a_n)
+    const auto gap = [&](const Trial& t) { return std::max(t.fillet.a / a, a / t.fillet.a); };
     Trial* near = nullptr;
     for (Trial& t : store) {
       if (t.fillet.a == a) return &t;
-      if (!near || std::abs(std::log(t.fillet.a / a)) < std::abs(std::log(near->fillet.a / a))) near = &t;
+      if (!near || gap(t) < gap(*near)) near = &t;
     }
     double guess_len = 0;
     double guess_b = 0;
@@ -1215,7 +1217,7 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
   const auto slope_at = [&](const Trial& t) {
     const BiclothoidSolution& f = t.fillet;
     const double dev = t.deviation.max();
-    if (std::log(f.b / b_cap) >= std::log(dev / tolerance)) return f.a * t.db_da / f.b;
+    if (f.b / b_cap >= dev / tolerance) return f.a * t.db_da / f.b;
     const Witness& w = t.witness;
     Vec2 offset;
     const PointSlopes at = point_slopes_at(f.curve, w.s, offset);
