@@ -1,7 +1,8 @@
 // Time one corner fit per corner type and method through the public fit_*_corner functions
 // (004 section 7.3 reports 5 us for line-line and 42 us for line-arc / arc-arc on a 2.4 GHz
 // dual core; the targets here are 1 us and 8 us, the tolerance loop of Algorithm 2 included).
-// The corners are those of 004 listing 1 and table 2, in metres.
+// The corners are those of 004 listing 1 and table 2, in metres, and a spread of line-arc
+// and arc-arc corners (radii 2-1000 mm, kinks 0-120 deg, turning the same or the opposite way).
 
 #include <benchmark/benchmark.h>
 
@@ -70,6 +71,39 @@ CornerInput arc_arc(Method method) {
                 xy_arc(Vec3(0, 60, 0) * kMm, Vec3(0, 0, 0), Vec3(-offset, 30, 0) * kMm, true), method, 0.1 * kMm);
 }
 
+// An arc of radius r (m) turning left (ccw) or right, that ends at the origin heading along
+// +x (arrive) or starts there heading at `heading` rad (leave), sweeping `sweep` rad.
+Arc arc_arriving(double r, bool ccw, double sweep) {
+  const Vec3 centre(0, ccw ? r : -r, 0);
+  const double phi = ccw ? -std::numbers::pi / 2 - sweep : std::numbers::pi / 2 + sweep;
+  const Vec3 start = centre + r * Vec3(std::cos(phi), std::sin(phi), 0);
+  return xy_arc(start, Vec3(0, 0, 0), centre, !ccw);
+}
+Arc arc_leaving(double r, bool ccw, double heading, double sweep) {
+  const Vec3 normal = (ccw ? 1.0 : -1.0) * Vec3(-std::sin(heading), std::cos(heading), 0);
+  const Vec3 centre = r * normal;
+  const Vec3 radial = -normal;  // centre -> origin
+  const double turn = ccw ? sweep : -sweep;
+  const Vec3 end = centre + r * Vec3(std::cos(turn) * radial.x() - std::sin(turn) * radial.y(),
+                                     std::sin(turn) * radial.x() + std::cos(turn) * radial.y(), 0);
+  return xy_arc(Vec3(0, 0, 0), end, centre, !ccw);
+}
+
+// arc R r1 (turning left) into arc R r2 after a kink of `kink_deg` to the left, the second arc
+// turning left too (same) or right; each arc a quarter turn, tolerance 0.1 mm
+CornerInput arc_arc_spread(double r1_mm, double r2_mm, double kink_deg, bool same) {
+  const double kink = kink_deg * std::numbers::pi / 180;
+  return corner(arc_arriving(r1_mm * kMm, true, std::numbers::pi / 2),
+                arc_leaving(r2_mm * kMm, same, kink, std::numbers::pi / 2), Method::kBiclothoid, 0.1 * kMm);
+}
+
+// a 50 mm line into arc R r (turning left) after a kink of `kink_deg` to the right
+CornerInput line_arc_spread(double r_mm, double kink_deg) {
+  const double kink = -kink_deg * std::numbers::pi / 180;
+  return corner(Line{Vec3(-0.05, 0, 0), Vec3(0, 0, 0)}, arc_leaving(r_mm * kMm, true, kink, std::numbers::pi / 2),
+                Method::kBiclothoid, 0.1 * kMm);
+}
+
 void run(benchmark::State& state, const CornerInput& input, CornerFit (*fit)(const CornerInput&)) {
   for (auto _ : state) {
     CornerFit result = fit(input);
@@ -83,6 +117,16 @@ void BM_BiclothoidLineArcTangent(benchmark::State& s) {
   run(s, line_arc_tangent(Method::kBiclothoid), fit_biclothoid_corner);
 }
 void BM_BiclothoidArcArc(benchmark::State& s) { run(s, arc_arc(Method::kBiclothoid), fit_biclothoid_corner); }
+void BM_BiclothoidCorner(benchmark::State& s, const CornerInput& input) { run(s, input, fit_biclothoid_corner); }
+BENCHMARK_CAPTURE(BM_BiclothoidCorner, LineArc_R2_kink90, line_arc_spread(2, 90));
+BENCHMARK_CAPTURE(BM_BiclothoidCorner, LineArc_R1000_kink2, line_arc_spread(1000, 2));
+BENCHMARK_CAPTURE(BM_BiclothoidCorner, ArcArc_R10_R20_kink30, arc_arc_spread(10, 20, 30, true));
+BENCHMARK_CAPTURE(BM_BiclothoidCorner, ArcArc_R10_R10_inflection, arc_arc_spread(10, 10, 0, false));
+BENCHMARK_CAPTURE(BM_BiclothoidCorner, ArcArc_R20_R50_tangent, arc_arc_spread(20, 50, 0, true));
+BENCHMARK_CAPTURE(BM_BiclothoidCorner, ArcArc_R20_R20_kink90_opposite, arc_arc_spread(20, 20, 90, false));
+BENCHMARK_CAPTURE(BM_BiclothoidCorner, ArcArc_R100_R1000_kink5, arc_arc_spread(100, 1000, 5, true));
+BENCHMARK_CAPTURE(BM_BiclothoidCorner, ArcArc_R2_R3_kink120, arc_arc_spread(2, 3, 120, true));
+
 void BM_ClothoidLineLine(benchmark::State& s) { run(s, line_line(Method::kClothoid), fit_clothoid_corner); }
 void BM_ClothoidLineLineCapped(benchmark::State& s) {
   // a curvature cap below the pair's 0.47 1/mm: clothoid-arc-clothoid

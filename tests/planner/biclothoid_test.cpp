@@ -134,6 +134,48 @@ TEST(Biclothoid, Eq11IsTheRootWhereTheCurvaturePeaks) {
   EXPECT_FALSE(biclothoid_from_turn(Posture{}, 0, 1, 0.0));
 }
 
+TEST(Biclothoid, EndDerivativesMatchCentralDifferences) {
+  // biclothoid_end's closed-form d p / d length and d p / d dtheta against central differences
+  // of biclothoid_from_turn (error ~ step^2 times the third derivative, up to 2e-8 over 1e5
+  // cases; a wrong term in the derivation is off by more than 1e-2); its curve and end point
+  // are biclothoid_from_turn's. Where A = dtheta - L (kappa0 + kappa_e) / 2 changes sign and
+  // kappa0 != kappa_e the peak becomes a valley (s1 jumps from 0 to L through the single
+  // clothoid): the end point is continuous there but has a kink, so stencils that straddle
+  // A = 0 are skipped (with kappa0 = kappa_e it is smooth: c = 4 A / L^2, s1 = L / 2).
+  constexpr double kStep = 1e-5;
+  constexpr double kDerivative = 1e-7;
+  const std::uint64_t seed = 23;
+  auto rng = test::make_rng(seed);
+  const int cases = test::property_cases(2000);
+  const auto end_of = [](const Posture& start, double ke, double dth, double len) {
+    return end_posture(*biclothoid_from_turn(start, ke, dth, len)).p;
+  };
+  for (int i = 0; i < cases; ++i) {
+    const Posture start{Vec2(test::uniform(rng, -1, 1), test::uniform(rng, -1, 1)), test::uniform(rng, -2, 2),
+                        test::uniform(rng, -kPi, kPi)};
+    // every fourth case with equal end curvatures, every eighth also turning as an arc (c = 0)
+    const double len = test::uniform(rng, 0.1, 2);
+    const double ke = i % 4 == 0 ? start.kappa : test::uniform(rng, -2, 2);
+    const double dth = i % 8 == 0 ? start.kappa * len : test::uniform(rng, -2, 2);
+    const auto end = biclothoid_end(start, ke, dth, len);
+    ASSERT_TRUE(end);
+    const Biclothoid curve = *biclothoid_from_turn(start, ke, dth, len);
+    EXPECT_DOUBLE_EQ(end->curve.c, curve.c) << test::seed_text(seed) << " case " << i;
+    EXPECT_DOUBLE_EQ(end->curve.s1, curve.s1) << test::seed_text(seed) << " case " << i;
+    EXPECT_NEAR((end->curve.mid.p - curve.mid.p).norm(), 0.0, 1e-14 * len) << test::seed_text(seed) << " case " << i;
+    EXPECT_NEAR((end->p - end_posture(curve).p).norm(), 0.0, 1e-14 * len) << test::seed_text(seed) << " case " << i;
+    EXPECT_NEAR((end->tangent - Vec2(std::cos(start.theta + dth), std::sin(start.theta + dth))).norm(), 0.0, 1e-15);
+    const double hl = kStep * len;
+    const double a = dth - 0.5 * len * (start.kappa + ke);
+    if (ke != start.kappa && std::abs(a) < 2 * kStep * (1 + len * std::abs(start.kappa + ke))) continue;
+    const Vec2 d_length = (end_of(start, ke, dth, len + hl) - end_of(start, ke, dth, len - hl)) / (2 * hl);
+    const Vec2 d_turn = (end_of(start, ke, dth + kStep, len) - end_of(start, ke, dth - kStep, len)) / (2 * kStep);
+    EXPECT_NEAR((end->d_length - d_length).norm(), 0.0, kDerivative) << test::seed_text(seed) << " case " << i;
+    EXPECT_NEAR((end->d_turn - d_turn).norm(), 0.0, kDerivative) << test::seed_text(seed) << " case " << i;
+  }
+  EXPECT_FALSE(biclothoid_end(Posture{}, 0, 1, 0.0));
+}
+
 TEST(Biclothoid, ReversedIsTheSameCurveBackwards) {
   const Biclothoid curve = *biclothoid_from_turn(Posture{Vec2(1, 2), 0.3, 0.4}, -0.7, 1.1, 3.0);
   const Biclothoid back = reversed(curve);
@@ -268,6 +310,23 @@ TEST(Biclothoid, Section6SwapsWhenTheOutgoingShapeIsMoreCurved) {
   EXPECT_NEAR((end_posture(fit.fillet.curve).p - shape_point(shapes.q2, fit.fillet.b)).norm(), 0.0, 1e-12 * kMm);
   EXPECT_LE(fit.deviation.max(), 0.05 * kMm);
   EXPECT_GE(fit.deviation.max(), 0.05 * kMm * (1 - kToleranceReached));
+}
+
+TEST(Biclothoid, TangentSBendIsBoundedOnlyByTheMoves) {
+  // arcs R 143 mm and R 54 mm tangent at the corner, turning opposite ways: they touch there
+  // and meet nowhere else, so only the tolerance bounds the fillet. (Solved reversed, the
+  // circles' centres carry sin(pi) ~ 1e-16, and the crossing computed from them once landed
+  // 1e-33 m from the corner and capped the fillet to nothing: RandomProgramsThroughTheBlender,
+  // seed 13213.)
+  const CornerShapes shapes{{0.0, 7.0}, {0.0, -18.6}};
+  const BiclothoidToleranceFit fit = fit_biclothoid_with_tolerance(shapes, 0.012 * kMm, 0.02, 0.02);
+  ASSERT_TRUE(fit.outcome.ok()) << fit.outcome.message;
+  EXPECT_TRUE(fit.swapped);
+  EXPECT_FALSE(fit.limited);
+  EXPECT_GT(fit.fillet.a, 1 * kMm);
+  EXPECT_GT(fit.fillet.b, 1 * kMm);
+  EXPECT_LE(fit.deviation.max(), 0.012 * kMm);
+  EXPECT_GE(fit.deviation.max(), 0.012 * kMm * (1 - kToleranceReached));
 }
 
 TEST(Biclothoid, ShortMovesLimitTheFilletAndSaySo) {

@@ -50,6 +50,19 @@ Biclothoid make_biclothoid(const Posture& start, double c, double s1, double s2)
 // is 0/0. nullopt only for a non-positive or non-finite length.
 std::optional<Biclothoid> biclothoid_from_turn(const Posture& start, double kappa_e, double dtheta, double length);
 
+// The curve of biclothoid_from_turn with its end point and the derivatives of that end point
+// with respect to the length and the turn (kappa_e and start held), in closed form from the
+// first three moments of each clothoid's tangent (derived in biclothoid.cpp); Algorithm 1
+// uses them for Newton's method. nullopt as for biclothoid_from_turn.
+struct BiclothoidEnd {
+  Biclothoid curve;
+  Vec2 p = Vec2::Zero();         // end point
+  Vec2 tangent = Vec2::Zero();   // unit tangent at the end
+  Vec2 d_length = Vec2::Zero();  // d p / d length (dimensionless)
+  Vec2 d_turn = Vec2::Zero();    // d p / d dtheta (m/rad)
+};
+std::optional<BiclothoidEnd> biclothoid_end(const Posture& start, double kappa_e, double dtheta, double length);
+
 double length(const Biclothoid& curve);
 // The posture at arc length s in [0, length] (clamped).
 Posture posture_at(const Biclothoid& curve, double s);
@@ -79,9 +92,10 @@ struct CornerShapes {
 // starts G2 on q1 at distance `a` before the corner and ends G2 on q2. Unknowns: its length L
 // and the end distance b on q2; it turns by the programmed turn delta + kappa1 a + kappa2 b
 // (delta the tangent jump at the corner). When q2 is a line the turn is fixed and one scalar
-// equation in L remains (bracketed secant); otherwise a damped Newton method on (L, b).
-// (guess_length, guess_b) start the iteration (0 = derive a guess). nullopt when it does not
-// converge or the solution leaves b > 0, L > 0.
+// equation in L remains (Newton, safeguarded by a bracket); otherwise a damped Newton method on
+// (L, b). Both use the closed-form derivatives of biclothoid_end. (guess_length, guess_b)
+// start the iteration (0 = derive a guess). nullopt when it does not converge or the solution
+// leaves b > 0, L > 0.
 struct BiclothoidSolution {
   Biclothoid curve;
   double a = 0;  // m, start distance before the corner on q1
@@ -94,7 +108,8 @@ std::optional<BiclothoidSolution> fit_biclothoid_at(const CornerShapes& shapes, 
 // U = q1[-a, 0] + q2[0, b] and the fillet V, by nested one-dimensional solvers (for a point of
 // U, Newton for its closest point on V; over U, a sampled search refined by a secant method on
 // the derivative of the distance). `fillet_to_original` (V -> U) uses exact distances to lines
-// and circles.
+// and circles, a sampled search refined by Newton on their derivative (or, at a tangent jump,
+// on the difference of the distances to both sides).
 struct Deviation {
   double original_to_fillet = 0;  // m, 004 eq. 15 with U the original path
   double fillet_to_original = 0;  // m
@@ -108,9 +123,11 @@ Deviation biclothoid_deviation(const BiclothoidSolution& fillet, const CornerSha
 // whose deviation (the larger of the two directed distances) stays within `tolerance` (m, > 0),
 // with a <= a_max and b <= b_max (m). Follows section 6: if q2 is more curved than q1 the corner
 // is reversed (q1 <-> q2) and the fillet reversed back at the end. The start distance comes from
-// false position on y = max(log(deviation / tolerance), log(b / b_max)) against x = log(a):
-// secant steps (y is nearly linear in x: deviation ~ a at a tangent jump, ~ a^2 at a curvature
-// jump), kept inside the bracket once there is one, bisection otherwise. The result satisfies
+// Newton's method on y = max(log(deviation / tolerance), log(b / b_max)) against x = log(a)
+// (y is nearly linear in x: deviation ~ a at a tangent jump, ~ a^2 at a curvature jump), its
+// slope from the envelope theorem at the point where the deviation is attained (derived in
+// biclothoid.cpp), kept inside the bracket once there is one, bisection otherwise; the first a
+// blends the two small-fillet models, so two solves usually suffice. The result satisfies
 // tolerance (1 - 1e-4) <= deviation <= tolerance unless the move lengths limit it (`limited` =
 // true, deviation < tolerance). A fillet replaces at most an eighth of a turn of an arc (a
 // larger one is no longer a corner fillet, and its turn approaches 2 pi) and stays short of a
