@@ -14,6 +14,7 @@
 #include "planner/clothoid_blend.hpp"
 #include "planner/input_error.hpp"
 #include "planner/segment.hpp"
+#include "phase_series.hpp"
 
 namespace blendbench {
 namespace {
@@ -161,12 +162,6 @@ class Piece {
 };
 
 // 1 / n for n = 0 .. 47 (entry 0 unused).
-constexpr std::array<double, 48> kInverseOf = [] {
-  std::array<double, 48> inv{};
-  for (std::size_t n = 1; n < inv.size(); ++n) inv[n] = 1.0 / static_cast<double>(n);
-  return inv;
-}();
-
 // clothoid_moments: largest phase excursion on a panel (rad).
 constexpr double kMomentPanelPhase = 2.0;
 
@@ -211,42 +206,23 @@ ClothoidMoments clothoid_moments(double theta0, double kappa0, double c, double 
     const double m = h * (2 * j + 1);
     const double beta = (kappa0 + c * m) * h;
     const double gamma = c * h * h;
-    // e_n (n even) and e_{n-1}; two coefficients per step as in clothoid_xy:
-    //   e_{n+1} = i (beta e_n + gamma e_{n-1}) / (n + 1),
-    //   e_{n+2} = [(-beta^2 / (n+1) + i gamma) e_n - beta gamma / (n+1) e_{n-1}] / (n + 2)
-    double ar = 1;
-    double ai = 0;
-    double br = 0;
-    double bi = 0;
+    // the Taylor coefficients e_n (n even) and e_{n-1} of the integrand
+    series::PhaseTaylor e{.b = beta, .g = gamma};
     double s0r = 1;
     double s0i = 0;
     double s1r = 0;
     double s1i = 0;
-    double s2r = kInverseOf[3];
+    double s2r = series::kInverse[3];
     double s2i = 0;
-    for (std::size_t n = 0; n + 5 < kInverseOf.size(); n += 2) {
-      const double p = kInverseOf[n + 1];
-      const double q = kInverseOf[n + 2];
-      const double c1 = beta * p;
-      const double c2 = gamma * p;
-      const double c3 = -beta * c1 * q;
-      const double c4 = gamma * q;
-      const double c5 = -beta * c2 * q;
-      const double odd_r = -(c1 * ai + c2 * bi);
-      const double odd_i = c1 * ar + c2 * br;
-      const double even_r = (c3 * ar + c5 * br) - c4 * ai;
-      const double even_i = (c3 * ai + c5 * bi) + c4 * ar;
-      s0r += even_r * kInverseOf[n + 3];
-      s0i += even_i * kInverseOf[n + 3];
-      s1r += odd_r * kInverseOf[n + 3];
-      s1i += odd_i * kInverseOf[n + 3];
-      s2r += even_r * kInverseOf[n + 5];
-      s2i += even_i * kInverseOf[n + 5];
-      br = odd_r;
-      bi = odd_i;
-      ar = even_r;
-      ai = even_i;
-      if (std::abs(even_r) + std::abs(even_i) + std::abs(odd_r) + std::abs(odd_i) < 1e-18) break;
+    for (std::size_t n = 0; n + 5 < series::kInverse.size(); n += 2) {
+      e.step_two(n);
+      s0r += e.re * series::kInverse[n + 3];
+      s0i += e.im * series::kInverse[n + 3];
+      s1r += e.prev_re * series::kInverse[n + 3];
+      s1i += e.prev_im * series::kInverse[n + 3];
+      s2r += e.re * series::kInverse[n + 5];
+      s2i += e.im * series::kInverse[n + 5];
+      if (e.below(1e-18)) break;
     }
     // the panel's moments in its frame, turned by theta(m); in scalars, as an Eigen 2-vector
     // built from two scalars and read back as a pair stalls store forwarding
@@ -333,6 +309,7 @@ class FilletTable {
  private:
   static constexpr std::size_t kMaxPanels = 12;
   static constexpr std::size_t kMaxTerms = 32;  // a multiple of 4
+  static_assert(kMaxTerms < series::kInverse.size());
   struct Panel {
     double start = 0;  // arc length where the panel begins
     double mid = 0;    // its midpoint
@@ -361,15 +338,9 @@ class FilletTable {
       const double kappa = from.kappa + c * m;
       const double theta = from.theta + (from.kappa + 0.5 * c * m) * m;
       const std::complex<double> rot(std::cos(theta), std::sin(theta));
-      // Taylor coefficients in t (not scaled by h): e_{n+1} = i (kappa e_n + c e_{n-1}) / (n+1)
-      // e_n (cur) and e_{n-1} (prev); two coefficients per step, both from (cur, prev):
-      //   e_{n+1} = i (kappa e_n + c e_{n-1}) / (n+1),
-      //   e_{n+2} = [(-kappa^2 / (n+1) + i c) e_n - kappa c / (n+1) e_{n-1}] / (n+2);
-      // the even and odd parts of sum_n coef_n h^(n+1) / (n+1) give the positions at mid -+ h
-      double prev_re = 0;
-      double prev_im = 0;
-      double cur_re = 1;
-      double cur_im = 0;
+      // Taylor coefficients e_n in t (not scaled by h) of exp(i (kappa t + c t^2 / 2)); the even
+      // and odd parts of sum_n coef_n h^(n+1) / (n+1) give the positions at mid -+ h
+      series::PhaseTaylor e{.b = kappa, .g = c};
       double h_pow = h;  // h^(n+1)
       double even_re = 0;
       double even_im = 0;
@@ -381,8 +352,8 @@ class FilletTable {
       const auto store = [&](std::size_t u, double re, double im, double hp) {
         const double coef_re = rot.real() * re - rot.imag() * im;
         const double coef_im = rot.real() * im + rot.imag() * re;
-        const double int_re = coef_re * kInverseOf[u + 1];
-        const double int_im = coef_im * kInverseOf[u + 1];
+        const double int_re = coef_re * series::kInverse[u + 1];
+        const double int_im = coef_im * series::kInverse[u + 1];
         panel.coef[u].x() = coef_re;
         panel.coef[u].y() = coef_im;
         panel.integral[u].x() = int_re;
@@ -396,27 +367,13 @@ class FilletTable {
         }
       };
       while (n + 2 <= kMaxTerms) {
-        const double p1 = kInverseOf[n + 1];
-        const double p2 = kInverseOf[n + 2];
-        const double c1 = kappa * p1;
-        const double c2 = c * p1;
-        const double c3 = -kappa * c1 * p2;
-        const double c4 = c * p2;
-        const double c5 = -kappa * c2 * p2;
-        const double next_re = -(c1 * cur_im + c2 * prev_im);
-        const double next_im = c1 * cur_re + c2 * prev_re;
-        const double after_re = (c3 * cur_re + c5 * prev_re) - c4 * cur_im;
-        const double after_im = (c3 * cur_im + c5 * prev_im) + c4 * cur_re;
-        store(n, cur_re, cur_im, h_pow);
-        store(n + 1, next_re, next_im, h_pow * h);
+        store(n, e.re, e.im, h_pow);
+        e.step_two(n);
+        store(n + 1, e.prev_re, e.prev_im, h_pow * h);
         n += 2;
         h_pow *= h * h;
-        prev_re = next_re;
-        prev_im = next_im;
-        cur_re = after_re;
-        cur_im = after_im;
         // the next two terms are below 1e-15 of the panel's size
-        const double tail = std::abs(cur_re) + std::abs(cur_im) + (std::abs(prev_re) + std::abs(prev_im)) / h;
+        const double tail = std::abs(e.re) + std::abs(e.im) + (std::abs(e.prev_re) + std::abs(e.prev_im)) / h;
         if (tail * h_pow < 1e-15 * h) break;
       }
       panel.terms = static_cast<int>(n);

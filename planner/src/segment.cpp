@@ -1,6 +1,7 @@
 #include "planner/segment.hpp"
 
 #include "planner/golden.hpp"
+#include "phase_series.hpp"
 
 #include <algorithm>
 #include <array>
@@ -39,12 +40,6 @@ double gauss_legendre(const F& f, double a, double b) {
 constexpr double kClothoidPanelPhase = 1.0;
 
 // 1 / n for n = 0 .. 40 (entry 0 unused), so the recurrence needs no division.
-constexpr std::array<double, 41> kInverse = [] {
-  std::array<double, 41> inv{};
-  for (std::size_t n = 1; n < inv.size(); ++n) inv[n] = 1.0 / static_cast<double>(n);
-  return inv;
-}();
-
 double clamp_s(double s, double len) { return std::clamp(s, 0.0, len); }
 
 // Helix helpers: b = rise per radian along w.
@@ -264,36 +259,17 @@ Eigen::Vector2d clothoid_displacement(double theta0, double kappa0, double sharp
     const double beta = (kappa0 + sharpness * m) * h;  // kappa(m) h
     const double gamma = sharpness * h * h;            // c h^2
     // int_{-1}^{1} exp(i (beta u + gamma u^2 / 2)) du = 2 sum_{n even} e_n / (n + 1), with the
-    // Taylor coefficients of the integrand from e_{n+1} = i (beta e_n + gamma e_{n-1}) / (n + 1).
-    // Two steps at once, both from (e_n, e_{n-1}), halve the chain of dependent operations:
-    //   e_{n+2} = [(-beta^2 / (n+1) + i gamma) e_n - beta gamma / (n+1) e_{n-1}] / (n + 2).
-    // Once two consecutive coefficients are below 1e-18 (the sum is about 1) the rest are too,
-    // because n + 1 > |beta| + |gamma| from then on.
-    double ar = 1;  // e_n
-    double ai = 0;
-    double br = 0;  // e_{n-1}
-    double bi = 0;
+    // Taylor coefficients e_n of the integrand (series::PhaseTaylor). Once two consecutive
+    // coefficients are below 1e-18 (the sum is about 1) the rest are too, because
+    // n + 1 > |beta| + |gamma| from then on.
+    series::PhaseTaylor e{.b = beta, .g = gamma};
     double sum_re = 1;
     double sum_im = 0;
-    for (std::size_t n = 0; n + 3 < kInverse.size(); n += 2) {
-      const double p = kInverse[n + 1];
-      const double q = kInverse[n + 2];
-      const double c1 = beta * p;
-      const double c2 = gamma * p;
-      const double c3 = -beta * c1 * q;
-      const double c4 = gamma * q;
-      const double c5 = -beta * c2 * q;
-      const double odd_re = -(c1 * ai + c2 * bi);
-      const double odd_im = c1 * ar + c2 * br;
-      const double even_re = (c3 * ar + c5 * br) - c4 * ai;
-      const double even_im = (c3 * ai + c5 * bi) + c4 * ar;
-      br = odd_re;
-      bi = odd_im;
-      ar = even_re;
-      ai = even_im;
-      sum_re += even_re * kInverse[n + 3];
-      sum_im += even_im * kInverse[n + 3];
-      if (std::abs(even_re) + std::abs(even_im) + std::abs(odd_re) + std::abs(odd_im) < 1e-18) break;
+    for (std::size_t n = 0; n + 3 < series::kInverse.size(); n += 2) {
+      e.step_two(n);
+      sum_re += e.re * series::kInverse[n + 3];
+      sum_im += e.im * series::kInverse[n + 3];
+      if (e.below(1e-18)) break;
     }
     // rotate by the tangent angle at the midpoint
     const double theta = theta0 + (kappa0 + 0.5 * sharpness * m) * m;
