@@ -4,6 +4,8 @@
 // trims within the available lengths, finite values, and the deviation from the replaced
 // programmed path measured with test::Chain in both directions.
 
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -124,6 +126,41 @@ inline FitCheck check_fit(const CornerInput& in, const CornerFit& fit) {
   check.deviation = std::max(transition.directed_to(programmed), programmed.directed_to(transition));
   check.finite = check.finite && std::isfinite(check.deviation);
   return check;
+}
+
+// Junction tolerances of the curvature-continuous methods (clothoid, biclothoid): position
+// relative to the corner size, tangent in rad, curvature vector relative to the larger
+// curvature (or 1 / size).
+inline constexpr double kG2Position = 1e-9;
+inline constexpr double kG2Tangent = 1e-10;
+inline constexpr double kG2Curvature = 1e-7;
+
+// The checked fit is finite, within its trims and G2 at every junction; the failure says which.
+inline ::testing::AssertionResult is_g2(const FitCheck& check) {
+  if (!check.finite) return ::testing::AssertionFailure() << "a junction value is not finite";
+  if (!check.trims_within) return ::testing::AssertionFailure() << "the trims exceed the available lengths";
+  if (check.position > kG2Position) {
+    return ::testing::AssertionFailure() << "position gap " << check.position << " > " << kG2Position;
+  }
+  if (check.tangent > kG2Tangent) {
+    return ::testing::AssertionFailure() << "tangent kink " << check.tangent << " rad > " << kG2Tangent;
+  }
+  if (check.curvature > kG2Curvature) {
+    return ::testing::AssertionFailure() << "curvature jump " << check.curvature << " > " << kG2Curvature;
+  }
+  return ::testing::AssertionSuccess();
+}
+
+// Largest curvature (1/m) and sharpness (1/m^2) over a fitted transition.
+inline double peak_curvature(const CornerFit& fit) {
+  double peak = 0;
+  for (const Segment& seg : fit.transition) peak = std::max(peak, max_curvature(seg, 0, length(seg)));
+  return peak;
+}
+inline double peak_sharpness(const CornerFit& fit) {
+  double peak = 0;
+  for (const Segment& seg : fit.transition) peak = std::max(peak, max_sharpness(seg, 0, length(seg)));
+  return peak;
 }
 
 }  // namespace blendbench::test
