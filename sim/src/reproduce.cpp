@@ -282,21 +282,6 @@ double path_hausdorff(const std::vector<Segment>& a, const std::vector<Segment>&
   return std::max(directed_distance(a, b, step), directed_distance(b, a, step));
 }
 
-// Pieces of `path` that touch arc length s (both at a junction).
-template <typename F>
-void for_pieces_at(const Path& path, double s, F&& f) {
-  const auto& pieces = path.pieces();
-  const double tol = 1e-12 * std::max(1.0, path.length());
-  std::size_t first = path.locate(s).piece;
-  std::size_t last = first;
-  while (first > 0 && path.offset(first) >= s - tol) --first;
-  while (last + 1 < pieces.size() && path.offset(last + 1) <= s + tol) ++last;
-  for (std::size_t k = first; k <= last; ++k) {
-    if (s < path.offset(k) - tol || s > path.offset(k + 1) + tol) continue;
-    f(pieces[k], std::clamp(s - path.offset(k), 0.0, length(pieces[k].segment)));
-  }
-}
-
 }  // namespace
 
 bool Figure::within_print_rounding() const {
@@ -324,7 +309,8 @@ ProfileMargins profile_margins(const Path& path, const Timing& timing) {
     double v_lim = std::numeric_limits<double>::infinity();
     Limits local{0, std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
                  std::numeric_limits<double>::infinity()};
-    for_pieces_at(path, q.s, [&](const PathPiece& piece, double s) {
+    path.for_pieces_at(q.s, [&](std::size_t piece_index, double s) {
+      const PathPiece& piece = path.pieces()[piece_index];
       const Limits& l = piece.limits;
       const double kappa = curvature_vector(piece.segment, s).norm();
       const double c = sharpness(piece.segment, s);

@@ -45,16 +45,8 @@ inline double feed_at(const Path& path, const std::vector<HandoverZone>& zones, 
 inline LocalLimits limits_at(const Path& path, double s, const std::vector<HandoverZone>& zones = {}) {
   LocalLimits out;
   const auto& pieces = path.pieces();
-  const double tol = 1e-12 * std::max(1.0, path.length());
-  // the pieces touching s: around the one locate() finds
-  std::size_t first = path.locate(s).piece;
-  std::size_t last = first;
-  while (first > 0 && path.offset(first) >= s - tol) --first;
-  while (last + 1 < pieces.size() && path.offset(last + 1) <= s + tol) ++last;
-  for (std::size_t k = first; k <= last; ++k) {
-    if (s < path.offset(k) - tol || s > path.offset(k + 1) + tol) continue;
+  path.for_pieces_at(s, [&](std::size_t k, double local) {
     const PathPiece& p = pieces[k];
-    const double local = std::clamp(s - path.offset(k), 0.0, length(p.segment));
     const double kappa = curvature_vector(p.segment, local).norm();
     const double c = sharpness(p.segment, local);
     const double feed = feed_at(path, zones, k, local);
@@ -67,7 +59,7 @@ inline LocalLimits limits_at(const Path& path, double s, const std::vector<Hando
     out.deceleration = std::max(out.deceleration, p.limits.deceleration);
     out.jerk = std::max(out.jerk, p.limits.jerk);
     out.feed = std::max(out.feed, feed);
-  }
+  });
   return out;
 }
 

@@ -2,6 +2,7 @@
 // The blended path: a sequence of arc-length-parameterised pieces (trimmed moves and
 // transition curves) plus a report per corner.
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -57,6 +58,21 @@ class Path {
     double s;
   };
   [[nodiscard]] Location locate(double s) const;
+
+  // Calls f(k, local) for every piece k that touches arc length s (both neighbours at a
+  // junction, within 1e-12 of the path's length, at least 1e-12 m), local clamped to the piece.
+  template <typename F>
+  void for_pieces_at(double s, F&& f) const {
+    const double tol = 1e-12 * std::max(1.0, length());
+    std::size_t first = locate(s).piece;
+    std::size_t last = first;
+    while (first > 0 && offsets_[first] >= s - tol) --first;
+    while (last + 1 < pieces_.size() && offsets_[last + 1] <= s + tol) ++last;
+    for (std::size_t k = first; k <= last; ++k) {
+      if (s < offsets_[k] - tol || s > offsets_[k + 1] + tol) continue;
+      f(k, std::clamp(s - offsets_[k], 0.0, blendbench::length(pieces_[k].segment)));
+    }
+  }
 
   [[nodiscard]] Vec3 point(double s) const;
   [[nodiscard]] Vec3 tangent(double s) const;
