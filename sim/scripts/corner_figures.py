@@ -30,7 +30,6 @@ output is written to a temporary file and renamed.
 """
 
 import argparse
-import csv
 import io
 import json
 import math
@@ -45,6 +44,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import yaml  # noqa: E402
 from PIL import Image  # noqa: E402
+
+import plotio  # noqa: E402
 
 # Colour and line style per method (biclothoid dashed: it often coincides with the clothoid
 # pair); further runs of a method get the extra colours and styles.
@@ -93,16 +94,13 @@ def fail(message):
     sys.exit(2)
 
 
-def read_csv(path):
-    """Columns of a CSV file as float arrays keyed by header name; fails on NaN or infinity."""
-    with open(path, newline="") as f:
-        reader = csv.reader(f)
-        header = next(reader)
-        rows = [[float(x) for x in row] for row in reader if row]
-    data = np.array(rows, dtype=float).reshape(-1, len(header))
-    if not np.all(np.isfinite(data)):
-        fail(f"{path}: non-finite values in the sampled path")
-    return {name: data[:, i] for i, name in enumerate(header)}
+def read_path_csv(path):
+    """Columns of a sampled path as float arrays keyed by header name; fails on NaN or infinity."""
+    cols = plotio.read_csv(path)
+    for name, values in cols.items():
+        if values.dtype.kind != "f" or not np.all(np.isfinite(values)):
+            fail(f"{path}: column {name} has non-finite or non-numeric values")
+    return cols
 
 
 def rpy_matrix(rpy_deg):
@@ -142,7 +140,7 @@ class Run:
 
     def __init__(self, name, csv_path, report_path):
         self.name = name
-        cols = read_csv(csv_path)
+        cols = read_path_csv(csv_path)
         self.s = cols["s"]
         self.xyz = np.column_stack([cols["x"], cols["y"], cols["z"]])
         self.kappa = cols["kappa"]
@@ -440,13 +438,6 @@ def save_atomic(fig, path):
     os.replace(tmp, path)
 
 
-def write_atomic(path, text):
-    tmp = path + ".tmp"
-    with open(tmp, "w") as f:
-        f.write(text)
-    os.replace(tmp, path)
-
-
 def markdown(link, name, description, blended):
     """An index section: the figure, what it shows, and the corner reports as a table."""
     lines = [f"### {name}", "", f"[`{link}`]({link}): {description}", "",
@@ -476,7 +467,7 @@ def main():
     runs = [Run(*r) for r in args.run]
     name, description, blended = draw(args.scenario, args.out, args.title, runs)
     if args.markdown:
-        write_atomic(args.markdown, markdown(args.link or os.path.basename(args.out), name, description, blended))
+        plotio.write_text(args.markdown, markdown(args.link or os.path.basename(args.out), name, description, blended))
 
 
 if __name__ == "__main__":

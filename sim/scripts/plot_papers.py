@@ -12,7 +12,6 @@ time, cf. figs. 16, 17) and path.png (the program in 3D, cf. fig. 15).
 Every image is written to a temporary file and renamed, so a failure never leaves half a picture.
 """
 
-import csv
 import os
 import sys
 
@@ -20,31 +19,9 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+from plotio import read_csv, save_png  # noqa: E402
 
-
-def read_csv(path):
-    """Columns of a CSV file keyed by header name: float arrays, or strings when not numeric."""
-    with open(path, newline="") as f:
-        reader = csv.reader(f)
-        header = next(reader)
-        rows = [row for row in reader if row]
-    cols = {}
-    for i, name in enumerate(header):
-        values = [row[i] for row in rows]
-        try:
-            cols[name] = np.array([float(v) for v in values])
-        except ValueError:
-            cols[name] = np.array(values)
-    return cols
-
-
-def save(fig, path):
-    tmp = path + ".tmp.png"
-    fig.tight_layout()
-    fig.savefig(tmp, dpi=80)
-    plt.close(fig)
-    os.replace(tmp, path)
+DPI = 80
 
 
 RUNS_004 = [
@@ -68,7 +45,7 @@ def plot_004(d):
     ax.set_title("004 Listing 1 at F10000, a 9800 mm/s², j 200000 mm/s³")
     ax.legend(fontsize=8, loc="lower center")
     ax.grid(alpha=0.3)
-    save(fig, os.path.join(d, "velocity.png"))
+    save_png(fig, os.path.join(d, "velocity.png"), DPI, tight=True)
 
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(9, 6), sharex=True)
     for ax, name, label, color in [(ax1, "biclothoid_0.1mm", "biclothoid fillets, 0.1 mm (cf. fig. 10)", "tab:blue"),
@@ -80,7 +57,7 @@ def plot_004(d):
         ax.set_title(label, fontsize=10)
         ax.grid(alpha=0.3)
     ax2.set_xlabel("arc length [mm]")
-    save(fig, os.path.join(d, "curvature.png"))
+    save_png(fig, os.path.join(d, "curvature.png"), DPI, tight=True)
 
     f = read_csv(os.path.join(d, "table2_fillets.csv"))
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(7, 6), sharex=True)
@@ -95,7 +72,7 @@ def plot_004(d):
     ax1.legend()
     ax1.grid(alpha=0.3)
     ax2.grid(alpha=0.3)
-    save(fig, os.path.join(d, "table2.png"))
+    save_png(fig, os.path.join(d, "table2.png"), DPI, tight=True)
 
     prog = read_csv(os.path.join(d, "listing1.csv"))
     bic = read_csv(os.path.join(d, "path_biclothoid_0.1mm.csv"))
@@ -116,7 +93,7 @@ def plot_004(d):
         ax.grid(alpha=0.3)
     axes[0].set_ylabel("y [mm]")
     axes[0].legend(fontsize=8, loc="lower right")
-    save(fig, os.path.join(d, "path.png"))
+    save_png(fig, os.path.join(d, "path.png"), DPI, tight=True)
 
 
 def plot_000(d):
@@ -137,7 +114,7 @@ def plot_000(d):
     ax1.legend(fontsize=8)
     ax1.grid(alpha=0.3)
     ax2.grid(alpha=0.3)
-    save(fig, os.path.join(d, "velocity.png"))
+    save_png(fig, os.path.join(d, "velocity.png"), DPI, tight=True)
 
     fig = plt.figure(figsize=(6, 5))
     ax = fig.add_subplot(projection="3d")
@@ -149,7 +126,7 @@ def plot_000(d):
     ax.set_zlabel("z [mm]")
     ax.set_title("The program (robot base frame), cf. fig. 15", fontsize=10)
     ax.legend(fontsize=8)
-    save(fig, os.path.join(d, "path.png"))
+    save_png(fig, os.path.join(d, "path.png"), DPI, tight=True)
 
 
 def main():

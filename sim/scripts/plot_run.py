@@ -11,7 +11,6 @@ compare_path.png and compare_metrics.png across variants. Every image is written
 temporary file and renamed, so a failed run never leaves a half-written picture.
 """
 
-import csv
 import json
 import os
 import sys
@@ -21,23 +20,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from plotio import read_csv, save_png  # noqa: E402
 
-
-def read_csv(path):
-    """Columns of a CSV file as float arrays keyed by header name."""
-    with open(path, newline="") as f:
-        reader = csv.reader(f)
-        header = next(reader)
-        rows = [[float(x) for x in row] for row in reader if row]
-    data = np.array(rows, dtype=float).reshape(-1, len(header))
-    return {name: data[:, i] for i, name in enumerate(header)}
-
-
-def save(fig, path):
-    tmp = path + ".tmp.png"
-    fig.savefig(tmp, dpi=110)
-    plt.close(fig)
-    os.replace(tmp, path)
+DPI = 110
 
 
 def plane_basis(points):
@@ -81,7 +66,7 @@ def plot_variant(run_dir, variant):
     ax.set_title(f"Path — {title}")
     ax.legend(loc="best")
     ax.grid(alpha=0.3)
-    save(fig, os.path.join(vdir, "path.png"))
+    save_png(fig, os.path.join(vdir, "path.png"), DPI)
 
     # speed over time
     t = trace["t"]
@@ -97,7 +82,7 @@ def plot_variant(run_dir, variant):
     ax.set_title(f"Path speed — {title}")
     ax.legend()
     ax.grid(alpha=0.3)
-    save(fig, os.path.join(vdir, "speed.png"))
+    save_png(fig, os.path.join(vdir, "speed.png"), DPI)
 
     # tracking and contour error
     fig, ax = plt.subplots(figsize=(8, 4))
@@ -108,7 +93,7 @@ def plot_variant(run_dir, variant):
     ax.set_title(f"Errors — {title}")
     ax.legend()
     ax.grid(alpha=0.3)
-    save(fig, os.path.join(vdir, "tracking_error.png"))
+    save_png(fig, os.path.join(vdir, "tracking_error.png"), DPI)
 
     # joints
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
@@ -122,7 +107,7 @@ def plot_variant(run_dir, variant):
     ax1.legend(ncol=3, fontsize=8)
     ax1.grid(alpha=0.3)
     ax2.grid(alpha=0.3)
-    save(fig, os.path.join(vdir, "joints.png"))
+    save_png(fig, os.path.join(vdir, "joints.png"), DPI)
     return trace, path, prog_xyz, (origin, e1, e2)
 
 
@@ -137,7 +122,7 @@ def plot_comparison(run_dir, summary, data):
     ax.set_title("Path speed by variant")
     ax.legend()
     ax.grid(alpha=0.3)
-    save(fig, os.path.join(run_dir, "compare_speed.png"))
+    save_png(fig, os.path.join(run_dir, "compare_speed.png"), DPI)
 
     fig, ax = plt.subplots(figsize=(7, 6))
     first = data[variants[0]["name"]]
@@ -150,7 +135,7 @@ def plot_comparison(run_dir, summary, data):
     ax.set_title("Planned path by variant")
     ax.legend()
     ax.grid(alpha=0.3)
-    save(fig, os.path.join(run_dir, "compare_path.png"))
+    save_png(fig, os.path.join(run_dir, "compare_path.png"), DPI)
 
     keys = [("cycle_time_s", "cycle time [s]"), ("tracking_error_max_mm", "max tracking error [mm]"),
             ("contour_error_max_mm", "max contour error [mm]"), ("path_deviation_max_mm", "max path deviation [mm]")]
@@ -164,7 +149,7 @@ def plot_comparison(run_dir, summary, data):
         ax.set_title(label)
         ax.grid(alpha=0.3, axis="y")
     fig.tight_layout()
-    save(fig, os.path.join(run_dir, "compare_metrics.png"))
+    save_png(fig, os.path.join(run_dir, "compare_metrics.png"), DPI)
 
 
 def main(argv):
