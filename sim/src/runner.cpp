@@ -208,9 +208,7 @@ class VariantRun {
     if (!joints.outcome.ok()) {
       const double s = timing.samples[joints.failed_index].s;
       fail_unreachable(sc_, program, move_at(path, s),
-                       "the path leaves the robot's reach or limits at t = " +
-                           fixed(static_cast<double>(joints.failed_index) * topt.dt, 3) + " s, " +
-                           pose_text(path.point(s)) + ": " + joints.outcome.message);
+                       "the path leaves the robot's reach or limits at " + joints.outcome.message);
     }
     say("inverse kinematics for " + std::to_string(poses.size()) + " poses (" + fixed(seconds_since(start) * 1e3, 1) +
         " ms)");
