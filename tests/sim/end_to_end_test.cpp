@@ -93,6 +93,10 @@ TEST_F(EndToEnd, UnreachableTargetIsBadInputNamingTheMove) {
     EXPECT_EQ(e.file(), "e2e.yaml");
     EXPECT_EQ(e.line(), 10) << e.what();
     EXPECT_EQ(e.field(), "program.moves[1]") << e.what();
+    // when and where: the time on the plan and the pose that is out of reach
+    const std::string what = e.what();
+    EXPECT_NE(what.find("t = "), std::string::npos) << what;
+    EXPECT_NE(what.find("out of reach: position ("), std::string::npos) << what;
   }
 }
 
