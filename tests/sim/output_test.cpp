@@ -1,7 +1,10 @@
 #include "sim/output.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
+
+#include <csignal>
 
 #include <cmath>
 #include <fstream>
@@ -57,6 +60,31 @@ TEST_F(OutputTest, FailureKeepsTheOldFileAndSaysWhere) {
   }
   ::chmod(dir_.c_str(), 0755);
   EXPECT_EQ(slurp(file), "old");
+}
+
+TEST_F(OutputTest, AWriteCutShortKeepsTheOldFileAndLeavesNoTemporary) {
+  // a file-size limit stops the write part-way (as a full disk would); it binds root too
+  const fs::path file = dir_ / "trace.csv";
+  write_file_atomic(file, "old");
+  rlimit saved{};
+  ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &saved), 0);
+  const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);
+  rlimit limited = saved;
+  limited.rlim_cur = 4096;
+  ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &limited), 0);
+  std::string error;
+  try {
+    write_file_atomic(file, std::string(1 << 20, 'x'));
+  } catch (const std::runtime_error& e) {
+    error = e.what();
+  }
+  ::setrlimit(RLIMIT_FSIZE, &saved);
+  std::signal(SIGXFSZ, old_handler);
+  EXPECT_NE(error.find(file.string()), std::string::npos) << "expected a failure naming the file, got '" << error << "'";
+  EXPECT_EQ(slurp(file), "old");
+  int entries = 0;
+  for (const auto& e : fs::directory_iterator(dir_)) entries += e.is_regular_file() ? 1 : 0;
+  EXPECT_EQ(entries, 1) << "the temporary file must be removed";
 }
 
 TEST_F(OutputTest, FailsWhenTheTargetIsADirectory) {
