@@ -1281,6 +1281,59 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
   return result;
 }
 
+BiclothoidStartFit fit_biclothoid_from_start(const CornerShapes& shapes, double start_distance, double a_max,
+                                             double b_max) {
+  BiclothoidStartFit result;
+  double a_cap = shapes.q1.kappa != 0 ? std::min(a_max, kMaxArcTurn / std::abs(shapes.q1.kappa)) : a_max;
+  double b_cap = shapes.q2.kappa != 0 ? std::min(b_max, kMaxArcTurn / std::abs(shapes.q2.kappa)) : b_max;
+  if (const auto meet = crossing(shapes.q1, shapes.q2, a_cap, b_cap)) {
+    a_cap = std::min(a_cap, kCrossingMargin * meet->first);
+    b_cap = std::min(b_cap, kCrossingMargin * meet->second);
+  }
+  using Limit = BiclothoidStartFit::Limit;
+  // why the first (largest) start distance that failed did not fit
+  Limit first_failure = Limit::kNone;
+  const auto fits = [&](double a) -> std::optional<BiclothoidSolution> {
+    auto sol = fit_biclothoid_at(shapes, a);
+    if (!sol || sol->b > b_cap) {
+      if (first_failure == Limit::kNone) first_failure = sol ? Limit::kOutgoing : Limit::kNoSolution;
+      return std::nullopt;
+    }
+    return sol;
+  };
+  double a = std::min(start_distance, a_cap);
+  if (a < start_distance) first_failure = Limit::kIncoming;
+  std::optional<BiclothoidSolution> best = fits(a);
+  if (!best) {
+    // halve until a fillet fits, then bisect in log a between that and the last that did not
+    double hi = a;
+    for (int i = 0; i < 60 && !best; ++i) {
+      hi = a;
+      a *= 0.5;
+      best = fits(a);
+    }
+    if (!best) {
+      result.outcome = {Status::kNotConverged, "no biclothoid fillet fits at start distance " +
+                                                   format_mm(start_distance) + " or any shorter (004 Algorithm 1)"};
+      return result;
+    }
+    double lo = a;
+    while (hi / lo > 1 + 1e-9) {
+      const double mid = std::sqrt(lo * hi);
+      if (auto sol = fits(mid)) {
+        lo = mid;
+        best = sol;
+      } else {
+        hi = mid;
+      }
+    }
+  }
+  result.fillet = *best;
+  result.limit = best->a < start_distance * (1 - 1e-12) ? first_failure : Limit::kNone;
+  result.deviation = biclothoid_deviation(*best, shapes);
+  return result;
+}
+
 Vec3 to_space(const CornerPlane& plane, const Vec2& p) { return plane.origin + p.x() * plane.x + p.y() * plane.y; }
 
 std::vector<Segment> to_segments(const Biclothoid& curve, const CornerPlane& plane) {
@@ -1371,7 +1424,7 @@ std::optional<CornerFit> clothoid_special_case(const CornerInput& corner, const 
                                             " move is left for a transition"};
     return fit;
   }
-  if (corner.spec.parameter <= 0) {
+  if (corner.spec.parameter <= 0 && corner.spec.start_distance <= 0) {
     if (!tangent) {
       fail_at(corner.where, "transition.parameter",
               corner.name + ": a " + std::string(to_string(corner.spec.method)) +
@@ -1389,25 +1442,29 @@ CornerFit fit_biclothoid_corner(const CornerInput& corner) {
   const PlanarCorner geometry = planar_corner(corner.in, corner.out);
   if (auto special = clothoid_special_case(corner, geometry)) return *special;
   const double tolerance = corner.spec.parameter;
+  const double start_distance = corner.spec.start_distance;  // > 0: sized by it, not by tolerance
   CornerFit fit;
   fit.case_name = geometry.angle <= kTangentAngle ? "tangent" : "regular";
 
   // two lines: the symmetric fillet in closed form (004 section 7.1, 002 eq. 9), shrunk to
   // the shorter available length
   if (geometry.lines) {
-    ClothoidPair pair = clothoid_pair_for_deviation(geometry.angle, tolerance);
+    ClothoidPair pair = start_distance > 0 ? clothoid_pair_for_tangent_length(geometry.angle, start_distance)
+                                           : clothoid_pair_for_deviation(geometry.angle, tolerance);
     const double available = std::min(corner.in_available, corner.out_available);
     if (pair.tangent_length > available) {
+      const double asked = start_distance > 0 ? start_distance : tolerance;
       pair = clothoid_pair_for_tangent_length(geometry.angle, available);
-      fit.note = "deviation shrunk from " + format_mm(tolerance) + " to " + format_mm(pair.deviation) + ": the " +
-                 (corner.in_available <= corner.out_available ? "incoming" : "outgoing") + " move is short";
+      fit.note = std::string(start_distance > 0 ? "start distance" : "deviation") + " shrunk from " +
+                 format_mm(asked) + " to " + format_mm(start_distance > 0 ? pair.tangent_length : pair.deviation) +
+                 ": the " + (corner.in_available <= corner.out_available ? "incoming" : "outgoing") + " move is short";
     }
     const Posture start{Vec2(-pair.tangent_length, 0.0), 0.0, 0.0};
     fit.transition = to_segments(make_biclothoid(start, pair.sharpness, pair.half_length, pair.half_length),
                                  geometry.plane);
     fit.trim_in = pair.tangent_length;
     fit.trim_out = pair.tangent_length;
-    fit.parameter_used = pair.deviation;
+    fit.parameter_used = start_distance > 0 ? pair.tangent_length : pair.deviation;
     return fit;
   }
 
@@ -1422,6 +1479,32 @@ CornerFit fit_biclothoid_corner(const CornerInput& corner) {
       bezier.outcome.message = "non-planar corner, Bezier fallback failed: " + bezier.outcome.message;
     }
     return bezier;
+  }
+
+  // 004 Algorithm 1 at the given start distance
+  if (start_distance > 0) {
+    const BiclothoidStartFit start_fit =
+        fit_biclothoid_from_start(geometry.shapes, start_distance, corner.in_available, corner.out_available);
+    if (!start_fit.outcome.ok()) {
+      fit.outcome = start_fit.outcome;
+      fit.outcome.message = corner.name + ": " + fit.outcome.message;
+      return fit;
+    }
+    fit.transition = to_segments(start_fit.fillet.curve, geometry.plane);
+    fit.trim_in = start_fit.fillet.a;
+    fit.trim_out = start_fit.fillet.b;
+    fit.parameter_used = start_fit.fillet.a;
+    using Limit = BiclothoidStartFit::Limit;
+    if (start_fit.limit != Limit::kNone) {
+      const char* why = start_fit.limit == Limit::kIncoming
+                            ? "limited by the incoming move (or an eighth of a turn of its arc)"
+                        : start_fit.limit == Limit::kOutgoing
+                            ? "the fillet must end within the outgoing move (or an eighth of a turn of its arc)"
+                            : "004 Algorithm 1 found no fillet starting further out";
+      fit.note = "start distance shrunk from " + format_mm(start_distance) + " to " + format_mm(start_fit.fillet.a) +
+                 ": " + why;
+    }
+    return fit;
   }
 
   // 004 Algorithms 1 and 2 in the corner plane

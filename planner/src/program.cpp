@@ -113,6 +113,18 @@ void validate(const Program& program) {
     if (!std::isfinite(move.transition.parameter) || move.transition.parameter < 0) {
       fail_at(move.where, "transition.parameter", who + ": the transition parameter must be >= 0");
     }
+    if (!std::isfinite(move.transition.start_distance) || move.transition.start_distance < 0) {
+      fail_at(move.where, "transition.start_distance", who + ": the start distance must be >= 0");
+    }
+    if (move.transition.start_distance > 0 && move.transition.method != Method::kBiclothoid) {
+      fail_at(move.where, "transition.start_distance",
+              who + ": a start distance sizes only a biclothoid transition, not " +
+                  std::string(to_string(move.transition.method)));
+    }
+    if (move.transition.start_distance > 0 && move.transition.parameter > 0) {
+      fail_at(move.where, "transition.start_distance",
+              who + ": give the biclothoid either a maximum deviation (parameter) or a start distance, not both");
+    }
     if (!std::isfinite(move.transition.kappa_max) || move.transition.kappa_max < 0) {
       fail_at(move.where, "transition.kappa_max", who + ": the curvature cap must be >= 0");
     }

@@ -24,8 +24,8 @@ Metrics compute_metrics(const Trace& trace, const Program& program, const Path& 
   assert(!trace.diverged);
   Metrics m;
   const std::size_t n = trace.samples.size();
-  m.tracking_error.resize(n);
-  m.contour_error.resize(n);
+  m.tracking_error.assign(n, 0.0);
+  m.contour_error.assign(n, 0.0);
 
   // errors per sample
   double sum_sq = 0;

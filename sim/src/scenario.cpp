@@ -173,14 +173,24 @@ double unit_scale(const Reader& r, const Field& root) {
 }
 
 Transition read_transition(const Reader& r, const Field& f, double scale) {
-  r.check_keys(f, {"method", "parameter", "kappa_max", "velocity"});
+  r.check_keys(f, {"method", "parameter", "start_distance", "kappa_max", "velocity"});
   Transition t;
   const Field method = r.require(f, "method");
   const auto m = method_from_string(r.text(method));
   if (!m) r.fail(method, "unknown method '" + r.text(method) + "' (none, arc, bezier, clothoid, biclothoid)");
   t.method = *m;
   const Field parameter = Reader::child(f, "parameter");
-  if (parameter.node.IsDefined()) {
+  const Field start = Reader::child(f, "start_distance");
+  if (start.node.IsDefined()) {
+    if (t.method != Method::kBiclothoid) {
+      r.fail(start, "a start distance sizes only a biclothoid transition, not " + r.text(method));
+    }
+    if (parameter.node.IsDefined()) {
+      r.fail(start, "give the biclothoid either a maximum deviation (parameter) or a start distance, not both");
+    }
+    t.start_distance = r.non_negative(start) * scale;
+    if (!(t.start_distance > 0)) r.fail(start, "the start distance must be positive");
+  } else if (parameter.node.IsDefined()) {
     t.parameter = r.non_negative(parameter) * scale;
   } else if (t.method != Method::kNone) {
     r.fail(r.require(f, "parameter"), "missing required field");

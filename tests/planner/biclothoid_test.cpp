@@ -445,6 +445,99 @@ TEST(Biclothoid, RandomCornersAreG2AndWithinTolerance) {
             << ", curvature jump " << worst_curvature << ", deviation / tolerance " << worst_ratio << "\n";
 }
 
+// A corner sized by start distance instead of tolerance (DESIGN: "maximum deviation, or a
+// start distance").
+CornerInput by_start_distance(CornerInput c, double start_distance) {
+  c.spec.parameter = 0;
+  c.spec.start_distance = start_distance;
+  return c;
+}
+
+TEST(BiclothoidStartDistance, StartsWhereAskedAndReportsTheMeasuredDeviation) {
+  const std::vector<Primitive> moves = listing1();
+  // listing 1 corner C (R10 arc -> R30.01 arc) and the line -> R10 arc corner, 3 mm before
+  for (const auto& [in, out] : {std::pair{moves[2], moves[3]}, std::pair{moves[1], moves[2]}}) {
+    const CornerInput c = by_start_distance(corner_between(in, out, 0.0), 3 * kMm);
+    const CornerFit fit = fit_biclothoid_corner(c);
+    ASSERT_TRUE(fit.outcome.ok()) << fit.outcome.message;
+    EXPECT_NEAR(fit.trim_in, 3 * kMm, 1e-15);
+    EXPECT_DOUBLE_EQ(fit.parameter_used, fit.trim_in);
+    EXPECT_TRUE(fit.note.empty()) << fit.note;
+    EXPECT_GT(fit.trim_out, 0.0);
+    EXPECT_TRUE(test::is_g2(test::check_fit(c, fit)));
+    // a larger start distance gives a larger fillet and a larger deviation
+    const CornerFit wider = fit_biclothoid_corner(by_start_distance(c, 4 * kMm));
+    ASSERT_TRUE(wider.outcome.ok()) << wider.outcome.message;
+    EXPECT_GT(wider.trim_out, fit.trim_out);
+    EXPECT_GT(test::check_fit(c, wider).deviation, test::check_fit(c, fit).deviation);
+  }
+  // two lines: the symmetric pair with tangent length = start distance
+  const CornerInput lines = by_start_distance(
+      corner_between(Line{Vec3(-0.1, 0, 0), Vec3(0, 0, 0)}, Line{Vec3(0, 0, 0), Vec3(0.05, 0.05, 0)}, 0.0), 7 * kMm);
+  const CornerFit pair = fit_biclothoid_corner(lines);
+  ASSERT_TRUE(pair.outcome.ok()) << pair.outcome.message;
+  EXPECT_NEAR(pair.trim_in, 7 * kMm, 1e-15);
+  EXPECT_NEAR(pair.trim_out, 7 * kMm, 1e-15);
+  EXPECT_TRUE(test::is_g2(test::check_fit(lines, pair)));
+}
+
+TEST(BiclothoidStartDistance, ShrinksToTheLargestFilletThatEndsWithinTheOutgoingMove) {
+  const std::vector<Primitive> moves = listing1();
+  CornerInput c = by_start_distance(corner_between(moves[1], moves[2], 0.0), 10 * kMm);
+  const CornerFit free_fit = fit_biclothoid_corner(c);
+  ASSERT_TRUE(free_fit.outcome.ok());
+  c.out_available = 0.5 * free_fit.trim_out;
+  const CornerFit fit = fit_biclothoid_corner(c);
+  ASSERT_TRUE(fit.outcome.ok()) << fit.outcome.message;
+  EXPECT_LT(fit.trim_in, 10 * kMm);
+  EXPECT_LE(fit.trim_out, c.out_available);
+  EXPECT_GE(fit.trim_out, c.out_available * (1 - 1e-6)) << "the largest that fits";
+  EXPECT_NE(fit.note.find("start distance shrunk from 10 mm"), std::string::npos) << fit.note;
+  EXPECT_NE(fit.note.find("outgoing move"), std::string::npos) << fit.note;
+  EXPECT_TRUE(test::is_g2(test::check_fit(c, fit)));
+  // the incoming move limits it too
+  CornerInput short_in = by_start_distance(corner_between(moves[1], moves[2], 0.0), 10 * kMm);
+  short_in.in_available = 2 * kMm;
+  const CornerFit capped = fit_biclothoid_corner(short_in);
+  ASSERT_TRUE(capped.outcome.ok());
+  EXPECT_NEAR(capped.trim_in, 2 * kMm, 1e-15);
+  EXPECT_NE(capped.note.find("incoming move"), std::string::npos) << capped.note;
+}
+
+TEST(BiclothoidStartDistance, RandomCornersStartWhereAskedOrSayWhyNot) {
+  const int cases = test::property_cases(1000);
+  int shrunk = 0;
+  int no_solution = 0;
+  for (int i = 0; i < cases; ++i) {
+    const std::uint64_t seed = 5000 + static_cast<std::uint64_t>(i);
+    auto rng = test::make_rng(seed);
+    const auto kind = static_cast<test::CornerKind>(i % 4);
+    const test::CornerCase cc = test::random_corner(rng, kind, Method::kBiclothoid);
+    const double asked = std::exp(test::uniform(rng, std::log(1e-3), std::log(1.0))) * length(cc.input.in);
+    const CornerInput c = by_start_distance(cc.input, asked);
+    const CornerFit fit = fit_biclothoid_corner(c);
+    ASSERT_TRUE(fit.outcome.ok()) << test::seed_text(seed) << ": " << fit.outcome.message;
+    if (fit.transition.empty()) {
+      // collinear or reversing corners keep no fillet
+      EXPECT_TRUE(fit.case_name == "collinear" || fit.case_name == "reversal") << test::seed_text(seed);
+      continue;
+    }
+    const test::FitCheck check = test::check_fit(c, fit);
+    ASSERT_TRUE(test::is_g2(check)) << test::seed_text(seed);
+    EXPECT_DOUBLE_EQ(fit.parameter_used, fit.trim_in) << test::seed_text(seed);
+    if (fit.note.empty()) {
+      EXPECT_NEAR(fit.trim_in, asked, 1e-12 * asked) << test::seed_text(seed);
+    } else {
+      ++shrunk;
+      EXPECT_LT(fit.trim_in, asked) << test::seed_text(seed);
+      EXPECT_NE(fit.note.find("start distance shrunk"), std::string::npos) << test::seed_text(seed) << fit.note;
+      no_solution += fit.note.find("found no fillet") != std::string::npos ? 1 : 0;
+    }
+  }
+  std::cout << cases << " corners, " << shrunk << " with the start distance shrunk, " << no_solution
+            << " of them where Algorithm 1 found no fillet further out\n";
+}
+
 Program listing1_program(Method method, double tolerance) {
   Program program;
   int k = 0;

@@ -13,10 +13,9 @@ Program square() {
   Program program;
   const Vec3 p[] = {{0, 0, 0}, {0.1, 0, 0}, {0.1, 0.1, 0}};
   for (int i = 0; i < 2; ++i) {
-    Move m;
+    Move& m = program.moves.emplace_back();
     m.geometry = Line{p[i], p[i + 1]};
     m.limits = {0.1, 1, 1, 10};
-    program.moves.push_back(m);
   }
   return program;
 }

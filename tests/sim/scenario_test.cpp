@@ -93,6 +93,20 @@ TEST(Scenario, BadInputNamesFileLineAndField) {
   expect_error(replaced(kValid, "velocity: 50", "velocity: [50]"), 10, "program.moves[1].velocity", "expected a number");
 }
 
+TEST(Scenario, BiclothoidTakesAStartDistanceInsteadOfADeviation) {
+  const Scenario sc = parse(replaced(kValid, "method: arc, parameter: 5", "method: biclothoid, start_distance: 3"));
+  const Transition& t = sc.program.moves[1].transition;
+  EXPECT_EQ(t.method, Method::kBiclothoid);
+  EXPECT_NEAR(t.start_distance, 0.003, 1e-15);
+  EXPECT_EQ(t.parameter, 0.0);
+  expect_error(replaced(kValid, "method: arc, parameter: 5", "method: arc, start_distance: 5"), 11,
+               "program.moves[1].transition.start_distance", "only a biclothoid");
+  expect_error(replaced(kValid, "method: arc, parameter: 5", "method: biclothoid, parameter: 1, start_distance: 5"), 11,
+               "program.moves[1].transition.start_distance", "not both");
+  expect_error(replaced(kValid, "method: arc, parameter: 5", "method: biclothoid, start_distance: 0"), 11,
+               "program.moves[1].transition.start_distance", "must be positive");
+}
+
 TEST(Scenario, InvalidYamlReportsTheParserPosition) {
   try {
     (void)parse("name: x\nprogram: [unclosed\n");

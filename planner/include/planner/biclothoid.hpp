@@ -145,6 +145,29 @@ struct BiclothoidToleranceFit {
 BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes, double tolerance, double a_max,
                                                      double b_max);
 
+// The other way to size a fillet (004 Algorithm 1 alone): it starts `start_distance` (m, > 0)
+// before the corner on q1. The start distance is capped as in the tolerance fit (a_max, an
+// eighth of a turn of an arc, short of where the moves cross again); when Algorithm 1 finds no
+// fillet there or its end distance b exceeds b_max (or an eighth of a turn of q2), the start
+// distance is shrunk to the largest that fits (halving, then bisection in log a to 1e-9), and
+// `limited` is set. `deviation` is measured (004 section 7.1). outcome: kNotConverged when no
+// start distance down to 2^-60 of the request fits.
+struct BiclothoidStartFit {
+  // Why the start distance used is below the one asked for.
+  enum class Limit {
+    kNone,
+    kIncoming,    // a_max, an eighth of a turn of q1, or where the moves cross again
+    kOutgoing,    // the fillet would end beyond b_max (or an eighth of a turn of q2)
+    kNoSolution,  // Algorithm 1 found no fillet at the larger start distances
+  };
+  Outcome outcome;
+  BiclothoidSolution fillet;
+  Deviation deviation;
+  Limit limit = Limit::kNone;
+};
+BiclothoidStartFit fit_biclothoid_from_start(const CornerShapes& shapes, double start_distance, double a_max,
+                                             double b_max);
+
 // The plane of a corner in 3D: the corner point and an orthonormal basis (x, y) of the plane;
 // 2D corner coordinates map to origin + px x + py y.
 struct CornerPlane {

@@ -49,6 +49,6 @@ struct CornerFit {
 CornerFit fit_arc_corner(const CornerInput& corner);         // 001, 003: corner distance
 CornerFit fit_bezier_corner(const CornerInput& corner);      // 000: transition parameter TP
 CornerFit fit_clothoid_corner(const CornerInput& corner);    // 002: clothoid pair (+ arc)
-CornerFit fit_biclothoid_corner(const CornerInput& corner);  // 004: biclothoid with tolerance
+CornerFit fit_biclothoid_corner(const CornerInput& corner);  // 004: tolerance or start distance
 
 }  // namespace blendbench

@@ -18,7 +18,8 @@ struct CornerReport {
   std::string case_name = "regular";  // "regular" or the special case hit (see corner.hpp)
   std::string fallback;               // the documented fallback used, empty when none
   std::string note;                   // e.g. "parameter shrunk from 5 mm to 2.1 mm: move 3 is short"
-  double parameter = 0;               // m: the transition parameter actually used
+  double parameter = 0;               // m: the transition parameter actually used (a biclothoid
+                                      // sized by start distance: the start distance used)
   double length = 0;                  // m: transition length (0 for a kink or zero-length transition)
   double deviation = 0;               // m: Hausdorff distance (both directions) between the transition and the programmed path it replaces
   double kappa_max = 0;               // 1/m
