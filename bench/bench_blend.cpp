@@ -117,6 +117,19 @@ void BM_BiclothoidLineArcTangent(benchmark::State& s) {
   run(s, line_arc_tangent(Method::kBiclothoid), fit_biclothoid_corner);
 }
 void BM_BiclothoidArcArc(benchmark::State& s) { run(s, arc_arc(Method::kBiclothoid), fit_biclothoid_corner); }
+// sized by a 3 mm start distance instead of the 0.1 mm tolerance: Algorithm 1 once, plus the
+// deviation measured for the report
+CornerInput by_start_distance(CornerInput c) {
+  c.spec.parameter = 0;
+  c.spec.start_distance = 3 * kMm;
+  return c;
+}
+void BM_BiclothoidLineArcStartDistance(benchmark::State& s) {
+  run(s, by_start_distance(line_arc(Method::kBiclothoid)), fit_biclothoid_corner);
+}
+void BM_BiclothoidArcArcStartDistance(benchmark::State& s) {
+  run(s, by_start_distance(arc_arc(Method::kBiclothoid)), fit_biclothoid_corner);
+}
 void BM_BiclothoidCorner(benchmark::State& s, const CornerInput& input) { run(s, input, fit_biclothoid_corner); }
 BENCHMARK_CAPTURE(BM_BiclothoidCorner, LineArc_R2_kink90, line_arc_spread(2, 90));
 BENCHMARK_CAPTURE(BM_BiclothoidCorner, LineArc_R1000_kink2, line_arc_spread(1000, 2));
@@ -156,6 +169,8 @@ BENCHMARK(BM_BiclothoidLineLine);
 BENCHMARK(BM_BiclothoidLineArc);
 BENCHMARK(BM_BiclothoidLineArcTangent);
 BENCHMARK(BM_BiclothoidArcArc);
+BENCHMARK(BM_BiclothoidLineArcStartDistance);
+BENCHMARK(BM_BiclothoidArcArcStartDistance);
 BENCHMARK(BM_ClothoidLineLine);
 BENCHMARK(BM_ClothoidLineLineCapped);
 BENCHMARK(BM_ClothoidLineArc);
