@@ -1,5 +1,6 @@
 #!/bin/bash
-# Corner figures: the three-corner comparison and one figure per special-case scenario.
+# Figures: the three-corner comparison, one figure per special-case scenario, and the default
+# scenario's comparison plots (results/figures/default/, shown in the README).
 #
 # usage: tools/make_figures.sh [BLENDBENCH]   (default: build/blendbench; builds nothing)
 #
@@ -60,6 +61,19 @@ sections=()
 figure "$root/scenarios/three_corners.yaml" "$out/three_corners.png" three_corners.png
 for scenario in "$root"/scenarios/cases/*.yaml; do
   figure "$scenario" "$out/cases/$(basename "$scenario" .yaml).png" "cases/$(basename "$scenario" .yaml).png"
+done
+
+# the default scenario's comparison plots (no video), for the README
+mkdir -p "$out/default"
+if ! "$bin" run "$root/scenarios/default.yaml" --no-video --out "$work/default" > "$work/default.log" 2>&1; then
+  echo "make_figures.sh: blendbench run scenarios/default.yaml failed:" >&2
+  cat "$work/default.log" >&2
+  exit 1
+fi
+for png in compare_metrics.png compare_speed.png; do
+  cp "$work/default/$png" "$out/default/$png.tmp"
+  mv "$out/default/$png.tmp" "$out/default/$png"
+  echo "$out/default/$png: $(($(stat -c %s "$out/default/$png") / 1024)) KB"
 done
 
 # the index, from the sections the figure script wrote

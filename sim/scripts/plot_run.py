@@ -113,15 +113,21 @@ def plot_variant(run_dir, variant):
 
 def plot_comparison(run_dir, summary, data):
     variants = summary["variants"]
-    fig, ax = plt.subplots(figsize=(8, 4))
+    # over time (who finishes first) and along the path (where each variant slows down: the
+    # corners line up, as a blended path is only slightly shorter than the programmed one)
+    fig, (ax_t, ax_s) = plt.subplots(2, 1, figsize=(10, 6.5))
     for v in variants:
         trace = data[v["name"]][0]
-        ax.plot(trace["t"], trace["v_mm_s"], label=v["name"])
-    ax.set_xlabel("time [s]")
-    ax.set_ylabel("planned path speed [mm/s]")
-    ax.set_title("Path speed by variant")
-    ax.legend()
-    ax.grid(alpha=0.3)
+        ax_t.plot(trace["t"], trace["v_mm_s"], lw=1.2, label=v["name"])
+        ax_s.plot(trace["s_mm"], trace["v_mm_s"], lw=1.2, label=v["name"])
+    ax_t.set_xlabel("time [s]")
+    ax_s.set_xlabel("arc length along the planned path [mm]")
+    for ax in (ax_t, ax_s):
+        ax.set_ylabel("planned path speed [mm/s]")
+        ax.grid(alpha=0.3)
+    ax_t.set_title("Path speed by variant")
+    ax_t.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
+    fig.tight_layout()
     save_png(fig, os.path.join(run_dir, "compare_speed.png"), DPI)
 
     fig, ax = plt.subplots(figsize=(7, 6))
