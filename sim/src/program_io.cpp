@@ -1,19 +1,25 @@
 #include "sim/program_io.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 
 namespace blendbench {
 
 GcodeResult load_gcode_file(const std::string& path, const GcodeOptions& options) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, 0, 0, "", "cannot open the G-code file");
-  std::stringstream text;
-  text << in.rdbuf();
-  return parse_gcode(text.str(), path, options);
+  // read it all; istream::read turns a read error (a directory, an I/O error part way) into
+  // badbit, where `out << in.rdbuf()` would swallow it and parse a shorter text
+  std::string text;
+  std::array<char, 1 << 14> buffer;
+  while (in.read(buffer.data(), static_cast<std::streamsize>(buffer.size())) || in.gcount() > 0) {
+    text.append(buffer.data(), static_cast<std::size_t>(in.gcount()));
+  }
+  if (in.bad()) throw InputError(path, 0, 0, "", "cannot read the G-code file");
+  return parse_gcode(text, path, options);
 }
 
 bool is_gcode_file(const std::string& path) {
