@@ -7,6 +7,7 @@
 #include <limits>
 #include <numbers>
 #include <utility>
+#include <vector>
 
 namespace blendbench {
 namespace {
@@ -21,26 +22,41 @@ Closest make(const Segment& segment, double s, const Vec3& query) {
   return {s, p, (query - p).norm()};
 }
 
+// Golden-section refinement of every local minimum of squared distances `d2[i]` sampled at
+// t = h * i on [0, t_max]; `f2(t)` is the squared distance. Returns the best {t, d2}. Every
+// local minimum, not only the smallest sample: on a multi-turn helix the nearest turn can
+// sample worse than a farther one when the query sits between samples.
+template <class F2>
+std::pair<double, double> refine_minima(const std::vector<double>& d2, double h, double t_max, const F2& f2,
+                                        double width, int max_iterations) {
+  const std::size_t n = d2.size();
+  std::pair<double, double> best{0.0, std::numeric_limits<double>::infinity()};
+  for (std::size_t i = 0; i < n; ++i) {
+    if (d2[i] < best.second) best = {h * static_cast<double>(i), d2[i]};
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool left_ok = i == 0 || d2[i] <= d2[i - 1];
+    const bool right_ok = i + 1 == n || d2[i] <= d2[i + 1];
+    if (!left_ok || !right_ok) continue;
+    const double t = h * static_cast<double>(i);
+    const auto refined =
+        golden_minimum(f2, std::max(0.0, t - h), std::min(t_max, t + h), width, max_iterations);
+    if (refined.second < best.second) best = refined;
+  }
+  return best;
+}
+
 // Dense scan of the squared distance over a parameter t in [0, t_max] with position `at(t)`,
-// then golden-section refinement around the best sample; returns the best t and distance.
+// then refinement of its local minima; returns the best t and distance.
 template <class At>
 std::pair<double, double> scan_closest(const At& at, double t_max, const Vec3& query) {
   constexpr int kSamples = 128;
   const double h = t_max / kSamples;
-  double best_t = 0;
-  double best_d = std::numeric_limits<double>::infinity();
-  for (int i = 0; i <= kSamples; ++i) {
-    const double d = (at(h * i) - query).squaredNorm();
-    if (d < best_d) {
-      best_d = d;
-      best_t = h * i;
-    }
-  }
-  double lo = std::max(0.0, best_t - h);
-  double hi = std::min(t_max, best_t + h);
-  const auto [t, d] = golden_minimum([&](double x) { return (at(x) - query).squaredNorm(); }, lo, hi,
-                                     1e-12 * std::max(t_max, 1e-9));
-  return d <= best_d ? std::pair{t, std::sqrt(d)} : std::pair{best_t, std::sqrt(best_d)};
+  std::vector<double> d2(kSamples + 1);
+  for (int i = 0; i <= kSamples; ++i) d2[static_cast<std::size_t>(i)] = (at(h * i) - query).squaredNorm();
+  const auto [t, d] = refine_minima(d2, h, t_max, [&](double x) { return (at(x) - query).squaredNorm(); },
+                                    1e-12 * std::max(t_max, 1e-9), 80);
+  return {t, std::sqrt(d)};
 }
 
 Closest closest_numeric(const Segment& segment, const Vec3& query) {
@@ -100,7 +116,7 @@ namespace {
 
 // A segment prepared for many closest-point queries: lines and planar arcs are answered
 // exactly; other curves keep a dense table of positions (in s, or in u for a Bezier) so each
-// query scans the table without evaluating the curve and refines around the best entry.
+// query scans the table without evaluating the curve and refines around its local minima.
 class Target {
  public:
   explicit Target(const Segment& segment) : segment_(segment) {
@@ -116,22 +132,11 @@ class Target {
 
   double distance(const Vec3& query) const {
     if (exact_) return closest_point(segment_, query).distance;
-    std::size_t best = 0;
-    double best_d = std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i < table_.size(); ++i) {
-      const double d = (table_[i] - query).squaredNorm();
-      if (d < best_d) {
-        best_d = d;
-        best = i;
-      }
-    }
-    // golden-section refinement on the bracket around the best entry
-    const double h = t_max_ / kTable;
-    double lo = std::max(0.0, static_cast<double>(best) * h - h);
-    double hi = std::min(t_max_, static_cast<double>(best) * h + h);
-    const auto refined =
-        golden_minimum([&](double t) { return (at(t) - query).squaredNorm(); }, lo, hi, 1e-12 * t_max_, 60);
-    return std::sqrt(std::min(best_d, refined.second));
+    d2_.resize(table_.size());
+    for (std::size_t i = 0; i < table_.size(); ++i) d2_[i] = (table_[i] - query).squaredNorm();
+    const auto refined = refine_minima(d2_, t_max_ / kTable, t_max_,
+                                       [&](double t) { return (at(t) - query).squaredNorm(); }, 1e-12 * t_max_, 60);
+    return std::sqrt(refined.second);
   }
 
  private:
@@ -143,6 +148,7 @@ class Target {
   const Bezier* bezier_ = nullptr;
   double t_max_ = 0;
   std::vector<Vec3> table_;
+  mutable std::vector<double> d2_;  // scratch for one query, reused to avoid an allocation each
 };
 
 double directed(const std::vector<Segment>& from, const std::vector<Segment>& to, double step) {

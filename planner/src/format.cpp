@@ -1,5 +1,7 @@
 #include "planner/format.hpp"
 
+#include <cmath>
+#include <limits>
 #include <numbers>
 #include <sstream>
 
@@ -9,6 +11,7 @@ namespace {
 std::string with_unit(double value, const char* unit) {
   std::ostringstream out;
   out.precision(6);
+  if (std::isnan(value)) value = std::numeric_limits<double>::quiet_NaN();  // never "-nan"
   out << value << ' ' << unit;
   return out.str();
 }

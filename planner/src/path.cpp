@@ -19,6 +19,9 @@ Path::Location Path::locate(double s) const {
   const auto it = std::upper_bound(offsets_.begin(), offsets_.end() - 1, s);
   std::size_t k = static_cast<std::size_t>(std::max<std::ptrdiff_t>(it - offsets_.begin() - 1, 0));
   k = std::min(k, pieces_.size() - 1);
+  // only the last piece can hold s without extending past it: at the path's end, step back
+  // over trailing zero-length pieces so the tangent and curvature come from a real piece
+  while (k > 0 && offsets_[k + 1] == offsets_[k]) --k;
   return {k, s - offsets_[k]};
 }
 

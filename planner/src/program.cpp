@@ -94,11 +94,19 @@ void validate(const Program& program) {
     const Move& move = program.moves[k];
     const std::string who = describe(move, k);
     const double len = length(move.geometry);
-    if (!std::isfinite(len) || len <= join_tol) {
-      fail_at(move.where, "geometry", who + " has zero length (" + format_mm(len) + "); remove it or give it a distinct end point");
+    // the length alone misses an arc whose centre or axes are NaN but radius and sweep are not
+    if (!std::isfinite(len) || !point(move.geometry, 0.0).allFinite() || !point(move.geometry, len).allFinite()) {
+      fail_at(move.where, "geometry", who + " has a coordinate that is not a finite number (NaN or infinite)");
     }
+    // an arc of zero radius or sweep also has zero length: name the cause, not the symptom
     if (const Arc* arc = std::get_if<Arc>(&move.geometry)) {
-      if (!(arc->radius > 0) || !(arc->sweep > 0)) fail_at(move.where, "geometry", who + " is a degenerate arc");
+      if (!(arc->radius > 0) || !(arc->sweep > 0)) {
+        fail_at(move.where, "geometry",
+                who + " is a degenerate arc (radius " + format_mm(arc->radius) + ", sweep " + format_deg(arc->sweep) + ")");
+      }
+    }
+    if (len <= join_tol) {
+      fail_at(move.where, "geometry", who + " has zero length (" + format_mm(len) + "); remove it or give it a distinct end point");
     }
     const Limits& lim = move.limits;
     const std::array<std::pair<double, const char*>, 4> limits = {{{lim.velocity, "velocity"},
