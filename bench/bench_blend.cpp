@@ -8,7 +8,9 @@
 
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 
+#include "planner/arc_construction.hpp"
 #include "planner/corner.hpp"
 #include "planner/fresnel.hpp"
 #include "planner/segment.hpp"
@@ -19,14 +21,9 @@ namespace {
 constexpr double kMm = 1e-3;
 
 Arc xy_arc(const Vec3& start, const Vec3& end, const Vec3& centre, bool clockwise) {
-  const double radius = (start - centre).norm();
-  const Vec3 u = (start - centre) / radius;
-  const Vec3 w = clockwise ? Vec3(0, 0, -1) : Vec3(0, 0, 1);
-  const Vec3 v = w.cross(u);
-  const Vec3 e = (end - centre) / radius;
-  double sweep = std::atan2(e.dot(v), e.dot(u));
-  if (sweep <= 0) sweep += 2 * std::numbers::pi;
-  return Arc{centre, u, v, radius, sweep, 0.0};
+  const ArcBuild built = arc_from_center(start, end, centre, Vec3::UnitZ(), !clockwise);
+  if (!built.outcome.ok()) throw std::invalid_argument("xy_arc: " + built.outcome.message);
+  return built.arc;
 }
 
 CornerInput corner(const Primitive& in, const Primitive& out, Method method, double tolerance, double kappa_max = 0) {

@@ -4,9 +4,11 @@
 
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 #include <string>
 
 #include "../support/corner_check.hpp"
+#include "planner/arc_construction.hpp"
 #include "planner/blend.hpp"
 #include "planner/clothoid_blend.hpp"
 
@@ -22,14 +24,9 @@ constexpr double kToleranceReached = 1e-4;
 
 // An arc in the XY plane (metres) from start to end about centre, clockwise (G2) or not (G3).
 Arc xy_arc(const Vec3& start, const Vec3& end, const Vec3& centre, bool clockwise) {
-  const double radius = (start - centre).norm();
-  const Vec3 u = (start - centre) / radius;
-  const Vec3 w = clockwise ? Vec3(0, 0, -1) : Vec3(0, 0, 1);
-  const Vec3 v = w.cross(u);
-  const Vec3 e = (end - centre) / radius;
-  double sweep = std::atan2(e.dot(v), e.dot(u));
-  if (sweep <= 0) sweep += 2 * kPi;
-  return Arc{centre, u, v, radius, sweep, 0.0};
+  const ArcBuild built = arc_from_center(start, end, centre, Vec3::UnitZ(), !clockwise);
+  if (!built.outcome.ok()) throw std::invalid_argument("xy_arc: " + built.outcome.message);
+  return built.arc;
 }
 
 // 004 listing 1, starting at the origin, in metres:
