@@ -23,10 +23,10 @@ struct Result {
   std::string output;  // stdout and stderr
 };
 
-Result run(const std::string& args) {
-  const std::string command = std::string(BLENDBENCH_BINARY) + " " + args + " 2>&1";
+// Runs a shell command, capturing its stdout and stderr.
+Result run_shell(const std::string& command) {
   Result r;
-  FILE* pipe = ::popen(command.c_str(), "r");
+  FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
   if (pipe == nullptr) return r;
   std::array<char, 4096> buffer{};
   while (std::fgets(buffer.data(), buffer.size(), pipe) != nullptr) r.output += buffer.data();
@@ -35,17 +35,11 @@ Result run(const std::string& args) {
   return r;
 }
 
+Result run(const std::string& args) { return run_shell(std::string(BLENDBENCH_BINARY) + " " + args); }
+
 Result run_probe(const fs::path& video) {
-  const std::string command = "ffprobe -v error -select_streams v:0 -show_entries stream=codec_name,avg_frame_rate "
-                              "-of compact '" + video.string() + "' 2>&1";
-  Result r;
-  FILE* pipe = ::popen(command.c_str(), "r");
-  if (pipe == nullptr) return r;
-  std::array<char, 4096> buffer{};
-  while (std::fgets(buffer.data(), buffer.size(), pipe) != nullptr) r.output += buffer.data();
-  const int status = ::pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
+  return run_shell("ffprobe -v error -select_streams v:0 -show_entries stream=codec_name,avg_frame_rate -of compact '" +
+                   video.string() + "'");
 }
 
 class Cli : public ::testing::Test {
