@@ -8,15 +8,18 @@
 namespace blendbench {
 namespace {
 
-std::string with_unit(double value, const char* unit) {
+std::string with_unit(double value, const char* unit) { return format_value(value) + ' ' + unit; }
+
+}  // namespace
+
+std::string format_value(double value) {
   std::ostringstream out;
   out.precision(6);
   if (std::isnan(value)) value = std::numeric_limits<double>::quiet_NaN();  // never "-nan"
-  out << value << ' ' << unit;
+  if (value == 0) value = 0;                                                 // never "-0"
+  out << value;
   return out.str();
 }
-
-}  // namespace
 
 std::string format_mm(double metres) { return with_unit(metres * 1e3, "mm"); }
 std::string format_deg(double radians) { return with_unit(radians * 180.0 / std::numbers::pi, "deg"); }

@@ -85,28 +85,45 @@ std::optional<Method> method_from_string(std::string_view name) {
 
 void validate(const Program& program) {
   if (program.moves.empty()) throw InputError("", 0, 0, "moves", "the program has no moves");
-  // size of the program, for relative tolerances
+  // size of the program, for relative tolerances; a non-finite length is reported below and must
+  // not make the tolerance infinite (every other move would read as zero length)
   double size = 0;
-  for (const Move& move : program.moves) size = std::max(size, length(move.geometry));
+  for (const Move& move : program.moves) {
+    const double len = length(move.geometry);
+    if (std::isfinite(len)) size = std::max(size, len);
+  }
   const double join_tol = 1e-9 * std::max(size, 1e-3);
 
   for (std::size_t k = 0; k < program.moves.size(); ++k) {
     const Move& move = program.moves[k];
     const std::string who = describe(move, k);
+    // an arc of zero or negative radius or sweep has a zero, negative or NaN length and NaN
+    // points, so it is named first: the cause, not the symptom (a NaN or infinite radius or sweep
+    // is a non-finite number, below)
+    if (const Arc* arc = std::get_if<Arc>(&move.geometry)) {
+      if (std::isfinite(arc->radius) && std::isfinite(arc->sweep) && !(arc->radius > 0 && arc->sweep > 0)) {
+        fail_at(move.where, "geometry",
+                who + " is a degenerate arc (radius " + format_mm(arc->radius) + ", sweep " + format_deg(arc->sweep) + ")");
+      }
+    }
     const double len = length(move.geometry);
     // the length alone misses an arc whose centre or axes are NaN but radius and sweep are not
     if (!std::isfinite(len) || !point(move.geometry, 0.0).allFinite() || !point(move.geometry, len).allFinite()) {
       fail_at(move.where, "geometry", who + " has a coordinate that is not a finite number (NaN or infinite)");
     }
-    // an arc of zero radius or sweep also has zero length: name the cause, not the symptom
-    if (const Arc* arc = std::get_if<Arc>(&move.geometry)) {
-      if (!(arc->radius > 0) || !(arc->sweep > 0)) {
-        fail_at(move.where, "geometry",
-                who + " is a degenerate arc (radius " + format_mm(arc->radius) + ", sweep " + format_deg(arc->sweep) + ")");
-      }
-    }
     if (len <= join_tol) {
       fail_at(move.where, "geometry", who + " has zero length (" + format_mm(len) + "); remove it or give it a distinct end point");
+    }
+    // joined to the previous move; checked after this move's own geometry, so that a non-finite
+    // or degenerate start is named as such and not as an infinite or spurious gap
+    if (k > 0) {
+      const Move& previous = program.moves[k - 1];
+      const Vec3 end = point(previous.geometry, length(previous.geometry));
+      const double gap = (point(move.geometry, 0.0) - end).norm();
+      if (gap > join_tol) {
+        fail_at(move.where, "geometry",
+                who + " does not start where " + describe(previous, k - 1) + " ends (gap " + format_mm(gap) + ")");
+      }
     }
     const Limits& lim = move.limits;
     const std::array<std::pair<double, const char*>, 4> limits = {{{lim.velocity, "velocity"},
@@ -115,7 +132,7 @@ void validate(const Program& program) {
                                                                     {lim.jerk, "jerk"}}};
     for (const auto& [value, field] : limits) {
       if (!std::isfinite(value) || value <= 0) {
-        fail_at(move.where, field, who + ": " + field + " must be positive and finite, got " + std::to_string(value));
+        fail_at(move.where, field, who + ": " + field + " must be positive and finite, got " + format_value(value));
       }
     }
     if (!std::isfinite(move.transition.parameter) || move.transition.parameter < 0) {
@@ -138,15 +155,6 @@ void validate(const Program& program) {
     }
     if (!std::isfinite(move.transition.velocity) || move.transition.velocity < 0) {
       fail_at(move.where, "transition.velocity", who + ": the transition velocity must be >= 0");
-    }
-    if (k + 1 < program.moves.size()) {
-      const Vec3 end = point(move.geometry, len);
-      const Vec3 next = point(program.moves[k + 1].geometry, 0.0);
-      if ((end - next).norm() > join_tol) {
-        fail_at(program.moves[k + 1].where, "geometry",
-                describe(program.moves[k + 1], k + 1) + " does not start where " + who + " ends (gap " +
-                    format_mm((end - next).norm()) + ")");
-      }
     }
   }
 }

@@ -62,52 +62,22 @@ TEST(Blend, TransitionVelocityIsTheBufferModesJunctionVelocity) {
   }
 }
 
-TEST(Blend, ZeroLengthMoveIsAnInputErrorNamingTheMove) {
-  Program program;
-  program.moves = {line_move({0, 0, 0}, {0.1, 0, 0}), line_move({0.1, 0, 0}, {0.1, 0, 0})};
-  program.moves[1].name = "N20 G1";
-  program.moves[1].where = {"part.ngc", 2, 1};
-  try {
-    (void)blend(program);
-    FAIL() << "expected InputError";
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.file(), "part.ngc");
-    EXPECT_EQ(e.line(), 2);
-    EXPECT_NE(std::string(e.what()).find("N20 G1 has zero length"), std::string::npos) << e.what();
-  }
-}
-
-TEST(Blend, AStartDistanceIsForTheBiclothoidAloneAndNotWithADeviation) {
-  const auto program_with = [](Method method, double parameter, double start_distance) {
-    Program program;
-    program.moves = {line_move({0, 0, 0}, {0.1, 0, 0}), line_move({0.1, 0, 0}, {0.1, 0.1, 0})};
-    program.moves[0].transition = {.method = method, .parameter = parameter, .start_distance = start_distance};
-    program.moves[0].where = {"cell.yaml", 7, 9};
-    return program;
-  };
-  const auto error_of = [](const Program& program) {
-    try {
-      (void)blend(program);
-    } catch (const InputError& e) {
-      EXPECT_EQ(e.field(), "transition.start_distance") << e.what();
-      return std::string(e.what());
-    }
-    return std::string("no error");
-  };
-  EXPECT_NE(error_of(program_with(Method::kBezier, 0.0, 0.005)).find("only a biclothoid"), std::string::npos);
-  EXPECT_NE(error_of(program_with(Method::kBiclothoid, 0.001, 0.005)).find("not both"), std::string::npos);
-  EXPECT_NE(error_of(program_with(Method::kBiclothoid, 0.0, -0.005)).find(">= 0"), std::string::npos);
-  // accepted: the fillet starts 5 mm before the corner
-  const Path path = blend(program_with(Method::kBiclothoid, 0.0, 0.005));
-  ASSERT_EQ(path.corners.size(), 1u);
-  EXPECT_NEAR(path.corners[0].trim_in, 0.005, 1e-15);
-  EXPECT_NEAR(path.corners[0].parameter, 0.005, 1e-15);
-}
-
-TEST(Blend, DisjointMovesAreRejected) {
+TEST(Blend, ValidatesTheProgramFirst) {
+  // what validate rejects is in program_test; blend must not plan around it
   Program program;
   program.moves = {line_move({0, 0, 0}, {0.1, 0, 0}), line_move({0.2, 0, 0}, {0.3, 0, 0})};
   EXPECT_THROW((void)blend(program), InputError);
+  EXPECT_THROW((void)blend(Program{}), InputError);
+}
+
+TEST(Blend, ABiclothoidSizedByAStartDistanceStartsThatFarBeforeTheCorner) {
+  Program program;
+  program.moves = {line_move({0, 0, 0}, {0.1, 0, 0}), line_move({0.1, 0, 0}, {0.1, 0.1, 0})};
+  program.moves[0].transition = {.method = Method::kBiclothoid, .start_distance = 0.005};
+  const Path path = blend(program);
+  ASSERT_EQ(path.corners.size(), 1u);
+  EXPECT_NEAR(path.corners[0].trim_in, 0.005, 1e-15);
+  EXPECT_NEAR(path.corners[0].parameter, 0.005, 1e-15);
 }
 
 TEST(Blend, NoSpuriousKinkWhereTwoFilletsMeetInTheMiddleOfAMove) {

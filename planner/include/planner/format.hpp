@@ -1,6 +1,7 @@
 #pragma once
 // Human-readable quantities for messages and notes: SI values in, text in the units users
-// read (mm, deg, 1/mm), six significant digits.
+// read (mm, deg, 1/mm), six significant digits. The sign of a zero or a NaN means nothing to a
+// reader and is not printed ("0 mm", "nan mm"); infinities keep theirs ("-inf mm").
 
 #include <string>
 
@@ -9,5 +10,6 @@ namespace blendbench {
 std::string format_mm(double metres);          // "12.5 mm"
 std::string format_deg(double radians);        // "90 deg"
 std::string format_per_mm(double per_metre);   // "0.124 1/mm"
+std::string format_value(double value);        // "-1e-07": a quantity without a unit
 
 }  // namespace blendbench

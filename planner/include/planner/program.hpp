@@ -71,9 +71,12 @@ struct Program {
   std::vector<Move> moves;
 };
 
-// Checks what the blender assumes: at least one move, consecutive moves joined (end of move k
-// equals start of move k+1 within 1e-9 of the program size), no zero-length move, positive
-// limits, a non-negative transition parameter. Throws InputError naming the move.
+// Checks what the blender assumes: at least one move; finite coordinates; arcs of positive
+// radius and sweep; no zero-length move; consecutive moves joined (end of move k equals start
+// of move k+1 within 1e-9 of the program size); positive finite limits; finite non-negative
+// transition values, a start distance only on a biclothoid and not with a parameter. Throws
+// InputError located at the move (at move k+1 for a gap), naming it and the field; a move's own
+// geometry is reported before its join to the previous move.
 void validate(const Program& program);
 
 }  // namespace blendbench
