@@ -12,9 +12,9 @@ std::string with_unit(double value, const char* unit) { return format_value(valu
 
 }  // namespace
 
-std::string format_value(double value) {
+std::string format_value(double value, int digits) {
   std::ostringstream out;
-  out.precision(6);
+  out.precision(digits);
   if (std::isnan(value)) value = std::numeric_limits<double>::quiet_NaN();  // never "-nan"
   if (value == 0) value = 0;                                                 // never "-0"
   out << value;

@@ -1,6 +1,7 @@
 #include "planner/gcode.hpp"
 
 #include "planner/arc_construction.hpp"
+#include "planner/format.hpp"
 
 #include <algorithm>
 #include <array>
@@ -74,12 +75,7 @@ PlaneAxes axes_of(Plane plane) {
   return {};
 }
 
-std::string format_number(double value) {
-  std::ostringstream out;
-  out.precision(10);
-  out << value;
-  return out.str();
-}
+std::string format_number(double value) { return format_value(value, 10); }
 
 bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
 bool is_continuation(unsigned char c) { return (c & 0xC0) == 0x80; }

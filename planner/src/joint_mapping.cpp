@@ -5,16 +5,13 @@
 #include <string>
 #include <utility>
 
+#include "planner/format.hpp"
 #include "planner/input_error.hpp"
 
 namespace blendbench {
 namespace {
 
-std::string number(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.6g", value);
-  return text;
-}
+std::string number(double value) { return format_value(value); }
 
 std::string time_text(std::size_t index, double dt) {
   char text[48];

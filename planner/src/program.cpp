@@ -136,10 +136,10 @@ void validate(const Program& program) {
       }
     }
     if (!std::isfinite(move.transition.parameter) || move.transition.parameter < 0) {
-      fail_at(move.where, "transition.parameter", who + ": the transition parameter must be >= 0");
+      fail_at(move.where, "transition.parameter", who + ": the transition parameter must be >= 0, got " + format_mm(move.transition.parameter));
     }
     if (!std::isfinite(move.transition.start_distance) || move.transition.start_distance < 0) {
-      fail_at(move.where, "transition.start_distance", who + ": the start distance must be >= 0");
+      fail_at(move.where, "transition.start_distance", who + ": the start distance must be >= 0, got " + format_mm(move.transition.start_distance));
     }
     if (move.transition.start_distance > 0 && move.transition.method != Method::kBiclothoid) {
       fail_at(move.where, "transition.start_distance",
@@ -151,10 +151,10 @@ void validate(const Program& program) {
               who + ": give the biclothoid either a maximum deviation (parameter) or a start distance, not both");
     }
     if (!std::isfinite(move.transition.kappa_max) || move.transition.kappa_max < 0) {
-      fail_at(move.where, "transition.kappa_max", who + ": the curvature cap must be >= 0");
+      fail_at(move.where, "transition.kappa_max", who + ": the curvature cap must be >= 0, got " + format_per_mm(move.transition.kappa_max));
     }
     if (!std::isfinite(move.transition.velocity) || move.transition.velocity < 0) {
-      fail_at(move.where, "transition.velocity", who + ": the transition velocity must be >= 0");
+      fail_at(move.where, "transition.velocity", who + ": the transition velocity must be >= 0, got " + format_value(move.transition.velocity * 1e3) + " mm/s");
     }
   }
 }

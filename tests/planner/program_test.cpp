@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "../support/property.hpp"
+#include "planner/format.hpp"
 
 namespace blendbench {
 namespace {
@@ -299,11 +300,18 @@ TEST(Validate, EveryLimitMustBePositiveAndFiniteAndTheErrorNamesLimitMoveAndValu
 
 TEST(Validate, TransitionValuesMustBeNonNegativeAndFinite) {
   const double bad[] = {-1e-3, -std::numeric_limits<double>::denorm_min(), kNaN, -kNaN, kInf, -kInf};
-  const std::pair<double Transition::*, const char*> fields[] = {{&Transition::parameter, "transition.parameter"},
-                                                                 {&Transition::start_distance, "transition.start_distance"},
-                                                                 {&Transition::kappa_max, "transition.kappa_max"},
-                                                                 {&Transition::velocity, "transition.velocity"}};
-  for (const auto& [member, field] : fields) {
+  // each field with the unit users read and the factor from SI to it
+  struct Field {
+    double Transition::*member;
+    const char* name;
+    const char* unit;
+    double to_unit;
+  };
+  const Field fields[] = {{&Transition::parameter, "transition.parameter", " mm", 1e3},
+                          {&Transition::start_distance, "transition.start_distance", " mm", 1e3},
+                          {&Transition::kappa_max, "transition.kappa_max", " 1/mm", 1e-3},
+                          {&Transition::velocity, "transition.velocity", " mm/s", 1e3}};
+  for (const auto& [member, field, unit, to_unit] : fields) {
     for (const double value : bad) {
       Program program = three_moves();
       Move& move = program.moves[2];
@@ -313,6 +321,8 @@ TEST(Validate, TransitionValuesMustBeNonNegativeAndFinite) {
       expect_at(e, move, field);
       EXPECT_TRUE(starts_with(e.detail(), "move 3: ")) << e.what();
       EXPECT_TRUE(contains(e.detail(), ">= 0")) << e.what();
+      // the value given, in the user's unit
+      EXPECT_TRUE(contains(e.detail(), "got " + format_value(value * to_unit) + unit)) << e.what();
     }
   }
 }
