@@ -347,6 +347,22 @@ TEST(ClosestPoint, OnAClothoidMatchesADenseScan) {
   }
 }
 
+TEST(ClosestPoint, OnAZeroLengthClothoidIsItsOrigin) {
+  // paths carry zero-length clothoids (a transition shrunk to nothing)
+  const std::uint64_t seed = 14;
+  auto rng = test::make_rng(seed);
+  for (int i = 0; i < test::property_cases(200); ++i) {
+    const Vec3 origin = test::random_point(rng);
+    const Vec3 e1 = test::random_unit(rng);
+    const Clothoid c{origin, e1, test::random_perpendicular(rng, e1), test::uniform(rng, -5, 5), test::uniform(rng, -5, 5), 0.0};
+    const Vec3 q = origin + test::log_uniform(rng, 1e-9, 10) * test::random_unit(rng);
+    const Closest got = closest_point(Segment(c), q);
+    EXPECT_EQ(got.s, 0.0) << where(seed, i);
+    EXPECT_EQ(got.point, origin) << where(seed, i);
+    EXPECT_DOUBLE_EQ(got.distance, (q - origin).norm()) << where(seed, i);
+  }
+}
+
 TEST(ClosestPoint, OfAPrimitiveIsThatOfItsSegment) {
   const std::uint64_t seed = 13;
   auto rng = test::make_rng(seed);
