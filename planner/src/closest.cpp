@@ -158,7 +158,11 @@ double directed(const std::vector<Segment>& from, const std::vector<Segment>& to
   double worst = 0;
   for (const Segment& seg : from) {
     const double len = length(seg);
-    const int n = std::max(64, static_cast<int>(std::ceil(len / std::max(step, 1e-15))));
+    // at least 64 samples, at most 2^20 (a step <= 0 or NaN, or tiny against the length,
+    // would otherwise overflow the count)
+    constexpr double kMaxSamples = 1 << 20;
+    const double wanted = step > 0 ? std::ceil(len / step) : kMaxSamples;
+    const int n = static_cast<int>(std::clamp(std::isnan(wanted) ? kMaxSamples : wanted, 64.0, kMaxSamples));
     // a Bezier is sampled uniformly in u: as dense, and far cheaper than inverting s
     const Bezier* bezier = std::get_if<Bezier>(&seg);
     for (int i = 0; i <= n; ++i) {

@@ -552,16 +552,12 @@ TEST(ArcBlendLineArc, ArcShorterThanTheCornerDistanceIsReplacedWhole) {
 // coordinates reach ~1 m, where one rounding is ~1e-16 m.
 constexpr double kGapFloor = 1e-15;
 
-double log_uniform(std::mt19937_64& rng, double lo, double hi) {
-  return std::exp(test::uniform(rng, std::log(lo), std::log(hi)));
-}
-
 // Tangent turn at the corner: 0.001 deg .. 179.999 deg, with extra weight near both ends.
 double random_turn(std::mt19937_64& rng) {
   constexpr double kLo = 0.001 * kPi / 180;
   const double pick = test::uniform(rng, 0, 1);
-  if (pick < 0.25) return log_uniform(rng, kLo, 0.1);
-  if (pick < 0.5) return kPi - log_uniform(rng, kLo, 0.1);
+  if (pick < 0.25) return test::log_uniform(rng, kLo, 0.1);
+  if (pick < 0.5) return kPi - test::log_uniform(rng, kLo, 0.1);
   return test::uniform(rng, kLo, kPi - kLo);
 }
 
@@ -616,21 +612,21 @@ CornerInput random_corner(std::mt19937_64& rng, Kinds kinds, double theta) {
                              : (test::uniform(rng, 0, 1) < 0.5 ? 0.0 : kPi);
     return Vec3(std::cos(beta) * Vec3::UnitZ().cross(t) + std::sin(beta) * Vec3::UnitZ());
   };
-  const auto length_or_sweep = [&](double r) { return std::min(test::uniform(rng, 0.01, 6.0), log_uniform(rng, 1e-3, 0.6) / r); };
-  Primitive in = Line{-log_uniform(rng, 1e-3, 0.5) * t_in, Vec3::Zero()};
-  Primitive out = Line{Vec3::Zero(), log_uniform(rng, 1e-3, 0.5) * t_out};
+  const auto length_or_sweep = [&](double r) { return std::min(test::uniform(rng, 0.01, 6.0), test::log_uniform(rng, 1e-3, 0.6) / r); };
+  Primitive in = Line{-test::log_uniform(rng, 1e-3, 0.5) * t_in, Vec3::Zero()};
+  Primitive out = Line{Vec3::Zero(), test::log_uniform(rng, 1e-3, 0.5) * t_out};
   if (in_arc) {
-    const double r = log_uniform(rng, 1e-4, 1.0);
+    const double r = test::log_uniform(rng, 1e-4, 1.0);
     in = arc_ending_at(Vec3::Zero(), t_in, side(t_in), r, length_or_sweep(r));
   }
   if (out_arc) {
-    const double r = log_uniform(rng, 1e-4, 1.0);
+    const double r = test::log_uniform(rng, 1e-4, 1.0);
     out = arc_starting_at(Vec3::Zero(), t_out, side(t_out), r, length_or_sweep(r));
   }
   // a planar tilt of a line-line corner or a single arc in the line's plane is still planar
   const Mat3 rot = random_rotation(rng);
   const Vec3 shift(test::uniform(rng, -0.5, 0.5), test::uniform(rng, -0.5, 0.5), test::uniform(rng, -0.5, 0.5));
-  CornerInput corner = make_corner(transformed(in, rot, shift), transformed(out, rot, shift), log_uniform(rng, 1e-5, 0.1),
+  CornerInput corner = make_corner(transformed(in, rot, shift), transformed(out, rot, shift), test::log_uniform(rng, 1e-5, 0.1),
                                    test::uniform(rng, 0, 1) < 0.5 ? BufferMode::kBuffered : BufferMode::kBlendingLow);
   if (test::uniform(rng, 0, 1) < 0.5) corner.in_available *= 0.5;
   if (test::uniform(rng, 0, 1) < 0.5) corner.out_available *= 0.5;
@@ -743,7 +739,7 @@ TEST(ArcBlendProperty, NearStraightAndNearReversalCornersBehaveContinuously) {
   for (int i = 0; i < n; ++i) {
     const auto seed = static_cast<std::uint64_t>(90000 + i);
     auto rng = test::make_rng(seed);
-    const double small = log_uniform(rng, 1e-14, 1e-4);
+    const double small = test::log_uniform(rng, 1e-14, 1e-4);
     const double theta = test::uniform(rng, 0, 1) < 0.5 ? small : kPi - small;
     const CornerInput corner = random_corner(rng, Kinds::kAny, theta);
     check_fit(corner, fit_arc_corner(corner), test::seed_text(seed), worst);
@@ -763,7 +759,7 @@ TEST(ArcBlendProperty, LineLineFilletRadiusFollowsTheCornerDistance) {
     const Vec3 c = rot * Vec3(test::uniform(rng, -0.5, 0.5), 0, 0);
     const Vec3 t_in = rot * Vec3::UnitX();
     const Vec3 t_out = rot * Vec3(std::cos(theta), std::sin(theta), 0);
-    const double d = log_uniform(rng, 1e-5, 0.1);
+    const double d = test::log_uniform(rng, 1e-5, 0.1);
     const CornerFit fit = fit_arc_corner(make_corner(Line{c - 0.2 * t_in, c}, Line{c, c + 0.2 * t_out}, d));
     ASSERT_EQ(fit.transition.size(), 1u) << test::seed_text(seed);
     const Segment& seg = fit.transition[0];
@@ -781,8 +777,8 @@ TEST(ArcBlendProperty, NearIntersectionLineSegmentAndSameCircleStayContinuous) {
   for (int i = 0; i < n; ++i) {
     const auto seed = static_cast<std::uint64_t>(170000 + i);
     auto rng = test::make_rng(seed);
-    const double scale = log_uniform(rng, 1e-2, 10.0);  // radii 0.2 mm .. 200 mm
-    const double eps = log_uniform(rng, 1e-15, 1e-3) * (test::uniform(rng, 0, 1) < 0.5 ? 1 : -1);
+    const double scale = test::log_uniform(rng, 1e-2, 10.0);  // radii 0.2 mm .. 200 mm
+    const double eps = test::log_uniform(rng, 1e-15, 1e-3) * (test::uniform(rng, 0, 1) < 0.5 ? 1 : -1);
     const Mat3 rot = random_rotation(rng);
     const Vec3 shift(test::uniform(rng, -0.5, 0.5), test::uniform(rng, -0.5, 0.5), test::uniform(rng, -0.5, 0.5));
     const double r = 0.02 * scale;
@@ -841,8 +837,8 @@ TEST(ArcBlendProperty, BlendedPathsAreContinuousWithKinksOnlyWhereACaseLeavesOne
     const Vec3 dir = std::cos(turn) * t_end + std::sin(turn) * side;
     Program program;
     program.moves = {move_of(corner.in, corner.spec.parameter, corner.buffer),
-                     move_of(corner.out, log_uniform(rng, 1e-5, 0.1), corner.buffer),
-                     move_of(Line{end, end + log_uniform(rng, 1e-3, 0.3) * dir}, 0.0, corner.buffer)};
+                     move_of(corner.out, test::log_uniform(rng, 1e-5, 0.1), corner.buffer),
+                     move_of(Line{end, end + test::log_uniform(rng, 1e-3, 0.3) * dir}, 0.0, corner.buffer)};
     const Path path = blend(program);
     ASSERT_EQ(path.corners.size(), 2u) << where;
     ASSERT_TRUE(std::isfinite(path.length())) << where;

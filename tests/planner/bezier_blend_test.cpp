@@ -11,6 +11,7 @@
 #include <numbers>
 
 #include "../support/property.hpp"
+#include "../support/random_geometry.hpp"
 #include "planner/blend.hpp"
 #include "planner/corner.hpp"
 
@@ -525,32 +526,13 @@ TEST(BezierBlendScenario, ShortMovesShareTheirLength) {
 
 // ---- seeded random corners
 
-double log_uniform(std::mt19937_64& rng, double lo, double hi) {
-  return std::exp(test::uniform(rng, std::log(lo), std::log(hi)));
-}
-
-Vec3 random_unit(std::mt19937_64& rng) {
-  std::normal_distribution<double> n;
-  Vec3 v(n(rng), n(rng), n(rng));
-  while (v.norm() < 1e-6) v = Vec3(n(rng), n(rng), n(rng));
-  return v.normalized();
-}
-
-// A random unit vector perpendicular to the unit vector t.
-Vec3 random_perpendicular(std::mt19937_64& rng, const Vec3& t) {
-  const Vec3 e1 = any_perpendicular(t);
-  const Vec3 e2 = t.cross(e1);
-  const double a = test::uniform(rng, 0, 2 * kPi);
-  return std::cos(a) * e1 + std::sin(a) * e2;
-}
-
 // Corner angle in degrees from 0.001 to 179.999, with extra weight near both ends; arcs may
 // also meet tangentially.
 double random_angle(std::mt19937_64& rng, bool arcs) {
   const double pick = test::uniform(rng, 0, 1);
   if (arcs && pick < 0.05) return 0.0;
-  if (pick < 0.25) return log_uniform(rng, 0.001, 1.0) * kPi / 180;
-  if (pick < 0.45) return kPi - log_uniform(rng, 0.001, 1.0) * kPi / 180;
+  if (pick < 0.25) return test::log_uniform(rng, 0.001, 1.0) * kPi / 180;
+  if (pick < 0.45) return kPi - test::log_uniform(rng, 0.001, 1.0) * kPi / 180;
   return test::uniform(rng, 0.001, 179.999) * kPi / 180;
 }
 
@@ -566,32 +548,32 @@ RandomCorner random_corner(std::mt19937_64& rng, int kind) {
   const bool in_arc = kind >= 2;
   const bool out_arc = kind == 1 || kind == 3;
   const Vec3 b(test::uniform(rng, -0.3, 0.3), test::uniform(rng, -0.3, 0.3), test::uniform(rng, -0.3, 0.3));
-  const Vec3 t_in = random_unit(rng);
+  const Vec3 t_in = test::random_unit(rng);
   const double phi = random_angle(rng, in_arc || out_arc);
-  const Vec3 axis = random_perpendicular(rng, t_in);
+  const Vec3 axis = test::random_perpendicular(rng, t_in);
   const Vec3 t_out = Eigen::AngleAxisd(phi, axis) * t_in;
   // one plane for both moves in a third of the cases (the cubic of eq. 10-13 applies)
   rc.coplanar = test::uniform(rng, 0, 1) < 1.0 / 3;
   const Vec3 plane_n = axis * (test::uniform(rng, 0, 1) < 0.5 ? 1.0 : -1.0);
-  const auto length_ = [&] { return log_uniform(rng, 1e-4, 1.0); };
+  const auto length_ = [&] { return test::log_uniform(rng, 1e-4, 1.0); };
   Primitive in;
   Primitive out;
   if (in_arc) {
-    const double r = log_uniform(rng, 1e-4, 1.0);
-    const Vec3 w = rc.coplanar ? plane_n : random_perpendicular(rng, t_in);
+    const double r = test::log_uniform(rng, 1e-4, 1.0);
+    const Vec3 w = rc.coplanar ? plane_n : test::random_perpendicular(rng, t_in);
     in = arc_to(b, t_in, w, r, test::uniform(rng, 0.02, 2 * kPi));
   } else {
     in = Line{b - length_() * t_in, b};
   }
   if (out_arc) {
-    const double r = log_uniform(rng, 1e-4, 1.0);
+    const double r = test::log_uniform(rng, 1e-4, 1.0);
     const Vec3 w = rc.coplanar ? (test::uniform(rng, 0, 1) < 0.5 ? plane_n : Vec3(-plane_n))
-                               : random_perpendicular(rng, t_out);
+                               : test::random_perpendicular(rng, t_out);
     out = arc_from(b, t_out, w, r, test::uniform(rng, 0.02, 2 * kPi));
   } else {
     out = Line{b, b + length_() * t_out};
   }
-  const double tp = log_uniform(rng, 1e-5, 0.1);
+  const double tp = test::log_uniform(rng, 1e-5, 0.1);
   const double in_av = length(in) * (test::uniform(rng, 0, 1) < 0.5 ? 0.5 : 1.0);
   const double out_av = length(out) * (test::uniform(rng, 0, 1) < 0.5 ? 0.5 : 1.0);
   rc.input = make_corner(in, out, tp, in_av, out_av);
@@ -693,7 +675,7 @@ Program random_program(std::mt19937_64& rng) {
   Program program;
   const int n = 2 + static_cast<int>(test::uniform(rng, 0, 6));
   Vec3 at(test::uniform(rng, -0.2, 0.2), test::uniform(rng, -0.2, 0.2), test::uniform(rng, -0.2, 0.2));
-  Vec3 dir = random_unit(rng);
+  Vec3 dir = test::random_unit(rng);
   const bool planar = test::uniform(rng, 0, 1) < 0.3;
   const Vec3 plane_n = any_perpendicular(dir);
   for (int k = 0; k < n; ++k) {
@@ -701,16 +683,16 @@ Program random_program(std::mt19937_64& rng) {
     move.limits = {0.05, 0.1, 0.1, 0.2};
     move.buffer = test::uniform(rng, 0, 1) < 0.2 ? BufferMode::kBuffered : BufferMode::kBlendingLow;
     move.transition.method = Method::kBezier;
-    move.transition.parameter = log_uniform(rng, 1e-4, 0.05);
+    move.transition.parameter = test::log_uniform(rng, 1e-4, 0.05);
     // turn the direction by a random angle (in the plane for planar programs)
     const double phi = random_angle(rng, false);
-    const Vec3 axis = planar ? plane_n : random_perpendicular(rng, dir);
+    const Vec3 axis = planar ? plane_n : test::random_perpendicular(rng, dir);
     const Vec3 next_dir = k == 0 ? dir : Vec3(Eigen::AngleAxisd(phi, axis) * dir);
     if (test::uniform(rng, 0, 1) < 0.5) {
-      move.geometry = Line{at, at + log_uniform(rng, 1e-3, 0.3) * next_dir};
+      move.geometry = Line{at, at + test::log_uniform(rng, 1e-3, 0.3) * next_dir};
     } else {
-      const Vec3 w = planar ? plane_n * (test::uniform(rng, 0, 1) < 0.5 ? 1.0 : -1.0) : random_perpendicular(rng, next_dir);
-      move.geometry = arc_from(at, next_dir, w, log_uniform(rng, 1e-3, 0.2), test::uniform(rng, 0.1, 2 * kPi));
+      const Vec3 w = planar ? plane_n * (test::uniform(rng, 0, 1) < 0.5 ? 1.0 : -1.0) : test::random_perpendicular(rng, next_dir);
+      move.geometry = arc_from(at, next_dir, w, test::log_uniform(rng, 1e-3, 0.2), test::uniform(rng, 0.1, 2 * kPi));
     }
     const double len = length(move.geometry);
     at = point(move.geometry, len);

@@ -506,6 +506,18 @@ TEST(Hausdorff, WithAnEmptySetIsZero) {
   EXPECT_EQ(directed_hausdorff(none, a, 0.01), 0.0);
 }
 
+// A step of zero, a negative or NaN step, or one tiny against the length cannot overflow the
+// sample count: the distance is still measured (at the 2^20 samples a segment cap).
+TEST(Hausdorff, ADegenerateStepStillMeasuresTheDistance) {
+  const double offset = 2e-3;
+  const std::vector<Segment> a = {Line{Vec3(0, 0, 0), Vec3(1, 0, 0)}};
+  const std::vector<Segment> b = {Line{Vec3(0, offset, 0), Vec3(1, offset, 0)}};
+  for (const double step : {0.0, -1.0, std::numeric_limits<double>::quiet_NaN(), 1e-300}) {
+    EXPECT_NEAR(hausdorff(a, b, step), offset, kExact) << "step " << step;
+    EXPECT_NEAR(directed_hausdorff(a, b, step), offset, kExact) << "step " << step;
+  }
+}
+
 TEST(Hausdorff, OfParallelLinesIsTheirOffset) {
   const std::uint64_t seed = 24;
   auto rng = test::make_rng(seed);

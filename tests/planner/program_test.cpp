@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "../support/property.hpp"
+#include "../support/random_geometry.hpp"
 #include "planner/format.hpp"
 
 namespace blendbench {
@@ -481,18 +482,6 @@ TEST(Validate, ADegenerateArcIsNamedBeforeItsLengthOrPoints) {
   }
 }
 
-// A random unit vector.
-Vec3 random_direction(std::mt19937_64& rng) {
-  for (;;) {
-    const Vec3 d(test::uniform(rng, -1, 1), test::uniform(rng, -1, 1), test::uniform(rng, -1, 1));
-    if (d.norm() > 0.1 && d.norm() <= 1) return d.normalized();
-  }
-}
-
-double log_uniform(std::mt19937_64& rng, double lo, double hi) {
-  return std::exp(test::uniform(rng, std::log(lo), std::log(hi)));
-}
-
 bool coin(std::mt19937_64& rng) { return test::uniform(rng, 0, 1) < 0.5; }
 
 // A valid program of 1 to 6 joined lines and arcs (helices too) with random limits, buffer modes
@@ -504,26 +493,26 @@ Program random_program(std::mt19937_64& rng) {
   for (int k = 0; k < n; ++k) {
     Move move;
     if (coin(rng)) {
-      move.geometry = Line{at, at + log_uniform(rng, 1e-3, 1.0) * random_direction(rng)};
+      move.geometry = Line{at, at + test::log_uniform(rng, 1e-3, 1.0) * test::random_unit(rng)};
     } else {
-      const Vec3 u = random_direction(rng);
-      const Vec3 v = u.cross(random_direction(rng)).normalized();
-      const double radius = log_uniform(rng, 1e-3, 0.5);
+      const Vec3 u = test::random_unit(rng);
+      const Vec3 v = u.cross(test::random_unit(rng)).normalized();
+      const double radius = test::log_uniform(rng, 1e-3, 0.5);
       const double rise = coin(rng) ? 0.0 : test::uniform(rng, -0.1, 0.1);
       move.geometry = Arc{at - radius * u, u, v, radius, test::uniform(rng, 0.05, 3 * kPi), rise};
     }
     at = point(move.geometry, length(move.geometry));
-    move.limits = {log_uniform(rng, 1e-3, 2), log_uniform(rng, 1e-2, 20), log_uniform(rng, 1e-2, 20),
-                   log_uniform(rng, 1e-1, 1e3)};
+    move.limits = {test::log_uniform(rng, 1e-3, 2), test::log_uniform(rng, 1e-2, 20), test::log_uniform(rng, 1e-2, 20),
+                   test::log_uniform(rng, 1e-1, 1e3)};
     move.buffer = kBufferModes[static_cast<std::size_t>(test::uniform(rng, 0, 6))];
     move.transition.method = kMethods[static_cast<std::size_t>(test::uniform(rng, 0, 5))];
     if (move.transition.method == Method::kBiclothoid && coin(rng)) {
-      move.transition.start_distance = log_uniform(rng, 1e-4, 1e-2);
+      move.transition.start_distance = test::log_uniform(rng, 1e-4, 1e-2);
     } else if (coin(rng)) {
-      move.transition.parameter = log_uniform(rng, 1e-4, 1e-2);
+      move.transition.parameter = test::log_uniform(rng, 1e-4, 1e-2);
     }
-    if (coin(rng)) move.transition.kappa_max = log_uniform(rng, 1, 1e3);
-    if (coin(rng)) move.transition.velocity = log_uniform(rng, 1e-3, 1);
+    if (coin(rng)) move.transition.kappa_max = test::log_uniform(rng, 1, 1e3);
+    if (coin(rng)) move.transition.velocity = test::log_uniform(rng, 1e-3, 1);
     if (coin(rng)) move.name = "N" + std::to_string(10 * (k + 1)) + " G1";
     move.where = {"prog.ngc", 10 * (k + 1), k + 1};
     program.moves.push_back(move);
@@ -577,19 +566,19 @@ TEST(Validate, RandomValidProgramsPassAndOneBrokenMoveIsReportedAtThatMove) {
         says = who + ": the transition parameter must be >= 0";
         break;
       case 2:
-        move.transition.kappa_max = -log_uniform(rng, 1e-3, 1e3);
+        move.transition.kappa_max = -test::log_uniform(rng, 1e-3, 1e3);
         field = "transition.kappa_max";
         says = who + ": the curvature cap must be >= 0";
         break;
       case 3:
-        move.transition.velocity = coin(rng) ? kNaN : -log_uniform(rng, 1e-3, 1);
+        move.transition.velocity = coin(rng) ? kNaN : -test::log_uniform(rng, 1e-3, 1);
         field = "transition.velocity";
         says = who + ": the transition velocity must be >= 0";
         break;
       case 4:
         move.transition.method = pick(std::array{Method::kNone, Method::kArc, Method::kBezier, Method::kClothoid});
         move.transition.parameter = 0;
-        move.transition.start_distance = log_uniform(rng, 1e-4, 1e-2);
+        move.transition.start_distance = test::log_uniform(rng, 1e-4, 1e-2);
         field = "transition.start_distance";
         says = who + ": a start distance sizes only a biclothoid transition";
         break;
@@ -623,7 +612,7 @@ TEST(Validate, RandomValidProgramsPassAndOneBrokenMoveIsReportedAtThatMove) {
       default: {
         // a gap: this move and the rest shifted away from the previous end
         if (k == 0) continue;
-        const Vec3 offset = log_uniform(rng, 1e-6, 1e-2) * random_direction(rng);
+        const Vec3 offset = test::log_uniform(rng, 1e-6, 1e-2) * test::random_unit(rng);
         for (std::size_t j = k; j < program.moves.size(); ++j) translate(program.moves[j].geometry, offset);
         const Move& previous = program.moves[k - 1];
         says = who + " does not start where " + (previous.name.empty() ? "move " + std::to_string(k) : previous.name) +

@@ -157,20 +157,15 @@ TEST(ReachableVelocity, ClosedFormsInBothRegimes) {
   EXPECT_EQ(reachable_velocity(0.3, 100.0, 2.0, 10.0, 0.5), 0.5);
 }
 
-// log-uniform in [lo, hi]
-double log_uniform(std::mt19937_64& rng, double lo, double hi) {
-  return std::exp(test::uniform(rng, std::log(lo), std::log(hi)));
-}
-
 TEST(ReachableVelocity, PropertyTightAndNeverOverTheDistance) {
   const int cases = test::property_cases(5000);
   for (int i = 0; i < cases; ++i) {
     const auto seed = static_cast<std::uint64_t>(i);
     auto rng = test::make_rng(seed);
-    const double v0 = test::uniform(rng, 0, 1) < 0.3 ? 0.0 : log_uniform(rng, 1e-6, 10.0);
-    const double dist = log_uniform(rng, 1e-6, 10.0);
-    const double a = log_uniform(rng, 1e-3, 1e3);
-    const double jerk = log_uniform(rng, 1e-2, 1e5);
+    const double v0 = test::uniform(rng, 0, 1) < 0.3 ? 0.0 : test::log_uniform(rng, 1e-6, 10.0);
+    const double dist = test::log_uniform(rng, 1e-6, 10.0);
+    const double a = test::log_uniform(rng, 1e-3, 1e3);
+    const double jerk = test::log_uniform(rng, 1e-2, 1e5);
     const double v = reachable_velocity(v0, dist, a, jerk, std::numeric_limits<double>::infinity());
     ASSERT_GE(v, v0) << test::seed_text(seed);
     ASSERT_LE(velocity_change(v0, v, a, jerk).distance, dist) << test::seed_text(seed);
@@ -187,8 +182,8 @@ TEST(Scurve, PropertyLimitsHeldEndReachedPeakOptimal) {
     const auto seed = static_cast<std::uint64_t>(1000000 + i);
     auto rng = test::make_rng(seed);
     const std::string where = test::seed_text(seed);
-    const ScurveLimits lim{log_uniform(rng, 1e-3, 10.0), log_uniform(rng, 1e-3, 1e3), log_uniform(rng, 1e-3, 1e3),
-                           log_uniform(rng, 1e-2, 1e5)};
+    const ScurveLimits lim{test::log_uniform(rng, 1e-3, 10.0), test::log_uniform(rng, 1e-3, 1e3), test::log_uniform(rng, 1e-3, 1e3),
+                           test::log_uniform(rng, 1e-2, 1e5)};
     double v0 = 0;
     double v1 = 0;
     if (test::uniform(rng, 0, 1) < 0.5) {
@@ -199,7 +194,7 @@ TEST(Scurve, PropertyLimitsHeldEndReachedPeakOptimal) {
     const double v_low = std::max(v0, v1);
     const double d_min = velocity_change(v0, v_low, lim.acceleration, lim.jerk).distance +
                          velocity_change(v_low, v1, lim.deceleration, lim.jerk).distance;
-    const double dist = std::max(log_uniform(rng, 1e-6, 10.0), d_min);
+    const double dist = std::max(test::log_uniform(rng, 1e-6, 10.0), d_min);
     const ScurveResult r = plan_scurve(dist, v0, v1, lim);
     ASSERT_TRUE(r.outcome.ok()) << where << " " << r.outcome.message;
     const Scurve& c = r.curve;

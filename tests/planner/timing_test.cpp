@@ -90,11 +90,6 @@ TEST(Timing, EmptyPathIsOneSampleAtRest) {
   EXPECT_EQ(timing.cycle_time, 0.0);
 }
 
-// log-uniform in [lo, hi]
-double log_uniform(std::mt19937_64& rng, double lo, double hi) {
-  return std::exp(test::uniform(rng, std::log(lo), std::log(hi)));
-}
-
 TEST(Timing, PropertyExactStopProgramsHoldEveryLimit) {
   const int cases = test::property_cases(300);
   for (int i = 0; i < cases; ++i) {
@@ -106,10 +101,10 @@ TEST(Timing, PropertyExactStopProgramsHoldEveryLimit) {
     for (int k = 0; k < n; ++k) {
       const Vec3 dir = Vec3(test::uniform(rng, -1, 1), test::uniform(rng, -1, 1), test::uniform(rng, -1, 1)).normalized();
       // a feed that keeps each move within about two seconds (and the sample count small)
-      const double len = log_uniform(rng, 1e-6, 0.5);
+      const double len = test::log_uniform(rng, 1e-6, 0.5);
       const Vec3 q = p + dir * len;
-      program.moves.push_back(line_move(p, q, {log_uniform(rng, std::max(1e-3, 0.5 * len), 2.0), log_uniform(rng, 0.1, 50.0),
-                                               log_uniform(rng, 0.1, 50.0), log_uniform(rng, 1.0, 5000.0)}));
+      program.moves.push_back(line_move(p, q, {test::log_uniform(rng, std::max(1e-3, 0.5 * len), 2.0), test::log_uniform(rng, 0.1, 50.0),
+                                               test::log_uniform(rng, 0.1, 50.0), test::log_uniform(rng, 1.0, 5000.0)}));
       p = q;
     }
     const Path path = blend(program);
@@ -391,8 +386,8 @@ Path random_path(std::mt19937_64& rng) {
     return Vec3(test::uniform(rng, -1, 1), test::uniform(rng, -1, 1), test::uniform(rng, -1, 1) + 1e-3).normalized();
   };
   const auto random_limits = [&rng] {
-    return Limits{log_uniform(rng, 0.02, 2.0), log_uniform(rng, 0.2, 50.0), log_uniform(rng, 0.2, 50.0),
-                  log_uniform(rng, 2.0, 5000.0)};
+    return Limits{test::log_uniform(rng, 0.02, 2.0), test::log_uniform(rng, 0.2, 50.0), test::log_uniform(rng, 0.2, 50.0),
+                  test::log_uniform(rng, 2.0, 5000.0)};
   };
   const Limits shared = random_limits();
   const bool per_piece = test::uniform(rng, 0, 1) < 0.5;
@@ -406,16 +401,16 @@ Path random_path(std::mt19937_64& rng) {
     if (k > 0 && test::uniform(rng, 0, 1) < 0.35) dir = unit();
     const Vec3 perp = dir.cross(unit()).normalized();
     const double kind = test::uniform(rng, 0, 4);
-    Segment seg = Line{p, p + dir * log_uniform(rng, 1e-4, 0.2)};
+    Segment seg = Line{p, p + dir * test::log_uniform(rng, 1e-4, 0.2)};
     if (kind >= 1 && kind < 2) {
-      const double r = log_uniform(rng, 1e-3, 0.2);
+      const double r = test::log_uniform(rng, 1e-3, 0.2);
       seg = Arc{p - r * perp, perp, dir, r, test::uniform(rng, 0.05, 3.0), 0.0};
     } else if (kind >= 2 && kind < 3) {
-      const double len = log_uniform(rng, 1e-4, 0.05);
+      const double len = test::log_uniform(rng, 1e-4, 0.05);
       seg = Clothoid{p, dir, perp, test::uniform(rng, -50, 50), test::uniform(rng, -1, 1) * 4e3, len};
     } else if (kind >= 3) {
       // legs within 70 degrees of dir: the hodograph never vanishes
-      const double l = log_uniform(rng, 1e-4, 0.05);
+      const double l = test::log_uniform(rng, 1e-4, 0.05);
       std::vector<Vec3> ctrl{p};
       for (int i = 0; i < 3; ++i) {
         const double ang = test::uniform(rng, -1.2, 1.2);
@@ -580,16 +575,16 @@ TEST(Timing, PropertyExactStopProgramsThroughTheBlender) {
       if (test::uniform(rng, 0, 1) < 0.5) {
         const double ang = test::uniform(rng, -3, 3);
         dir = Vec3(std::cos(ang), std::sin(ang), 0);
-        move.geometry = Line{p, p + dir * log_uniform(rng, 1e-3, 0.2)};
+        move.geometry = Line{p, p + dir * test::log_uniform(rng, 1e-3, 0.2)};
       } else {
-        const double r = log_uniform(rng, 2e-3, 0.1);
+        const double r = test::log_uniform(rng, 2e-3, 0.1);
         const Vec3 perp = Vec3::UnitZ().cross(dir) * (test::uniform(rng, 0, 1) < 0.5 ? 1.0 : -1.0);
         const Arc arc{p - r * perp, perp, dir, r, test::uniform(rng, 0.1, 3.0), 0.0};
         move.geometry = arc;
         dir = tangent(arc, length(arc));
       }
-      move.limits = {log_uniform(rng, 0.02, 1.0), log_uniform(rng, 0.2, 20.0), log_uniform(rng, 0.2, 20.0),
-                     log_uniform(rng, 2.0, 2000.0)};
+      move.limits = {test::log_uniform(rng, 0.02, 1.0), test::log_uniform(rng, 0.2, 20.0), test::log_uniform(rng, 0.2, 20.0),
+                     test::log_uniform(rng, 2.0, 2000.0)};
       move.buffer = static_cast<BufferMode>(static_cast<int>(test::uniform(rng, 0, 6)) % 6);
       p = end_point(to_segment(move.geometry));
       program.moves.push_back(move);

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "../support/property.hpp"
+#include "../support/random_geometry.hpp"
 
 namespace blendbench {
 namespace {
@@ -62,20 +63,6 @@ Arc arc_of(const Vec3& center, const Vec3& u, const Vec3& v, double radius, doub
   return a;
 }
 
-// A random unit vector and a random unit vector orthogonal to a given one.
-Vec3 random_unit(std::mt19937_64& rng) {
-  for (;;) {
-    const Vec3 v(test::uniform(rng, -1, 1), test::uniform(rng, -1, 1), test::uniform(rng, -1, 1));
-    if (v.norm() > 0.1 && v.norm() <= 1) return v.normalized();
-  }
-}
-Vec3 random_orthogonal(std::mt19937_64& rng, const Vec3& n) {
-  for (;;) {
-    const Vec3 v = random_unit(rng);
-    const Vec3 w = v - v.dot(n) * n;
-    if (w.norm() > 0.1) return w.normalized();
-  }
-}
 
 const Program kUnitLine = program_of({Line{Vec3(0, 0, 0), Vec3(1, 0, 0)}});
 
@@ -230,7 +217,7 @@ TEST(MetricsTest, CycleTimeMatchesTheDefinitionOnRandomSequences) {
     for (std::size_t k = 0; k < n; ++k) {
       const bool inside = test::uniform(rng, 0, 1) < 0.3 + 0.7 * static_cast<double>(k) / static_cast<double>(n);
       const double r = inside ? test::uniform(rng, 0, 0.99) : test::uniform(rng, 1.01, 5);
-      trace.samples[k].tcp = opt.end_point + r * opt.settle_tolerance * random_unit(rng);
+      trace.samples[k].tcp = opt.end_point + r * opt.settle_tolerance * test::random_unit(rng);
     }
     // the definition: the first k such that every sample from k on is within the tolerance
     std::optional<double> expected;
@@ -454,8 +441,8 @@ TEST(MetricsTest, ContourErrorOfPerpendicularOffsetsOnRandomPrimitives) {
     const auto seed = static_cast<std::uint64_t>(1000 + c);
     auto rng = test::make_rng(seed);
     const Vec3 start(test::uniform(rng, -0.5, 0.5), test::uniform(rng, -0.5, 0.5), test::uniform(rng, 0, 1));
-    const Vec3 e1 = random_unit(rng);
-    const Vec3 e2 = random_orthogonal(rng, e1);
+    const Vec3 e1 = test::random_unit(rng);
+    const Vec3 e2 = test::random_perpendicular(rng, e1);
     const Vec3 e3 = e1.cross(e2);
     Program program;
     Vec3 tcp;
@@ -501,12 +488,12 @@ TEST(MetricsTest, ContourErrorBoundedByTrackingErrorPlusCommandOffset) {
     const auto count = static_cast<int>(1 + rng() % 4);
     for (int k = 0; k < count; ++k) {
       if (rng() % 2 == 0) {
-        const Vec3 end = at + test::uniform(rng, 0.01, 0.3) * random_unit(rng);
+        const Vec3 end = at + test::uniform(rng, 0.01, 0.3) * test::random_unit(rng);
         moves.emplace_back(Line{at, end});
         at = end;
       } else {
-        const Vec3 u = random_unit(rng);
-        const Vec3 v = random_orthogonal(rng, u);
+        const Vec3 u = test::random_unit(rng);
+        const Vec3 v = test::random_perpendicular(rng, u);
         const double r = test::uniform(rng, 0.01, 0.2);
         const Arc arc = arc_of(at - r * u, u, v, r, test::uniform(rng, 0.1, 2 * kPi));
         moves.emplace_back(arc);
@@ -522,8 +509,8 @@ TEST(MetricsTest, ContourErrorBoundedByTrackingErrorPlusCommandOffset) {
     for (std::size_t k = 0; k < n; ++k) {
       const Primitive& g = moves[rng() % moves.size()];
       on_path[k] = point(g, test::uniform(rng, 0, length(g)));
-      const Vec3 e_cmd = test::uniform(rng, 0, 1e-3) * random_unit(rng);
-      const Vec3 e_act = test::uniform(rng, 0, 5e-3) * random_unit(rng);
+      const Vec3 e_cmd = test::uniform(rng, 0, 1e-3) * test::random_unit(rng);
+      const Vec3 e_act = test::uniform(rng, 0, 5e-3) * test::random_unit(rng);
       cmd_offset[k] = e_cmd.norm();
       trace.samples[k].tcp_cmd = on_path[k] + e_cmd;
       trace.samples[k].tcp = trace.samples[k].tcp_cmd + e_act;

@@ -46,7 +46,7 @@ struct CornerCase {
 // common; a third of the corners with an arc are G1 instead), radii 0.1..1000 mm, move lengths
 // 0.1..1000 mm (half of them blended at both ends), tolerance 1e-3..1 mm, a random plane.
 inline CornerCase random_corner(std::mt19937_64& rng, CornerKind kind, Method method) {
-  const auto log_uniform = [&](double lo, double hi) { return std::exp(uniform(rng, std::log(lo), std::log(hi))); };
+  const auto log_uniform = [&](double lo, double hi) { return test::log_uniform(rng, lo, hi); };
   const auto coin = [&] { return uniform(rng, 0, 1) < 0.5; };
   CornerCase c;
   c.kind = kind;

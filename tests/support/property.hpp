@@ -2,6 +2,7 @@
 // Helpers for seeded property tests: the case count comes from BLENDBENCH_PROPERTY_CASES (so CI
 // and a developer can run more), and every failure message carries the seed to replay it.
 
+#include <cmath>
 #include <cstdint>
 #include <cstdlib>
 #include <random>
@@ -24,6 +25,11 @@ inline std::string seed_text(std::uint64_t seed) { return "seed=" + std::to_stri
 
 inline double uniform(std::mt19937_64& rng, double lo, double hi) {
   return std::uniform_real_distribution<double>(lo, hi)(rng);
+}
+
+// Log-uniform in [lo, hi], 0 < lo <= hi: every decade as likely.
+inline double log_uniform(std::mt19937_64& rng, double lo, double hi) {
+  return std::exp(uniform(rng, std::log(lo), std::log(hi)));
 }
 
 // A path to a source-tree file (models, scenarios) from a test.

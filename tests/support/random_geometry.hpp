@@ -13,11 +13,6 @@
 
 namespace blendbench::test {
 
-// Log-uniform in [lo, hi], 0 < lo <= hi.
-inline double log_uniform(std::mt19937_64& rng, double lo, double hi) {
-  return std::exp(uniform(rng, std::log(lo), std::log(hi)));
-}
-
 // A point uniform in the cube [-extent, extent]^3.
 inline Vec3 random_point(std::mt19937_64& rng, double extent = 1) {
   return Vec3(uniform(rng, -extent, extent), uniform(rng, -extent, extent), uniform(rng, -extent, extent));
