@@ -64,7 +64,8 @@ int cmd_run(const std::string& scenario_path, std::string out_dir, bool no_video
 struct ProgramFlags {
   std::string variant;
   std::string method;
-  double param_mm = -1;
+  std::optional<double> param_mm;           // unset: not given
+  std::optional<double> start_distance_mm;
   double feed_mm_per_min = 0;
   double amax_mm_s2 = 0;
   double jmax_mm_s3 = 0;
@@ -94,12 +95,28 @@ LoadedProgram load_program(const std::string& input, const ProgramFlags& flags) 
     if (!method) throw bb::InputError("", 0, 0, "--method", "unknown method '" + flags.method + "' (none, arc, bezier, clothoid, biclothoid)");
     transition = bb::Transition{};
     transition->method = *method;
-    if (*method != bb::Method::kNone) {
-      if (flags.param_mm < 0) throw bb::InputError("", 0, 0, "--param", "required with --method " + flags.method + " (mm)");
-      transition->parameter = flags.param_mm * 1e-3;
+    if (flags.start_distance_mm) {
+      // a biclothoid sized by where it starts instead of by its deviation
+      if (*method != bb::Method::kBiclothoid) {
+        throw bb::InputError("", 0, 0, "--start-distance", "sizes only a biclothoid (--method biclothoid), not " + flags.method);
+      }
+      if (flags.param_mm) throw bb::InputError("", 0, 0, "--start-distance", "give --param or --start-distance, not both");
+      check_positive(*flags.start_distance_mm, "--start-distance");
+      transition->start_distance = *flags.start_distance_mm * 1e-3;
+    } else if (*method == bb::Method::kNone) {
+      if (flags.param_mm) throw bb::InputError("", 0, 0, "--param", "has no meaning with --method none (an exact stop)");
+    } else {
+      if (!flags.param_mm) {
+        throw bb::InputError("", 0, 0, "--param", "required with --method " + flags.method + " (mm)" +
+                                                      (*method == bb::Method::kBiclothoid ? ", or --start-distance" : ""));
+      }
+      if (!(*flags.param_mm >= 0)) throw bb::InputError("", 0, 0, "--param", "must be >= 0 (mm)");
+      transition->parameter = *flags.param_mm * 1e-3;
     }
-  } else if (flags.param_mm >= 0) {
+  } else if (flags.param_mm) {
     throw bb::InputError("", 0, 0, "--param", "needs --method");
+  } else if (flags.start_distance_mm) {
+    throw bb::InputError("", 0, 0, "--start-distance", "needs --method biclothoid");
   }
   for (const auto& [value, name] : {std::pair{flags.feed_mm_per_min, "--feed"}, std::pair{flags.amax_mm_s2, "--amax"},
                                     std::pair{flags.jmax_mm_s3, "--jmax"}}) {
@@ -225,6 +242,8 @@ int main(int argc, char** argv) {
     cmd->add_option("--method", flags.method, "Transition on every move: none, arc, bezier, clothoid, biclothoid");
     cmd->add_option("--param", flags.param_mm,
                     "Transition parameter in mm: corner distance (arc), TP (bezier), maximum deviation (clothoid, biclothoid)");
+    cmd->add_option("--start-distance", flags.start_distance_mm,
+                    "Biclothoid only, instead of --param: distance in mm from the corner at which the fillet starts");
     cmd->add_option("--feed", flags.feed_mm_per_min, "Feed on every move, mm/min (G-code default 1000 until an F word)");
     cmd->add_option("--amax", flags.amax_mm_s2, "Acceleration limit, mm/s^2 (G-code default 1000)");
     cmd->add_option("--jmax", flags.jmax_mm_s3, "Jerk limit, mm/s^3 (G-code default 10000)");

@@ -6,11 +6,15 @@
 #include <unistd.h>
 
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "../support/property.hpp"
 
@@ -107,6 +111,111 @@ TEST_F(Cli, BadGcodeNamesLineAndWord) {
                        (dir_ / "s.json").string());
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("part.ngc:3:1: 'G41'"), std::string::npos) << r.output;
+}
+
+// A 40 x 30 mm rectangle from the origin: three corners of 90 degrees.
+constexpr const char* kRectangle = "G21 G90\nG1 X40 F6000\nG1 Y30\nG1 X0\nG1 Y0\nM2\n";
+
+// Reads a CSV of numbers with a header into columns by name.
+std::map<std::string, std::vector<double>> read_columns(const fs::path& file, std::string* header) {
+  std::ifstream in(file);
+  std::getline(in, *header);
+  std::vector<std::string> names;
+  std::stringstream head(*header);
+  for (std::string name; std::getline(head, name, ',');) names.push_back(name);
+  std::map<std::string, std::vector<double>> columns;
+  for (std::string line; std::getline(in, line);) {
+    std::stringstream row(line);
+    std::string cell;
+    for (std::size_t k = 0; k < names.size() && std::getline(row, cell, ','); ++k) columns[names[k]].push_back(std::stod(cell));
+  }
+  return columns;
+}
+
+// The scripted contract of `plan` and `path` on a G-code file: the profile's columns and servo
+// sampling, no limit exceeded on it, and the same corner reports from both commands.
+TEST_F(Cli, PlanAndPathOfAGcodeProgramKeepTheirContract) {
+  const fs::path part = dir_ / "rect.ngc";
+  std::ofstream(part) << kRectangle;
+  constexpr double kFeed = 6000, kAmax = 2000, kJmax = 50000, kDeviation = 0.5;  // mm/min, mm/s^2, mm/s^3, mm
+  const std::string options = " --method biclothoid --param " + std::to_string(kDeviation) + " --amax " +
+                              std::to_string(kAmax) + " --jmax " + std::to_string(kJmax);
+  Result r = run("plan " + part.string() + options + " --csv " + (dir_ / "t.csv").string() + " --summary " +
+                 (dir_ / "s.json").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::string header;
+  const auto profile = read_columns(dir_ / "t.csv", &header);
+  EXPECT_EQ(header, "t,s,x,y,z,v,a,j,kappa");
+  const std::vector<double>& t = profile.at("t");
+  ASSERT_GT(t.size(), 100u);
+  constexpr double kRel = 1 + 1e-9;
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    if (i > 0) {
+      EXPECT_LE(t[i] - t[i - 1], 1e-3 * kRel) << "row " << i;
+    }
+    EXPECT_LE(std::abs(profile.at("v")[i]), kFeed / 60 * kRel) << "row " << i;
+    EXPECT_LE(std::abs(profile.at("a")[i]), kAmax * kRel) << "row " << i;
+    EXPECT_LE(std::abs(profile.at("j")[i]), kJmax * kRel) << "row " << i;
+  }
+  std::ifstream summary_file(dir_ / "s.json");
+  const nlohmann::json summary = nlohmann::json::parse(summary_file);
+  EXPECT_NEAR(summary["cycle_time_s"].get<double>(), t.back(), 1e-3);
+  EXPECT_NEAR(summary["path_length_mm"].get<double>(), profile.at("s").back(), 1e-6);
+  const nlohmann::json& corners = summary["corners"];
+  ASSERT_EQ(corners.size(), 3u);
+  for (const auto& c : corners) {
+    for (const char* key : {"index", "method", "case", "length_mm", "deviation_mm", "kappa_max_per_mm",
+                            "sharpness_max_per_mm2", "feed_max_mm_per_min"}) {
+      EXPECT_TRUE(c.contains(key)) << key;
+    }
+    EXPECT_EQ(c["method"], "biclothoid");
+    EXPECT_LE(c["deviation_mm"].get<double>(), kDeviation * kRel);
+    EXPECT_GT(c["deviation_mm"].get<double>(), 0.9 * kDeviation);
+  }
+  r = run("path " + part.string() + options + " --csv " + (dir_ / "p.csv").string() + " --report " +
+          (dir_ / "r.json").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream report_file(dir_ / "r.json");
+  EXPECT_EQ(nlohmann::json::parse(report_file), corners);
+  const auto path = read_columns(dir_ / "p.csv", &header);
+  EXPECT_EQ(header, "s,x,y,z,tx,ty,tz,kappa");
+  EXPECT_NEAR(path.at("s").back(), summary["path_length_mm"].get<double>(), 1e-6);
+}
+
+// --start-distance sizes every biclothoid by where it starts; misuse is bad input, naming the flag.
+TEST_F(Cli, StartDistanceSizesBiclothoidsAndIsRefusedElsewhere) {
+  const fs::path part = dir_ / "rect.ngc";
+  std::ofstream(part) << kRectangle;
+  const std::string io = " --csv " + (dir_ / "p.csv").string() + " --report " + (dir_ / "r.json").string();
+  Result r = run("path " + part.string() + " --method biclothoid --start-distance 2" + io);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream report_file(dir_ / "r.json");
+  const nlohmann::json corners = nlohmann::json::parse(report_file);
+  ASSERT_EQ(corners.size(), 3u);
+  for (const auto& c : corners) {
+    EXPECT_NEAR(c["trim_in_mm"].get<double>(), 2.0, 1e-9) << c;
+    EXPECT_NEAR(c["trim_out_mm"].get<double>(), 2.0, 1e-9) << c;
+  }
+  struct Case {
+    std::string args, expected;
+  };
+  const Case cases[] = {
+      {"--method arc --start-distance 2", "'--start-distance': sizes only a biclothoid"},
+      {"--method biclothoid --param 1 --start-distance 2", "not both"},
+      {"--method biclothoid --start-distance 0", "'--start-distance': must be positive"},
+      {"--method biclothoid --start-distance -2", "'--start-distance': must be positive"},
+      {"--start-distance 2", "'--start-distance': needs --method biclothoid"},
+      {"--method biclothoid", "'--param': required with --method biclothoid (mm), or --start-distance"},
+      {"--method arc --param -1", "'--param': must be >= 0"},
+      {"--method none --param 1", "'--param': has no meaning with --method none"},
+  };
+  fs::remove(dir_ / "p.csv");
+  for (const Case& c : cases) {
+    r = run("path " + part.string() + " " + c.args + io);
+    EXPECT_EQ(r.exit_code, 2) << c.args << "\n" << r.output;
+    EXPECT_NE(r.output.find(c.expected), std::string::npos) << "expected '" << c.expected << "' in:\n" << r.output;
+    EXPECT_FALSE(fs::exists(dir_ / "p.csv")) << c.args;
+  }
 }
 
 TEST_F(Cli, RunWritesSummaryTracesPlotsAndAPlayableVideo) {
