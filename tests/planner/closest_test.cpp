@@ -285,15 +285,17 @@ TEST(ClosestPoint, OnAPlanarArcOfSeveralTurnsIsAsNearAsItsCircle) {
 
 // ---- helices, Beziers, clothoids: against the dense scan
 
-TEST(ClosestPoint, OnAHelixMatchesADenseScan) {
-  const std::uint64_t seed = 9;
+// Random segments of `kind`, 1 mm to 1 m across, each queried near it, against the dense scan.
+void expect_closest_on_random(test::SegmentKind kind, std::uint64_t seed, int cases) {
   auto rng = test::make_rng(seed);
-  for (int i = 0; i < test::property_cases(300); ++i) {
+  for (int i = 0; i < test::property_cases(cases); ++i) {
     const double size = test::log_uniform(rng, 1e-3, 1);
-    const Segment seg = test::random_segment(rng, test::SegmentKind::kHelix, test::random_point(rng), size);
+    const Segment seg = test::random_segment(rng, kind, test::random_point(rng), size);
     expect_closest(seg, query_near(rng, seg, size), size + start_point(seg).norm(), where(seed, i));
   }
 }
+
+TEST(ClosestPoint, OnAHelixMatchesADenseScan) { expect_closest_on_random(test::SegmentKind::kHelix, 9, 300); }
 
 TEST(ClosestPoint, OnAHelixIsTheNearestTurn) {
   // a 10-turn helix and queries between two turns, nearer one of them: the scan sees ~13
@@ -328,24 +330,10 @@ TEST(ClosestPoint, OnAHelixIsTheNearestTurn) {
 
 TEST(ClosestPoint, OnABezierTheArcLengthLeadsBackToThePoint) {
   // closest_point scans a Bezier in u and converts to s once: point(seg, s) must be the point
-  const std::uint64_t seed = 11;
-  auto rng = test::make_rng(seed);
-  for (int i = 0; i < test::property_cases(300); ++i) {
-    const double size = test::log_uniform(rng, 1e-3, 1);
-    const Segment seg = test::random_segment(rng, test::SegmentKind::kBezier, test::random_point(rng), size);
-    expect_closest(seg, query_near(rng, seg, size), size + start_point(seg).norm(), where(seed, i));
-  }
+  expect_closest_on_random(test::SegmentKind::kBezier, 11, 300);
 }
 
-TEST(ClosestPoint, OnAClothoidMatchesADenseScan) {
-  const std::uint64_t seed = 12;
-  auto rng = test::make_rng(seed);
-  for (int i = 0; i < test::property_cases(150); ++i) {
-    const double size = test::log_uniform(rng, 1e-3, 1);
-    const Segment seg = test::random_segment(rng, test::SegmentKind::kClothoid, test::random_point(rng), size);
-    expect_closest(seg, query_near(rng, seg, size), size + start_point(seg).norm(), where(seed, i));
-  }
-}
+TEST(ClosestPoint, OnAClothoidMatchesADenseScan) { expect_closest_on_random(test::SegmentKind::kClothoid, 12, 150); }
 
 TEST(ClosestPoint, OnAZeroLengthClothoidIsItsOrigin) {
   // paths carry zero-length clothoids (a transition shrunk to nothing)
