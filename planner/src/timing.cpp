@@ -260,6 +260,12 @@ void build_intervals(const Path& path, const TimingOptions& options, std::vector
   std::size_t next_joint = 0;
   std::size_t first_zone = 0;
   std::vector<double> cuts;
+  // reserved once: on long programs growing these vectors (and faulting in their pages) cost
+  // more than building the intervals
+  std::size_t count = 2 * zones.size();
+  for (const PathPiece& piece : pieces) count += varying_curvature(piece.segment) ? kSubdivisions : 1;
+  intervals.reserve(intervals.size() + count);
+  knot_cap.reserve(knot_cap.size() + count + 1);
   for (std::size_t k = 0; k < pieces.size(); ++k) {
     const PathPiece& piece = pieces[k];
     const double len = length(piece.segment);
@@ -306,10 +312,11 @@ void build_intervals(const Path& path, const TimingOptions& options, std::vector
 // every piece alike never changes the intervals (and the cycle time can only fall).
 void merge_intervals(const Path& path, std::vector<Interval>& intervals, std::vector<double>& knot_cap) {
   if (intervals.empty()) return;
-  std::vector<Interval> merged{intervals.front()};
-  std::vector<double> caps{knot_cap.front()};
+  // compacted in place: intervals[0..kept] are the merged ones, knot_cap[i] their start caps
+  std::size_t kept = 0;
+  const double end_cap = knot_cap.back();
   for (std::size_t i = 1; i < intervals.size(); ++i) {
-    Interval& last = merged.back();
+    Interval& last = intervals[kept];
     const Interval& iv = intervals[i];
     const Limits& a = path.pieces()[last.piece_last].limits;
     const Limits& b = path.pieces()[iv.piece].limits;
@@ -321,12 +328,13 @@ void merge_intervals(const Path& path, std::vector<Interval>& intervals, std::ve
       last.piece_last = iv.piece_last;
       continue;
     }
-    merged.push_back(iv);
-    caps.push_back(knot_cap[i]);
+    ++kept;
+    intervals[kept] = iv;
+    knot_cap[kept] = knot_cap[i];
   }
-  caps.push_back(knot_cap.back());
-  intervals = std::move(merged);
-  knot_cap = std::move(caps);
+  intervals.resize(kept + 1);
+  knot_cap.resize(kept + 2);
+  knot_cap[kept + 1] = end_cap;
 }
 
 bool same_cap(double a, double b) { return std::abs(a - b) <= kSameCap * std::max(a, b); }
