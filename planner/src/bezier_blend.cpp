@@ -203,7 +203,7 @@ bool regular(const Bezier& curve, std::string& why) {
     hi = std::max(hi, speed);
   }
   if (!(lo > kMinRelativeSpeed * hi)) {
-    why = "the Bezier would have a cusp (minimum speed " + std::to_string(lo / hi) + " of the maximum)";
+    why = "the Bezier would have a cusp (minimum speed " + format_value(lo / hi) + " of the maximum)";
     return false;
   }
   return true;

@@ -24,5 +24,6 @@ std::string format_value(double value, int digits) {
 std::string format_mm(double metres) { return with_unit(metres * 1e3, "mm"); }
 std::string format_deg(double radians) { return with_unit(radians * 180.0 / std::numbers::pi, "deg"); }
 std::string format_per_mm(double per_metre) { return with_unit(per_metre * 1e-3, "1/mm"); }
+std::string format_mm_per_s(double metres_per_second) { return with_unit(metres_per_second * 1e3, "mm/s"); }
 
 }  // namespace blendbench

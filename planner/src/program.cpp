@@ -154,7 +154,7 @@ void validate(const Program& program) {
       fail_at(move.where, "transition.kappa_max", who + ": the curvature cap must be >= 0, got " + format_per_mm(move.transition.kappa_max));
     }
     if (!std::isfinite(move.transition.velocity) || move.transition.velocity < 0) {
-      fail_at(move.where, "transition.velocity", who + ": the transition velocity must be >= 0, got " + format_value(move.transition.velocity * 1e3) + " mm/s");
+      fail_at(move.where, "transition.velocity", who + ": the transition velocity must be >= 0, got " + format_mm_per_s(move.transition.velocity));
     }
   }
 }

@@ -6,6 +6,8 @@
 #include <limits>
 #include <string>
 
+#include "planner/format.hpp"
+
 namespace blendbench {
 namespace {
 
@@ -200,8 +202,8 @@ ScurveResult plan_scurve(double distance, double v0, double v1, const ScurveLimi
   const double v_low = std::max(v0, v1);
   const double v_max = std::max(limits.velocity, v_low);
   if (v_low > limits.velocity) {
-    result.outcome = {Status::kInfeasible, "boundary velocity " + std::to_string(v_low) +
-                                               " m/s above the limit " + std::to_string(limits.velocity) + " m/s"};
+    result.outcome = {Status::kInfeasible, "boundary velocity " + format_mm_per_s(v_low) + " above the limit " +
+                                               format_mm_per_s(limits.velocity)};
   }
 
   // shortest distance: the change v0 -> v1 alone
@@ -209,9 +211,9 @@ ScurveResult plan_scurve(double distance, double v0, double v1, const ScurveLimi
   double vp = v_low;
   if (d_min > distance) {
     if (result.outcome.ok()) {
-      result.outcome = {Status::kInfeasible, "distance " + std::to_string(distance) + " m too short for " +
-                                                 std::to_string(v0) + " -> " + std::to_string(v1) +
-                                                 " m/s (needs " + std::to_string(d_min) + " m)"};
+      result.outcome = {Status::kInfeasible, "distance " + format_mm(distance) + " too short for " +
+                                                 format_mm_per_s(v0) + " -> " + format_mm_per_s(v1) + " (needs " +
+                                                 format_mm(d_min) + ")"};
     }
     distance = d_min;
   } else {

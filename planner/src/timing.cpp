@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "planner/blend.hpp"
+#include "planner/format.hpp"
 #include "planner/input_error.hpp"
 #include "planner/scurve.hpp"
 
@@ -159,16 +160,23 @@ struct Span {
 
 void validate(const Path& path, const TimingOptions& options) {
   if (!(options.dt > 0) || !std::isfinite(options.dt)) {
-    throw InputError("", 0, 0, "dt", "servo period must be positive, got " + std::to_string(options.dt) + " s");
+    throw InputError("", 0, 0, "dt", "servo period must be positive, got " + format_value(options.dt) + " s");
   }
   for (std::size_t k = 0; k < path.pieces().size(); ++k) {
     const Limits& lim = path.pieces()[k].limits;
-    for (const auto& [name, value] : {std::pair{"velocity", lim.velocity}, std::pair{"acceleration", lim.acceleration},
-                                      std::pair{"deceleration", lim.deceleration}, std::pair{"jerk", lim.jerk}}) {
+    struct Named {
+      const char* name;
+      double value;  // SI
+      const char* unit;  // after conversion to mm
+    };
+    for (const auto& [name, value, unit] : {Named{"velocity", lim.velocity, " mm/s"},
+                                            Named{"acceleration", lim.acceleration, " mm/s^2"},
+                                            Named{"deceleration", lim.deceleration, " mm/s^2"},
+                                            Named{"jerk", lim.jerk, " mm/s^3"}}) {
       if (!(value > 0) || !std::isfinite(value)) {
         throw InputError("", 0, 0, name,
                          "piece " + std::to_string(k) + ": " + name + " limit must be positive, got " +
-                             std::to_string(value));
+                             format_value(value * 1e3) + unit);
       }
     }
   }
@@ -760,7 +768,7 @@ Timing plan_timing(const Path& path, const TimingOptions& options) {
     Span sp = spans[i];
     const Outcome outcome = shape(sp, w[i], w[i + 1], intervals);
     if (!outcome.ok() && timing.outcome.ok()) {
-      timing.outcome = {outcome.status, "span at s = " + std::to_string(sp.s0) + " m: " + outcome.message};
+      timing.outcome = {outcome.status, "span at s = " + format_mm(sp.s0) + ": " + outcome.message};
     }
     if (sp.last - sp.first > 1) {
       const std::vector<Span> fine = fine_alternative(spans[i], w[i], w[i + 1], intervals, cap);

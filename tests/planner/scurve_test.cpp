@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "../support/property.hpp"
+#include "planner/format.hpp"
 
 namespace blendbench {
 namespace {
@@ -136,6 +137,9 @@ TEST(Scurve, TooShortForTheVelocityChangeIsInfeasible) {
   const ScurveResult r = plan_scurve(0.5 * needed, 1.0, 0.0, lim);
   EXPECT_EQ(r.outcome.status, Status::kInfeasible);
   EXPECT_NE(r.outcome.message.find("too short"), std::string::npos) << r.outcome.message;
+  // the change and both distances, in the units users read
+  EXPECT_NE(r.outcome.message.find("1000 mm/s -> 0 mm/s"), std::string::npos) << r.outcome.message;
+  EXPECT_NE(r.outcome.message.find("(needs " + format_mm(needed) + ")"), std::string::npos) << r.outcome.message;
   EXPECT_DOUBLE_EQ(r.curve.distance, needed);
 }
 

@@ -84,6 +84,25 @@ TEST(Timing, NonPositiveServoPeriodIsAnInputError) {
   EXPECT_THROW((void)plan_timing(path, options), InputError);
 }
 
+TEST(Timing, ANonPositiveLimitIsAnInputErrorNamingThePieceAndTheValueInMm) {
+  Program program;
+  program.moves = {line_move({0, 0, 0}, {1, 0, 0}, {0.5, 2.0, 2.0, 20.0})};
+  Path blended = blend(program);
+  // plan_timing takes paths from elsewhere too: a piece whose jerk limit was lost
+  Path path;
+  PathPiece piece = blended.pieces().front();
+  piece.limits.jerk = -20.0;
+  path.append(piece);
+  try {
+    (void)plan_timing(path);
+    FAIL() << "a negative jerk limit was accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.field(), "jerk");
+    EXPECT_NE(std::string(e.what()).find("piece 0: jerk limit must be positive, got -20000 mm/s^3"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(Timing, EmptyPathIsOneSampleAtRest) {
   const Timing timing = plan_timing(Path{});
   ASSERT_EQ(timing.samples.size(), 1u);

@@ -10,6 +10,7 @@ namespace blendbench {
 std::string format_mm(double metres);          // "12.5 mm"
 std::string format_deg(double radians);        // "90 deg"
 std::string format_per_mm(double per_metre);   // "0.124 1/mm"
+std::string format_mm_per_s(double metres_per_second);  // "250 mm/s"
 std::string format_value(double value, int digits = 6);  // "-1e-07": a quantity without a unit
 
 }  // namespace blendbench
