@@ -10,6 +10,7 @@
 #include <random>
 #include <utility>
 
+#include "planner/format.hpp"
 #include "planner/input_error.hpp"
 
 namespace blendbench {
@@ -162,12 +163,6 @@ std::optional<double> reachable_theta234(double target, const Vec3& o5, const Ur
     if (std::abs(wrap_pi(u - u0)) < std::abs(wrap_pi(best - u0))) best = u;
   }
   return gamma + best;
-}
-
-std::string number(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.6g", value);
-  return text;
 }
 
 }  // namespace
@@ -397,8 +392,8 @@ IkSolver::IkSolver(KinematicChain chain) : chain_(std::move(chain)) {
     const Vec6 error = pose_error(forward_kinematics(chain_, q), model);
     deviation = std::max({deviation, error.head<3>().norm(), error.tail<3>().norm()});
     if (error.head<3>().norm() > kModelTol || error.tail<3>().norm() > kModelTol) {
-      not_ur("its forward kinematics differ from the UR model found in it by " + number(error.head<3>().norm()) +
-             " m, " + number(error.tail<3>().norm()) + " rad");
+      not_ur("its forward kinematics differ from the UR model found in it by " + format_value(error.head<3>().norm()) +
+             " m, " + format_value(error.tail<3>().norm()) + " rad");
     }
   }
   reach_slack_ = std::max(kReachSlack, 10 * deviation);
@@ -500,8 +495,8 @@ IkSolver::Result IkSolver::solve(const Eigen::Isometry3d& tcp_pose, const Vec6& 
     const JointSpec& joint = chain_.joints[i];
     const auto k = static_cast<Eigen::Index>(i);
     if (!wrap_within(nearest[k], q_near[k], joint.lower, joint.upper)) {
-      which = "joint '" + joint.name + "' would be at " + number(nearest[k]) + " rad, limits [" + number(joint.lower) +
-              ", " + number(joint.upper) + "]";
+      which = "joint '" + joint.name + "' would be at " + format_value(nearest[k]) + " rad, limits [" + format_value(joint.lower) +
+              ", " + format_value(joint.upper) + "]";
     }
   }
   result.outcome = {Status::kJointLimit,

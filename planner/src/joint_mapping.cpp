@@ -11,8 +11,6 @@
 namespace blendbench {
 namespace {
 
-std::string number(double value) { return format_value(value); }
-
 std::string time_text(std::size_t index, double dt) {
   char text[48];
   std::snprintf(text, sizeof text, "t = %.6g s", static_cast<double>(index) * dt);
@@ -57,7 +55,7 @@ void differentiate(JointTrajectory& traj) {
 JointTrajectory map_to_joints(const IkSolver& ik, const std::vector<Eigen::Isometry3d>& tcp_poses, double dt,
                               const Vec6& q_seed) {
   if (!(dt > 0) || !std::isfinite(dt)) {
-    throw InputError("", 0, 0, "dt", "the servo period must be positive and finite, got " + number(dt) + " s");
+    throw InputError("", 0, 0, "dt", "the servo period must be positive and finite, got " + format_value(dt) + " s");
   }
   JointTrajectory traj;
   traj.dt = dt;
@@ -90,16 +88,16 @@ JointTrajectory map_to_joints(const IkSolver& ik, const std::vector<Eigen::Isome
         const double v = branches.front()[static_cast<Eigen::Index>(j)];
         if (v < joint.lower || v > joint.upper) {
           return fail(i, Status::kJointLimit,
-                      "joint '" + joint.name + "' would reach " + number(v) + " rad, outside its limits [" +
-                          number(joint.lower) + ", " + number(joint.upper) + "] rad, at " + describe_pose(pose));
+                      "joint '" + joint.name + "' would reach " + format_value(v) + " rad, outside its limits [" +
+                          format_value(joint.lower) + ", " + format_value(joint.upper) + "] rad, at " + describe_pose(pose));
         }
       }
     }
     if (!solved.outcome.ok()) return fail(i, solved.outcome.status, solved.outcome.message);
     const auto [joint, step] = largest_step(previous, solved.q);
     return fail(i, Status::kSingular,
-                "IK branch flip: joint '" + ik.chain().joints[joint].name + "' jumps by " + number(step) +
-                    " rad in one sample (more than " + number(kMaxJointStep) + " rad) at " + describe_pose(pose) +
+                "IK branch flip: joint '" + ik.chain().joints[joint].name + "' jumps by " + format_value(step) +
+                    " rad in one sample (more than " + format_value(kMaxJointStep) + " rad) at " + describe_pose(pose) +
                     "; the path crosses a singularity or leaves the reachable branch");
   }
   differentiate(traj);

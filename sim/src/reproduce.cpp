@@ -55,12 +55,7 @@ constexpr double kAxisSlack = 1e-6;
 constexpr std::size_t kCornersListed = 12;
 
 // Fixed-point text with `decimals` digits.
-std::string fixed(double value, int decimals) {
-  if (!std::isfinite(value)) return "—";
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
-  return buffer;
-}
+std::string fixed(double value, int decimals) { return std::isfinite(value) ? format_fixed(value, decimals) : "—"; }
 
 // Decimals that show a number printed with step `step` (0.001 -> 3).
 int decimals_of(double step) {

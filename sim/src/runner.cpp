@@ -35,12 +35,6 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-std::string fixed(double value, int decimals) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
-  return buffer;
-}
-
 nlohmann::json finite_or_null(double value) { return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(); }
 
 nlohmann::json to_json(const JointVector& v) {
@@ -191,8 +185,8 @@ class VariantRun {
       out["pieces"] = std::move(plan["pieces"]);
     }
     if (!timing.outcome.ok()) return failed(out, "planning failed: " + timing.outcome.message);
-    say("planned " + fixed(path.length() * kMm, 1) + " mm in " + fixed(timing.cycle_time, 3) + " s (" +
-        fixed(seconds_since(start) * 1e3, 1) + " ms)");
+    say("planned " + format_fixed(path.length() * kMm, 1) + " mm in " + format_fixed(timing.cycle_time, 3) + " s (" +
+        format_fixed(seconds_since(start) * 1e3, 1) + " ms)");
 
     // IK along the timed path
     start = Clock::now();
@@ -210,7 +204,7 @@ class VariantRun {
       fail_unreachable(sc_, program, move_at(path, s),
                        "the path leaves the robot's reach or limits at " + joints.outcome.message);
     }
-    say("inverse kinematics for " + std::to_string(poses.size()) + " poses (" + fixed(seconds_since(start) * 1e3, 1) +
+    say("inverse kinematics for " + std::to_string(poses.size()) + " poses (" + format_fixed(seconds_since(start) * 1e3, 1) +
         " ms)");
 
     // simulate, rendering frames on the way
@@ -263,10 +257,10 @@ class VariantRun {
     if (video) video->finish();
 #endif
     const double sim_wall = wall - video_seconds;
-    say("simulated " + fixed(simulated, 2) + " s in " + fixed(sim_wall, 2) + " s wall (" +
-        fixed(simulated / std::max(sim_wall, 1e-9), 0) + "x real time)" +
-        (request_.video ? "; video " + fixed(video_seconds, 2) + " s (" +
-                              fixed(simulated * sc_.video.fps / std::max(video_seconds, 1e-9), 0) + " frames/s)"
+    say("simulated " + format_fixed(simulated, 2) + " s in " + format_fixed(sim_wall, 2) + " s wall (" +
+        format_fixed(simulated / std::max(sim_wall, 1e-9), 0) + "x real time)" +
+        (request_.video ? "; video " + format_fixed(video_seconds, 2) + " s (" +
+                              format_fixed(simulated * sc_.video.fps / std::max(video_seconds, 1e-9), 0) + " frames/s)"
                         : std::string()));
 
     // metrics and files
@@ -284,9 +278,9 @@ class VariantRun {
     write_file_atomic(dir_ / "path.csv", path_csv(path, kCsvStep));
     write_file_atomic(dir_ / "program.csv", program_csv(program, kCsvStep));
     write_file_atomic(dir_ / "corners.json", out["corners"].dump(2) + "\n");
-    std::string cycle = m.cycle_time ? fixed(*m.cycle_time, 3) + " s" : std::string("not settled");
-    say("cycle " + cycle + ", tracking error max " + fixed(m.tracking_error_max * kMm, 3) + " mm, contour error max " +
-        fixed(m.contour_error_max * kMm, 3) + " mm");
+    std::string cycle = m.cycle_time ? format_fixed(*m.cycle_time, 3) + " s" : std::string("not settled");
+    say("cycle " + cycle + ", tracking error max " + format_fixed(m.tracking_error_max * kMm, 3) + " mm, contour error max " +
+        format_fixed(m.contour_error_max * kMm, 3) + " mm");
     return out;
   }
 
@@ -378,7 +372,7 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
                                 request.out_dir.string() + "'";
     const int status = std::system(command.c_str());
     if (request.progress) {
-      request.progress(status == 0 ? "plots written (" + fixed(seconds_since(start), 1) + " s)"
+      request.progress(status == 0 ? "plots written (" + format_fixed(seconds_since(start), 1) + " s)"
                                    : "warning: the plot script failed (" + command + ")");
     }
   }

@@ -10,6 +10,7 @@
 #include <regex>
 #include <stdexcept>
 
+#include "planner/format.hpp"
 #include "planner/input_error.hpp"
 
 namespace blendbench {
@@ -68,13 +69,6 @@ long multiple_of(double x, double period) {
   const double n = std::round(x / period);
   if (n < 1 || std::abs(n * period - x) > kMultipleTolerance * x) return 0;
   return static_cast<long>(n);
-}
-
-// A number for a message: %g, not std::to_string's fixed six decimals.
-std::string format_number(double x) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%g", x);
-  return buffer;
 }
 
 [[noreturn]] void bad_input(const std::string& field, const std::string& message) {
@@ -211,8 +205,8 @@ Trace Simulator::run(const JointReference& reference, const ServoConfig& servo, 
   if (!(servo.rate_hz > 0) || !std::isfinite(servo.rate_hz)) bad_input("servo.rate_hz", "must be positive");
   const long steps_per_tick = multiple_of(1.0 / servo.rate_hz, h);
   if (steps_per_tick == 0)
-    bad_input("servo.rate_hz", "the servo period 1/" + format_number(servo.rate_hz) +
-                                   " s is not a multiple of the model timestep " + format_number(h) + " s");
+    bad_input("servo.rate_hz", "the servo period 1/" + format_value(servo.rate_hz) +
+                                   " s is not a multiple of the model timestep " + format_value(h) + " s");
   const double period = static_cast<double>(steps_per_tick) * h;
   if (!servo.kp.allFinite() || (servo.kp.array() < 0).any()) bad_input("servo.kp", "must be finite and >= 0");
   if (!servo.kd.allFinite() || (servo.kd.array() < 0).any()) bad_input("servo.kd", "must be finite and >= 0");
@@ -229,8 +223,8 @@ Trace Simulator::run(const JointReference& reference, const ServoConfig& servo, 
   if (n > 1) {
     ticks_per_sample = multiple_of(reference.dt, period);
     if (ticks_per_sample == 0)
-      bad_input("reference.dt", format_number(reference.dt) + " s is not a positive multiple of the servo period " +
-                                    format_number(period) + " s");
+      bad_input("reference.dt", format_value(reference.dt) + " s is not a positive multiple of the servo period " +
+                                    format_value(period) + " s");
   }
   if (!(options.settle_time >= 0) || !std::isfinite(options.settle_time)) bad_input("settle_time", "must be >= 0");
   if (!(options.frame_rate >= 0) || !std::isfinite(options.frame_rate)) bad_input("frame_rate", "must be >= 0");
@@ -258,7 +252,7 @@ Trace Simulator::run(const JointReference& reference, const ServoConfig& servo, 
     mj_step1(&m, d.get());
     if (std::string why = unhealthy_state(*d); !why.empty()) {
       trace.diverged = true;
-      trace.warning = why + " (t = " + format_number(t_step) + " s)";
+      trace.warning = why + " (t = " + format_value(t_step) + " s)";
       break;
     }
 
@@ -292,8 +286,8 @@ Trace Simulator::run(const JointReference& reference, const ServoConfig& servo, 
       }
       if (!q.allFinite() || !qd.allFinite() || qd.cwiseAbs().maxCoeff() > kMaxJointSpeed) {
         trace.diverged = true;
-        trace.warning = "joint speed beyond " + format_number(kMaxJointSpeed) +
-                        " rad/s: the simulation is unstable (t = " + format_number(t) + " s)";
+        trace.warning = "joint speed beyond " + format_value(kMaxJointSpeed) +
+                        " rad/s: the simulation is unstable (t = " + format_value(t) + " s)";
         break;
       }
 
@@ -326,7 +320,7 @@ Trace Simulator::run(const JointReference& reference, const ServoConfig& servo, 
       }
       if (!tau.allFinite()) {
         trace.diverged = true;
-        trace.warning = "non-finite servo torque (t = " + format_number(t) + " s)";
+        trace.warning = "non-finite servo torque (t = " + format_value(t) + " s)";
         break;
       }
       trace.peak_abs_tau = trace.peak_abs_tau.cwiseMax(tau.cwiseAbs());
@@ -354,7 +348,7 @@ Trace Simulator::run(const JointReference& reference, const ServoConfig& servo, 
     mj_step2(&m, d.get());
     if (std::string why = unhealthy_state(*d); !why.empty()) {
       trace.diverged = true;
-      trace.warning = why + " (t = " + format_number(t_step) + " s)";
+      trace.warning = why + " (t = " + format_value(t_step) + " s)";
       break;
     }
   }

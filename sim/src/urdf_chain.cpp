@@ -9,6 +9,7 @@
 #include <limits>
 #include <sstream>
 
+#include "planner/format.hpp"
 #include "planner/input_error.hpp"
 
 namespace blendbench {
@@ -34,12 +35,6 @@ class CapturedLog : public console_bridge::OutputHandler {
   console_bridge::OutputHandler* previous_;
   std::string text_;
 };
-
-std::string number(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%g", value);
-  return text;
-}
 
 Eigen::Isometry3d to_isometry(const urdf::Pose& pose) {
   Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
@@ -68,13 +63,13 @@ JointSpec to_joint_spec(const std::string& path, const urdf::Joint& joint, const
     spec.lower = joint.limits->lower;
     spec.upper = joint.limits->upper;
     if (!(spec.lower <= spec.upper)) {
-      fail("lower limit " + number(spec.lower) + " rad is above upper limit " + number(spec.upper) + " rad");
+      fail("lower limit " + format_value(spec.lower) + " rad is above upper limit " + format_value(spec.upper) + " rad");
     }
   }
   spec.velocity_limit = joint.limits->velocity;
   spec.effort_limit = joint.limits->effort;
-  if (!(spec.velocity_limit > 0)) fail("velocity limit must be positive, got " + number(spec.velocity_limit) + " rad/s");
-  if (!(spec.effort_limit > 0)) fail("effort limit must be positive, got " + number(spec.effort_limit) + " N*m");
+  if (!(spec.velocity_limit > 0)) fail("velocity limit must be positive, got " + format_value(spec.velocity_limit) + " rad/s");
+  if (!(spec.effort_limit > 0)) fail("effort limit must be positive, got " + format_value(spec.effort_limit) + " N*m");
   return spec;
 }
 

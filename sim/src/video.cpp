@@ -14,6 +14,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include "planner/format.hpp"
+
 extern char** environ;
 
 namespace blendbench {
@@ -68,12 +70,6 @@ bool write_all(int fd, const std::uint8_t* data, std::size_t size) {
   return ok;
 }
 
-std::string format_number(double x) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.6g", x);
-  return buffer;
-}
-
 }  // namespace
 
 VideoWriter::VideoWriter(std::string path, int width, int height, double fps)
@@ -115,7 +111,7 @@ VideoWriter::VideoWriter(std::string path, int width, int height, double fps)
   const std::string size = std::to_string(width) + "x" + std::to_string(height);
   std::vector<std::string> args = {"ffmpeg", "-nostdin", "-y", "-hide_banner", "-loglevel", "error",
                                    "-f", "rawvideo", "-pix_fmt", "rgb24", "-s", size, "-framerate",
-                                   format_number(fps), "-i", "pipe:0", "-an"};
+                                   format_value(fps), "-i", "pipe:0", "-an"};
   if (width % 2 != 0 || height % 2 != 0) args.insert(args.end(), {"-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2"});
   args.insert(args.end(), {"-c:v", "libx264", "-preset", "veryfast", "-pix_fmt", "yuv420p", "-movflags",
                            "+faststart", "-f", "mp4", temp_path_});

@@ -103,5 +103,13 @@ TEST(FormatNumber, ShortestFormAndNonFinite) {
   EXPECT_EQ(format_number(std::nan("")), "nan");
 }
 
+TEST(FormatFixed, DecimalsAfterThePointAndNonFinite) {
+  EXPECT_EQ(format_fixed(3.14159, 2), "3.14");
+  EXPECT_EQ(format_fixed(2.5, 0), "2");  // round half to even, as printf does
+  EXPECT_EQ(format_fixed(1234.5, 1), "1234.5");
+  EXPECT_EQ(format_fixed(std::nan(""), 2), "nan");
+  EXPECT_EQ(format_fixed(-std::numeric_limits<double>::infinity(), 2), "-inf");
+}
+
 }  // namespace
 }  // namespace blendbench

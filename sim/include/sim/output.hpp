@@ -19,4 +19,8 @@ std::filesystem::path temporary_path_for(const std::filesystem::path& path);
 // Formats a double for CSV/JSON with up to `digits` significant digits (shortest form).
 std::string format_number(double value, int digits = 10);
 
+// Fixed-point text with `decimals` digits after the point (progress lines, tables); a
+// non-finite value as "nan", "inf" or "-inf".
+std::string format_fixed(double value, int decimals);
+
 }  // namespace blendbench
