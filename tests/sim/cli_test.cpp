@@ -10,12 +10,12 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
 
+#include "../support/csv.hpp"
 #include "../support/property.hpp"
 
 namespace {
@@ -116,22 +116,6 @@ TEST_F(Cli, BadGcodeNamesLineAndWord) {
 // A 40 x 30 mm rectangle from the origin: three corners of 90 degrees.
 constexpr const char* kRectangle = "G21 G90\nG1 X40 F6000\nG1 Y30\nG1 X0\nG1 Y0\nM2\n";
 
-// Reads a CSV of numbers with a header into columns by name.
-std::map<std::string, std::vector<double>> read_columns(const fs::path& file, std::string* header) {
-  std::ifstream in(file);
-  std::getline(in, *header);
-  std::vector<std::string> names;
-  std::stringstream head(*header);
-  for (std::string name; std::getline(head, name, ',');) names.push_back(name);
-  std::map<std::string, std::vector<double>> columns;
-  for (std::string line; std::getline(in, line);) {
-    std::stringstream row(line);
-    std::string cell;
-    for (std::size_t k = 0; k < names.size() && std::getline(row, cell, ','); ++k) columns[names[k]].push_back(std::stod(cell));
-  }
-  return columns;
-}
-
 // The scripted contract of `plan` and `path` on a G-code file: the profile's columns and servo
 // sampling, no limit exceeded on it, and the same corner reports from both commands.
 TEST_F(Cli, PlanAndPathOfAGcodeProgramKeepTheirContract) {
@@ -143,9 +127,9 @@ TEST_F(Cli, PlanAndPathOfAGcodeProgramKeepTheirContract) {
   Result r = run("plan " + part.string() + options + " --csv " + (dir_ / "t.csv").string() + " --summary " +
                  (dir_ / "s.json").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  std::string header;
-  const auto profile = read_columns(dir_ / "t.csv", &header);
-  EXPECT_EQ(header, "t,s,x,y,z,v,a,j,kappa");
+  const blendbench::test::Csv plan_csv = blendbench::test::read_csv(dir_ / "t.csv");
+  EXPECT_EQ(plan_csv.header, "t,s,x,y,z,v,a,j,kappa");
+  const auto& profile = plan_csv.columns;
   const std::vector<double>& t = profile.at("t");
   ASSERT_GT(t.size(), 100u);
   constexpr double kRel = 1 + 1e-9;
@@ -177,9 +161,9 @@ TEST_F(Cli, PlanAndPathOfAGcodeProgramKeepTheirContract) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::ifstream report_file(dir_ / "r.json");
   EXPECT_EQ(nlohmann::json::parse(report_file), corners);
-  const auto path = read_columns(dir_ / "p.csv", &header);
-  EXPECT_EQ(header, "s,x,y,z,tx,ty,tz,kappa");
-  EXPECT_NEAR(path.at("s").back(), summary["path_length_mm"].get<double>(), 1e-6);
+  const blendbench::test::Csv path = blendbench::test::read_csv(dir_ / "p.csv");
+  EXPECT_EQ(path.header, "s,x,y,z,tx,ty,tz,kappa");
+  EXPECT_NEAR(path.columns.at("s").back(), summary["path_length_mm"].get<double>(), 1e-6);
 }
 
 // --start-distance sizes every biclothoid by where it starts; misuse is bad input, naming the flag.

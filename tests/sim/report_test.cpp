@@ -2,8 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include <sstream>
-
+#include "../support/csv.hpp"
 #include "planner/blend.hpp"
 
 namespace blendbench {
@@ -20,27 +19,11 @@ Program square() {
   return program;
 }
 
-// Parses the CSV into rows of numbers (header skipped).
-std::vector<std::vector<double>> rows(const std::string& csv) {
-  std::vector<std::vector<double>> out;
-  std::istringstream in(csv);
-  std::string line;
-  std::getline(in, line);
-  while (std::getline(in, line)) {
-    std::vector<double> row;
-    std::istringstream cells(line);
-    std::string cell;
-    while (std::getline(cells, cell, ',')) row.push_back(std::stod(cell));
-    out.push_back(row);
-  }
-  return out;
-}
-
 TEST(Report, PathCsvIsUniformInSWithEveryJunctionOnce) {
   const Path path = blend(square());
   const std::string csv = path_csv(path, 0.00005);
   EXPECT_EQ(csv.substr(0, csv.find('\n')), "s,x,y,z,tx,ty,tz,kappa");
-  const auto r = rows(csv);
+  const auto r = test::parse_csv(csv).rows;
   // 200 mm at 0.05 mm: 4001 samples
   ASSERT_EQ(r.size(), 4001u);
   for (std::size_t i = 1; i < r.size(); ++i) {
