@@ -29,18 +29,17 @@ Closest make(const Segment& segment, double s, const Vec3& query) {
 template <class F2>
 std::pair<double, double> refine_minima(const std::vector<double>& d2, double h, double t_max, const F2& f2,
                                         double width, int max_iterations) {
+  // the smallest sample is a local minimum too, so one pass sees it; the search's best point
+  // can be worse than the sample it started from, which is kept then
   const std::size_t n = d2.size();
   std::pair<double, double> best{0.0, std::numeric_limits<double>::infinity()};
-  for (std::size_t i = 0; i < n; ++i) {
-    if (d2[i] < best.second) best = {h * static_cast<double>(i), d2[i]};
-  }
   for (std::size_t i = 0; i < n; ++i) {
     const bool left_ok = i == 0 || d2[i] <= d2[i - 1];
     const bool right_ok = i + 1 == n || d2[i] <= d2[i + 1];
     if (!left_ok || !right_ok) continue;
     const double t = h * static_cast<double>(i);
-    const auto refined =
-        golden_minimum(f2, std::max(0.0, t - h), std::min(t_max, t + h), width, max_iterations);
+    if (d2[i] < best.second) best = {t, d2[i]};
+    const auto refined = golden_minimum(f2, std::max(0.0, t - h), std::min(t_max, t + h), width, max_iterations);
     if (refined.second < best.second) best = refined;
   }
   return best;
