@@ -200,7 +200,12 @@ nlohmann::json read_json(const std::string& path, const std::string& what) {
 int cmd_check(const std::string& run_dir, std::string baseline_file, bool update) {
   const nlohmann::json summary = read_json((std::filesystem::path(run_dir) / "summary.json").string(), "run summary");
   if (baseline_file.empty()) {
-    baseline_file = bb::source_root() + "/results/baselines/" + summary.value("scenario", "unnamed") + ".json";
+    // the scenario name picks the baseline file: never a path that leaves results/baselines/
+    const std::string name = summary.value("scenario", "");
+    if (const std::string problem = bb::folder_name_problem(name); !problem.empty()) {
+      throw bb::InputError((std::filesystem::path(run_dir) / "summary.json").string(), 0, 0, "scenario", "scenario " + problem);
+    }
+    baseline_file = bb::source_root() + "/results/baselines/" + name + ".json";
   }
   if (update) {
     bb::write_file_atomic(baseline_file, bb::make_baseline(summary).dump(2) + "\n");

@@ -16,6 +16,7 @@
 #include "planner/closest.hpp"
 #include "planner/scurve.hpp"
 #include "sim/output.hpp"
+#include "sim/process.hpp"
 #include "sim/program_io.hpp"
 #include "sim/report.hpp"
 #include "sim/scenario.hpp"
@@ -961,11 +962,11 @@ std::string markdown_margins_section(const std::vector<PlannedRun>& runs) {
 
 // Runs the plot script on `dir`; true when it succeeded.
 bool plot(const std::filesystem::path& dir, const std::string& paper, std::ostream& log) {
-  const std::string command = "/usr/bin/python3 '" + source_root() + "/sim/scripts/plot_papers.py' '" + dir.string() +
-                              "' " + paper;
-  const int status = std::system(command.c_str());
-  if (status != 0) log << "warning: the plot script failed (" << command << ")" << std::endl;
-  return status == 0;
+  // an argument vector, no shell: the output folder is data, whatever characters it holds
+  const ProcessResult plotted =
+      run_process({"/usr/bin/python3", source_root() + "/sim/scripts/plot_papers.py", dir.string(), paper});
+  if (!plotted.ok) log << "warning: the plot script failed (" << plotted.message << ")" << std::endl;
+  return plotted.ok;
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include "planner/timing.hpp"
 #include "sim/metrics.hpp"
 #include "sim/output.hpp"
+#include "sim/process.hpp"
 #include "sim/report.hpp"
 #include "sim/simulator.hpp"
 #include "sim/urdf_chain.hpp"
@@ -322,6 +323,12 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
   if (request.variants.empty()) {
     for (const Variant& v : scenario.variants) selected.push_back(&v);
   }
+  // variant names become folders under out_dir: never a path that leaves it
+  for (const Variant* v : selected) {
+    if (const std::string problem = folder_name_problem(v->name); !problem.empty()) {
+      throw InputError(scenario.file, v->where.line, v->where.column, "variants[].name", "variant " + problem);
+    }
+  }
 
   Robot robot;
   robot.chain = load_urdf_chain(scenario.robot.urdf, scenario.robot.base_link, scenario.robot.tip_link);
@@ -368,12 +375,12 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
 
   if (request.plots) {
     const auto start = Clock::now();
-    const std::string command = "/usr/bin/python3 '" + source_root() + "/sim/scripts/plot_run.py' '" +
-                                request.out_dir.string() + "'";
-    const int status = std::system(command.c_str());
+    // an argument vector, no shell: the output folder is data, whatever characters it holds
+    const ProcessResult plotted =
+        run_process({"/usr/bin/python3", source_root() + "/sim/scripts/plot_run.py", request.out_dir.string()});
     if (request.progress) {
-      request.progress(status == 0 ? "plots written (" + format_fixed(seconds_since(start), 1) + " s)"
-                                   : "warning: the plot script failed (" + command + ")");
+      request.progress(plotted.ok ? "plots written (" + format_fixed(seconds_since(start), 1) + " s)"
+                                  : "warning: the plot script failed (" + plotted.message + ")");
     }
   }
   return result;

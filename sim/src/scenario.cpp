@@ -443,9 +443,7 @@ void read_variants(const Reader& r, const Field& root, double scale, Scenario& s
     v.where = r.where(f);
     const Field name = r.require(f, "name");
     v.name = r.text(name);
-    if (v.name.empty() || v.name.find_first_of("/\\ \t") != std::string::npos || v.name == "." || v.name == "..") {
-      r.fail(name, "a variant name must be non-empty and usable as a folder name (no spaces or slashes)");
-    }
+    if (const std::string problem = folder_name_problem(v.name); !problem.empty()) r.fail(name, "variant " + problem);
     if (!names.insert(v.name).second) r.fail(name, "duplicate variant name '" + v.name + "'");
     if (const Field t = Reader::child(f, "transition"); t.node.IsDefined()) v.transition = read_transition(r, t, scale);
     if (const Field b = Reader::child(f, "buffer"); b.node.IsDefined()) v.buffer = read_buffer(r, b);
@@ -460,6 +458,24 @@ void read_variants(const Reader& r, const Field& root, double scale, Scenario& s
 }
 
 }  // namespace
+
+std::string folder_name_problem(const std::string& name) {
+  constexpr std::size_t kMaxLength = 100;
+  const auto allowed = [](char c, bool first) {
+    const bool alnum = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9');
+    return alnum || c == '_' || (!first && (c == '-' || c == '.'));
+  };
+  const std::string rule = "(letters, digits, '_', '-', '.'; starting with a letter, digit or '_'; at most " +
+                           std::to_string(kMaxLength) + " characters)";
+  if (name.empty()) return "name is empty; it names the output folder " + rule;
+  if (name.size() > kMaxLength) return "name is " + std::to_string(name.size()) + " characters long " + rule;
+  for (std::size_t i = 0; i < name.size(); ++i) {
+    if (!allowed(name[i], i == 0)) {
+      return "name cannot name an output folder: character " + std::to_string(i + 1) + " is not allowed " + rule;
+    }
+  }
+  return {};
+}
 
 std::string source_root() {
 #ifdef BLENDBENCH_SOURCE_ROOT
@@ -483,7 +499,9 @@ Scenario parse_scenario(const std::string& text, const std::string& file, const 
                       "program", "variants"});
   Scenario sc;
   sc.file = file;
-  sc.name = r.text(r.require(root, "name"));
+  const Field name = r.require(root, "name");
+  sc.name = r.text(name);
+  if (const std::string problem = folder_name_problem(sc.name); !problem.empty()) r.fail(name, "scenario " + problem);
   if (const Field d = Reader::child(root, "description"); d.node.IsDefined()) sc.description = r.text(d);
   const double scale = unit_scale(r, root);
   if (const Field frame = Reader::child(root, "frame"); frame.node.IsDefined()) {

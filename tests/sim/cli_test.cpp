@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -40,6 +41,45 @@ Result run_shell(const std::string& command) {
 }
 
 Result run(const std::string& args) { return run_shell(std::string(BLENDBENCH_BINARY) + " " + args); }
+
+// Runs the program with an argument vector (no shell between) in the working directory `cwd`.
+Result run_in(const fs::path& cwd, const std::vector<std::string>& args) {
+  Result r;
+  int fds[2];
+  if (::pipe(fds) != 0) return r;
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::dup2(fds[1], STDOUT_FILENO);
+    ::dup2(fds[1], STDERR_FILENO);
+    ::close(fds[0]);
+    ::close(fds[1]);
+    if (::chdir(cwd.c_str()) != 0) ::_exit(127);
+    std::vector<std::string> all = {BLENDBENCH_BINARY};
+    all.insert(all.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (std::string& a : all) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    ::execv(argv[0], argv.data());
+    ::_exit(127);
+  }
+  ::close(fds[1]);
+  std::array<char, 4096> buffer{};
+  ssize_t n = 0;
+  while ((n = ::read(fds[0], buffer.data(), buffer.size())) > 0) r.output.append(buffer.data(), static_cast<std::size_t>(n));
+  ::close(fds[0]);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+// Every file below `dir`, as paths relative to it.
+std::vector<std::string> files_below(const fs::path& dir) {
+  std::vector<std::string> out;
+  for (const auto& e : fs::recursive_directory_iterator(dir)) out.push_back(fs::relative(e.path(), dir).string());
+  std::sort(out.begin(), out.end());
+  return out;
+}
 
 Result run_probe(const fs::path& video) {
   return run_shell("ffprobe -v error -select_streams v:0 -show_entries stream=codec_name,avg_frame_rate -of compact '" +
@@ -88,6 +128,42 @@ TEST_F(Cli, BadScenarioExitsTwoNamingFileLineAndField) {
     const Result r = run("run " + file + " --no-video --no-plots --out " + (dir_ / "out").string());
     EXPECT_EQ(r.exit_code, 2) << r.output;
     EXPECT_NE(r.output.find(c.expected), std::string::npos) << "expected '" << c.expected << "' in:\n" << r.output;
+  }
+}
+
+// A scenario name is a folder name: quotes, shell syntax and '..' are refused before anything
+// is written, so a name can neither run a command nor place the run outside results/runs/.
+TEST_F(Cli, ScenarioNamesThatCouldInjectOrEscapeAreRefused) {
+  const fs::path work = dir_ / "work";
+  fs::create_directories(work / "a" / "b" / "c");
+  for (const std::string name : {"\"x'; touch PWNED; echo '\"", "../../../ESCAPED", "\"$(touch PWNED)\"", "\"a b\"", ".hidden"}) {
+    const std::string file = scenario_with("name: tiny", "name: " + name);
+    const Result r = run_in(work / "a" / "b" / "c", {"run", file, "--no-video"});
+    EXPECT_EQ(r.exit_code, 2) << name << "\n" << r.output;
+    EXPECT_NE(r.output.find("bad.yaml:2:7: 'name': scenario name"), std::string::npos) << name << "\n" << r.output;
+    const std::vector<std::string> expected = {"a", "a/b", "a/b/c"};
+    EXPECT_EQ(files_below(work), expected) << name << ": the refused run wrote something";
+  }
+}
+
+// An output folder is data: a --out full of quotes, ';', '$()' and spaces gets the whole run
+// (summary, traces and the plots drawn by a child process), and nothing else happens.
+TEST_F(Cli, OutputFolderWithShellSyntaxIsJustAFolder) {
+  const fs::path work = dir_ / "work";
+  fs::create_directories(work);
+  const std::string out = "it's; $(touch PWNED) `touch PWNED2` ' ; touch PWNED3 #";
+  const Result r = run_in(work, {"run", blendbench::test::source_path("tests/data/tiny.yaml"), "--no-video", "--out", out});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.find("warning"), std::string::npos) << r.output;
+  std::vector<std::string> everything = files_below(work);
+  EXPECT_EQ(std::count_if(everything.begin(), everything.end(), [](const std::string& f) { return f.find('/') == std::string::npos; }), 1)
+      << "only the output folder is created";
+  for (const char* file : {"summary.json", "compare_speed.png", "exact/trace.csv", "exact/speed.png", "arc/path.png"}) {
+    EXPECT_TRUE(fs::exists(work / out / file)) << file;
+  }
+  for (const char* file : {"PWNED", "PWNED2", "PWNED3"}) {
+    EXPECT_FALSE(fs::exists(work / file)) << file;
+    EXPECT_FALSE(fs::exists(fs::path(blendbench::test::source_path("")) / file)) << file;
   }
 }
 

@@ -83,6 +83,12 @@ Program program_for(const Scenario& scenario, const Variant& variant);
 // The variant named `name`; throws InputError (field "--variant") listing the names when absent.
 const Variant& find_variant(const Scenario& scenario, const std::string& name);
 
+// Scenario and variant names become folder names under the output folder, so they are
+// restricted to letters, digits, '_', '-' and '.', start with a letter, digit or '_' (no '.'
+// or '..', no hidden folder) and are at most 100 characters long. Returns why `name` is not
+// such a name, or an empty string when it is.
+std::string folder_name_problem(const std::string& name);
+
 // The repository root baked in at build time (models/ and scenarios/ live there).
 std::string source_root();
 
