@@ -10,10 +10,10 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "planner/arc_construction.hpp"
-#include "planner/corner.hpp"
-#include "planner/fresnel.hpp"
-#include "planner/segment.hpp"
+#include "blendbench/geometry/arc_construction.hpp"
+#include "blendbench/corner/corner.hpp"
+#include "blendbench/geometry/fresnel.hpp"
+#include "blendbench/geometry/segment.hpp"
 
 namespace blendbench {
 namespace {

@@ -5,10 +5,10 @@
 
 #include <filesystem>
 
-#include "../tests/support/test_arm.hpp"
-#include "sim/render.hpp"
-#include "sim/simulator.hpp"
-#include "sim/video.hpp"
+#include "support/test_arm.hpp"
+#include "blendbench/render/render.hpp"
+#include "blendbench/sim/simulator.hpp"
+#include "blendbench/render/video.hpp"
 
 namespace blendbench {
 namespace {

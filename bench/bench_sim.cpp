@@ -5,8 +5,8 @@
 
 #include <cmath>
 
-#include "../tests/support/test_arm.hpp"
-#include "sim/simulator.hpp"
+#include "support/test_arm.hpp"
+#include "blendbench/sim/simulator.hpp"
 
 namespace blendbench {
 namespace {

@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "planner/timing.hpp"
+#include "blendbench/timing/timing.hpp"
 
 namespace blendbench {
 namespace {

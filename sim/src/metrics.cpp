@@ -1,11 +1,11 @@
-#include "sim/metrics.hpp"
+#include "blendbench/sim/metrics.hpp"
 
 #include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <limits>
 
-#include "planner/closest.hpp"
+#include "blendbench/geometry/closest.hpp"
 
 namespace blendbench {
 namespace {

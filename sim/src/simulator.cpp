@@ -1,4 +1,4 @@
-#include "sim/simulator.hpp"
+#include "blendbench/sim/simulator.hpp"
 
 #include <algorithm>
 #include <cassert>
@@ -10,8 +10,8 @@
 #include <regex>
 #include <stdexcept>
 
-#include "planner/format.hpp"
-#include "planner/input_error.hpp"
+#include "blendbench/core/format.hpp"
+#include "blendbench/core/input_error.hpp"
 
 namespace blendbench {
 namespace {

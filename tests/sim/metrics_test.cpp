@@ -1,4 +1,4 @@
-#include "sim/metrics.hpp"
+#include "blendbench/sim/metrics.hpp"
 
 #include <gtest/gtest.h>
 
@@ -8,8 +8,8 @@
 #include <optional>
 #include <vector>
 
-#include "../support/property.hpp"
-#include "../support/random_geometry.hpp"
+#include "support/property.hpp"
+#include "support/random_geometry.hpp"
 
 namespace blendbench {
 namespace {

@@ -10,9 +10,9 @@
 #include <stdexcept>
 #include <string>
 
-#include "../support/property.hpp"
-#include "planner/kinematics.hpp"
-#include "sim/urdf_chain.hpp"
+#include "support/property.hpp"
+#include "blendbench/robot/kinematics.hpp"
+#include "blendbench/io/urdf_chain.hpp"
 
 namespace blendbench {
 namespace {

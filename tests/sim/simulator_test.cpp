@@ -1,13 +1,13 @@
-#include "sim/simulator.hpp"
+#include "blendbench/sim/simulator.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <string>
 
-#include "../support/property.hpp"
-#include "../support/test_arm.hpp"
-#include "planner/input_error.hpp"
+#include "support/property.hpp"
+#include "support/test_arm.hpp"
+#include "blendbench/core/input_error.hpp"
 
 namespace blendbench {
 namespace {

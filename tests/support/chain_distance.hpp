@@ -9,8 +9,8 @@
 #include <limits>
 #include <vector>
 
-#include "planner/closest.hpp"
-#include "planner/segment.hpp"
+#include "blendbench/geometry/closest.hpp"
+#include "blendbench/geometry/segment.hpp"
 
 namespace blendbench::test {
 

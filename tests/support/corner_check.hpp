@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "chain_distance.hpp"
-#include "planner/corner.hpp"
+#include "blendbench/corner/corner.hpp"
 #include "property.hpp"
 
 namespace blendbench::test {

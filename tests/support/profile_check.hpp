@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "planner/blend.hpp"
-#include "planner/timing.hpp"
+#include "blendbench/corner/blend.hpp"
+#include "blendbench/timing/timing.hpp"
 
 namespace blendbench::test {
 

@@ -8,7 +8,7 @@
 #include <random>
 #include <vector>
 
-#include "planner/segment.hpp"
+#include "blendbench/geometry/segment.hpp"
 #include "property.hpp"
 
 namespace blendbench::test {

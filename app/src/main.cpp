@@ -1,0 +1,308 @@
+// blendbench: the command-line program (DESIGN: the command-line contract).
+// Exit codes: 0 ok, 1 a check failed or a variant did not complete, 2 bad input.
+
+#include <CLI/CLI.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <optional>
+
+#include "blendbench/corner/blend.hpp"
+#include "blendbench/timing/timing.hpp"
+#include "blendbench/report/check.hpp"
+#include "blendbench/report/output.hpp"
+#include "blendbench/io/program_io.hpp"
+#include "blendbench/report/report.hpp"
+#include "blendbench/papers/reproduce.hpp"
+#include "blendbench/app/runner.hpp"
+#include "blendbench/io/scenario.hpp"
+
+namespace bb = blendbench;
+
+namespace {
+
+constexpr int kExitOk = 0;
+constexpr int kExitCheckFailed = 1;
+constexpr int kExitBadInput = 2;
+
+std::string default_scenario() { return bb::source_root() + "/scenarios/default.yaml"; }
+
+int cmd_run(const std::string& scenario_path, std::string out_dir, bool no_video, bool no_plots,
+            const std::vector<std::string>& variants) {
+  const auto start = std::chrono::steady_clock::now();
+  const bb::Scenario scenario = bb::load_scenario(scenario_path);
+  if (out_dir.empty()) out_dir = "results/runs/" + scenario.name;
+  bb::RunRequest request;
+  request.out_dir = out_dir;
+  request.video = !no_video;
+  request.plots = !no_plots;
+  request.variants = variants;
+  request.progress = [](const std::string& line) { std::cout << line << std::endl; };
+  std::cout << "blendbench: scenario '" << scenario.name << "' (" << scenario_path << ") -> " << out_dir << std::endl;
+  const bb::RunResult result = bb::run_scenario(scenario, request);
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::cout << "done in " << bb::format_number(wall, 3) << " s: " << (std::filesystem::path(out_dir) / "summary.json").string()
+            << std::endl;
+  for (const auto& v : result.summary["variants"]) {
+    std::cout << "  " << v["name"].get<std::string>() << ": ";
+    if (v["status"] != "ok") {
+      std::cout << v["status"].get<std::string>() << " - " << v.value("message", "") << std::endl;
+      continue;
+    }
+    const auto& cycle = v["cycle_time_s"];
+    std::cout << "cycle " << (cycle.is_number() ? bb::format_number(cycle.get<double>(), 4) + " s" : "not settled")
+              << ", tracking max " << bb::format_number(v["tracking_error_max_mm"].get<double>(), 3) << " mm"
+              << ", contour max " << bb::format_number(v["contour_error_max_mm"].get<double>(), 3) << " mm" << std::endl;
+  }
+  return result.all_ok ? kExitOk : kExitCheckFailed;
+}
+
+// Transition and limit overrides from the command line (mm-based units as the flags say).
+struct ProgramFlags {
+  std::string variant;
+  std::string method;
+  std::optional<double> param_mm;           // unset: not given
+  std::optional<double> start_distance_mm;
+  double feed_mm_per_min = 0;
+  double amax_mm_s2 = 0;
+  double jmax_mm_s3 = 0;
+};
+
+struct LoadedProgram {
+  bb::Program program;
+  std::vector<std::string> ignored;
+  double dt = 1e-3;  // servo period for timing (s)
+};
+
+// Defaults for G-code programs, which carry no acceleration or jerk (documented in the README).
+constexpr double kDefaultFeedMmPerMin = 1000;
+constexpr double kDefaultAmaxMmS2 = 1000;
+constexpr double kDefaultJmaxMmS3 = 10000;
+
+void check_positive(double value, const char* flag) {
+  if (!(value > 0)) throw bb::InputError("", 0, 0, flag, "must be positive");
+}
+
+// Reads a G-code file or a scenario variant and applies the overrides: --method/--param replace
+// the transition of every move; --feed/--amax/--jmax replace the limits of every move.
+LoadedProgram load_program(const std::string& input, const ProgramFlags& flags) {
+  std::optional<bb::Transition> transition;
+  if (!flags.method.empty()) {
+    const auto method = bb::method_from_string(flags.method);
+    if (!method) throw bb::InputError("", 0, 0, "--method", "unknown method '" + flags.method + "' (none, arc, bezier, clothoid, biclothoid)");
+    transition = bb::Transition{};
+    transition->method = *method;
+    if (flags.start_distance_mm) {
+      // a biclothoid sized by where it starts instead of by its deviation
+      if (*method != bb::Method::kBiclothoid) {
+        throw bb::InputError("", 0, 0, "--start-distance", "sizes only a biclothoid (--method biclothoid), not " + flags.method);
+      }
+      if (flags.param_mm) throw bb::InputError("", 0, 0, "--start-distance", "give --param or --start-distance, not both");
+      check_positive(*flags.start_distance_mm, "--start-distance");
+      transition->start_distance = *flags.start_distance_mm * 1e-3;
+    } else if (*method == bb::Method::kNone) {
+      if (flags.param_mm) throw bb::InputError("", 0, 0, "--param", "has no meaning with --method none (an exact stop)");
+    } else {
+      if (!flags.param_mm) {
+        throw bb::InputError("", 0, 0, "--param", "required with --method " + flags.method + " (mm)" +
+                                                      (*method == bb::Method::kBiclothoid ? ", or --start-distance" : ""));
+      }
+      if (!(*flags.param_mm >= 0)) throw bb::InputError("", 0, 0, "--param", "must be >= 0 (mm)");
+      transition->parameter = *flags.param_mm * 1e-3;
+    }
+  } else if (flags.param_mm) {
+    throw bb::InputError("", 0, 0, "--param", "needs --method");
+  } else if (flags.start_distance_mm) {
+    throw bb::InputError("", 0, 0, "--start-distance", "needs --method biclothoid");
+  }
+  for (const auto& [value, name] : {std::pair{flags.feed_mm_per_min, "--feed"}, std::pair{flags.amax_mm_s2, "--amax"},
+                                    std::pair{flags.jmax_mm_s3, "--jmax"}}) {
+    if (value != 0) check_positive(value, name);
+  }
+
+  LoadedProgram out;
+  if (bb::is_gcode_file(input)) {
+    if (!flags.variant.empty()) throw bb::InputError("", 0, 0, "--variant", "only for scenario files");
+    bb::GcodeOptions options;
+    options.limits.velocity = (flags.feed_mm_per_min > 0 ? flags.feed_mm_per_min : kDefaultFeedMmPerMin) * 1e-3 / 60.0;
+    options.limits.acceleration = (flags.amax_mm_s2 > 0 ? flags.amax_mm_s2 : kDefaultAmaxMmS2) * 1e-3;
+    options.limits.deceleration = options.limits.acceleration;
+    options.limits.jerk = (flags.jmax_mm_s3 > 0 ? flags.jmax_mm_s3 : kDefaultJmaxMmS3) * 1e-3;
+    bb::GcodeResult parsed = bb::load_gcode_file(input, options);
+    out.program = std::move(parsed.program);
+    out.ignored = std::move(parsed.ignored);
+  } else {
+    const bb::Scenario scenario = bb::load_scenario(input);
+    const bb::Variant& v = flags.variant.empty() ? scenario.variants.front() : bb::find_variant(scenario, flags.variant);
+    out.program = bb::program_for(scenario, v);
+    out.ignored = scenario.ignored;
+    out.dt = 1.0 / scenario.servo.rate_hz;
+  }
+  for (bb::Move& move : out.program.moves) {
+    if (transition) move.transition = *transition;
+    // an F word in a G-code file sets the feed; --feed overrides it as a machine override would
+    if (flags.feed_mm_per_min > 0) move.limits.velocity = flags.feed_mm_per_min * 1e-3 / 60.0;
+    if (flags.amax_mm_s2 > 0) move.limits.acceleration = move.limits.deceleration = flags.amax_mm_s2 * 1e-3;
+    if (flags.jmax_mm_s3 > 0) move.limits.jerk = flags.jmax_mm_s3 * 1e-3;
+  }
+  return out;
+}
+
+int cmd_path(const std::string& input, const ProgramFlags& flags, const std::string& csv, const std::string& report,
+             double ds_mm) {
+  if (!(ds_mm > 0)) throw bb::InputError("", 0, 0, "--ds", "the sample spacing must be positive");
+  const LoadedProgram loaded = load_program(input, flags);
+  const bb::Path path = bb::blend(loaded.program);
+  bb::write_file_atomic(csv, bb::path_csv(path, ds_mm * 1e-3));
+  if (!report.empty()) bb::write_file_atomic(report, bb::corners_json(path).dump(2) + "\n");
+  std::cout << "path: " << bb::format_number(path.length() * 1e3, 6) << " mm, " << path.pieces().size() << " pieces, "
+            << path.corners.size() << " corners -> " << csv << std::endl;
+  return kExitOk;
+}
+
+int cmd_plan(const std::string& input, const ProgramFlags& flags, const std::string& csv, const std::string& summary) {
+  const LoadedProgram loaded = load_program(input, flags);
+  const auto start = std::chrono::steady_clock::now();
+  const bb::Path path = bb::blend(loaded.program);
+  bb::TimingOptions options;
+  options.dt = loaded.dt;
+  const bb::Timing timing = bb::plan_timing(path, options);
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (!timing.outcome.ok()) {
+    std::cerr << "blendbench: planning failed: " << timing.outcome.message << std::endl;
+    return kExitCheckFailed;
+  }
+  nlohmann::json j = bb::plan_summary_json(path, timing);
+  j["ignored"] = loaded.ignored;
+  j["planning_wall_time_s"] = wall;
+  bb::write_file_atomic(csv, bb::timed_csv(path, timing));
+  bb::write_file_atomic(summary, j.dump(2) + "\n");
+  std::cout << "plan: " << bb::format_number(path.length() * 1e3, 6) << " mm in " << bb::format_number(timing.cycle_time, 6)
+            << " s, " << path.corners.size() << " corners, planned in " << bb::format_number(wall * 1e3, 3) << " ms -> "
+            << csv << ", " << summary << std::endl;
+  for (const std::string& line : loaded.ignored) std::cout << "  ignored: " << line << std::endl;
+  return kExitOk;
+}
+
+nlohmann::json read_json(const std::string& path, const std::string& what) {
+  std::ifstream in(path);
+  if (!in) throw bb::InputError(path, 0, 0, "", "cannot open the " + what);
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw bb::InputError(path, 0, 0, "", "invalid JSON in the " + what + ": " + e.what());
+  }
+}
+
+int cmd_check(const std::string& run_dir, std::string baseline_file, bool update) {
+  const nlohmann::json summary = read_json((std::filesystem::path(run_dir) / "summary.json").string(), "run summary");
+  if (baseline_file.empty()) {
+    // the scenario name picks the baseline file: never a path that leaves results/baselines/
+    const std::string name = summary.value("scenario", "");
+    if (const std::string problem = bb::folder_name_problem(name); !problem.empty()) {
+      throw bb::InputError((std::filesystem::path(run_dir) / "summary.json").string(), 0, 0, "scenario", "scenario " + problem);
+    }
+    baseline_file = bb::source_root() + "/results/baselines/" + name + ".json";
+  }
+  if (update) {
+    bb::write_file_atomic(baseline_file, bb::make_baseline(summary).dump(2) + "\n");
+    std::cout << "baseline written: " << baseline_file << std::endl;
+    return kExitOk;
+  }
+  const bb::CheckReport report = bb::check_run(summary, read_json(baseline_file, "baseline"), baseline_file);
+  for (const std::string& note : report.notes) std::cout << "note: " << note << std::endl;
+  for (const std::string& r : report.regressions) std::cout << "REGRESSION: " << r << std::endl;
+  std::cout << (report.passed() ? "check passed against " : "check FAILED against ") << baseline_file << std::endl;
+  return report.passed() ? kExitOk : kExitCheckFailed;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"BlendBench: a testbench for blended robot trajectories"};
+  app.require_subcommand(1);
+
+  std::string scenario_path = default_scenario();
+  std::string out_dir;
+  bool no_video = false;
+  bool no_plots = false;
+  std::vector<std::string> variants;
+  CLI::App* run = app.add_subcommand("run", "Run a scenario: plan, simulate, write metrics, plots and videos");
+  run->add_option("scenario", scenario_path, "Scenario YAML file (default: scenarios/default.yaml)");
+  run->add_option("--out", out_dir, "Output folder (default: results/runs/<scenario name>)");
+  run->add_flag("--no-video", no_video, "Do not render videos");
+  run->add_flag("--no-plots", no_plots, "Do not draw plots");
+  run->add_option("--variant", variants, "Run only this variant (repeatable)");
+
+  // shared by `path` and `plan`
+  std::string input;
+  ProgramFlags flags;
+  std::string csv;
+  const auto add_program_flags = [&](CLI::App* cmd) {
+    cmd->add_option("input", input, "G-code program (.ngc, .nc, ...) or scenario YAML file")->required();
+    cmd->add_option("--variant", flags.variant, "Scenario variant (default: the first)");
+    cmd->add_option("--method", flags.method, "Transition on every move: none, arc, bezier, clothoid, biclothoid");
+    cmd->add_option("--param", flags.param_mm,
+                    "Transition parameter in mm: corner distance (arc), TP (bezier), maximum deviation (clothoid, biclothoid)");
+    cmd->add_option("--start-distance", flags.start_distance_mm,
+                    "Biclothoid only, instead of --param: distance in mm from the corner at which the fillet starts");
+    cmd->add_option("--feed", flags.feed_mm_per_min, "Feed on every move, mm/min (G-code default 1000 until an F word)");
+    cmd->add_option("--amax", flags.amax_mm_s2, "Acceleration limit, mm/s^2 (G-code default 1000)");
+    cmd->add_option("--jmax", flags.jmax_mm_s3, "Jerk limit, mm/s^3 (G-code default 10000)");
+  };
+
+  std::string report;
+  double ds_mm = 0.05;
+  CLI::App* path = app.add_subcommand("path", "Write the sampled planned (blended) path and the corner reports");
+  add_program_flags(path);
+  path->add_option("--csv", csv, "Output CSV: s,x,y,z,tx,ty,tz,kappa (mm, unit tangent, 1/mm)")->required();
+  path->add_option("--report", report, "Output JSON: the corner reports");
+  path->add_option("--ds", ds_mm, "Sample spacing in mm (default 0.05)");
+
+  std::string summary;
+  CLI::App* plan = app.add_subcommand("plan", "Write the timed profile (every servo period) and a plan summary");
+  add_program_flags(plan);
+  plan->add_option("--csv", csv, "Output CSV: t,s,x,y,z,v,a,j,kappa (s, mm, mm/s, mm/s^2, mm/s^3, 1/mm)")->required();
+  plan->add_option("--summary", summary, "Output JSON: cycle_time_s, path_length_mm, corners, pieces")->required();
+
+  std::string run_dir;
+  std::string baseline;
+  bool update = false;
+  CLI::App* check = app.add_subcommand("check", "Compare a run's metrics with a committed baseline; exit 1 on regression");
+  check->add_option("run_dir", run_dir, "Folder of a run (holds summary.json)")->required();
+  check->add_option("--baseline", baseline, "Baseline JSON (default: results/baselines/<scenario>.json)");
+  check->add_flag("--update", update, "Write the baseline from this run instead of checking");
+
+  std::string paper;
+  std::string papers_out = "results/papers";
+  bool no_paper_plots = false;
+  CLI::App* reproduce = app.add_subcommand("reproduce", "Reproduce a source paper's published numbers: report and data");
+  reproduce->add_option("name", paper, "004, 000 or all")->required();
+  reproduce->add_option("--out", papers_out, "Parent folder; each paper goes to DIR/<paper>/ (default: results/papers)");
+  reproduce->add_flag("--no-plots", no_paper_plots, "Do not draw the figures");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? kExitOk : kExitBadInput;
+  }
+
+  try {
+    if (*run) return cmd_run(scenario_path, out_dir, no_video, no_plots, variants);
+    if (*path) return cmd_path(input, flags, csv, report, ds_mm);
+    if (*plan) return cmd_plan(input, flags, csv, summary);
+    if (*check) return cmd_check(run_dir, baseline, update);
+    if (*reproduce) return bb::reproduce(paper, papers_out, !no_paper_plots, std::cout);
+  } catch (const bb::InputError& e) {
+    std::cerr << "blendbench: error: " << e.what() << std::endl;
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    std::cerr << "blendbench: failed: " << e.what() << std::endl;
+    return kExitCheckFailed;
+  }
+  return kExitOk;
+}

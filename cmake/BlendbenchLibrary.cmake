@@ -1,0 +1,19 @@
+# blendbench_library(STAGE SOURCES ... [PUBLIC ...] [PRIVATE ...])
+#
+# One stage of the pipeline: the library blendbench_<STAGE> with the alias blendbench::<STAGE>,
+# its headers under <folder>/include/blendbench/<STAGE>/ (included as "blendbench/<STAGE>/x.hpp"),
+# C++20 and the project's warnings. A stage sees only the include roots of the stages it links,
+# so a lower layer that includes a higher one does not compile (tests/layering.cmake checks the
+# rule on the sources as well).
+function(blendbench_library stage)
+  cmake_parse_arguments(ARG "" "" "SOURCES;PUBLIC;PRIVATE" ${ARGN})
+  set(target blendbench_${stage})
+  add_library(${target} ${ARG_SOURCES})
+  add_library(blendbench::${stage} ALIAS ${target})
+  set_target_properties(${target} PROPERTIES EXPORT_NAME ${stage} OUTPUT_NAME blendbench_${stage})
+  target_include_directories(${target} PUBLIC
+    $<BUILD_INTERFACE:${CMAKE_CURRENT_SOURCE_DIR}/include>
+    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
+  target_compile_features(${target} PUBLIC cxx_std_20)
+  target_link_libraries(${target} PUBLIC ${ARG_PUBLIC} PRIVATE ${ARG_PRIVATE} $<BUILD_INTERFACE:blendbench::warnings>)
+endfunction()

@@ -1,0 +1,102 @@
+#pragma once
+// A reader for the RS274/NGC subset of G-code that describes a tool path of lines and arcs, as
+// LinuxCNC reads it. It turns a part program's text into a Program in metres, in the program's
+// own frame; the planner never opens files, so the caller passes the text and a file name that
+// only appears in messages.
+//
+// Path words (read and turned into moves):
+//   G0 G1 G2 G3 (G2/G3 by I/J/K centre or by R, helical when the axis normal to the plane moves,
+//   full circles by I/J/K with no end point or end = start, P = number of turns), G17 G18 G19,
+//   G20 G21, G90 G91, G90.1 G91.1, G80 (cancels the motion mode), F (units per minute),
+//   G61 G61.1 (exact stop), G64 [P tol] [Q ignored], G4 P (dwell), X Y Z, N, M2 M30,
+//   comments ( ) and ;, '/' block delete, '%' tape markers. Words are case-insensitive; spaces
+//   and tabs are allowed anywhere outside comments (RS274/NGC); numbers look like 1, -10., .5, +3.
+// Words that do not change the path are accepted and listed in GcodeResult::ignored:
+//   S, T, H, D, M0 M1 M3 M4 M5 M6 M7 M8 M9, G40, G49, G54-G59, G59.1-G59.3 (one coordinate
+//   system per program), G94.
+// Everything else stops with InputError(file, line, column, word, message): cutter and tool
+// length compensation (G41 G42 G43), canned cycles, G33, splines (G5), G92 offsets, G28/G30,
+// G53, G10, probing, lathe modes, inverse-time feed, O-words, parameters '#', expressions '[ ]',
+// axes A B C U V W, unknown letters and codes, two words of one modal group on a line, a word
+// given twice, a word on a line with no command that uses it, axis words before any G0-G3
+// (LinuxCNC starts in G80). Never a silently different path.
+//
+// Decisions where RS274/NGC leaves room or this reader departs from LinuxCNC:
+// - Unicode minus (U+2212, as in text extracted from PDFs, e.g. Listing 1 of 004) is read as
+//   '-', and each line where it happens is noted in `ignored`.
+// - '/' as the first character of a line deletes the block (LinuxCNC with the block-delete
+//   switch on): the line is skipped and noted.
+// - G4 dwell, M0/M1 (pause) and M6 (tool change) make the machine stop: the move before them
+//   gets transition method none (an exact stop at that point), noted in `ignored`.
+// - G61 and G61.1 give transition method none on the following moves (an exact stop at every
+//   junction, the "without transitions" baseline), even where LinuxCNC's G61 would pass a
+//   tangent junction without stopping.
+// - G64 P tol gives Transition{options.tolerance_method, tol} (other fields from
+//   options.blending). For clothoid and biclothoid the parameter is the maximum deviation, as
+//   in LinuxCNC. For arc and bezier it is the corner distance / TP (how far from the corner the
+//   transition starts), which bounds the deviation at line-line corners: an arc fillet between
+//   lines turning by delta deviates by d tan(delta/4) < d, and a Bezier whose control points lie
+//   in the triangle of the two transition points and the corner stays inside it, within d of
+//   the lines. G64 P0 is G64 without P. Q (naive CAM tolerance) is ignored.
+// - Arc end point off the circle (I/J/K format): LinuxCNC's rule (interp_arc.cc, arc_data_ijk;
+//   constants in interp_internal.hh): with r1, r2 the distances from the centre to the start
+//   and to the end in the plane, it is an error when |r1 - r2| > 0.002 sqrt(2) in (G20) /
+//   0.02 sqrt(2) mm (G21) (LinuxCNC's defaults; its INI file may tighten them), or
+//   |r1 - r2| / max(r1, r2) > 0.001; and when r1 or r2 is below
+//   0.00005 in / 0.00127 mm (zero radius). LinuxCNC's G-code manual ("Center Format Arcs")
+//   still states an older, looser rule (beyond 0.05 in / 0.5 mm, or beyond 0.0005 in /
+//   0.005 mm and 0.1 % together); this reader follows the interpreter's code. Inside the
+//   tolerance LinuxCNC cuts a spiral; a Program holds circles, so the centre is moved onto the
+//   perpendicular bisector of start and end (the nearest such point), which keeps both end
+//   points exact, and the correction is noted. If that circle departs from LinuxCNC's spiral
+//   by more than the absolute tolerance above (nearly full circles with an end point off the
+//   start), the reader stops with InputError rather than cut a different path.
+// - R format (LinuxCNC arc_data_r): R > 0 the arc of at most 180 degrees, R < 0 the longer one;
+//   an end point equal to the start is an error; half the chord longer than |R| by more than
+//   0.00005 in / 0.00127 mm is an error, within that the arc is a semicircle on the chord.
+// - F is read in the units in force after this line's G20/G21; a units change does not convert a
+//   feed set earlier (the feed is kept in m/s). F must be positive.
+// - Zero-length moves (shorter than kZeroLengthMove) are dropped and noted. The interpreter's
+//   position still becomes the programmed end (so G91 stays exact); the next move starts where
+//   the last kept move ended, so the path has no gap.
+// - M2/M30 or a closing '%' ends the program; later lines are not read and are noted.
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "blendbench/program/program.hpp"
+
+namespace blendbench {
+
+// A move shorter than this (m) is dropped (see above); far below any machine's resolution.
+inline constexpr double kZeroLengthMove = 1e-9;
+
+struct GcodeOptions {
+  // SI limits of every move: velocity is the feed until the first F word (m/s); acceleration,
+  // deceleration and jerk apply throughout. All must be positive.
+  Limits limits;
+  // The transition of moves in G64 mode when G64 gives no P (also the start-up mode).
+  Transition blending;
+  // What G64 P<tol> maps to (see the header comment for the arc/bezier mapping).
+  Method tolerance_method = Method::kBiclothoid;
+  BufferMode buffer = BufferMode::kBlendingLow;
+  // m/s for G0 moves; 0 = limits.velocity.
+  double rapid_velocity = 0;
+  // m, program frame: where the tool is before the first line (RS274/NGC's current point).
+  Vec3 start = Vec3::Zero();
+};
+
+struct GcodeResult {
+  Program program;  // metres, program frame (placing it in the robot workspace is done elsewhere)
+  Vec3 start = Vec3::Zero();         // m: the position before the first move
+  std::vector<std::string> ignored;  // e.g. "S1000 (line 3)", "G4 P0.5 (line 9): dwell treated as an exact stop"
+};
+
+// Reads a part program. Each move gets where = {file_name, line, column of its motion word or
+// first axis word} and a name like "line 7 G2" or "N120 G1". Throws InputError(file_name, line,
+// column, word, message) on anything it does not support (see above), on invalid options, and
+// when the program has no moves.
+GcodeResult parse_gcode(std::string_view text, const std::string& file_name, const GcodeOptions& options);
+
+}  // namespace blendbench

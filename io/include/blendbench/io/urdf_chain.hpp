@@ -1,0 +1,25 @@
+#pragma once
+// Reads a URDF file into the planner's KinematicChain. Part of the edge library blendbench::io:
+// urdfdom appears only here, so the planner stays Eigen-only.
+
+#include <string>
+
+#include "blendbench/robot/kinematics.hpp"
+
+namespace blendbench {
+
+// The serial chain from `base_link` to `tip_link` of the URDF at `path`: one JointSpec per
+// revolute or continuous joint, in order from the base, with every fixed joint folded into the
+// next joint's origin (or into the TCP transform after the last joint). Limits come from each
+// joint's <limit> (rad, rad/s, N*m); a continuous joint gets lower/upper = -+infinity.
+//
+// Throws InputError with file = path when the file cannot be read or is not a valid URDF (the
+// message carries urdfdom's reason), a link is missing, tip_link is not below base_link, a joint
+// on the way is not revolute, continuous or fixed (or is a mimic joint), a limit is missing or
+// inconsistent (lower > upper, velocity or effort <= 0), an axis is zero, or the chain does not
+// have exactly six movable joints. Not thread-safe: it swaps console_bridge's global log
+// handler while parsing.
+KinematicChain load_urdf_chain(const std::string& path, const std::string& base_link = "base_link",
+                               const std::string& tip_link = "tcp");
+
+}  // namespace blendbench

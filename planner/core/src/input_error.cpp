@@ -1,0 +1,38 @@
+#include "blendbench/core/input_error.hpp"
+
+#include <utility>
+
+namespace blendbench {
+namespace {
+
+std::string format_location(const std::string& file, int line, int column, const std::string& field,
+                            const std::string& message) {
+  std::string out;
+  if (!file.empty()) {
+    out += file;
+    if (line > 0) {
+      out += ':' + std::to_string(line);
+      if (column > 0) out += ':' + std::to_string(column);
+    }
+    out += ": ";
+  }
+  if (!field.empty()) out += "'" + field + "': ";
+  out += message;
+  return out;
+}
+
+}  // namespace
+
+InputError::InputError(std::string file, int line, int column, std::string field, const std::string& message)
+    : std::runtime_error(format_location(file, line, column, field, message)),
+      file_(std::move(file)),
+      line_(line),
+      column_(column),
+      field_(std::move(field)),
+      detail_(message) {}
+
+void fail_at(const SourceRef& where, const std::string& field, const std::string& message) {
+  throw InputError(where.file, where.line, where.column, field, message);
+}
+
+}  // namespace blendbench

@@ -1,0 +1,208 @@
+#pragma once
+// Biclothoid fillets (004, Shahzadeh et al. 2018) in the plane of a corner.
+//
+// A biclothoid is two clothoids back to back whose sharpness values are opposite (004 def. 2,
+// eq. 7-8): the curvature rises (or falls) linearly from kappa0 to a peak kappa_m over s1 and
+// returns linearly to kappa_e over s2. fit_biclothoid_corner (corner.hpp) uses it to replace a
+// corner between two lines, a line and an arc or two arcs by a G2 fillet whose deviation from
+// the programmed path is bounded by a tolerance (004 Algorithms 1 and 2).
+//
+// Plane conventions: 2D coordinates in the corner plane, angles in rad measured
+// counter-clockwise from the x axis, curvature signed (positive turns left), lengths in m.
+
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "blendbench/corner/corner.hpp"
+#include "blendbench/geometry/segment.hpp"
+#include "blendbench/core/status.hpp"
+
+namespace blendbench {
+
+using Vec2 = Eigen::Vector2d;
+
+// 004 definition 1: position, curvature (1/m, signed) and tangent angle (rad) at a point.
+struct Posture {
+  Vec2 p = Vec2::Zero();
+  double kappa = 0;
+  double theta = 0;
+};
+
+// A biclothoid: clothoid 1 from `start` with sharpness c over s1, clothoid 2 with sharpness -c
+// over s2 (004 eq. 7-8). `mid` is the posture where they meet (the curvature extremum); it is
+// filled by make_biclothoid so that evaluation is cheap.
+struct Biclothoid {
+  Posture start;
+  double c = 0;   // 1/m^2
+  double s1 = 0;  // m
+  double s2 = 0;  // m
+  Posture mid;
+};
+
+// Completes `mid` from start, c, s1, s2 (s1, s2 >= 0).
+Biclothoid make_biclothoid(const Posture& start, double c, double s1, double s2);
+
+// 004 eq. 9-14: the biclothoid of total length `length` (> 0) that starts at `start` and ends
+// with curvature kappa_e and tangent angle start.theta + dtheta. Always exists; derived in
+// closed form (biclothoid.cpp) in a form that stays exact when kappa0 = kappa_e, where eq. 11
+// is 0/0. nullopt only for a non-positive or non-finite length.
+std::optional<Biclothoid> biclothoid_from_turn(const Posture& start, double kappa_e, double dtheta, double length);
+
+// The curve of biclothoid_from_turn with its end point and the derivatives of that end point
+// with respect to the length and the turn (kappa_e and start held), in closed form from the
+// first three moments of each clothoid's tangent (derived in biclothoid.cpp); Algorithm 1
+// uses them for Newton's method. nullopt as for biclothoid_from_turn.
+struct BiclothoidEnd {
+  Biclothoid curve;
+  Vec2 p = Vec2::Zero();         // end point
+  Vec2 tangent = Vec2::Zero();   // unit tangent at the end
+  Vec2 d_length = Vec2::Zero();  // d p / d length (dimensionless)
+  Vec2 d_turn = Vec2::Zero();    // d p / d dtheta (m/rad)
+};
+std::optional<BiclothoidEnd> biclothoid_end(const Posture& start, double kappa_e, double dtheta, double length);
+
+double length(const Biclothoid& curve);
+// The posture at arc length s in [0, length] (clamped).
+Posture posture_at(const Biclothoid& curve, double s);
+Posture end_posture(const Biclothoid& curve);
+// The same curve traversed backwards (a biclothoid again: c -> -c, s1 <-> s2).
+Biclothoid reversed(const Biclothoid& curve);
+
+// A programmed move near the corner: a line (kappa = 0) or a circle through the origin (the
+// corner) with tangent angle `theta` there; sigma is the signed arc length from the corner
+// along the direction of travel (negative before the corner).
+struct PlanarShape {
+  double theta = 0;
+  double kappa = 0;
+};
+
+Vec2 shape_point(const PlanarShape& shape, double sigma);
+double shape_angle(const PlanarShape& shape, double sigma);
+
+// The incoming shape q1 reaches the corner (the origin), the outgoing q2 leaves it. The fillet
+// starts at sigma = -a on q1 and ends at sigma = +b on q2.
+struct CornerShapes {
+  PlanarShape q1;
+  PlanarShape q2;
+};
+
+// 004 Algorithm 1 (derived here: the paper gives only its first lines): the biclothoid that
+// starts G2 on q1 at distance `a` before the corner and ends G2 on q2. Unknowns: its length L
+// and the end distance b on q2; it turns by the programmed turn delta + kappa1 a + kappa2 b
+// (delta the tangent jump at the corner). When q2 is a line the turn is fixed and one scalar
+// equation in L remains (Newton, safeguarded by a bracket); otherwise a damped Newton method on
+// (L, b). Both use the closed-form derivatives of biclothoid_end. (guess_length, guess_b)
+// start the iteration (0 = derive a guess). nullopt when it does not converge or the solution
+// leaves b > 0, L > 0.
+struct BiclothoidSolution {
+  Biclothoid curve;
+  double a = 0;  // m, start distance before the corner on q1
+  double b = 0;  // m, end distance after the corner on q2
+};
+std::optional<BiclothoidSolution> fit_biclothoid_at(const CornerShapes& shapes, double a, double guess_length = 0,
+                                                    double guess_b = 0);
+
+// 004 section 7.1: directed Hausdorff distances between the replaced programmed path
+// U = q1[-a, 0] + q2[0, b] and the fillet V, by nested one-dimensional solvers (for a point of
+// U, Newton for its closest point on V; over U, a sampled search refined by a secant method on
+// the derivative of the distance). `fillet_to_original` (V -> U) uses exact distances to lines
+// and circles, a sampled search refined by Newton on their derivative (or, at a tangent jump,
+// on the difference of the distances to both sides).
+struct Deviation {
+  double original_to_fillet = 0;  // m, 004 eq. 15 with U the original path
+  double fillet_to_original = 0;  // m
+  [[nodiscard]] double max() const {
+    return original_to_fillet > fillet_to_original ? original_to_fillet : fillet_to_original;
+  }
+};
+Deviation biclothoid_deviation(const BiclothoidSolution& fillet, const CornerShapes& shapes);
+
+// 004 Algorithm 2 (derived here; the paper gives only its first lines): the largest fillet
+// whose deviation (the larger of the two directed distances) stays within `tolerance` (m, > 0),
+// with a <= a_max and b <= b_max (m). Follows section 6: if q2 is more curved than q1 the corner
+// is reversed (q1 <-> q2) and the fillet reversed back at the end. The start distance comes from
+// Newton's method on y = max(log(deviation / tolerance), log(b / b_max)) against x = log(a)
+// (y is nearly linear in x: deviation ~ a at a tangent jump, ~ a^2 at a curvature jump), its
+// slope from the envelope theorem at the point where the deviation is attained (derived in
+// biclothoid.cpp), kept inside the bracket once there is one, bisection otherwise; the first a
+// blends the two small-fillet models, so two solves usually suffice. The result satisfies
+// tolerance (1 - 1e-4) <= deviation <= tolerance unless the move lengths limit it (`limited` =
+// true, deviation < tolerance). A fillet replaces at most an eighth of a turn of an arc (a
+// larger one is no longer a corner fillet, and its turn approaches 2 pi) and stays short of a
+// point where q1 and q2 cross again (possible near a reversal). outcome: kNotConverged when
+// no solve succeeds.
+struct BiclothoidToleranceFit {
+  Outcome outcome;
+  BiclothoidSolution fillet;  // in the original direction (a on q1, b on q2)
+  Deviation deviation;
+  bool limited = false;    // the move lengths (a_max / b_max) or the caps bound it
+  bool converged = false;  // limited, or the deviation reached the tolerance band
+  bool swapped = false;  // solved on the reversed corner (section 6)
+  int solves = 0;        // Algorithm 1 calls, for diagnostics
+};
+BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes, double tolerance, double a_max,
+                                                     double b_max);
+
+// The other way to size a fillet (004 Algorithm 1 alone): it starts `start_distance` (m, > 0)
+// before the corner on q1. The start distance is capped as in the tolerance fit (a_max, an
+// eighth of a turn of an arc, short of where the moves cross again); when Algorithm 1 finds no
+// fillet there or its end distance b exceeds b_max (or an eighth of a turn of q2), the start
+// distance is shrunk to the largest that fits (halving, then bisection in log a to 1e-9), and
+// `limited` is set. `deviation` is measured (004 section 7.1). outcome: kNotConverged when no
+// start distance down to 2^-60 of the request fits.
+struct BiclothoidStartFit {
+  // Why the start distance used is below the one asked for.
+  enum class Limit {
+    kNone,
+    kIncoming,    // a_max, an eighth of a turn of q1, or where the moves cross again
+    kOutgoing,    // the fillet would end beyond b_max (or an eighth of a turn of q2)
+    kNoSolution,  // Algorithm 1 found no fillet at the larger start distances
+  };
+  Outcome outcome;
+  BiclothoidSolution fillet;
+  Deviation deviation;
+  Limit limit = Limit::kNone;
+};
+BiclothoidStartFit fit_biclothoid_from_start(const CornerShapes& shapes, double start_distance, double a_max,
+                                             double b_max);
+
+// The plane of a corner in 3D: the corner point and an orthonormal basis (x, y) of the plane;
+// 2D corner coordinates map to origin + px x + py y.
+struct CornerPlane {
+  Vec3 origin = Vec3::Zero();
+  Vec3 x = Vec3::UnitX();
+  Vec3 y = Vec3::UnitY();
+};
+Vec3 to_space(const CornerPlane& plane, const Vec2& p);
+// The clothoid segments of a biclothoid in 3D (pieces of zero length omitted).
+std::vector<Segment> to_segments(const Biclothoid& curve, const CornerPlane& plane);
+
+// A corner between two programmed moves seen in its plane. For two lines the plane is the one
+// they span, oriented so that the turn is positive (towards +y); with an arc it is the arc's
+// plane (normal u x v of the arc, of the incoming one when both are arcs). x is the incoming
+// tangent at the corner, so shapes.q1.theta = 0.
+struct PlanarCorner {
+  bool planar = false;        // false: a helix, or a line or arc out of the other arc's plane
+  bool lines = false;         // both moves are lines
+  bool same_circle = false;   // two arcs on one circle (same centre, radius and plane)
+  bool same_curvature = false;  // equal curvature vectors at the corner
+  double angle = 0;           // rad, unsigned angle between the tangents at the corner (3D)
+  CornerPlane plane;
+  CornerShapes shapes;  // valid when planar
+};
+PlanarCorner planar_corner(const Primitive& in, const Primitive& out);
+
+// The corners both clothoid methods treat alike, or nullopt for a corner to fit:
+//  - a reversal (tangent turns by pi, within 1e-9 rad): no fillet exists; a kink ("reversal",
+//    or "same_circle_opposite_direction"), a stop when the buffer mode is Buffered;
+//  - a G2-continuous corner (equal tangents and curvature vectors): nothing to do
+//    ("collinear", or "same_circle_same_direction");
+//  - parameter 0 at a tangent discontinuity: throws InputError at corner.where
+//    (field transition.parameter), since no curve stays within a zero deviation;
+//  - parameter 0 at a curvature jump only ("tangent"): the path is left as programmed;
+//  - no length available on one of the moves: outcome kInfeasible (the blender stops there).
+std::optional<CornerFit> clothoid_special_case(const CornerInput& corner, const PlanarCorner& geometry);
+
+}  // namespace blendbench

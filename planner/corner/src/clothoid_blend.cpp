@@ -1,0 +1,219 @@
+#include "blendbench/corner/clothoid_blend.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+#include <string>
+
+#include "blendbench/core/format.hpp"
+#include "blendbench/corner/biclothoid.hpp"
+#include "blendbench/corner/corner.hpp"
+#include "blendbench/geometry/fresnel.hpp"
+
+namespace blendbench {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// The pair of scale a: d = a S(u) / cos(alpha/2), T = a (C(u) + S(u) tan(alpha/2)).
+ClothoidPair pair_of_scale(double alpha, double scale) {
+  ClothoidPair pair;
+  pair.alpha = alpha;
+  pair.scale = scale;
+  pair.u = std::sqrt(alpha / kPi);
+  const FresnelCS f = fresnel(pair.u);
+  const double ch = std::cos(0.5 * alpha);
+  const double sh = std::sin(0.5 * alpha);
+  pair.half_length = scale * pair.u;
+  pair.sharpness = kPi / (scale * scale);
+  pair.kappa_peak = kPi * pair.u / scale;
+  pair.deviation = scale * f.s / ch;
+  pair.tangent_length = scale * (f.c * ch + f.s * sh) / ch;
+  return pair;
+}
+
+}  // namespace
+
+ClothoidPair clothoid_pair_for_deviation(double alpha, double deviation) {
+  const FresnelCS f = fresnel(std::sqrt(alpha / kPi));
+  return pair_of_scale(alpha, deviation * std::cos(0.5 * alpha) / f.s);
+}
+
+ClothoidPair clothoid_pair_for_tangent_length(double alpha, double tangent_length) {
+  const FresnelCS f = fresnel(std::sqrt(alpha / kPi));
+  const double ch = std::cos(0.5 * alpha);
+  const double sh = std::sin(0.5 * alpha);
+  return pair_of_scale(alpha, tangent_length * ch / (f.c * ch + f.s * sh));
+}
+
+ClothoidArcClothoid clothoid_arc_clothoid(double alpha, double kappa, double clothoid_length) {
+  ClothoidArcClothoid cac;
+  cac.alpha = alpha;
+  cac.kappa = kappa;
+  cac.clothoid_length = std::clamp(clothoid_length, 0.0, alpha / kappa);
+  const double lc = cac.clothoid_length;
+  // clothoid half: Makino's scale a = sqrt(pi Lc / kappa), u = Lc / a; turns phi = kappa Lc / 2
+  double x = 0;
+  double y = 0;
+  if (lc > 0) {
+    const double scale = std::sqrt(kPi * lc / kappa);
+    const FresnelCS f = fresnel(lc / scale);
+    x = scale * f.c;
+    y = scale * f.s;
+  }
+  const double phi = 0.5 * kappa * lc;
+  const double psi = std::max(0.5 * alpha - phi, 0.0);  // the arc's half turn
+  const double radius = 1.0 / kappa;
+  // arc from tangent angle phi to alpha/2
+  x += radius * (std::sin(0.5 * alpha) - std::sin(phi));
+  y += radius * (std::cos(phi) - std::cos(0.5 * alpha));
+  const double ch = std::cos(0.5 * alpha);
+  const double sh = std::sin(0.5 * alpha);
+  cac.arc_length = 2 * psi * radius;
+  cac.deviation = y / ch;
+  cac.tangent_length = (x * ch + y * sh) / ch;
+  return cac;
+}
+
+namespace {
+
+// The segments of a clothoid-arc-clothoid in the corner plane (start at (-T, 0), heading +x,
+// turning towards +y).
+std::vector<Segment> cac_segments(const ClothoidArcClothoid& cac, const CornerPlane& plane) {
+  const double lc = cac.clothoid_length;
+  const double c = lc > 0 ? cac.kappa / lc : 0.0;
+  const Posture start{Vec2(-cac.tangent_length, 0.0), 0.0, 0.0};
+  // clothoid, arc and clothoid as one chain of postures
+  const Biclothoid first = make_biclothoid(start, c, lc, 0.0);
+  const Posture arc_start = first.mid;
+  std::vector<Segment> out = to_segments(first, plane);
+  const double psi2 = cac.arc_length * cac.kappa;  // the arc's turn
+  if (cac.arc_length > 0) {
+    const double radius = 1.0 / cac.kappa;
+    const Vec2 normal(-std::sin(arc_start.theta), std::cos(arc_start.theta));
+    const Vec3 center = to_space(plane, arc_start.p + radius * normal);
+    const Vec3 from = to_space(plane, arc_start.p);
+    const Vec3 u = (from - center).normalized();
+    const Vec3 v = std::cos(arc_start.theta) * plane.x + std::sin(arc_start.theta) * plane.y;
+    out.emplace_back(Arc{center, u, v, radius, psi2, 0.0});
+  }
+  const Vec2 chord = Vec2(std::cos(arc_start.theta + 0.5 * psi2), std::sin(arc_start.theta + 0.5 * psi2)) *
+                     (2.0 / cac.kappa * std::sin(0.5 * psi2));
+  const Posture last_start{arc_start.p + chord, cac.kappa, arc_start.theta + psi2};
+  const std::vector<Segment> last = to_segments(make_biclothoid(last_start, -c, lc, 0.0), plane);
+  out.insert(out.end(), last.begin(), last.end());
+  return out;
+}
+
+// The clothoid length in [0, alpha / kappa] at which a monotone quantity of the
+// clothoid-arc-clothoid reaches `target` (bisection with false position; both grow with it).
+template <class F>
+double cac_length_for(double alpha, double kappa, double target, const F& quantity) {
+  double lo = 0;
+  double hi = alpha / kappa;
+  double f_lo = quantity(clothoid_arc_clothoid(alpha, kappa, lo)) - target;
+  double f_hi = quantity(clothoid_arc_clothoid(alpha, kappa, hi)) - target;
+  if (f_hi <= 0) return hi;
+  if (f_lo >= 0) return lo;
+  for (int it = 0; it < 200 && hi - lo > 1e-15 * (alpha / kappa); ++it) {
+    // alternate false position and bisection: robust and fast on this smooth, monotone function
+    double mid = (it % 2 == 0) ? (lo * f_hi - hi * f_lo) / (f_hi - f_lo) : 0.5 * (lo + hi);
+    if (!(mid > lo && mid < hi)) mid = 0.5 * (lo + hi);
+    const double f_mid = quantity(clothoid_arc_clothoid(alpha, kappa, mid)) - target;
+    if (f_mid > 0) {
+      hi = mid;
+      f_hi = f_mid;
+    } else {
+      lo = mid;
+      f_lo = f_mid;
+    }
+  }
+  return lo;  // the side that keeps the quantity at or below the target
+}
+
+}  // namespace
+
+CornerFit fit_clothoid_corner(const CornerInput& corner) {
+  const PlanarCorner geometry = planar_corner(corner.in, corner.out);
+  if (auto special = clothoid_special_case(corner, geometry)) return *special;
+
+  // 002 treats lines only: corners with arcs get a biclothoid fillet (004), which is the
+  // symmetric pair again where both moves are lines
+  if (!geometry.lines) {
+    CornerFit fit = fit_biclothoid_corner(corner);
+    fit.fallback = fit.fallback.empty() ? "biclothoid" : "biclothoid, " + fit.fallback;
+    const double cap = corner.spec.kappa_max;
+    if (fit.outcome.ok() && cap > 0) {
+      double peak = 0;
+      for (const Segment& seg : fit.transition) peak = std::max(peak, max_curvature(seg, 0, length(seg)));
+      if (peak > cap * (1 + 1e-9)) {
+        if (fit.case_name == "regular") fit.case_name = "curvature_cap_unmet";
+        fit.note += std::string(fit.note.empty() ? "" : "; ") +
+                    "the biclothoid fallback does not cap curvature: peak " + format_per_mm(peak) + " > kappa_max " +
+                    format_per_mm(cap);
+      }
+    }
+    return fit;
+  }
+
+  CornerFit fit;
+  const double alpha = geometry.angle;
+  const double tolerance = corner.spec.parameter;
+  const double cap = corner.spec.kappa_max;
+  const double available = std::min(corner.in_available, corner.out_available);
+  const std::string short_move = corner.in_available <= corner.out_available ? "incoming" : "outgoing";
+
+  // the pair at the tolerance, shrunk to the available tangent length
+  ClothoidPair pair = clothoid_pair_for_deviation(alpha, tolerance);
+  std::string shrink_note;
+  if (pair.tangent_length > available) {
+    pair = clothoid_pair_for_tangent_length(alpha, available);
+    shrink_note = "deviation shrunk from " + format_mm(tolerance) + " to " + format_mm(pair.deviation) + ": the " + short_move +
+                  " move is short";
+  }
+  const auto use_pair = [&](const std::string& note) {
+    const Posture start{Vec2(-pair.tangent_length, 0.0), 0.0, 0.0};
+    fit.transition = to_segments(make_biclothoid(start, pair.sharpness, pair.half_length, pair.half_length),
+                                 geometry.plane);
+    fit.trim_in = pair.tangent_length;
+    fit.trim_out = pair.tangent_length;
+    fit.parameter_used = pair.deviation;
+    fit.note = note;
+    return fit;
+  };
+  if (cap <= 0 || pair.kappa_peak <= cap) return use_pair(shrink_note);
+
+  // the pair is too sharp: with peak curvature fixed at the cap the deviation and the tangent
+  // length grow with the clothoid length (clothoid_blend.hpp), from the plain arc of radius
+  // 1 / cap (clothoid length 0) to the pair with that peak. A clothoid-arc-clothoid meets both
+  // limits iff the plain arc does; then take the longest clothoids that keep both.
+  const ClothoidArcClothoid arc_only = clothoid_arc_clothoid(alpha, cap, 0.0);
+  if (arc_only.deviation > tolerance || arc_only.tangent_length > available) {
+    fit.case_name = "curvature_cap_unmet";
+    const std::string why = arc_only.deviation > tolerance
+                                ? "an arc of that curvature deviates " + format_mm(arc_only.deviation) + " > " + format_mm(tolerance)
+                                : "an arc of that curvature needs " + format_mm(arc_only.tangent_length) + " of the " +
+                                      short_move + " move, which has " + format_mm(available);
+    std::string note = "peak curvature " + format_per_mm(pair.kappa_peak) + " exceeds kappa_max " + format_per_mm(cap) + ": " + why +
+                       "; the clothoid pair is kept";
+    if (!shrink_note.empty()) note += "; " + shrink_note;
+    return use_pair(note);
+  }
+  const double lc = std::min(
+      cac_length_for(alpha, cap, tolerance, [](const ClothoidArcClothoid& c) { return c.deviation; }),
+      cac_length_for(alpha, cap, available, [](const ClothoidArcClothoid& c) { return c.tangent_length; }));
+  const ClothoidArcClothoid cac = clothoid_arc_clothoid(alpha, cap, lc);
+  fit.case_name = "clothoid_arc_clothoid";
+  fit.transition = cac_segments(cac, geometry.plane);
+  fit.trim_in = cac.tangent_length;
+  fit.trim_out = cac.tangent_length;
+  fit.parameter_used = cac.deviation;
+  if (cac.deviation < tolerance * (1 - 1e-9)) {
+    fit.note = "deviation " + format_mm(cac.deviation) + " below the tolerance " + format_mm(tolerance) + ": the " + short_move +
+               " move is short";
+  }
+  return fit;
+}
+
+}  // namespace blendbench

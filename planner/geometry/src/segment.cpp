@@ -1,0 +1,391 @@
+#include "blendbench/geometry/segment.hpp"
+
+#include "blendbench/core/golden.hpp"
+#include "blendbench/geometry/phase_series.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cassert>
+#include <cmath>
+
+namespace blendbench {
+namespace {
+
+template <class... Ts>
+struct Overloaded : Ts... {
+  using Ts::operator()...;
+};
+
+// 10-point Gauss-Legendre nodes and weights on [-1, 1] (symmetric half).
+constexpr std::array<double, 5> kGlNodes = {0.1488743389816312, 0.4333953941292472, 0.6794095682990244,
+                                            0.8650633666889845, 0.9739065285171717};
+constexpr std::array<double, 5> kGlWeights = {0.2955242247147529, 0.2692667193099963, 0.2190863625159820,
+                                              0.1494513491505806, 0.0666713443086881};
+
+// Integral of f over [a, b] by 10-point Gauss-Legendre.
+template <class F>
+double gauss_legendre(const F& f, double a, double b) {
+  const double mid = 0.5 * (a + b);
+  const double half = 0.5 * (b - a);
+  double sum = 0;
+  for (std::size_t i = 0; i < kGlNodes.size(); ++i) {
+    const double dx = half * kGlNodes[i];
+    sum += kGlWeights[i] * (f(mid - dx) + f(mid + dx));
+  }
+  return sum * half;
+}
+
+// clothoid_xy: largest phase excursion |kappa(m) t + c t^2 / 2| on a panel; with 1 the Taylor
+// terms decay like 1/n! and summing them loses at most a factor e in rounding.
+constexpr double kClothoidPanelPhase = 1.0;
+
+// 1 / n for n = 0 .. 40 (entry 0 unused), so the recurrence needs no division.
+double clamp_s(double s, double len) { return std::clamp(s, 0.0, len); }
+
+// Helix helpers: b = rise per radian along w.
+double arc_pitch(const Arc& arc) { return arc.rise / arc.sweep; }
+double arc_speed(const Arc& arc) { return std::hypot(arc.radius, arc_pitch(arc)); }  // ds/dphi
+
+// Derivative control points (hodograph) of a Bezier curve.
+std::vector<Vec3> hodograph(const std::vector<Vec3>& p) {
+  std::vector<Vec3> d;
+  const int n = static_cast<int>(p.size()) - 1;
+  d.reserve(static_cast<std::size_t>(std::max(n, 0)));
+  for (int i = 0; i < n; ++i) d.push_back(n * (p[static_cast<std::size_t>(i) + 1] - p[static_cast<std::size_t>(i)]));
+  return d;
+}
+
+// de Casteljau evaluation (degree <= 6, so a fixed-size scratch array suffices).
+Vec3 bernstein(const std::vector<Vec3>& p, double u) {
+  if (p.empty()) return Vec3::Zero();
+  std::array<Vec3, 7> q;
+  const std::size_t n = p.size();
+  std::copy(p.begin(), p.end(), q.begin());
+  for (std::size_t level = 1; level < n; ++level) {
+    for (std::size_t i = 0; i + level < n; ++i) q[i] = (1 - u) * q[i] + u * q[i + 1];
+  }
+  return q[0];
+}
+
+// Golden-section maximisation of f on [a, b] after a scan of `samples` points.
+template <class F>
+double scan_max(const F& f, double a, double b, int samples) {
+  if (b <= a) return f(a);
+  double best = -1;
+  double best_x = a;
+  const double h = (b - a) / samples;
+  for (int i = 0; i <= samples; ++i) {
+    const double x = a + h * i;
+    const double fx = f(x);
+    if (fx > best) {
+      best = fx;
+      best_x = x;
+    }
+  }
+  // refine around the best sample
+  double lo = std::max(a, best_x - h);
+  double hi = std::min(b, best_x + h);
+  const auto refined = golden_minimum([&f](double x) { return -f(x); }, lo, hi, 1e-14 * (b - a), 60);
+  return std::max(best, -refined.second);
+}
+
+}  // namespace
+
+Segment to_segment(const Primitive& primitive) {
+  return std::visit([](const auto& p) -> Segment { return p; }, primitive);
+}
+
+// ---- Line
+
+double length(const Line& line) { return (line.p1 - line.p0).norm(); }
+
+Vec3 point(const Line& line, double s) {
+  const double len = length(line);
+  if (len <= 0) return line.p0;
+  return line.p0 + (line.p1 - line.p0) * (clamp_s(s, len) / len);
+}
+
+Vec3 tangent(const Line& line, double /*s*/) {
+  const Vec3 d = line.p1 - line.p0;
+  const double len = d.norm();
+  return len > 0 ? Vec3(d / len) : Vec3::Zero();
+}
+
+Vec3 curvature_vector(const Line& /*line*/, double /*s*/) { return Vec3::Zero(); }
+
+Line sub_segment(const Line& line, double s0, double s1) { return Line{point(line, s0), point(line, s1)}; }
+
+// ---- Arc (and helix)
+
+double length(const Arc& arc) { return arc.sweep * arc_speed(arc); }
+
+Vec3 point(const Arc& arc, double s) {
+  const double phi = clamp_s(s, length(arc)) / arc_speed(arc);
+  return arc.center + arc.radius * (std::cos(phi) * arc.u + std::sin(phi) * arc.v) +
+         arc_pitch(arc) * phi * arc.u.cross(arc.v);
+}
+
+Vec3 tangent(const Arc& arc, double s) {
+  const double phi = clamp_s(s, length(arc)) / arc_speed(arc);
+  const Vec3 d = arc.radius * (-std::sin(phi) * arc.u + std::cos(phi) * arc.v) + arc_pitch(arc) * arc.u.cross(arc.v);
+  return d / arc_speed(arc);
+}
+
+Vec3 curvature_vector(const Arc& arc, double s) {
+  const double phi = clamp_s(s, length(arc)) / arc_speed(arc);
+  const double g = arc_speed(arc);
+  // d2p/dphi2 is radial; divide by (ds/dphi)^2.
+  return -arc.radius * (std::cos(phi) * arc.u + std::sin(phi) * arc.v) / (g * g);
+}
+
+Arc sub_segment(const Arc& arc, double s0, double s1) {
+  const double g = arc_speed(arc);
+  const double len = length(arc);
+  const double phi0 = clamp_s(s0, len) / g;
+  const double phi1 = clamp_s(s1, len) / g;
+  Arc out = arc;
+  const Vec3 w = arc.u.cross(arc.v);
+  out.u = std::cos(phi0) * arc.u + std::sin(phi0) * arc.v;
+  out.v = -std::sin(phi0) * arc.u + std::cos(phi0) * arc.v;
+  out.center = arc.center + arc_pitch(arc) * phi0 * w;
+  out.sweep = phi1 - phi0;
+  out.rise = arc_pitch(arc) * out.sweep;
+  return out;
+}
+
+// ---- Bezier
+
+Bezier::Bezier(std::vector<Vec3> control_points)
+    : ctrl_(std::move(control_points)), h1_(hodograph(ctrl_)), h2_(hodograph(h1_)), h3_(hodograph(h2_)) {
+  assert(ctrl_.size() >= 2 && ctrl_.size() <= 7);
+  // table: breakpoints uniform in u; the speed of the fillets used here varies slowly enough
+  // that 64 panels of 10-point Gauss-Legendre give lengths accurate to ~1e-15 relative.
+  constexpr int kPanels = 64;
+  knots_u_.resize(kPanels + 1);
+  knots_s_.resize(kPanels + 1);
+  knots_u_[0] = 0;
+  knots_s_[0] = 0;
+  const auto speed = [this](double u) { return d1(u).norm(); };
+  for (int i = 1; i <= kPanels; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    knots_u_[k] = static_cast<double>(i) / kPanels;
+    knots_s_[k] = knots_s_[k - 1] + gauss_legendre(speed, knots_u_[k - 1], knots_u_[k]);
+  }
+}
+
+Vec3 Bezier::eval(double u) const { return bernstein(ctrl_, u); }
+Vec3 Bezier::d1(double u) const { return bernstein(h1_, u); }
+Vec3 Bezier::d2(double u) const { return bernstein(h2_, u); }
+Vec3 Bezier::d3(double u) const { return bernstein(h3_, u); }
+
+double Bezier::length_to(double u) const {
+  u = std::clamp(u, 0.0, 1.0);
+  const auto it = std::upper_bound(knots_u_.begin(), knots_u_.end(), u);
+  const auto k = static_cast<std::size_t>(std::max<std::ptrdiff_t>(it - knots_u_.begin() - 1, 0));
+  if (k + 1 >= knots_u_.size()) return knots_s_.back();
+  return knots_s_[k] + gauss_legendre([this](double x) { return d1(x).norm(); }, knots_u_[k], u);
+}
+
+double Bezier::parameter_at(double s) const {
+  const double len = length();
+  s = clamp_s(s, len);
+  if (s <= 0) return 0;
+  if (s >= len) return 1;
+  // bracket in the table, then safeguarded Newton on length_to(u) = s
+  const auto it = std::upper_bound(knots_s_.begin(), knots_s_.end(), s);
+  const auto k = static_cast<std::size_t>(std::max<std::ptrdiff_t>(it - knots_s_.begin() - 1, 0));
+  double lo = knots_u_[k];
+  double hi = knots_u_[std::min(k + 1, knots_u_.size() - 1)];
+  double u = lo + (hi - lo) * (s - knots_s_[k]) / std::max(knots_s_[k + 1] - knots_s_[k], 1e-300);
+  for (int it_n = 0; it_n < 50; ++it_n) {
+    const double f = length_to(u) - s;
+    if (std::abs(f) <= 1e-14 * len) break;
+    if (f > 0) hi = u; else lo = u;
+    double next = u - f / d1(u).norm();
+    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+    u = next;
+  }
+  return u;
+}
+
+double length(const Bezier& bezier) { return bezier.length(); }
+Vec3 point(const Bezier& bezier, double s) { return bezier.eval(bezier.parameter_at(s)); }
+Vec3 tangent(const Bezier& bezier, double s) { return bezier.d1(bezier.parameter_at(s)).normalized(); }
+
+Vec3 curvature_vector(const Bezier& bezier, double s) {
+  const double u = bezier.parameter_at(s);
+  const Vec3 c1 = bezier.d1(u);
+  const Vec3 c2 = bezier.d2(u);
+  const double g2 = c1.squaredNorm();
+  // component of C'' normal to C', divided by |C'|^2
+  return (c2 - c1 * (c1.dot(c2) / g2)) / g2;
+}
+
+namespace {
+
+double bezier_sharpness_at_u(const Bezier& bezier, double u) {
+  const Vec3 c1 = bezier.d1(u);
+  const Vec3 c2 = bezier.d2(u);
+  const Vec3 c3 = bezier.d3(u);
+  const Vec3 cross = c1.cross(c2);
+  const double a = cross.norm();
+  const double g = c1.norm();
+  const double dg = c1.dot(c2) / g;
+  const double da = a > 0 ? cross.dot(c1.cross(c3)) / a : c1.cross(c3).norm();
+  const double dkappa_du = da / (g * g * g) - 3 * a * dg / (g * g * g * g);
+  return std::abs(dkappa_du / g);
+}
+
+}  // namespace
+
+// ---- Clothoid
+
+Eigen::Vector2d clothoid_xy(double kappa0, double sharpness, double s) {
+  return clothoid_displacement(0.0, kappa0, sharpness, s);
+}
+
+Eigen::Vector2d clothoid_displacement(double theta0, double kappa0, double sharpness, double s) {
+  if (!(s > 0)) return Eigen::Vector2d::Zero();
+  // panels of half-width h around midpoints m, the local phase kappa(m) t + c t^2 / 2 (|t| <= h)
+  // bounded by kClothoidPanelPhase
+  const double kappa_max = std::max(std::abs(kappa0), std::abs(kappa0 + sharpness * s));
+  const double phase = 0.5 * kappa_max * s + 0.125 * std::abs(sharpness) * s * s;
+  const int panels = std::max(1, static_cast<int>(std::ceil(phase / kClothoidPanelPhase)));
+  const double h = 0.5 * s / panels;
+  double x = 0;
+  double y = 0;
+  for (int j = 0; j < panels; ++j) {
+    const double m = h * (2 * j + 1);
+    const double beta = (kappa0 + sharpness * m) * h;  // kappa(m) h
+    const double gamma = sharpness * h * h;            // c h^2
+    // int_{-1}^{1} exp(i (beta u + gamma u^2 / 2)) du = 2 sum_{n even} e_n / (n + 1), with the
+    // Taylor coefficients e_n of the integrand (series::PhaseTaylor). Once two consecutive
+    // coefficients are below 1e-18 (the sum is about 1) the rest are too, because
+    // n + 1 > |beta| + |gamma| from then on.
+    series::PhaseTaylor e{.b = beta, .g = gamma};
+    double sum_re = 1;
+    double sum_im = 0;
+    for (std::size_t n = 0; n + 3 < series::kInverse.size(); n += 2) {
+      e.step_two(n);
+      sum_re += e.re * series::kInverse[n + 3];
+      sum_im += e.im * series::kInverse[n + 3];
+      if (e.below(1e-18)) break;
+    }
+    // rotate by the tangent angle at the midpoint
+    const double theta = theta0 + (kappa0 + 0.5 * sharpness * m) * m;
+    const double cs = std::cos(theta);
+    const double sn = std::sin(theta);
+    x += cs * sum_re - sn * sum_im;
+    y += sn * sum_re + cs * sum_im;
+  }
+  return Eigen::Vector2d(2 * h * x, 2 * h * y);
+}
+
+double length(const Clothoid& clothoid) { return clothoid.length; }
+
+Vec3 point(const Clothoid& c, double s) {
+  const Eigen::Vector2d xy = clothoid_xy(c.kappa0, c.sharpness, clamp_s(s, c.length));
+  return c.origin + xy.x() * c.e1 + xy.y() * c.e2;
+}
+
+Vec3 tangent(const Clothoid& c, double s) {
+  s = clamp_s(s, c.length);
+  const double theta = c.kappa0 * s + 0.5 * c.sharpness * s * s;
+  return std::cos(theta) * c.e1 + std::sin(theta) * c.e2;
+}
+
+Vec3 curvature_vector(const Clothoid& c, double s) {
+  s = clamp_s(s, c.length);
+  const double theta = c.kappa0 * s + 0.5 * c.sharpness * s * s;
+  const double kappa = c.kappa0 + c.sharpness * s;
+  return kappa * (-std::sin(theta) * c.e1 + std::cos(theta) * c.e2);
+}
+
+// ---- Segment dispatch
+
+double length(const Segment& segment) {
+  return std::visit([](const auto& x) { return length(x); }, segment);
+}
+double length(const Primitive& primitive) {
+  return std::visit([](const auto& x) { return length(x); }, primitive);
+}
+Vec3 point(const Segment& segment, double s) {
+  return std::visit([s](const auto& x) { return point(x, s); }, segment);
+}
+Vec3 point(const Primitive& primitive, double s) {
+  return std::visit([s](const auto& x) { return point(x, s); }, primitive);
+}
+Vec3 tangent(const Segment& segment, double s) {
+  return std::visit([s](const auto& x) { return tangent(x, s); }, segment);
+}
+Vec3 tangent(const Primitive& primitive, double s) {
+  return std::visit([s](const auto& x) { return tangent(x, s); }, primitive);
+}
+Vec3 curvature_vector(const Segment& segment, double s) {
+  return std::visit([s](const auto& x) { return curvature_vector(x, s); }, segment);
+}
+Vec3 curvature_vector(const Primitive& primitive, double s) {
+  return std::visit([s](const auto& x) { return curvature_vector(x, s); }, primitive);
+}
+
+Primitive sub_segment(const Primitive& primitive, double s0, double s1) {
+  return std::visit([s0, s1](const auto& x) -> Primitive { return sub_segment(x, s0, s1); }, primitive);
+}
+
+Vec3 start_point(const Segment& segment) { return point(segment, 0.0); }
+Vec3 end_point(const Segment& segment) { return point(segment, length(segment)); }
+
+double sharpness(const Segment& segment, double s) {
+  return std::visit(Overloaded{
+                        [](const Line&) { return 0.0; },
+                        [](const Arc&) { return 0.0; },
+                        [s](const Bezier& b) { return bezier_sharpness_at_u(b, b.parameter_at(s)); },
+                        [](const Clothoid& c) { return std::abs(c.sharpness); },
+                    },
+                    segment);
+}
+
+double max_curvature(const Segment& segment, double s0, double s1) {
+  const double len = length(segment);
+  s0 = clamp_s(s0, len);
+  s1 = clamp_s(s1, len);
+  if (s1 < s0) std::swap(s0, s1);
+  return std::visit(
+      Overloaded{
+          [](const Line&) { return 0.0; },
+          [](const Arc& a) { return a.radius / (a.radius * a.radius + arc_pitch(a) * arc_pitch(a)); },
+          [s0, s1](const Bezier& b) {
+            const double u0 = b.parameter_at(s0);
+            const double u1 = b.parameter_at(s1);
+            return scan_max(
+                [&b](double u) {
+                  const Vec3 c1 = b.d1(u);
+                  return c1.cross(b.d2(u)).norm() / std::pow(c1.norm(), 3);
+                },
+                u0, u1, 64);
+          },
+          [s0, s1](const Clothoid& c) {
+            return std::max(std::abs(c.kappa0 + c.sharpness * s0), std::abs(c.kappa0 + c.sharpness * s1));
+          },
+      },
+      segment);
+}
+
+double max_sharpness(const Segment& segment, double s0, double s1) {
+  const double len = length(segment);
+  s0 = clamp_s(s0, len);
+  s1 = clamp_s(s1, len);
+  if (s1 < s0) std::swap(s0, s1);
+  return std::visit(Overloaded{
+                        [](const Line&) { return 0.0; },
+                        [](const Arc&) { return 0.0; },
+                        [s0, s1](const Bezier& b) {
+                          return scan_max([&b](double u) { return bezier_sharpness_at_u(b, u); },
+                                          b.parameter_at(s0), b.parameter_at(s1), 64);
+                        },
+                        [](const Clothoid& c) { return std::abs(c.sharpness); },
+                    },
+                    segment);
+}
+
+}  // namespace blendbench

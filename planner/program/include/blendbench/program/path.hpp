@@ -1,0 +1,89 @@
+#pragma once
+// The blended path: a sequence of arc-length-parameterised pieces (trimmed moves and
+// transition curves) plus a report per corner.
+
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "blendbench/program/program.hpp"
+#include "blendbench/geometry/segment.hpp"
+
+namespace blendbench {
+
+// What the blender did at one corner (between move `index` and move `index + 1`).
+struct CornerReport {
+  int index = 0;
+  Method method = Method::kNone;
+  std::string case_name = "regular";  // "regular" or the special case hit (see corner.hpp)
+  std::string fallback;               // the documented fallback used, empty when none
+  std::string note;                   // e.g. "parameter shrunk from 5 mm to 2.1 mm: move 3 is short"
+  double parameter = 0;               // m: the transition parameter actually used (a biclothoid
+                                      // sized by start distance: the start distance used)
+  double length = 0;                  // m: transition length (0 for a kink or zero-length transition)
+  double deviation = 0;               // m: Hausdorff distance (both directions) between the transition and the programmed path it replaces
+  double kappa_max = 0;               // 1/m
+  double sharpness_max = 0;           // 1/m^2
+  double feed_max = 0;                // m/s: eq. 25-27 limit of the transition (0 when no transition)
+  double trim_in = 0;                 // m removed from the end of the incoming move
+  double trim_out = 0;                // m removed from the start of the outgoing move
+  bool stop = false;                  // the path velocity must reach zero here
+};
+
+// One piece of the path.
+struct PathPiece {
+  Segment segment;
+  int move = -1;    // index of the programmed move this piece comes from, -1 for a transition
+  int corner = -1;  // index of the corner a transition belongs to, -1 for a move piece
+  Limits limits;    // limits that apply on this piece
+  BufferMode buffer = BufferMode::kBlendingLow;
+  // At the start of this piece: the path must be at rest (exact stop or Buffered kink), and
+  // the tangent turns by `kink_angle` (rad, 0 where the path is G1).
+  bool stop_before = false;
+  double kink_angle = 0;
+};
+
+class Path {
+ public:
+  // Appends a piece; its start must coincide with the current end (asserted in debug builds).
+  void append(PathPiece piece);
+
+  [[nodiscard]] const std::vector<PathPiece>& pieces() const { return pieces_; }
+  [[nodiscard]] double length() const { return offsets_.empty() ? 0.0 : offsets_.back(); }
+  // Arc length at the start of piece k (k <= pieces().size()).
+  [[nodiscard]] double offset(std::size_t k) const { return offsets_[k]; }
+
+  // Piece index and local arc length at path arc length s (clamped to [0, length]).
+  struct Location {
+    std::size_t piece;
+    double s;
+  };
+  [[nodiscard]] Location locate(double s) const;
+
+  // Calls f(k, local) for every piece k that touches arc length s (both neighbours at a
+  // junction, within 1e-12 of the path's length, at least 1e-12 m), local clamped to the piece.
+  template <typename F>
+  void for_pieces_at(double s, F&& f) const {
+    const double tol = 1e-12 * std::max(1.0, length());
+    std::size_t first = locate(s).piece;
+    std::size_t last = first;
+    while (first > 0 && offsets_[first] >= s - tol) --first;
+    while (last + 1 < pieces_.size() && offsets_[last + 1] <= s + tol) ++last;
+    for (std::size_t k = first; k <= last; ++k) {
+      if (s < offsets_[k] - tol || s > offsets_[k + 1] + tol) continue;
+      f(k, std::clamp(s - offsets_[k], 0.0, blendbench::length(pieces_[k].segment)));
+    }
+  }
+
+  [[nodiscard]] Vec3 point(double s) const;
+  [[nodiscard]] Vec3 tangent(double s) const;
+  [[nodiscard]] Vec3 curvature_vector(double s) const;
+
+  std::vector<CornerReport> corners;
+
+ private:
+  std::vector<PathPiece> pieces_;
+  std::vector<double> offsets_{0.0};
+};
+
+}  // namespace blendbench

@@ -1,0 +1,82 @@
+#pragma once
+// A program of Cartesian moves in the PLCopen Part 4 style (MovL / MovC), in SI units.
+// Loaders (YAML scenarios, G-code) produce it; the blender consumes it.
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "blendbench/core/input_error.hpp"
+#include "blendbench/geometry/segment.hpp"
+
+namespace blendbench {
+
+// How a move hands over to the next one (PLCopen buffer modes). Buffered stops between moves
+// wherever the path keeps a tangent discontinuity; the Blending modes choose the junction
+// velocity (Low: the slower move's, Previous: the first's, Next: the second's, High: the
+// faster's). Aborting starts the next move at once (treated like BlendingNext here).
+enum class BufferMode { kAborting, kBuffered, kBlendingLow, kBlendingPrevious, kBlendingNext, kBlendingHigh };
+
+// The velocity (m/s) the buffer mode gives the junction from a move programmed at v_prev to one
+// programmed at v_next where the path does not stop: min (BlendingLow, and Buffered where it
+// keeps no kink), v_prev (BlendingPrevious), v_next (BlendingNext, Aborting), max (BlendingHigh).
+double junction_velocity(BufferMode mode, double v_prev, double v_next);
+
+// The transition curve inserted at the corner at the end of a move.
+enum class Method { kNone, kArc, kBezier, kClothoid, kBiclothoid };
+
+std::string_view to_string(BufferMode mode);
+std::string_view to_string(Method method);
+// Parse the names used in files ("Buffered", "BlendingLow", ...; "none", "arc", ...);
+// case-insensitive; nullopt when unknown.
+std::optional<BufferMode> buffer_mode_from_string(std::string_view name);
+std::optional<Method> method_from_string(std::string_view name);
+
+// The transition mode and its parameter, on the move that ends at the corner.
+struct Transition {
+  Method method = Method::kNone;
+  // m: corner distance (arc), transition parameter TP (bezier), maximum deviation from the
+  // programmed path (clothoid, biclothoid).
+  double parameter = 0;
+  // 1/m: optional curvature cap for the clothoid method (clothoid-arc-clothoid); 0 = none.
+  double kappa_max = 0;
+  // m: biclothoid only, the alternative to a maximum deviation: the fillet starts this far
+  // before the corner on the incoming move (004 Algorithm 1); 0 = sized by `parameter`.
+  double start_distance = 0;
+  // m/s: transition velocity (001: the transition takes its velocity from the transition
+  // parameter); 0 = the junction velocity of the move's buffer mode (junction_velocity; with
+  // BlendingLow the slower of the two moves).
+  double velocity = 0;
+};
+
+// Kinematic limits of one move along the path (PLCopen Velocity, Acceleration, Deceleration, Jerk).
+struct Limits {
+  double velocity = 0;      // m/s
+  double acceleration = 0;  // m/s^2
+  double deceleration = 0;  // m/s^2
+  double jerk = 0;          // m/s^3
+};
+
+struct Move {
+  Primitive geometry;  // as programmed; starts where the previous move ends
+  Limits limits;
+  BufferMode buffer = BufferMode::kBlendingLow;
+  Transition transition;  // applies to the corner at the end of this move
+  SourceRef where;        // where the move was written, for error messages
+  std::string name;       // e.g. "move 3" or "N120 G1", for reports
+};
+
+struct Program {
+  std::vector<Move> moves;
+};
+
+// Checks what the blender assumes: at least one move; finite coordinates; arcs of positive
+// radius and sweep; no zero-length move; consecutive moves joined (end of move k equals start
+// of move k+1 within 1e-9 of the program size); positive finite limits; finite non-negative
+// transition values, a start distance only on a biclothoid and not with a parameter. Throws
+// InputError located at the move (at move k+1 for a gap), naming it and the field; a move's own
+// geometry is reported before its join to the previous move.
+void validate(const Program& program);
+
+}  // namespace blendbench

@@ -1,0 +1,41 @@
+#pragma once
+// Maps a timed sequence of TCP poses (one per servo tick) to joint positions, velocities and
+// accelerations, keeping the IK branch continuous and never clamping a joint silently.
+
+#include <cstddef>
+#include <vector>
+
+#include "blendbench/robot/ik.hpp"
+#include "blendbench/core/status.hpp"
+
+namespace blendbench {
+
+// Largest change of any joint between two consecutive samples (rad) that still counts as the
+// same IK branch. At a 1 ms tick it corresponds to 500 rad/s, far beyond any real joint, so only
+// a branch flip or a singularity crossing exceeds it.
+inline constexpr double kMaxJointStep = 0.5;
+
+// Joint reference sampled every `dt` seconds: q (rad), qd (rad/s), qdd (rad/s^2), one entry per
+// TCP pose. On failure `outcome` says why and at which time, `failed_index` is the first pose
+// that failed, q holds the samples before it and qd, qdd are empty.
+struct JointTrajectory {
+  Outcome outcome;
+  double dt = 0;  // s
+  std::vector<Vec6> q, qd, qdd;
+  std::size_t failed_index = 0;
+};
+
+// IK of every pose, each seeded with the previous solution so the branch stays continuous (the
+// first pose takes the branch nearest q_seed, however far). Stops at the first pose that is
+//   kUnreachable  out of reach (or the pose is not finite),
+//   kJointLimit   reachable on the continuous branch only outside a joint limit,
+//   kSingular     reachable only by a jump of more than kMaxJointStep in some joint (a branch
+//                 flip or a singularity crossing), or not solvable to tolerance,
+// with a message naming the time (index * dt, s) and the pose (mm, deg). qd and qdd are
+// second-order finite differences: central inside, one-sided three- and four-point stencils at
+// the ends (exact for quadratic and cubic motion respectively, so a path that starts and ends at
+// rest gives qd, qdd near zero there). Throws InputError (field "dt") unless dt > 0 and finite.
+JointTrajectory map_to_joints(const IkSolver& ik, const std::vector<Eigen::Isometry3d>& tcp_poses, double dt,
+                              const Vec6& q_seed);
+
+}  // namespace blendbench

@@ -1,0 +1,107 @@
+#include "blendbench/robot/joint_mapping.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <string>
+#include <utility>
+
+#include "blendbench/core/format.hpp"
+#include "blendbench/core/input_error.hpp"
+
+namespace blendbench {
+namespace {
+
+std::string time_text(std::size_t index, double dt) {
+  char text[48];
+  std::snprintf(text, sizeof text, "t = %.6g s", static_cast<double>(index) * dt);
+  return text;
+}
+
+// The joint that moves most from `a` to `b`, and by how much (rad).
+std::pair<std::size_t, double> largest_step(const Vec6& a, const Vec6& b) {
+  Eigen::Index k = 0;
+  const double step = (b - a).cwiseAbs().maxCoeff(&k);
+  return {static_cast<std::size_t>(k), step};
+}
+
+// Second-order finite differences of q (see map_to_joints).
+void differentiate(JointTrajectory& traj) {
+  const std::vector<Vec6>& q = traj.q;
+  const std::size_t n = q.size();
+  const double dt = traj.dt;
+  traj.qd.assign(n, Vec6::Zero());
+  traj.qdd.assign(n, Vec6::Zero());
+  if (n < 2) return;
+  if (n == 2) {
+    traj.qd[0] = traj.qd[1] = (q[1] - q[0]) / dt;
+    return;
+  }
+  // velocity: central inside, three-point one-sided at the ends
+  for (std::size_t i = 1; i + 1 < n; ++i) traj.qd[i] = (q[i + 1] - q[i - 1]) / (2 * dt);
+  traj.qd[0] = (-3 * q[0] + 4 * q[1] - q[2]) / (2 * dt);
+  traj.qd[n - 1] = (3 * q[n - 1] - 4 * q[n - 2] + q[n - 3]) / (2 * dt);
+  // acceleration: central inside, four-point one-sided at the ends (constant for three samples)
+  for (std::size_t i = 1; i + 1 < n; ++i) traj.qdd[i] = (q[i + 1] - 2 * q[i] + q[i - 1]) / (dt * dt);
+  if (n == 3) {
+    traj.qdd[0] = traj.qdd[2] = traj.qdd[1];
+    return;
+  }
+  traj.qdd[0] = (2 * q[0] - 5 * q[1] + 4 * q[2] - q[3]) / (dt * dt);
+  traj.qdd[n - 1] = (2 * q[n - 1] - 5 * q[n - 2] + 4 * q[n - 3] - q[n - 4]) / (dt * dt);
+}
+
+}  // namespace
+
+JointTrajectory map_to_joints(const IkSolver& ik, const std::vector<Eigen::Isometry3d>& tcp_poses, double dt,
+                              const Vec6& q_seed) {
+  if (!(dt > 0) || !std::isfinite(dt)) {
+    throw InputError("", 0, 0, "dt", "the servo period must be positive and finite, got " + format_value(dt) + " s");
+  }
+  JointTrajectory traj;
+  traj.dt = dt;
+  traj.q.reserve(tcp_poses.size());
+  const auto fail = [&](std::size_t index, Status status, const std::string& what) {
+    traj.outcome = {status, time_text(index, dt) + ": " + what};
+    traj.failed_index = index;
+    return traj;
+  };
+
+  Vec6 previous = q_seed;
+  for (std::size_t i = 0; i < tcp_poses.size(); ++i) {
+    const Eigen::Isometry3d& pose = tcp_poses[i];
+    const IkSolver::Result solved = ik.solve(pose, previous);
+    // the first sample may pick any branch; later ones must continue the previous one
+    if (solved.outcome.ok() && (i == 0 || largest_step(previous, solved.q).second <= kMaxJointStep)) {
+      traj.q.push_back(solved.q);
+      previous = solved.q;
+      continue;
+    }
+    if (solved.outcome.status == Status::kUnreachable || i == 0) {
+      return fail(i, solved.outcome.status, solved.outcome.message);
+    }
+    // the continuous branch (limits ignored) tells a joint limit from a branch flip
+    const std::vector<Vec6> branches = ik.solutions(pose, previous);
+    if (!branches.empty() && largest_step(previous, branches.front()).second <= kMaxJointStep &&
+        !ik.within_limits(branches.front())) {
+      for (std::size_t j = 0; j < 6; ++j) {
+        const JointSpec& joint = ik.chain().joints[j];
+        const double v = branches.front()[static_cast<Eigen::Index>(j)];
+        if (v < joint.lower || v > joint.upper) {
+          return fail(i, Status::kJointLimit,
+                      "joint '" + joint.name + "' would reach " + format_value(v) + " rad, outside its limits [" +
+                          format_value(joint.lower) + ", " + format_value(joint.upper) + "] rad, at " + describe_pose(pose));
+        }
+      }
+    }
+    if (!solved.outcome.ok()) return fail(i, solved.outcome.status, solved.outcome.message);
+    const auto [joint, step] = largest_step(previous, solved.q);
+    return fail(i, Status::kSingular,
+                "IK branch flip: joint '" + ik.chain().joints[joint].name + "' jumps by " + format_value(step) +
+                    " rad in one sample (more than " + format_value(kMaxJointStep) + " rad) at " + describe_pose(pose) +
+                    "; the path crosses a singularity or leaves the reachable branch");
+  }
+  differentiate(traj);
+  return traj;
+}
+
+}  // namespace blendbench

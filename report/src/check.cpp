@@ -1,0 +1,102 @@
+#include "blendbench/report/check.hpp"
+
+#include <cmath>
+#include <map>
+#include <utility>
+
+#include "blendbench/core/input_error.hpp"
+#include "blendbench/report/output.hpp"
+
+namespace blendbench {
+namespace {
+
+// Default tolerances: timing is deterministic to the servo period, tracking metrics depend on
+// floating-point details of the physics (few percent across compilers/CPUs), so they get
+// relative plus absolute slack.
+struct Tolerance {
+  const char* metric;
+  double relative;
+  double absolute;
+};
+constexpr Tolerance kDefaults[] = {
+    {"cycle_time_s", 0.01, 0.005},
+    {"planned_cycle_time_s", 0.005, 0.002},
+    {"tracking_error_max_mm", 0.05, 0.01},
+    {"tracking_error_rms_mm", 0.05, 0.005},
+    {"contour_error_max_mm", 0.05, 0.01},
+    {"path_deviation_max_mm", 0.02, 0.001},
+};
+
+std::string line(const std::string& variant, const std::string& metric, double value, double base, double bound) {
+  return variant + ": " + metric + " = " + format_number(value, 6) + " (baseline " + format_number(base, 6) +
+         ", allowed up to " + format_number(bound, 6) + ")";
+}
+
+}  // namespace
+
+nlohmann::json make_baseline(const nlohmann::json& summary) {
+  nlohmann::json tolerances = nlohmann::json::object();
+  for (const Tolerance& t : kDefaults) tolerances[t.metric] = {{"relative", t.relative}, {"absolute", t.absolute}};
+  nlohmann::json variants = nlohmann::json::object();
+  for (const auto& v : summary.at("variants")) {
+    nlohmann::json entry = {{"status", v.at("status")}};
+    for (const Tolerance& t : kDefaults) {
+      if (v.contains(t.metric) && v[t.metric].is_number()) entry[t.metric] = v[t.metric];
+    }
+    variants[v.at("name").get<std::string>()] = entry;
+  }
+  return {{"scenario", summary.value("scenario", "")}, {"tolerances", tolerances}, {"variants", variants}};
+}
+
+CheckReport check_run(const nlohmann::json& summary, const nlohmann::json& baseline, const std::string& baseline_file) {
+  const auto bad = [&](const std::string& field, const std::string& message) {
+    throw InputError(baseline_file, 0, 0, field, message);
+  };
+  if (!baseline.is_object() || !baseline.contains("variants") || !baseline["variants"].is_object()) {
+    bad("variants", "a baseline needs an object 'variants'");
+  }
+  if (!baseline.contains("tolerances") || !baseline["tolerances"].is_object()) {
+    bad("tolerances", "a baseline needs an object 'tolerances'");
+  }
+  CheckReport report;
+  std::map<std::string, const nlohmann::json*> run;
+  for (const auto& v : summary.at("variants")) run[v.at("name").get<std::string>()] = &v;
+
+  for (const auto& [name, base] : baseline["variants"].items()) {
+    const auto it = run.find(name);
+    if (it == run.end()) {
+      report.regressions.push_back(name + ": variant missing from the run");
+      continue;
+    }
+    const nlohmann::json& v = *it->second;
+    if (v.value("status", "") != "ok") {
+      report.regressions.push_back(name + ": status " + v.value("status", "?") + " (" + v.value("message", "") + ")");
+      continue;
+    }
+    for (const auto& [metric, tol] : baseline["tolerances"].items()) {
+      if (!base.contains(metric)) continue;
+      if (!tol.contains("relative") || !tol.contains("absolute")) {
+        bad("tolerances." + metric, "needs 'relative' and 'absolute'");
+      }
+      const double b = base[metric].get<double>();
+      const double bound = b * (1 + tol["relative"].get<double>()) + tol["absolute"].get<double>();
+      if (!v.contains(metric) || !v[metric].is_number()) {
+        report.regressions.push_back(name + ": " + metric + " is missing or not a number (e.g. the run did not settle)");
+        continue;
+      }
+      const double value = v[metric].get<double>();
+      if (!(value <= bound)) {
+        report.regressions.push_back(line(name, metric, value, b, bound));
+      } else if (value < b * (1 - tol["relative"].get<double>()) - tol["absolute"].get<double>()) {
+        report.notes.push_back(name + ": " + metric + " improved to " + format_number(value, 6) + " from " +
+                               format_number(b, 6) + "; update the baseline with --update");
+      }
+    }
+  }
+  for (const auto& [name, v] : run) {
+    if (!baseline["variants"].contains(name)) report.notes.push_back(name + ": not in the baseline");
+  }
+  return report;
+}
+
+}  // namespace blendbench

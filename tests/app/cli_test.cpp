@@ -1,0 +1,304 @@
+// The blendbench program as a user meets it: exit codes, messages that name file, line and
+// field, and the files a run writes (including a video that ffprobe accepts).
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "support/csv.hpp"
+#include "support/property.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int exit_code = -1;
+  std::string output;  // stdout and stderr
+};
+
+// Runs a shell command, capturing its stdout and stderr.
+Result run_shell(const std::string& command) {
+  Result r;
+  FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
+  if (pipe == nullptr) return r;
+  std::array<char, 4096> buffer{};
+  while (std::fgets(buffer.data(), buffer.size(), pipe) != nullptr) r.output += buffer.data();
+  const int status = ::pclose(pipe);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+Result run(const std::string& args) { return run_shell(std::string(BLENDBENCH_BINARY) + " " + args); }
+
+// Runs the program with an argument vector (no shell between) in the working directory `cwd`.
+Result run_in(const fs::path& cwd, const std::vector<std::string>& args) {
+  Result r;
+  int fds[2];
+  if (::pipe(fds) != 0) return r;
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::dup2(fds[1], STDOUT_FILENO);
+    ::dup2(fds[1], STDERR_FILENO);
+    ::close(fds[0]);
+    ::close(fds[1]);
+    if (::chdir(cwd.c_str()) != 0) ::_exit(127);
+    std::vector<std::string> all = {BLENDBENCH_BINARY};
+    all.insert(all.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (std::string& a : all) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    ::execv(argv[0], argv.data());
+    ::_exit(127);
+  }
+  ::close(fds[1]);
+  std::array<char, 4096> buffer{};
+  ssize_t n = 0;
+  while ((n = ::read(fds[0], buffer.data(), buffer.size())) > 0) r.output.append(buffer.data(), static_cast<std::size_t>(n));
+  ::close(fds[0]);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+// Every file below `dir`, as paths relative to it.
+std::vector<std::string> files_below(const fs::path& dir) {
+  std::vector<std::string> out;
+  for (const auto& e : fs::recursive_directory_iterator(dir)) out.push_back(fs::relative(e.path(), dir).string());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+Result run_probe(const fs::path& video) {
+  return run_shell("ffprobe -v error -select_streams v:0 -show_entries stream=codec_name,avg_frame_rate -of compact '" +
+                   video.string() + "'");
+}
+
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("blendbench_cli_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // Writes a scenario file from the tiny one with one text replacement.
+  std::string scenario_with(const std::string& from, const std::string& to) {
+    std::ifstream in(blendbench::test::source_path("tests/data/tiny.yaml"));
+    std::stringstream s;
+    s << in.rdbuf();
+    std::string text = s.str();
+    const auto at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    text.replace(at, from.size(), to);
+    const fs::path file = dir_ / "bad.yaml";
+    std::ofstream(file) << text;
+    return file.string();
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(Cli, BadScenarioExitsTwoNamingFileLineAndField) {
+  struct Case {
+    std::string from, to, expected;
+  };
+  const Case cases[] = {
+      {"units: mm", "units: mm\nspeed: 3", "bad.yaml:4:1: 'speed': unknown key"},
+      {"velocity: 200", "velocity: fast", "bad.yaml:5:22: 'defaults.velocity': expected a number"},
+      {"jerk: 20000", "jerky: 20000", "bad.yaml:5:47: 'defaults.jerky': unknown key"},
+      {"defaults: {velocity: 200, acceleration: 2000, jerk: 20000}", "defaults: {velocity: 200, acceleration: 2000}",
+       "bad.yaml:5:11: 'defaults.jerk': missing required field"},
+      {"line: [60, 60, 0]", "line: [60, 900, 0]", "bad.yaml:12:7: 'program.moves[1]'"},
+  };
+  for (const Case& c : cases) {
+    const std::string file = scenario_with(c.from, c.to);
+    const Result r = run("run " + file + " --no-video --no-plots --out " + (dir_ / "out").string());
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find(c.expected), std::string::npos) << "expected '" << c.expected << "' in:\n" << r.output;
+  }
+}
+
+// A scenario name is a folder name: quotes, shell syntax and '..' are refused before anything
+// is written, so a name can neither run a command nor place the run outside results/runs/.
+TEST_F(Cli, ScenarioNamesThatCouldInjectOrEscapeAreRefused) {
+  const fs::path work = dir_ / "work";
+  fs::create_directories(work / "a" / "b" / "c");
+  for (const std::string name : {"\"x'; touch PWNED; echo '\"", "../../../ESCAPED", "\"$(touch PWNED)\"", "\"a b\"", ".hidden"}) {
+    const std::string file = scenario_with("name: tiny", "name: " + name);
+    const Result r = run_in(work / "a" / "b" / "c", {"run", file, "--no-video"});
+    EXPECT_EQ(r.exit_code, 2) << name << "\n" << r.output;
+    EXPECT_NE(r.output.find("bad.yaml:2:7: 'name': scenario name"), std::string::npos) << name << "\n" << r.output;
+    const std::vector<std::string> expected = {"a", "a/b", "a/b/c"};
+    EXPECT_EQ(files_below(work), expected) << name << ": the refused run wrote something";
+  }
+}
+
+// An output folder is data: a --out full of quotes, ';', '$()' and spaces gets the whole run
+// (summary, traces and the plots drawn by a child process), and nothing else happens.
+TEST_F(Cli, OutputFolderWithShellSyntaxIsJustAFolder) {
+  const fs::path work = dir_ / "work";
+  fs::create_directories(work);
+  const std::string out = "it's; $(touch PWNED) `touch PWNED2` ' ; touch PWNED3 #";
+  const Result r = run_in(work, {"run", blendbench::test::source_path("tests/data/tiny.yaml"), "--no-video", "--out", out});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.find("warning"), std::string::npos) << r.output;
+  std::vector<std::string> everything = files_below(work);
+  EXPECT_EQ(std::count_if(everything.begin(), everything.end(), [](const std::string& f) { return f.find('/') == std::string::npos; }), 1)
+      << "only the output folder is created";
+  for (const char* file : {"summary.json", "compare_speed.png", "exact/trace.csv", "exact/speed.png", "arc/path.png"}) {
+    EXPECT_TRUE(fs::exists(work / out / file)) << file;
+  }
+  for (const char* file : {"PWNED", "PWNED2", "PWNED3"}) {
+    EXPECT_FALSE(fs::exists(work / file)) << file;
+    EXPECT_FALSE(fs::exists(fs::path(blendbench::test::source_path("")) / file)) << file;
+  }
+}
+
+TEST_F(Cli, MissingFilesAndFlagsAreBadInput) {
+  EXPECT_EQ(run("run /nonexistent/scenario.yaml --no-video").exit_code, 2);
+  EXPECT_EQ(run("frobnicate").exit_code, 2);
+  const std::string tiny = blendbench::test::source_path("tests/data/tiny.yaml");
+  Result r = run("path " + tiny + " --variant nope --csv " + (dir_ / "p.csv").string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("variants: exact, arc"), std::string::npos) << r.output;
+  r = run("path " + tiny + " --method spline --param 1 --csv " + (dir_ / "p.csv").string());
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.output.find("'--method'"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir_ / "p.csv")) << "nothing is written on bad input";
+}
+
+TEST_F(Cli, BadGcodeNamesLineAndWord) {
+  const fs::path file = dir_ / "part.ngc";
+  std::ofstream(file) << "G21 G90\nG1 X10 F1000\nG41 D1\nG1 Y10\n";
+  const Result r = run("plan " + file.string() + " --csv " + (dir_ / "t.csv").string() + " --summary " +
+                       (dir_ / "s.json").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("part.ngc:3:1: 'G41'"), std::string::npos) << r.output;
+}
+
+// A 40 x 30 mm rectangle from the origin: three corners of 90 degrees.
+constexpr const char* kRectangle = "G21 G90\nG1 X40 F6000\nG1 Y30\nG1 X0\nG1 Y0\nM2\n";
+
+// The scripted contract of `plan` and `path` on a G-code file: the profile's columns and servo
+// sampling, no limit exceeded on it, and the same corner reports from both commands.
+TEST_F(Cli, PlanAndPathOfAGcodeProgramKeepTheirContract) {
+  const fs::path part = dir_ / "rect.ngc";
+  std::ofstream(part) << kRectangle;
+  constexpr double kFeed = 6000, kAmax = 2000, kJmax = 50000, kDeviation = 0.5;  // mm/min, mm/s^2, mm/s^3, mm
+  const std::string options = " --method biclothoid --param " + std::to_string(kDeviation) + " --amax " +
+                              std::to_string(kAmax) + " --jmax " + std::to_string(kJmax);
+  Result r = run("plan " + part.string() + options + " --csv " + (dir_ / "t.csv").string() + " --summary " +
+                 (dir_ / "s.json").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const blendbench::test::Csv plan_csv = blendbench::test::read_csv(dir_ / "t.csv");
+  EXPECT_EQ(plan_csv.header, "t,s,x,y,z,v,a,j,kappa");
+  const auto& profile = plan_csv.columns;
+  const std::vector<double>& t = profile.at("t");
+  ASSERT_GT(t.size(), 100u);
+  constexpr double kRel = 1 + 1e-9;
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    if (i > 0) {
+      EXPECT_LE(t[i] - t[i - 1], 1e-3 * kRel) << "row " << i;
+    }
+    EXPECT_LE(std::abs(profile.at("v")[i]), kFeed / 60 * kRel) << "row " << i;
+    EXPECT_LE(std::abs(profile.at("a")[i]), kAmax * kRel) << "row " << i;
+    EXPECT_LE(std::abs(profile.at("j")[i]), kJmax * kRel) << "row " << i;
+  }
+  std::ifstream summary_file(dir_ / "s.json");
+  const nlohmann::json summary = nlohmann::json::parse(summary_file);
+  EXPECT_NEAR(summary["cycle_time_s"].get<double>(), t.back(), 1e-3);
+  EXPECT_NEAR(summary["path_length_mm"].get<double>(), profile.at("s").back(), 1e-6);
+  const nlohmann::json& corners = summary["corners"];
+  ASSERT_EQ(corners.size(), 3u);
+  for (const auto& c : corners) {
+    for (const char* key : {"index", "method", "case", "length_mm", "deviation_mm", "kappa_max_per_mm",
+                            "sharpness_max_per_mm2", "feed_max_mm_per_min"}) {
+      EXPECT_TRUE(c.contains(key)) << key;
+    }
+    EXPECT_EQ(c["method"], "biclothoid");
+    EXPECT_LE(c["deviation_mm"].get<double>(), kDeviation * kRel);
+    EXPECT_GT(c["deviation_mm"].get<double>(), 0.9 * kDeviation);
+  }
+  r = run("path " + part.string() + options + " --csv " + (dir_ / "p.csv").string() + " --report " +
+          (dir_ / "r.json").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream report_file(dir_ / "r.json");
+  EXPECT_EQ(nlohmann::json::parse(report_file), corners);
+  const blendbench::test::Csv path = blendbench::test::read_csv(dir_ / "p.csv");
+  EXPECT_EQ(path.header, "s,x,y,z,tx,ty,tz,kappa");
+  EXPECT_NEAR(path.columns.at("s").back(), summary["path_length_mm"].get<double>(), 1e-6);
+}
+
+// --start-distance sizes every biclothoid by where it starts; misuse is bad input, naming the flag.
+TEST_F(Cli, StartDistanceSizesBiclothoidsAndIsRefusedElsewhere) {
+  const fs::path part = dir_ / "rect.ngc";
+  std::ofstream(part) << kRectangle;
+  const std::string io = " --csv " + (dir_ / "p.csv").string() + " --report " + (dir_ / "r.json").string();
+  Result r = run("path " + part.string() + " --method biclothoid --start-distance 2" + io);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream report_file(dir_ / "r.json");
+  const nlohmann::json corners = nlohmann::json::parse(report_file);
+  ASSERT_EQ(corners.size(), 3u);
+  for (const auto& c : corners) {
+    EXPECT_NEAR(c["trim_in_mm"].get<double>(), 2.0, 1e-9) << c;
+    EXPECT_NEAR(c["trim_out_mm"].get<double>(), 2.0, 1e-9) << c;
+  }
+  struct Case {
+    std::string args, expected;
+  };
+  const Case cases[] = {
+      {"--method arc --start-distance 2", "'--start-distance': sizes only a biclothoid"},
+      {"--method biclothoid --param 1 --start-distance 2", "not both"},
+      {"--method biclothoid --start-distance 0", "'--start-distance': must be positive"},
+      {"--method biclothoid --start-distance -2", "'--start-distance': must be positive"},
+      {"--start-distance 2", "'--start-distance': needs --method biclothoid"},
+      {"--method biclothoid", "'--param': required with --method biclothoid (mm), or --start-distance"},
+      {"--method arc --param -1", "'--param': must be >= 0"},
+      {"--method none --param 1", "'--param': has no meaning with --method none"},
+  };
+  fs::remove(dir_ / "p.csv");
+  for (const Case& c : cases) {
+    r = run("path " + part.string() + " " + c.args + io);
+    EXPECT_EQ(r.exit_code, 2) << c.args << "\n" << r.output;
+    EXPECT_NE(r.output.find(c.expected), std::string::npos) << "expected '" << c.expected << "' in:\n" << r.output;
+    EXPECT_FALSE(fs::exists(dir_ / "p.csv")) << c.args;
+  }
+}
+
+TEST_F(Cli, RunWritesSummaryTracesPlotsAndAPlayableVideo) {
+  const fs::path out = dir_ / "run";
+  const Result r = run("run " + blendbench::test::source_path("tests/data/tiny.yaml") + " --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream in(out / "summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(in);
+  ASSERT_EQ(summary["variants"].size(), 2u);
+  for (const auto& v : summary["variants"]) {
+    const fs::path vdir = out / v["name"].get<std::string>();
+    for (const char* file : {"trace.csv", "path.csv", "program.csv", "corners.json", "path.png", "speed.png",
+                             "tracking_error.png", "joints.png", "video.mp4"}) {
+      EXPECT_GT(fs::exists(vdir / file) ? fs::file_size(vdir / file) : 0u, 100u) << vdir / file;
+    }
+    const Result probe = run_probe(vdir / "video.mp4");
+    EXPECT_EQ(probe.exit_code, 0) << probe.output;
+    EXPECT_NE(probe.output.find("codec_name=h264"), std::string::npos) << probe.output;
+    EXPECT_NE(probe.output.find("avg_frame_rate=24/1"), std::string::npos) << probe.output;
+  }
+  for (const char* file : {"compare_speed.png", "compare_path.png", "compare_metrics.png"}) {
+    EXPECT_TRUE(fs::exists(out / file)) << file;
+  }
+}
+
+}  // namespace

@@ -1,0 +1,101 @@
+// Issue 4: every limit holds on the sampled profile of every shipped scenario, for every
+// variant and both baselines, and of random programs blended with every method.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <numbers>
+
+#include "support/profile_check.hpp"
+#include "support/property.hpp"
+#include "blendbench/corner/blend.hpp"
+#include "blendbench/timing/timing.hpp"
+#include "blendbench/io/scenario.hpp"
+
+namespace blendbench {
+namespace {
+
+using Baseline = TimingOptions::Baseline;
+
+TEST(ScenarioLimits, EveryScenarioVariantAndBaselineHoldsEveryLimit) {
+  int profiles = 0;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(test::source_path("scenarios"))) {
+    if (entry.path().extension() != ".yaml") continue;
+    const Scenario sc = load_scenario(entry.path().string());
+    for (const Variant& v : sc.variants) {
+      const Path path = blend(program_for(sc, v));
+      for (const Baseline b : {Baseline::kNone, Baseline::kExactStop, Baseline::kJunctionSlowdown}) {
+        TimingOptions options;
+        options.dt = 1.0 / sc.servo.rate_hz;
+        options.baseline = b;
+        const Timing timing = plan_timing(path, options);
+        const std::string where = entry.path().filename().string() + " / " + v.name + " / baseline " +
+                                  std::to_string(static_cast<int>(b));
+        (void)test::expect_valid(path, timing, where, b);
+        ++profiles;
+      }
+    }
+  }
+  EXPECT_GT(profiles, 30);
+}
+
+// A random planar-or-not program of lines and arcs with random limits.
+Program random_program(std::mt19937_64& rng, Method method) {
+  Program program;
+  Vec3 p = Vec3::Zero();
+  Vec3 dir = Vec3::UnitX();
+  const int moves = 2 + static_cast<int>(rng() % 5);
+  for (int i = 0; i < moves; ++i) {
+    Move move;
+    const double len = test::uniform(rng, 0.002, 0.2);
+    // turn by a random angle about a random axis (mostly in the xy plane)
+    const Vec3 axis = (rng() % 3 == 0) ? Vec3::Random().normalized() : Vec3::UnitZ();
+    const double turn = test::uniform(rng, -2.5, 2.5);
+    if (rng() % 3 == 0) {
+      // an arc tangent to nothing in particular: centre to the left of the current direction
+      const Vec3 n = axis.cross(dir).norm() > 1e-3 ? axis : any_perpendicular(dir);
+      const Vec3 left = n.cross(dir).normalized();
+      const double r = test::uniform(rng, 0.005, 0.2);
+      Arc arc;
+      arc.center = p + r * left;
+      arc.u = -left;
+      arc.v = dir.normalized();
+      arc.radius = r;
+      arc.sweep = test::uniform(rng, 0.1, 3.0);
+      move.geometry = arc;
+      p = point(Segment(arc), length(arc));
+      dir = tangent(Segment(arc), length(arc));
+    } else {
+      const Vec3 next = p + len * dir;
+      move.geometry = Line{p, next};
+      p = next;
+    }
+    dir = (Eigen::AngleAxisd(turn, axis) * dir).normalized();
+    move.limits.velocity = test::uniform(rng, 0.01, 1.0);
+    move.limits.acceleration = test::uniform(rng, 0.1, 10.0);
+    move.limits.deceleration = test::uniform(rng, 0.1, 10.0);
+    move.limits.jerk = test::uniform(rng, 1.0, 200.0);
+    move.buffer = static_cast<BufferMode>(rng() % 6);
+    move.transition.method = method;
+    move.transition.parameter = test::uniform(rng, 0.0001, 0.01);
+    program.moves.push_back(move);
+  }
+  return program;
+}
+
+TEST(ScenarioLimits, RandomProgramsWithEveryMethodHoldEveryLimit) {
+  const int cases = test::property_cases(60);
+  for (int i = 0; i < cases; ++i) {
+    const std::uint64_t seed = 1000 + static_cast<std::uint64_t>(i);
+    auto rng = test::make_rng(seed);
+    for (const Method method : {Method::kNone, Method::kArc, Method::kBezier, Method::kClothoid, Method::kBiclothoid}) {
+      const Program program = random_program(rng, method);
+      const Path path = blend(program);
+      const Timing timing = plan_timing(path, {});
+      (void)test::expect_valid(path, timing, test::seed_text(seed) + " method " + std::string(to_string(method)));
+    }
+  }
+}
+
+}  // namespace
+}  // namespace blendbench

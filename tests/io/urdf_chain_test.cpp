@@ -1,0 +1,183 @@
+#include "blendbench/io/urdf_chain.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <numbers>
+#include <string>
+
+#include "support/property.hpp"
+#include "blendbench/core/input_error.hpp"
+
+namespace blendbench {
+namespace {
+
+constexpr double kExact = 1e-12;  // m, rad: values written in the file
+
+// Writes `text` to a file in the test's temporary directory and returns its path.
+std::string write_file(const std::string& name, const std::string& text) {
+  const std::string path = ::testing::TempDir() + "urdf_chain_test_" + name + ".urdf";
+  std::ofstream(path) << text;
+  return path;
+}
+
+// A six-joint arm with fixed joints before, between and after the movable ones; `joint4` is
+// the fourth joint's element, replaceable to build broken files.
+std::string arm_urdf(const std::string& joint4 = R"(
+  <joint name="j4" type="continuous">
+    <parent link="l3"/><child link="l4"/>
+    <origin xyz="0 0 0.1" rpy="0 0 0"/><axis xyz="0 1 0"/>
+    <limit velocity="2" effort="20"/>
+  </joint>)") {
+  std::string text = R"(<?xml version="1.0"?>
+<robot name="arm">
+  <link name="world"/><link name="base_link"/><link name="l1"/><link name="l2"/><link name="l2b"/>
+  <link name="l3"/><link name="l4"/><link name="l5"/><link name="l6"/><link name="flange"/><link name="tcp"/>
+  <joint name="mount" type="fixed">
+    <parent link="world"/><child link="base_link"/><origin xyz="1 2 3" rpy="0 0 0"/>
+  </joint>
+  <joint name="j1" type="revolute">
+    <parent link="base_link"/><child link="l1"/>
+    <origin xyz="0 0 0.2" rpy="0 0 0"/><axis xyz="0 0 1"/>
+    <limit lower="-3" upper="3" velocity="3" effort="150"/>
+  </joint>
+  <joint name="j2" type="revolute">
+    <parent link="l1"/><child link="l2"/>
+    <origin xyz="0 0 0" rpy="1.5707963267948966 0 0"/><axis xyz="0 0 1"/>
+    <limit lower="-2" upper="2" velocity="3" effort="150"/>
+  </joint>
+  <joint name="bracket" type="fixed">
+    <parent link="l2"/><child link="l2b"/><origin xyz="0.3 0 0" rpy="0 0 0.5"/>
+  </joint>
+  <joint name="j3" type="revolute">
+    <parent link="l2b"/><child link="l3"/>
+    <origin xyz="0.1 0 0" rpy="0 0 0"/><axis xyz="0 0 2"/>
+    <limit lower="-1" upper="1" velocity="3" effort="150"/>
+  </joint>)";
+  text += joint4;
+  text += R"(
+  <joint name="j5" type="revolute">
+    <parent link="l4"/><child link="l5"/>
+    <origin xyz="0 0 0.1" rpy="0 0 0"/><axis xyz="1 0 0"/>
+    <limit lower="-4" upper="4" velocity="2" effort="20"/>
+  </joint>
+  <joint name="j6" type="revolute">
+    <parent link="l5"/><child link="l6"/>
+    <origin xyz="0 0 0.1" rpy="0 0 0"/><axis xyz="0 0 1"/>
+    <limit lower="-5" upper="5" velocity="2" effort="20"/>
+  </joint>
+  <joint name="to_flange" type="fixed">
+    <parent link="l6"/><child link="flange"/><origin xyz="0 0 0.05" rpy="0 0 0"/>
+  </joint>
+  <joint name="to_tcp" type="fixed">
+    <parent link="flange"/><child link="tcp"/><origin xyz="0 0 0.1" rpy="0 0 0"/>
+  </joint>
+</robot>
+)";
+  return text;
+}
+
+// Expects load_urdf_chain to throw an InputError for `path` with `field` whose message
+// contains `words`.
+void expect_input_error(const std::string& path, const std::string& field, const std::string& words,
+                        const std::string& base = "base_link", const std::string& tip = "tcp") {
+  try {
+    (void)load_urdf_chain(path, base, tip);
+    ADD_FAILURE() << "accepted " << path;
+  } catch (const InputError& error) {
+    EXPECT_EQ(error.file(), path);
+    EXPECT_EQ(error.field(), field) << error.what();
+    EXPECT_NE(std::string(error.what()).find(words), std::string::npos) << error.what();
+  }
+}
+
+TEST(UrdfChain, ReadsTheModelArm) {
+  const KinematicChain chain = load_urdf_chain(test::source_path("models/ur5e_like.urdf"));
+  ASSERT_EQ(chain.joints.size(), 6u);
+  const char* names[] = {"shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint",
+                         "wrist_1_joint",      "wrist_2_joint",       "wrist_3_joint"};
+  for (std::size_t i = 0; i < 6; ++i) {
+    EXPECT_EQ(chain.joints[i].name, names[i]);
+    const double limit = i == 2 ? std::numbers::pi : 2 * std::numbers::pi;
+    EXPECT_NEAR(chain.joints[i].lower, -limit, kExact);
+    EXPECT_NEAR(chain.joints[i].upper, limit, kExact);
+    EXPECT_NEAR(chain.joints[i].velocity_limit, std::numbers::pi, kExact);
+    EXPECT_EQ(chain.joints[i].effort_limit, i < 3 ? 150.0 : 28.0);
+  }
+  EXPECT_TRUE(chain.joints[0].origin.translation().isApprox(Vec3(0, 0, 0.1625), kExact));
+  // flange and tcp (zero tool offset) fold into the TCP transform
+  EXPECT_TRUE(chain.tcp.translation().isApprox(Vec3(0, 0, 0.0996), kExact));
+  EXPECT_TRUE(chain.tcp.linear().isIdentity(kExact));
+}
+
+TEST(UrdfChain, FoldsFixedJointsAndReadsContinuousJoints) {
+  const KinematicChain chain = load_urdf_chain(write_file("arm", arm_urdf()));
+  ASSERT_EQ(chain.joints.size(), 6u);
+  // base_link is the base: the mount above it is not part of the chain
+  EXPECT_TRUE(chain.joints[0].origin.translation().isApprox(Vec3(0, 0, 0.2), kExact));
+  // the bracket (0.3 along x, turned 0.5 rad about z) folds into j3's origin
+  const Eigen::Isometry3d expected = Eigen::Translation3d(0.3, 0, 0) * Eigen::AngleAxisd(0.5, Vec3::UnitZ()) *
+                                     Eigen::Translation3d(0.1, 0, 0);
+  EXPECT_TRUE(chain.joints[2].origin.isApprox(expected, kExact));
+  // axes are normalised
+  EXPECT_TRUE(chain.joints[2].axis.isApprox(Vec3::UnitZ(), kExact));
+  // a continuous joint has no position limits but keeps velocity and effort
+  EXPECT_TRUE(std::isinf(chain.joints[3].lower) && chain.joints[3].lower < 0);
+  EXPECT_TRUE(std::isinf(chain.joints[3].upper) && chain.joints[3].upper > 0);
+  EXPECT_EQ(chain.joints[3].velocity_limit, 2.0);
+  EXPECT_EQ(chain.joints[3].effort_limit, 20.0);
+  EXPECT_EQ(chain.joints[4].lower, -4.0);
+  // flange and tool fold into the TCP
+  EXPECT_TRUE(chain.tcp.translation().isApprox(Vec3(0, 0, 0.15), kExact));
+  // starting at l1 leaves five movable joints: not a six-axis arm
+  EXPECT_THROW((void)load_urdf_chain(write_file("arm", arm_urdf()), "l1", "tcp"), InputError);
+}
+
+TEST(UrdfChain, RejectsUnreadableAndInvalidFiles) {
+  const std::string missing = ::testing::TempDir() + "no_such_file.urdf";
+  expect_input_error(missing, "", "cannot open");
+  const std::string broken = write_file("broken", "<robot name='x'><link name='a'></robot>");
+  expect_input_error(broken, "", "not a valid URDF");
+}
+
+TEST(UrdfChain, RejectsMissingOrUnconnectedLinks) {
+  const std::string path = write_file("arm", arm_urdf());
+  expect_input_error(path, "base_link", "no link named 'base'", "base", "tcp");
+  expect_input_error(path, "tip_link", "no link named 'tool0'", "base_link", "tool0");
+  expect_input_error(path, "tip_link", "not below", "l3", "l1");
+}
+
+TEST(UrdfChain, RejectsUnsupportedJointsAndBadLimits) {
+  expect_input_error(write_file("prismatic", arm_urdf(R"(
+  <joint name="j4" type="prismatic">
+    <parent link="l3"/><child link="l4"/><axis xyz="0 1 0"/>
+    <limit lower="0" upper="1" velocity="2" effort="20"/>
+  </joint>)")),
+                     "j4", "only revolute, continuous and fixed");
+  expect_input_error(write_file("no_limit", arm_urdf(R"(
+  <joint name="j4" type="continuous">
+    <parent link="l3"/><child link="l4"/><axis xyz="0 1 0"/>
+  </joint>)")),
+                     "j4", "no <limit>");
+  expect_input_error(write_file("no_velocity", arm_urdf(R"(
+  <joint name="j4" type="revolute">
+    <parent link="l3"/><child link="l4"/><axis xyz="0 1 0"/>
+    <limit lower="-1" upper="1" velocity="0" effort="20"/>
+  </joint>)")),
+                     "j4", "velocity limit must be positive");
+  expect_input_error(write_file("inverted", arm_urdf(R"(
+  <joint name="j4" type="revolute">
+    <parent link="l3"/><child link="l4"/><axis xyz="0 1 0"/>
+    <limit lower="1" upper="-1" velocity="2" effort="20"/>
+  </joint>)")),
+                     "j4", "above upper limit");
+  expect_input_error(write_file("five", arm_urdf(R"(
+  <joint name="j4" type="fixed">
+    <parent link="l3"/><child link="l4"/>
+  </joint>)")),
+                     "tip_link", "5 movable joints");
+}
+
+}  // namespace
+}  // namespace blendbench

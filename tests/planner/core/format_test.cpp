@@ -1,0 +1,136 @@
+#include "blendbench/core/format.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <numbers>
+#include <string>
+
+#include "support/property.hpp"
+
+namespace blendbench {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+// the largest error of a value printed with six significant digits, relative to the value,
+// with room for the rounding of the unit conversion itself
+constexpr double kSixDigits = 5e-6 * (1 + 1e-9);
+
+// Each formatter with the unit it prints and the factor from SI to that unit.
+struct Unit {
+  std::string (*format)(double);
+  const char* name;
+  double scale;
+};
+const Unit kUnits[] = {{format_mm, "mm", 1e3}, {format_deg, "deg", 180 / kPi}, {format_per_mm, "1/mm", 1e-3}};
+
+// Significant digits of a printed number: the mantissa's digits without leading or trailing zeros.
+int significant_digits(const std::string& number) {
+  std::string digits;
+  for (const char c : number.substr(0, number.find('e'))) {
+    if (c >= '0' && c <= '9') digits += c;
+  }
+  const std::size_t first = digits.find_first_not_of('0');
+  if (first == std::string::npos) return 0;
+  return static_cast<int>(digits.find_last_not_of('0') - first + 1);
+}
+
+TEST(Format, TheHeaderExamples) {
+  EXPECT_EQ(format_mm(0.0125), "12.5 mm");
+  EXPECT_EQ(format_deg(kPi / 2), "90 deg");
+  EXPECT_EQ(format_per_mm(124.0), "0.124 1/mm");
+}
+
+TEST(Format, ConvertsToTheUnitUsersReadWithSixSignificantDigits) {
+  // hand-rounded: 1234.56789 mm, 57.29578 deg (1 rad), 1e9 mm
+  struct Case {
+    std::string text, expected;
+  };
+  const Case cases[] = {
+      {format_mm(0.1), "100 mm"},
+      {format_mm(1.23456789), "1234.57 mm"},
+      {format_mm(-0.00123456789), "-1.23457 mm"},
+      {format_mm(123456.789), "1.23457e+08 mm"},
+      {format_mm(1e-9), "1e-06 mm"},
+      {format_mm(-2.5e-7), "-0.00025 mm"},
+      {format_deg(1.0), "57.2958 deg"},
+      {format_deg(kPi), "180 deg"},
+      {format_deg(-kPi / 4), "-45 deg"},
+      {format_deg(6 * kPi), "1080 deg"},
+      {format_per_mm(1.0), "0.001 1/mm"},
+      {format_per_mm(1 / 0.0125), "0.08 1/mm"},
+      {format_per_mm(-2500.0), "-2.5 1/mm"},
+      {format_value(-1e-7), "-1e-07"},
+      {format_value(0.2), "0.2"},
+      {format_value(1234567.0), "1.23457e+06"},
+  };
+  for (const Case& c : cases) EXPECT_EQ(c.text, c.expected);
+}
+
+TEST(Format, RandomValuesParseBackToTheConvertedValueWithinSixSignificantDigits) {
+  // magnitudes from 1e-12 to 1e12 of either sign: the text is "<number> <unit>", the number has
+  // at most six significant digits, is the converted value to within half a unit in the sixth
+  // digit, and a negative value prints as its magnitude with a minus sign
+  const int cases = test::property_cases(5000);
+  for (int i = 0; i < cases; ++i) {
+    auto rng = test::make_rng(static_cast<std::uint64_t>(i));
+    const std::string seed = test::seed_text(static_cast<std::uint64_t>(i));
+    const double magnitude = std::pow(10.0, test::uniform(rng, -12, 12));
+    const double value = test::uniform(rng, 0, 1) < 0.5 ? -magnitude : magnitude;
+    for (const Unit& unit : kUnits) {
+      const std::string text = unit.format(value);
+      const std::string suffix = std::string(" ") + unit.name;
+      ASSERT_GT(text.size(), suffix.size()) << seed << " " << text;
+      EXPECT_EQ(text.substr(text.size() - suffix.size()), suffix) << seed << " " << text;
+      const std::string number = text.substr(0, text.size() - suffix.size());
+      EXPECT_EQ(number, format_value(value * unit.scale)) << seed;
+      char* end = nullptr;
+      const double printed = std::strtod(number.c_str(), &end);
+      EXPECT_EQ(end, number.c_str() + number.size()) << seed << " '" << number << "'";
+      const double expected = value * unit.scale;
+      EXPECT_LE(std::abs(printed - expected), kSixDigits * std::abs(expected)) << seed << " " << text;
+      EXPECT_LE(significant_digits(number), 6) << seed << " " << text;
+      EXPECT_EQ(unit.format(-value), value < 0 ? text.substr(1) : "-" + text) << seed;
+    }
+  }
+}
+
+TEST(Format, ZeroPrintsAsZeroWhateverItsSign) {
+  for (const double zero : {0.0, -0.0}) {
+    EXPECT_EQ(format_mm(zero), "0 mm") << std::signbit(zero);
+    EXPECT_EQ(format_deg(zero), "0 deg") << std::signbit(zero);
+    EXPECT_EQ(format_per_mm(zero), "0 1/mm") << std::signbit(zero);
+    EXPECT_EQ(format_value(zero), "0") << std::signbit(zero);
+  }
+}
+
+TEST(Format, InfinitiesKeepTheirSign) {
+  for (const Unit& unit : kUnits) {
+    EXPECT_EQ(unit.format(kInf), std::string("inf ") + unit.name);
+    EXPECT_EQ(unit.format(-kInf), std::string("-inf ") + unit.name);
+  }
+  EXPECT_EQ(format_value(kInf), "inf");
+  EXPECT_EQ(format_value(-kInf), "-inf");
+}
+
+TEST(Format, NaNPrintsAsNanWhateverItsSign) {
+  // a NaN's sign means nothing; x86 arithmetic makes negative ones (inf - inf)
+  volatile double inf = kInf;
+  const double computed = inf - inf;
+  const double nans[] = {kNaN, -kNaN, std::copysign(kNaN, -1.0), computed,
+                         -std::numeric_limits<double>::signaling_NaN()};
+  ASSERT_TRUE(std::signbit(-kNaN));
+  ASSERT_TRUE(std::signbit(std::copysign(kNaN, -1.0)));
+  for (const double nan : nans) {
+    ASSERT_TRUE(std::isnan(nan));
+    for (const Unit& unit : kUnits) EXPECT_EQ(unit.format(nan), std::string("nan ") + unit.name) << std::signbit(nan);
+    EXPECT_EQ(format_value(nan), "nan") << std::signbit(nan);
+  }
+}
+
+}  // namespace
+}  // namespace blendbench

@@ -1,0 +1,639 @@
+#include "blendbench/corner/biclothoid.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include "support/corner_check.hpp"
+#include "blendbench/geometry/arc_construction.hpp"
+#include "blendbench/corner/blend.hpp"
+#include "blendbench/corner/clothoid_blend.hpp"
+
+namespace blendbench {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kMm = 1e-3;
+// The deviation measured independently may exceed the tolerance only by this (relative).
+constexpr double kDeviationSlack = 1e-9;
+// Algorithm 2 stops with tolerance (1 - 1e-4) <= deviation <= tolerance.
+constexpr double kToleranceReached = 1e-4;
+
+// An arc in the XY plane (metres) from start to end about centre, clockwise (G2) or not (G3).
+Arc xy_arc(const Vec3& start, const Vec3& end, const Vec3& centre, bool clockwise) {
+  const ArcBuild built = arc_from_center(start, end, centre, Vec3::UnitZ(), !clockwise);
+  if (!built.outcome.ok()) throw std::invalid_argument("xy_arc: " + built.outcome.message);
+  return built.arc;
+}
+
+// 004 listing 1, starting at the origin, in metres:
+//   G2 X-10 Y10 R10; G1 Y50; G2 X0 Y60 R10; G2 X0 Y0 R30.01
+std::vector<Primitive> listing1() {
+  const double half_chord = 30.0;
+  const double offset = std::sqrt(30.01 * 30.01 - half_chord * half_chord);  // minor arc: centre left of the chord
+  return {xy_arc(Vec3(0, 0, 0), Vec3(-10, 10, 0) * kMm, Vec3(0, 10, 0) * kMm, true),
+          Line{Vec3(-10, 10, 0) * kMm, Vec3(-10, 50, 0) * kMm},
+          xy_arc(Vec3(-10, 50, 0) * kMm, Vec3(0, 60, 0) * kMm, Vec3(0, 50, 0) * kMm, true),
+          xy_arc(Vec3(0, 60, 0) * kMm, Vec3(0, 0, 0), Vec3(-offset, 30, 0) * kMm, true)};
+}
+
+CornerInput corner_between(const Primitive& in, const Primitive& out, double tolerance) {
+  CornerInput c;
+  c.in = in;
+  c.out = out;
+  c.in_available = 0.5 * length(in);
+  c.out_available = 0.5 * length(out);
+  c.spec.method = Method::kBiclothoid;
+  c.spec.parameter = tolerance;
+  c.name = "corner under test";
+  c.where = {"part.ngc", 7, 1};
+  return c;
+}
+
+TEST(Biclothoid, WorkedExampleOfSection5) {
+  // 004 section 5: start (0, 0), kappa0 = 0.1, theta0 = pi/4; end kappa_e = 0.2, theta_e =
+  // 3 pi/4; s_BC = 10 mm -> c1 = 0.012, s1 = 9.34, s2 = 0.66, end (0.88, 8.95) (units: mm)
+  const auto curve = biclothoid_from_turn(Posture{Vec2(0, 0), 0.1, kPi / 4}, 0.2, kPi / 2, 10.0);
+  ASSERT_TRUE(curve);
+  EXPECT_NEAR(curve->c, 0.012, 0.0005);  // 0.011516, printed to 3 decimals in the paper
+  EXPECT_NEAR(curve->s1, 9.34, 0.005);
+  EXPECT_NEAR(curve->s2, 0.66, 0.005);
+  const Posture end = end_posture(*curve);
+  EXPECT_NEAR(end.p.x(), 0.88, 0.005);
+  EXPECT_NEAR(end.p.y(), 8.95, 0.005);
+  EXPECT_NEAR(end.kappa, 0.2, 1e-15);
+  EXPECT_NEAR(end.theta, 3 * kPi / 4, 1e-15);
+  // eq. 11 itself gives the same s1 here
+  const double dth = kPi / 2;
+  const double sq = dth * dth - dth * 10 * 0.3 + 50 * (0.01 + 0.04);
+  EXPECT_NEAR(curve->s1, (dth - 0.2 * 10 - std::sqrt(sq)) / (0.1 - 0.2), 1e-12);
+}
+
+TEST(Biclothoid, Eq11IsTheRootWhereTheCurvaturePeaks) {
+  // eq. 11 takes -sqrt(SQ); that is the root with 0 <= s1 <= L when A = dtheta - L kbar >= 0,
+  // and +sqrt(SQ) is when A < 0 (biclothoid.cpp derives both)
+  const std::uint64_t seed = 21;
+  auto rng = test::make_rng(seed);
+  const int cases = test::property_cases(2000);
+  for (int i = 0; i < cases; ++i) {
+    const double k0 = test::uniform(rng, -1, 1);
+    const double ke = test::uniform(rng, -1, 1);
+    const double dth = test::uniform(rng, -2, 2);
+    const double len = test::uniform(rng, 0.1, 2);
+    const auto curve = biclothoid_from_turn(Posture{Vec2(0, 0), k0, 0.3}, ke, dth, len);
+    ASSERT_TRUE(curve);
+    const double sq = dth * dth - dth * len * (k0 + ke) + 0.5 * len * len * (k0 * k0 + ke * ke);
+    const double a = dth - 0.5 * len * (k0 + ke);
+    const double root = a >= 0 ? -std::sqrt(sq) : std::sqrt(sq);
+    EXPECT_NEAR(curve->s1, (dth - ke * len + root) / (k0 - ke), 1e-9 * len) << test::seed_text(seed) << " case " << i;
+    // eq. 7-10 hold: curvature and turn at the end
+    const Posture end = end_posture(*curve);
+    EXPECT_NEAR(end.kappa, ke, 1e-12) << test::seed_text(seed) << " case " << i;
+    EXPECT_NEAR(end.theta - 0.3, dth, 1e-12) << test::seed_text(seed) << " case " << i;
+    EXPECT_GE(curve->s1, 0.0);
+    EXPECT_GE(curve->s2, 0.0);
+    EXPECT_NEAR(curve->s1 + curve->s2, len, 1e-14 * len);
+  }
+  // kappa0 = kappa_e, where eq. 11 is 0/0: the symmetric solution
+  const auto sym = biclothoid_from_turn(Posture{Vec2(0, 0), 0.5, 0}, 0.5, 1.0, 1.0);
+  ASSERT_TRUE(sym);
+  EXPECT_DOUBLE_EQ(sym->s1, 0.5);
+  EXPECT_NEAR(end_posture(*sym).theta, 1.0, 1e-15);
+  EXPECT_FALSE(biclothoid_from_turn(Posture{}, 0, 1, 0.0));
+}
+
+TEST(Biclothoid, EndDerivativesMatchCentralDifferences) {
+  // biclothoid_end's closed-form d p / d length and d p / d dtheta against central differences
+  // of biclothoid_from_turn (error ~ step^2 times the third derivative, up to 2e-8 over 1e5
+  // cases; a wrong term in the derivation is off by more than 1e-2); its curve and end point
+  // are biclothoid_from_turn's. Where A = dtheta - L (kappa0 + kappa_e) / 2 changes sign and
+  // kappa0 != kappa_e the peak becomes a valley (s1 jumps from 0 to L through the single
+  // clothoid): the end point is continuous there but has a kink, so stencils that straddle
+  // A = 0 are skipped (with kappa0 = kappa_e it is smooth: c = 4 A / L^2, s1 = L / 2).
+  constexpr double kStep = 1e-5;
+  constexpr double kDerivative = 1e-7;
+  const std::uint64_t seed = 23;
+  auto rng = test::make_rng(seed);
+  const int cases = test::property_cases(2000);
+  const auto end_of = [](const Posture& start, double ke, double dth, double len) {
+    return end_posture(*biclothoid_from_turn(start, ke, dth, len)).p;
+  };
+  for (int i = 0; i < cases; ++i) {
+    const Posture start{Vec2(test::uniform(rng, -1, 1), test::uniform(rng, -1, 1)), test::uniform(rng, -2, 2),
+                        test::uniform(rng, -kPi, kPi)};
+    // every fourth case with equal end curvatures, every eighth also turning as an arc (c = 0)
+    const double len = test::uniform(rng, 0.1, 2);
+    const double ke = i % 4 == 0 ? start.kappa : test::uniform(rng, -2, 2);
+    const double dth = i % 8 == 0 ? start.kappa * len : test::uniform(rng, -2, 2);
+    const auto end = biclothoid_end(start, ke, dth, len);
+    ASSERT_TRUE(end);
+    const Biclothoid curve = *biclothoid_from_turn(start, ke, dth, len);
+    EXPECT_DOUBLE_EQ(end->curve.c, curve.c) << test::seed_text(seed) << " case " << i;
+    EXPECT_DOUBLE_EQ(end->curve.s1, curve.s1) << test::seed_text(seed) << " case " << i;
+    EXPECT_NEAR((end->curve.mid.p - curve.mid.p).norm(), 0.0, 1e-14 * len) << test::seed_text(seed) << " case " << i;
+    EXPECT_NEAR((end->p - end_posture(curve).p).norm(), 0.0, 1e-14 * len) << test::seed_text(seed) << " case " << i;
+    EXPECT_NEAR((end->tangent - Vec2(std::cos(start.theta + dth), std::sin(start.theta + dth))).norm(), 0.0, 1e-15);
+    const double hl = kStep * len;
+    const double a = dth - 0.5 * len * (start.kappa + ke);
+    if (ke != start.kappa && std::abs(a) < 2 * kStep * (1 + len * std::abs(start.kappa + ke))) continue;
+    const Vec2 d_length = (end_of(start, ke, dth, len + hl) - end_of(start, ke, dth, len - hl)) / (2 * hl);
+    const Vec2 d_turn = (end_of(start, ke, dth + kStep, len) - end_of(start, ke, dth - kStep, len)) / (2 * kStep);
+    EXPECT_NEAR((end->d_length - d_length).norm(), 0.0, kDerivative) << test::seed_text(seed) << " case " << i;
+    EXPECT_NEAR((end->d_turn - d_turn).norm(), 0.0, kDerivative) << test::seed_text(seed) << " case " << i;
+  }
+  EXPECT_FALSE(biclothoid_end(Posture{}, 0, 1, 0.0));
+}
+
+TEST(Biclothoid, ReversedIsTheSameCurveBackwards) {
+  const Biclothoid curve = *biclothoid_from_turn(Posture{Vec2(1, 2), 0.3, 0.4}, -0.7, 1.1, 3.0);
+  const Biclothoid back = reversed(curve);
+  const double len = length(curve);
+  for (double s = 0; s <= len; s += len / 16) {
+    const Posture f = posture_at(curve, s);
+    const Posture r = posture_at(back, len - s);
+    EXPECT_NEAR((f.p - r.p).norm(), 0.0, 1e-14) << s;
+    EXPECT_NEAR(f.kappa, -r.kappa, 1e-14) << s;
+    EXPECT_NEAR(std::remainder(f.theta + kPi - r.theta, 2 * kPi), 0.0, 1e-14) << s;
+  }
+}
+
+TEST(Biclothoid, LineLineFilletIsSymmetricAndDeviatesExactlyTheTolerance) {
+  // 004 section 7.1: between two lines the fillet is symmetric and its deviation is the
+  // corner-to-midpoint distance; the midpoint is nearer the lines, by cos(alpha / 2)
+  for (const double deg : {0.001, 1.0, 30.0, 90.0, 150.0, 179.999}) {
+    const double alpha = deg * kPi / 180;
+    const Vec3 t2(std::cos(alpha), std::sin(alpha), 0);
+    // moves a little longer than the fillet needs (6 m at 0.001 deg)
+    const double len = 1.5 * clothoid_pair_for_deviation(alpha, 0.1 * kMm).tangent_length;
+    CornerInput c = corner_between(Line{Vec3(-len, 0, 0), Vec3(0, 0, 0)}, Line{Vec3(0, 0, 0), len * t2}, 0.1 * kMm);
+    c.in_available = c.out_available = len;
+    const CornerFit fit = fit_biclothoid_corner(c);
+    ASSERT_TRUE(fit.outcome.ok()) << deg;
+    ASSERT_EQ(fit.transition.size(), 2u) << deg;
+    EXPECT_EQ(fit.case_name, "regular");
+    EXPECT_DOUBLE_EQ(fit.trim_in, fit.trim_out);
+    EXPECT_NEAR(fit.parameter_used, 0.1 * kMm, 1e-12 * kMm) << deg;
+    const test::FitCheck check = test::check_fit(c, fit);
+    EXPECT_NEAR(check.deviation, 0.1 * kMm, 1e-6 * 0.1 * kMm) << deg;
+    EXPECT_TRUE(test::is_g2(test::check_fit(c, fit))) << std::to_string(deg) + " deg";
+    // both directed distances of section 7.1, from the planar solver
+    const auto& first = std::get<Clothoid>(fit.transition[0]);
+    const BiclothoidSolution sol{make_biclothoid(Posture{Vec2(-fit.trim_in, 0), 0, 0}, first.sharpness, first.length,
+                                                 first.length),
+                                 fit.trim_in, fit.trim_out};
+    const Deviation dev = biclothoid_deviation(sol, CornerShapes{{0, 0}, {alpha, 0}});
+    EXPECT_NEAR(dev.original_to_fillet, 0.1 * kMm, 1e-9 * kMm) << deg;
+    EXPECT_NEAR(dev.fillet_to_original, 0.1 * kMm * std::cos(alpha / 2), 1e-9 * kMm) << deg;
+  }
+}
+
+TEST(Biclothoid, Table2CornerIsA30DegreeDeflectionAt01Millimetre) {
+  // 004 table 2: "two linear moves making a 150 degree angle"; the biclothoid is 2.22 mm long,
+  // kappa_max 0.47 1/mm, sharpness 0.42 1/mm^2, feed 4489 mm/min. A symmetric pair turning by
+  // alpha has kappa_max L / 2 = alpha... here 0.47 * 1.11 = 0.52 rad = 30 deg: 150 deg is the
+  // angle between the lines, the deflection is 30 deg; the deviation that reproduces the
+  // length is the paper's usual 0.1 mm. Achieved: 2.2246 mm, 0.4707 1/mm, 0.4232 1/mm^2,
+  // 4487 mm/min (the paper rounds; its feed is 2 mm/min higher).
+  const double alpha = 30 * kPi / 180;
+  const Vec3 t2(std::cos(alpha), std::sin(alpha), 0);
+  const CornerInput c =
+      corner_between(Line{Vec3(-0.01, 0, 0), Vec3(0, 0, 0)}, Line{Vec3(0, 0, 0), 0.01 * t2}, 0.1 * kMm);
+  const CornerFit fit = fit_biclothoid_corner(c);
+  ASSERT_TRUE(fit.outcome.ok());
+  double len = 0;
+  for (const Segment& seg : fit.transition) len += length(seg);
+  EXPECT_NEAR(len / kMm, 2.22, 0.005);
+  EXPECT_NEAR(test::peak_curvature(fit) * kMm, 0.47, 0.001);
+  EXPECT_NEAR(test::peak_sharpness(fit) * kMm * kMm, 0.42, 0.0035);
+  const double feed = curvature_speed_limit(test::peak_curvature(fit), test::peak_sharpness(fit), 9.8, 200.0);
+  EXPECT_NEAR(feed * 60000, 4489, 5);
+  // the other reading (150 deg deflection) is far off: its fillet at 0.1 mm is much sharper
+  const ClothoidPair other = clothoid_pair_for_deviation(150 * kPi / 180, 0.1 * kMm);
+  EXPECT_GT(other.kappa_peak * kMm, 2 * 0.47);
+}
+
+TEST(Biclothoid, Table1FilletsOfListing1At01Millimetre) {
+  // 004 table 1 (tolerance 0.1 mm): S1S2 (point A, arc R10 -> line) and S3S4 (point B,
+  // line -> arc R10): c = 0.016 1/mm^2, kappa_max = 0.124 1/mm, 12486 mm/min; S5S6 (point C,
+  // arc R10 -> arc R30.01 with a 1.48 deg kink): c = 0.009, kappa_max = 0.116, 13871 mm/min.
+  // Achieved: A and B c = 0.01595, kappa_max = 0.12377 (length 9.252 mm, 6.471 mm of the arc
+  // and 2.812 mm of the line), 12501 mm/min; C c = 0.00890, kappa_max = 0.11619 (11.127 mm),
+  // 13876 mm/min. c and kappa agree to the paper's rounding; the feeds differ by 15 and
+  // 5 mm/min because the paper evaluates eq. 25-27 with its rounded c and kappa (0.016/0.124
+  // and 0.009/0.116 give 12486 and 13871 exactly, see blend_test).
+  const std::vector<Primitive> moves = listing1();
+  struct Expected {
+    std::size_t corner;
+    double c;
+    double kappa;
+    double feed;
+    const char* case_name;
+  };
+  for (const Expected& e : {Expected{0, 0.016, 0.124, 12486, "tangent"}, Expected{1, 0.016, 0.124, 12486, "tangent"},
+                            Expected{2, 0.009, 0.116, 13871, "regular"}}) {
+    CornerInput c = corner_between(moves[e.corner], moves[e.corner + 1], 0.1 * kMm);
+    const CornerFit fit = fit_biclothoid_corner(c);
+    ASSERT_TRUE(fit.outcome.ok()) << e.corner;
+    EXPECT_EQ(fit.case_name, e.case_name);
+    EXPECT_TRUE(fit.note.empty()) << fit.note;
+    EXPECT_NEAR(test::peak_sharpness(fit) * kMm * kMm, e.c, 1.1e-4) << "corner " << e.corner;
+    EXPECT_NEAR(test::peak_curvature(fit) * kMm, e.kappa, 4e-4) << "corner " << e.corner;
+    const double feed = curvature_speed_limit(test::peak_curvature(fit), test::peak_sharpness(fit), 9.8, 200.0) * 60000;
+    EXPECT_NEAR(feed, e.feed, 20) << "corner " << e.corner;
+    // the deviation is the tolerance, both directions, measured independently
+    const test::FitCheck check = test::check_fit(c, fit);
+    EXPECT_LE(check.deviation, 0.1 * kMm * (1 + kDeviationSlack));
+    EXPECT_GE(check.deviation, 0.1 * kMm * (1 - kToleranceReached));
+    EXPECT_TRUE(test::is_g2(test::check_fit(c, fit))) << "listing 1 corner " + std::to_string(e.corner);
+  }
+}
+
+TEST(Biclothoid, Algorithm1EndsG2OnALineAndOnAnArc) {
+  // arc (kappa 0.1 1/mm) into a line at a 20 deg kink, and into an arc (kappa 0.02 1/mm)
+  const CornerShapes to_line{{0.0, 100.0}, {20 * kPi / 180, 0.0}};
+  const CornerShapes to_arc{{0.0, 100.0}, {20 * kPi / 180, -20.0}};
+  for (const CornerShapes& shapes : {to_line, to_arc}) {
+    const auto sol = fit_biclothoid_at(shapes, 3 * kMm);
+    ASSERT_TRUE(sol);
+    EXPECT_DOUBLE_EQ(sol->a, 3 * kMm);
+    const Posture start = sol->curve.start;
+    EXPECT_NEAR((start.p - shape_point(shapes.q1, -sol->a)).norm(), 0.0, 1e-15);
+    EXPECT_NEAR(start.kappa, shapes.q1.kappa, 1e-12);
+    const Posture end = end_posture(sol->curve);
+    EXPECT_NEAR((end.p - shape_point(shapes.q2, sol->b)).norm(), 0.0, 1e-13 * (sol->a + sol->b));
+    EXPECT_NEAR(end.kappa, shapes.q2.kappa, 1e-9);
+    EXPECT_NEAR(std::remainder(end.theta - shape_angle(shapes.q2, sol->b), 2 * kPi), 0.0, 1e-12);
+  }
+}
+
+TEST(Biclothoid, Section6SwapsWhenTheOutgoingShapeIsMoreCurved) {
+  // line -> arc: fitted from the arc backwards and reversed; the result still starts on q1
+  const CornerShapes shapes{{0.0, 0.0}, {10 * kPi / 180, 50.0}};
+  const BiclothoidToleranceFit fit = fit_biclothoid_with_tolerance(shapes, 0.05 * kMm, 1.0, 1.0);
+  ASSERT_TRUE(fit.outcome.ok()) << fit.outcome.message;
+  EXPECT_TRUE(fit.swapped);
+  EXPECT_FALSE(fit.limited);
+  EXPECT_NEAR((fit.fillet.curve.start.p - shape_point(shapes.q1, -fit.fillet.a)).norm(), 0.0, 1e-14);
+  EXPECT_NEAR(fit.fillet.curve.start.kappa, 0.0, 1e-12);
+  EXPECT_NEAR((end_posture(fit.fillet.curve).p - shape_point(shapes.q2, fit.fillet.b)).norm(), 0.0, 1e-12 * kMm);
+  EXPECT_LE(fit.deviation.max(), 0.05 * kMm);
+  EXPECT_GE(fit.deviation.max(), 0.05 * kMm * (1 - kToleranceReached));
+}
+
+TEST(Biclothoid, TangentSBendIsBoundedOnlyByTheMoves) {
+  // arcs R 143 mm and R 54 mm tangent at the corner, turning opposite ways: they touch there
+  // and meet nowhere else, so only the tolerance bounds the fillet. (Solved reversed, the
+  // circles' centres carry sin(pi) ~ 1e-16, and the crossing computed from them once landed
+  // 1e-33 m from the corner and capped the fillet to nothing: RandomProgramsThroughTheBlender,
+  // seed 13213.)
+  const CornerShapes shapes{{0.0, 7.0}, {0.0, -18.6}};
+  const BiclothoidToleranceFit fit = fit_biclothoid_with_tolerance(shapes, 0.012 * kMm, 0.02, 0.02);
+  ASSERT_TRUE(fit.outcome.ok()) << fit.outcome.message;
+  EXPECT_TRUE(fit.swapped);
+  EXPECT_FALSE(fit.limited);
+  EXPECT_GT(fit.fillet.a, 1 * kMm);
+  EXPECT_GT(fit.fillet.b, 1 * kMm);
+  EXPECT_LE(fit.deviation.max(), 0.012 * kMm);
+  EXPECT_GE(fit.deviation.max(), 0.012 * kMm * (1 - kToleranceReached));
+}
+
+TEST(Biclothoid, ShortMovesLimitTheFilletAndSaySo) {
+  const std::vector<Primitive> moves = listing1();
+  CornerInput c = corner_between(moves[2], moves[3], 0.1 * kMm);
+  c.in_available = 1 * kMm;  // the fillet wants 7.4 mm of the R10 arc
+  const CornerFit fit = fit_biclothoid_corner(c);
+  ASSERT_TRUE(fit.outcome.ok());
+  EXPECT_LE(fit.trim_in, 1 * kMm);
+  EXPECT_LT(fit.parameter_used, 0.1 * kMm);
+  EXPECT_NE(fit.note.find("limited by the move lengths"), std::string::npos) << fit.note;
+  EXPECT_TRUE(test::is_g2(test::check_fit(c, fit))) << "short move";
+  const test::FitCheck check = test::check_fit(c, fit);
+  EXPECT_NEAR(check.deviation, fit.parameter_used, 1e-6 * fit.parameter_used);
+  // two short lines: the pair shrinks to the shorter move
+  const Vec3 t2(0, 1, 0);
+  CornerInput lines = corner_between(Line{Vec3(-0.1, 0, 0), Vec3(0, 0, 0)}, Line{Vec3(0, 0, 0), 0.1 * t2}, 1 * kMm);
+  lines.out_available = 0.5 * kMm;
+  const CornerFit shrunk = fit_biclothoid_corner(lines);
+  EXPECT_DOUBLE_EQ(shrunk.trim_out, 0.5 * kMm);
+  EXPECT_NE(shrunk.note.find("outgoing move is short"), std::string::npos) << shrunk.note;
+}
+
+TEST(Biclothoid, SpecialCorners) {
+  const Line in{Vec3(-1, 0, 0), Vec3(0, 0, 0)};
+  // reversal: a kink, a stop when Buffered
+  CornerInput rev = corner_between(in, Line{Vec3(0, 0, 0), Vec3(-1, 0, 0)}, 0.1 * kMm);
+  rev.buffer = BufferMode::kBuffered;
+  CornerFit fit = fit_biclothoid_corner(rev);
+  EXPECT_TRUE(fit.outcome.ok());
+  EXPECT_EQ(fit.case_name, "reversal");
+  EXPECT_TRUE(fit.stop);
+  EXPECT_TRUE(fit.transition.empty());
+  rev.buffer = BufferMode::kBlendingLow;
+  EXPECT_FALSE(fit_biclothoid_corner(rev).stop);
+  // collinear: nothing to do
+  fit = fit_biclothoid_corner(corner_between(in, Line{Vec3(0, 0, 0), Vec3(2, 0, 0)}, 0.1 * kMm));
+  EXPECT_EQ(fit.case_name, "collinear");
+  EXPECT_TRUE(fit.transition.empty());
+  EXPECT_FALSE(fit.stop);
+  // one circle, same direction: G2 already
+  const Arc whole = xy_arc(Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(0, 0, 0), false);
+  const Arc first = sub_segment(whole, 0, 1.0);
+  const Arc second = sub_segment(whole, 1.0, length(whole));
+  fit = fit_biclothoid_corner(corner_between(first, second, 0.1 * kMm));
+  EXPECT_EQ(fit.case_name, "same_circle_same_direction");
+  EXPECT_TRUE(fit.transition.empty());
+  // one circle, opposite direction: a reversal
+  const Arc back = xy_arc(point(first, 1.0), Vec3(1, 0, 0), Vec3(0, 0, 0), true);
+  fit = fit_biclothoid_corner(corner_between(first, back, 0.1 * kMm));
+  EXPECT_EQ(fit.case_name, "same_circle_opposite_direction");
+  // nothing left of a move: infeasible, with a message
+  CornerInput none = corner_between(in, Line{Vec3(0, 0, 0), Vec3(0, 1, 0)}, 0.1 * kMm);
+  none.in_available = 0;
+  fit = fit_biclothoid_corner(none);
+  EXPECT_EQ(fit.outcome.status, Status::kInfeasible);
+  EXPECT_NE(fit.outcome.message.find("incoming"), std::string::npos) << fit.outcome.message;
+  none.spec.method = Method::kClothoid;
+  EXPECT_EQ(fit_clothoid_corner(none).outcome.status, Status::kInfeasible);
+  // tolerance 0 at a curvature jump only: left as programmed
+  const std::vector<Primitive> moves = listing1();
+  fit = fit_biclothoid_corner(corner_between(moves[0], moves[1], 0.0));
+  EXPECT_EQ(fit.case_name, "tangent");
+  EXPECT_TRUE(fit.transition.empty());
+  EXPECT_FALSE(fit.stop);
+}
+
+TEST(Biclothoid, ZeroToleranceAtAKinkIsAnInputErrorNamingTheCorner) {
+  const std::vector<Primitive> moves = listing1();
+  const CornerInput c = corner_between(moves[2], moves[3], 0.0);
+  try {
+    (void)fit_biclothoid_corner(c);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), "part.ngc");
+    EXPECT_EQ(e.line(), 7);
+    EXPECT_EQ(e.field(), "transition.parameter");
+    EXPECT_NE(std::string(e.what()).find("corner under test"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Biclothoid, NonPlanarCornersFallBackToBezier) {
+  // a line leaving the arc's plane, and a helix: 004 has no 3D form
+  const Arc arc = xy_arc(Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 0), false);
+  const Vec3 end = point(arc, length(arc));
+  const CornerInput up = corner_between(arc, Line{end, end + Vec3(0.3, 0.0, 0.5)}, 0.1 * kMm);
+  EXPECT_FALSE(planar_corner(up.in, up.out).planar);
+  CornerFit fit = fit_biclothoid_corner(up);
+  EXPECT_EQ(fit.fallback, "bezier");
+  EXPECT_EQ(fit.case_name, "non_planar");
+  if (!fit.outcome.ok()) {
+    EXPECT_NE(fit.outcome.message.find("Bezier fallback"), std::string::npos);
+  }
+  Arc helix = arc;
+  helix.rise = 0.1;
+  const Vec3 helix_end = point(helix, length(helix));
+  const CornerInput h = corner_between(helix, Line{helix_end, helix_end + Vec3(-1, 0, 0)}, 0.1 * kMm);
+  EXPECT_FALSE(planar_corner(h.in, h.out).planar);
+  EXPECT_EQ(fit_biclothoid_corner(h).fallback, "bezier");
+  // a line in the arc's plane is planar
+  EXPECT_TRUE(planar_corner(arc, Line{end, end + Vec3(-0.3, 0.5, 0.0)}).planar);
+}
+
+TEST(Biclothoid, RandomCornersAreG2AndWithinTolerance) {
+  const int cases = test::property_cases(2000);
+  int fitted = 0;
+  int limited = 0;
+  double worst_position = 0;
+  double worst_curvature = 0;
+  double worst_ratio = 0;
+  for (int i = 0; i < cases; ++i) {
+    const std::uint64_t seed = 1000 + static_cast<std::uint64_t>(i);
+    auto rng = test::make_rng(seed);
+    const auto kind = static_cast<test::CornerKind>(i % 4);
+    const test::CornerCase cc = test::random_corner(rng, kind, Method::kBiclothoid);
+    const CornerFit fit = fit_biclothoid_corner(cc.input);
+    ASSERT_TRUE(fit.outcome.ok()) << test::seed_text(seed) << ": " << fit.outcome.message;
+    ASSERT_FALSE(fit.transition.empty()) << test::seed_text(seed) << " " << fit.case_name;
+    ++fitted;
+    const test::FitCheck check = test::check_fit(cc.input, fit);
+    const double tol = cc.input.spec.parameter;
+    ASSERT_TRUE(test::is_g2(check)) << test::seed_text(seed);
+    // the independent measure locates a maximum at a kink to 1e-10 of the fillet's length
+    double fillet_length = 0;
+    for (const Segment& seg : fit.transition) fillet_length += length(seg);
+    const double floor = 1e-10 * fillet_length;
+    EXPECT_LE(check.deviation, tol * (1 + kDeviationSlack) + floor) << test::seed_text(seed) << " " << fit.note;
+    // the reported deviation is the measured one; it reaches the tolerance unless limited
+    EXPECT_NEAR(check.deviation, fit.parameter_used, 1e-6 * fit.parameter_used + floor) << test::seed_text(seed);
+    if (fit.note.empty()) {
+      EXPECT_GE(check.deviation, tol * (1 - kToleranceReached)) << test::seed_text(seed);
+    } else {
+      ++limited;
+    }
+    worst_position = std::max(worst_position, check.position);
+    worst_curvature = std::max(worst_curvature, check.curvature);
+    worst_ratio = std::max(worst_ratio, check.deviation / tol);
+  }
+  EXPECT_EQ(fitted, cases);
+  RecordProperty("limited", limited);
+  std::cout << cases << " corners, " << limited << " limited by move length; worst position gap " << worst_position
+            << ", curvature jump " << worst_curvature << ", deviation / tolerance " << worst_ratio << "\n";
+}
+
+// A corner sized by start distance instead of tolerance (DESIGN: "maximum deviation, or a
+// start distance").
+CornerInput by_start_distance(CornerInput c, double start_distance) {
+  c.spec.parameter = 0;
+  c.spec.start_distance = start_distance;
+  return c;
+}
+
+TEST(BiclothoidStartDistance, StartsWhereAskedAndReportsTheMeasuredDeviation) {
+  const std::vector<Primitive> moves = listing1();
+  // listing 1 corner C (R10 arc -> R30.01 arc) and the line -> R10 arc corner, 3 mm before
+  for (const auto& [in, out] : {std::pair{moves[2], moves[3]}, std::pair{moves[1], moves[2]}}) {
+    const CornerInput c = by_start_distance(corner_between(in, out, 0.0), 3 * kMm);
+    const CornerFit fit = fit_biclothoid_corner(c);
+    ASSERT_TRUE(fit.outcome.ok()) << fit.outcome.message;
+    EXPECT_NEAR(fit.trim_in, 3 * kMm, 1e-15);
+    EXPECT_DOUBLE_EQ(fit.parameter_used, fit.trim_in);
+    EXPECT_TRUE(fit.note.empty()) << fit.note;
+    EXPECT_GT(fit.trim_out, 0.0);
+    EXPECT_TRUE(test::is_g2(test::check_fit(c, fit)));
+    // a larger start distance gives a larger fillet and a larger deviation
+    const CornerFit wider = fit_biclothoid_corner(by_start_distance(c, 4 * kMm));
+    ASSERT_TRUE(wider.outcome.ok()) << wider.outcome.message;
+    EXPECT_GT(wider.trim_out, fit.trim_out);
+    EXPECT_GT(test::check_fit(c, wider).deviation, test::check_fit(c, fit).deviation);
+  }
+  // two lines: the symmetric pair with tangent length = start distance
+  const CornerInput lines = by_start_distance(
+      corner_between(Line{Vec3(-0.1, 0, 0), Vec3(0, 0, 0)}, Line{Vec3(0, 0, 0), Vec3(0.05, 0.05, 0)}, 0.0), 7 * kMm);
+  const CornerFit pair = fit_biclothoid_corner(lines);
+  ASSERT_TRUE(pair.outcome.ok()) << pair.outcome.message;
+  EXPECT_NEAR(pair.trim_in, 7 * kMm, 1e-15);
+  EXPECT_NEAR(pair.trim_out, 7 * kMm, 1e-15);
+  EXPECT_TRUE(test::is_g2(test::check_fit(lines, pair)));
+}
+
+TEST(BiclothoidStartDistance, ShrinksToTheLargestFilletThatEndsWithinTheOutgoingMove) {
+  const std::vector<Primitive> moves = listing1();
+  CornerInput c = by_start_distance(corner_between(moves[1], moves[2], 0.0), 10 * kMm);
+  const CornerFit free_fit = fit_biclothoid_corner(c);
+  ASSERT_TRUE(free_fit.outcome.ok());
+  c.out_available = 0.5 * free_fit.trim_out;
+  const CornerFit fit = fit_biclothoid_corner(c);
+  ASSERT_TRUE(fit.outcome.ok()) << fit.outcome.message;
+  EXPECT_LT(fit.trim_in, 10 * kMm);
+  EXPECT_LE(fit.trim_out, c.out_available);
+  EXPECT_GE(fit.trim_out, c.out_available * (1 - 1e-6)) << "the largest that fits";
+  EXPECT_NE(fit.note.find("start distance shrunk from 10 mm"), std::string::npos) << fit.note;
+  EXPECT_NE(fit.note.find("outgoing move"), std::string::npos) << fit.note;
+  EXPECT_TRUE(test::is_g2(test::check_fit(c, fit)));
+  // the incoming move limits it too
+  CornerInput short_in = by_start_distance(corner_between(moves[1], moves[2], 0.0), 10 * kMm);
+  short_in.in_available = 2 * kMm;
+  const CornerFit capped = fit_biclothoid_corner(short_in);
+  ASSERT_TRUE(capped.outcome.ok());
+  EXPECT_NEAR(capped.trim_in, 2 * kMm, 1e-15);
+  EXPECT_NE(capped.note.find("incoming move"), std::string::npos) << capped.note;
+}
+
+TEST(BiclothoidStartDistance, RandomCornersStartWhereAskedOrSayWhyNot) {
+  const int cases = test::property_cases(1000);
+  int shrunk = 0;
+  int no_solution = 0;
+  for (int i = 0; i < cases; ++i) {
+    const std::uint64_t seed = 5000 + static_cast<std::uint64_t>(i);
+    auto rng = test::make_rng(seed);
+    const auto kind = static_cast<test::CornerKind>(i % 4);
+    const test::CornerCase cc = test::random_corner(rng, kind, Method::kBiclothoid);
+    const double asked = std::exp(test::uniform(rng, std::log(1e-3), std::log(1.0))) * length(cc.input.in);
+    const CornerInput c = by_start_distance(cc.input, asked);
+    const CornerFit fit = fit_biclothoid_corner(c);
+    ASSERT_TRUE(fit.outcome.ok()) << test::seed_text(seed) << ": " << fit.outcome.message;
+    if (fit.transition.empty()) {
+      // collinear or reversing corners keep no fillet
+      EXPECT_TRUE(fit.case_name == "collinear" || fit.case_name == "reversal") << test::seed_text(seed);
+      continue;
+    }
+    const test::FitCheck check = test::check_fit(c, fit);
+    ASSERT_TRUE(test::is_g2(check)) << test::seed_text(seed);
+    EXPECT_DOUBLE_EQ(fit.parameter_used, fit.trim_in) << test::seed_text(seed);
+    if (fit.note.empty()) {
+      EXPECT_NEAR(fit.trim_in, asked, 1e-12 * asked) << test::seed_text(seed);
+    } else {
+      ++shrunk;
+      EXPECT_LT(fit.trim_in, asked) << test::seed_text(seed);
+      EXPECT_NE(fit.note.find("start distance shrunk"), std::string::npos) << test::seed_text(seed) << fit.note;
+      no_solution += fit.note.find("found no fillet") != std::string::npos ? 1 : 0;
+    }
+  }
+  std::cout << cases << " corners, " << shrunk << " with the start distance shrunk, " << no_solution
+            << " of them where Algorithm 1 found no fillet further out\n";
+}
+
+Program listing1_program(Method method, double tolerance) {
+  Program program;
+  int k = 0;
+  for (const Primitive& geometry : listing1()) {
+    Move move;
+    move.geometry = geometry;
+    move.limits = {10000.0 / 60000.0, 9.8, 9.8, 200.0};
+    move.transition.method = method;
+    move.transition.parameter = tolerance;
+    move.name = std::string("N") + std::to_string(10 * ++k);
+    program.moves.push_back(move);
+  }
+  return program;
+}
+
+TEST(Biclothoid, Listing1ThroughTheBlenderIsG2Everywhere) {
+  const Path path = blend(listing1_program(Method::kBiclothoid, 0.1 * kMm));
+  ASSERT_EQ(path.corners.size(), 3u);
+  EXPECT_EQ(path.pieces().size(), 4u + 6u);  // four trimmed moves and three two-piece fillets
+  for (const CornerReport& report : path.corners) {
+    EXPECT_TRUE(report.fallback.empty()) << report.note;
+    EXPECT_FALSE(report.stop);
+    EXPECT_LE(report.deviation, 0.1 * kMm * (1 + kDeviationSlack));
+    EXPECT_GT(report.deviation, 0.09 * kMm);  // the blender samples; it sees nearly all of it
+    EXPECT_GT(report.feed_max, 0.2);          // 004 table 1: > 12000 mm/min
+  }
+  for (std::size_t k = 1; k < path.pieces().size(); ++k) {
+    const Segment& a = path.pieces()[k - 1].segment;
+    const Segment& b = path.pieces()[k].segment;
+    const double la = length(a);
+    EXPECT_LE((point(a, la) - point(b, 0)).norm(), 1e-12) << k;
+    EXPECT_LE(path.pieces()[k].kink_angle, test::kG2Tangent) << k;
+    EXPECT_LE((curvature_vector(a, la) - curvature_vector(b, 0)).norm(), 1e-7 * 124) << k;
+    EXPECT_FALSE(path.pieces()[k].stop_before) << k;
+  }
+}
+
+TEST(Biclothoid, RandomProgramsThroughTheBlender) {
+  // random planar programs of lines and arcs with kinks and tangent joins: every corner is
+  // fitted, the path is continuous, and every transition is G2 with its neighbours
+  // (the blender measures each corner's deviation densely, so fewer cases than above)
+  const int cases = test::property_cases(30);
+  for (int i = 0; i < cases; ++i) {
+    const std::uint64_t seed = 5000 + static_cast<std::uint64_t>(i);
+    auto rng = test::make_rng(seed);
+    Program program;
+    Vec3 at(0, 0, 0);
+    Vec3 heading(1, 0, 0);
+    const Vec3 normal(0, 0, 1);
+    for (int m = 0; m < 6; ++m) {
+      Move move;
+      move.limits = {0.2, 5.0, 5.0, 100.0};
+      move.transition.method = Method::kBiclothoid;
+      move.transition.parameter = std::exp(test::uniform(rng, std::log(1e-5), std::log(1e-3)));
+      if (test::uniform(rng, 0, 1) < 0.5) {
+        const double len = std::exp(test::uniform(rng, std::log(1e-3), std::log(0.1)));
+        move.geometry = Line{at, at + len * heading};
+      } else {
+        const double radius = std::exp(test::uniform(rng, std::log(1e-3), std::log(0.2)));
+        move.geometry = test::arc_leaving(at, heading, normal, test::uniform(rng, 0, 1) < 0.5 ? 1.0 : -1.0, radius,
+                                          test::uniform(rng, 0.2, 2.5));
+      }
+      const double len = length(move.geometry);
+      at = point(move.geometry, len);
+      heading = tangent(move.geometry, len);
+      // the next move starts tangent (a third of the time) or after a kink
+      if (test::uniform(rng, 0, 1) > 1.0 / 3.0) {
+        const double kink = test::uniform(rng, -2.5, 2.5);
+        heading = std::cos(kink) * heading + std::sin(kink) * normal.cross(heading);
+      }
+      program.moves.push_back(move);
+    }
+    const Path path = blend(program);
+    for (const CornerReport& report : path.corners) {
+      EXPECT_TRUE(report.fallback.empty())
+          << test::seed_text(seed) << " corner " << report.index << ": " << report.note;
+      EXPECT_LE(report.deviation, program.moves[static_cast<std::size_t>(report.index)].transition.parameter *
+                                      (1 + kDeviationSlack))
+          << test::seed_text(seed);
+    }
+    for (std::size_t k = 1; k < path.pieces().size(); ++k) {
+      const PathPiece& prev = path.pieces()[k - 1];
+      const PathPiece& piece = path.pieces()[k];
+      const double la = length(prev.segment);
+      EXPECT_LE((point(prev.segment, la) - point(piece.segment, 0)).norm(), 1e-11) << test::seed_text(seed);
+      // a transition's ends: G2. (Where two fillets leave less than a micrometre of a move
+      // between them the blender keeps that sliver, and a Line's tangent from two points 1e-9 m
+      // apart is only good to ~1e-7 rad; check_fit covers those junctions per corner.)
+      const bool sliver =
+          (prev.move >= 0 && length(prev.segment) < 1e-6) || (piece.move >= 0 && length(piece.segment) < 1e-6);
+      if ((piece.corner >= 0 || prev.corner >= 0) && !sliver) {
+        EXPECT_LE(piece.kink_angle, test::kG2Tangent) << test::seed_text(seed) << " piece " << k;
+        const Vec3 ka = curvature_vector(prev.segment, la);
+        const Vec3 kb = curvature_vector(piece.segment, 0);
+        EXPECT_LE((ka - kb).norm(), test::kG2Curvature * std::max({ka.norm(), kb.norm(), 1.0})) << test::seed_text(seed);
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace blendbench
