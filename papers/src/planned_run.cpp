@@ -1,0 +1,231 @@
+// The runs behind the reproductions: a program planned and checked (plan_run), the figures
+// and tables they feed, and the statistics of a run that the reports quote.
+
+#include "blendbench/papers/reproduce.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <utility>
+
+#include "blendbench/corner/blend.hpp"
+#include "blendbench/geometry/closest.hpp"
+#include "blendbench/io/scenario.hpp"
+#include "blendbench/timing/scurve.hpp"
+#include "papers_internal.hpp"
+
+namespace blendbench {
+using namespace papers_detail;  // the helpers private to the reproductions
+namespace {
+
+// Relative rounding allowance of the finite-difference axis terms (positions of ~0.1 m to 1e-16,
+// divided by dt^3 = 1e-9 s^3, against jerk limits of ~100 m/s^3).
+constexpr double kAxisSlack = 1e-6;
+
+}  // namespace
+
+namespace papers_detail {
+
+// The file path of a repository input.
+std::string repo_file(const std::string& relative) { return source_root() + "/" + relative; }
+
+Figure figure(std::string key, std::string label, double paper, double ours, double printed_step) {
+  return Figure{std::move(key), std::move(label), paper, ours, printed_step};
+}
+
+Transition transition(Method method, double parameter) {
+  Transition t;
+  t.method = method;
+  t.parameter = parameter;
+  return t;
+}
+
+int fillet_count(const Path& path) {
+  return static_cast<int>(std::count_if(path.corners.begin(), path.corners.end(),
+                                        [](const CornerReport& c) { return c.length > 0; }));
+}
+
+double largest_deviation(const Path& path) {
+  double d = 0;
+  for (const CornerReport& c : path.corners) d = std::max(d, c.deviation);
+  return d;
+}
+
+// The pieces of the path, as one curve for hausdorff().
+std::vector<Segment> segments_of(const Path& path) {
+  std::vector<Segment> out;
+  for (const PathPiece& p : path.pieces()) out.push_back(p.segment);
+  return out;
+}
+
+std::vector<Segment> segments_of(const Program& program) {
+  std::vector<Segment> out;
+  for (const Move& m : program.moves) out.push_back(to_segment(m.geometry));
+  return out;
+}
+
+// The rest-to-rest time (s) of one S-curve over `distance` (m) with tangential limits only: what
+// a planner that ignores corners and curvature achieves on a path of that length.
+double tangential_only_time(double distance, const Limits& limits) {
+  const ScurveResult r =
+      plan_scurve(distance, 0.0, 0.0, ScurveLimits{limits.velocity, limits.acceleration, limits.deceleration, limits.jerk});
+  return r.curve.duration();
+}
+
+FilletFeeds fillet_feeds(const Path& path) {
+  FilletFeeds f;
+  for (const CornerReport& c : path.corners) {
+    if (c.length <= 0) continue;
+    const Limits& lim = path.pieces().front().limits;
+    ++f.count;
+    const double v_acc = std::sqrt(lim.acceleration / c.kappa_max);
+    if (c.feed_max < v_acc) ++f.jerk_bound;
+    if (c.sharpness_max > c.kappa_max * c.kappa_max) ++f.sharpness_dominated;
+    f.min_feed = std::min(f.min_feed, c.feed_max);
+  }
+  return f;
+}
+
+// Corners whose transition parameter the blender shrank because a move is short.
+int shrunk(const Path& path) {
+  return static_cast<int>(std::count_if(path.corners.begin(), path.corners.end(), [](const CornerReport& c) {
+    return c.note.find("shrunk") != std::string::npos;
+  }));
+}
+
+// Transition pieces of a run, and those whose peak velocity is bound by the programmed feed.
+std::pair<int, int> fillet_pieces_at_feed(const PlannedRun& run) {
+  int all = 0;
+  int at_feed = 0;
+  for (const PieceTiming& p : run.timing.pieces) {
+    if (run.path.pieces()[p.piece].corner < 0) continue;
+    ++all;
+    if (p.binding == "feed") ++at_feed;
+  }
+  return {at_feed, all};
+}
+
+namespace {
+
+// max over samples a of `from` (every `step` m at most) of min over b in `to` of |a - b|. Segments
+// of `to` are visited nearest first by the lower bound |a - m| - L/2 (m the point at half its
+// length L: every point of it is within L/2 of m), and skipped once the bound exceeds the best
+// distance so far, so each sample needs the exact closest point on only a few segments.
+double directed_distance(const std::vector<Segment>& from, const std::vector<Segment>& to, double step) {
+  std::vector<Vec3> mid(to.size());
+  std::vector<double> half(to.size());
+  for (std::size_t k = 0; k < to.size(); ++k) {
+    half[k] = 0.5 * length(to[k]);
+    mid[k] = point(to[k], half[k]);
+  }
+  std::vector<std::pair<double, std::size_t>> order(to.size());
+  double worst = 0;
+  for (const Segment& seg : from) {
+    const double len = length(seg);
+    const int n = std::max(8, static_cast<int>(std::ceil(len / step)));
+    for (int i = 0; i <= n; ++i) {
+      const Vec3 a = point(seg, len * i / n);
+      for (std::size_t k = 0; k < to.size(); ++k) order[k] = {(a - mid[k]).norm() - half[k], k};
+      std::sort(order.begin(), order.end());
+      double best = std::numeric_limits<double>::infinity();
+      for (const auto& [bound, k] : order) {
+        if (bound >= best) break;
+        best = std::min(best, closest_point(to[k], a).distance);
+      }
+      worst = std::max(worst, best);
+    }
+  }
+  return worst;
+}
+
+}  // namespace
+
+// The Hausdorff distance (m) between two paths given as segments, both directions sampled every
+// `step` m at most.
+double path_hausdorff(const std::vector<Segment>& a, const std::vector<Segment>& b, double step) {
+  return std::max(directed_distance(a, b, step), directed_distance(b, a, step));
+}
+
+}  // namespace papers_detail
+
+bool Figure::within_print_rounding() const {
+  if (!(printed_step > 0) || !std::isfinite(paper)) return false;
+  return std::abs(ours - paper) <= 0.5 * printed_step * (1 + 1e-9) + 1e-9 * std::abs(paper);
+}
+
+const Figure& FigureTable::at(std::string_view key) const {
+  for (const Figure& f : rows) {
+    if (f.key == key) return f;
+  }
+  throw std::out_of_range("no figure '" + std::string(key) + "' in table '" + title + "'");
+}
+
+ProfileMargins profile_margins(const Path& path, const Timing& timing) {
+  ProfileMargins m;
+  const auto& x = timing.samples;
+  const double dt = timing.dt;
+  std::vector<Vec3> p(x.size());
+  std::vector<Limits> lim(x.size());
+  for (std::size_t k = 0; k < x.size(); ++k) {
+    const TimedSample& q = x[k];
+    p[k] = path.point(q.s);
+    // path-level terms over the pieces touching s
+    double v_lim = std::numeric_limits<double>::infinity();
+    Limits local{0, std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
+                 std::numeric_limits<double>::infinity()};
+    path.for_pieces_at(q.s, [&](std::size_t piece_index, double s) {
+      const PathPiece& piece = path.pieces()[piece_index];
+      const Limits& l = piece.limits;
+      const double kappa = curvature_vector(piece.segment, s).norm();
+      const double c = sharpness(piece.segment, s);
+      v_lim = std::min(v_lim, std::min(l.velocity, curvature_speed_limit(kappa, c, l.acceleration, l.jerk)));
+      m.normal_acceleration = std::max(m.normal_acceleration, kappa * q.v * q.v / l.acceleration);
+      m.eq24_jerk = std::max(m.eq24_jerk, std::hypot(c, kappa * kappa) * q.v * q.v * q.v / l.jerk);
+      local.acceleration = std::min(local.acceleration, l.acceleration);
+      local.deceleration = std::min(local.deceleration, l.deceleration);
+      local.jerk = std::min(local.jerk, l.jerk);
+    });
+    lim[k] = local;
+    m.velocity = std::max(m.velocity, q.v / v_lim);
+    m.tangential_acceleration =
+        std::max(m.tangential_acceleration, q.a >= 0 ? q.a / local.acceleration : -q.a / local.deceleration);
+    m.tangential_jerk = std::max(m.tangential_jerk, std::abs(q.j) / local.jerk);
+  }
+  // axis terms: centred differences of the sampled positions
+  for (std::size_t k = 1; k + 1 < x.size(); ++k) {
+    const Vec3 a = (p[k + 1] - 2 * p[k] + p[k - 1]) / (dt * dt);
+    m.axis_acceleration = std::max(m.axis_acceleration, a.cwiseAbs().maxCoeff() / lim[k].acceleration);
+  }
+  for (std::size_t k = 1; k + 2 < x.size(); ++k) {
+    const Vec3 j = (p[k + 2] - 3 * p[k + 1] + 3 * p[k] - p[k - 1]) / (dt * dt * dt);
+    const double ratio = j.cwiseAbs().maxCoeff() / std::min(lim[k].jerk, lim[k + 1].jerk);
+    if (ratio > 1 + kAxisSlack) m.axis_jerk_over_time += dt;
+    if (ratio > m.axis_jerk) {
+      m.axis_jerk = ratio;
+      m.axis_jerk_time = 0.5 * (x[k].t + x[k + 1].t);
+      m.axis_jerk_s = 0.5 * (x[k].s + x[k + 1].s);
+    }
+  }
+  return m;
+}
+
+PlannedRun plan_run(std::string name, std::string description, Program program, TimingOptions::Baseline baseline) {
+  PlannedRun run;
+  run.name = std::move(name);
+  run.description = std::move(description);
+  run.program = std::move(program);
+  run.path = blend(run.program);
+  TimingOptions options;
+  options.dt = kServoPeriod;
+  options.baseline = baseline;
+  run.timing = plan_timing(run.path, options);
+  if (!run.timing.outcome.ok()) {
+    throw std::runtime_error("reproduction '" + run.name + "': planning failed: " + run.timing.outcome.message);
+  }
+  run.margins = profile_margins(run.path, run.timing);
+  run.fillets = fillet_count(run.path);
+  return run;
+}
+
+}  // namespace blendbench
