@@ -10,6 +10,7 @@
 
 #include "blendbench/corner/biclothoid.hpp"
 #include "blendbench/corner/blend.hpp"
+#include "blendbench/geometry/closest.hpp"
 #include "blendbench/io/program_io.hpp"
 #include "papers_internal.hpp"
 
@@ -303,8 +304,8 @@ Paper004 reproduce_004() {
     const PlannedRun& bz = run("bezier_0.1mm");
     const PlannedRun& bzf = run("bezier_0.01mm");
     const Program original = listing1(Transition{});
-    const double h_coarse = path_hausdorff(segments_of(bz.path), segments_of(original), kHausdorffStep);
-    const double h_fine = path_hausdorff(segments_of(bzf.path), segments_of(original), kHausdorffStep);
+    const double h_coarse = hausdorff(segments_of(bz.path), segments_of(original), kHausdorffStep);
+    const double h_fine = hausdorff(segments_of(bzf.path), segments_of(original), kHausdorffStep);
     const PlannedRun& b1 = run("biclothoid_0.1mm");
     const FilletFeeds fz = fillet_feeds(bz.path);
     const FilletFeeds fzf = fillet_feeds(bzf.path);

@@ -36,13 +36,9 @@ Transition transition(Method method, double parameter);
 int fillet_count(const Path& path);
 double largest_deviation(const Path& path);
 
-// The pieces of the path, or the moves of the program, as one curve for hausdorff().
+// The pieces of the path, or the moves of the program, as one curve for hausdorff() (closest.hpp).
 std::vector<Segment> segments_of(const Path& path);
 std::vector<Segment> segments_of(const Program& program);
-
-// The Hausdorff distance (m) between two paths given as segments, both directions sampled every
-// `step` m at most.
-double path_hausdorff(const std::vector<Segment>& a, const std::vector<Segment>& b, double step);
 
 // The rest-to-rest time (s) of one S-curve over `distance` (m) with tangential limits only: what
 // a planner that ignores corners and curvature achieves on a path of that length.

@@ -10,7 +10,6 @@
 #include <utility>
 
 #include "blendbench/corner/blend.hpp"
-#include "blendbench/geometry/closest.hpp"
 #include "blendbench/io/scenario.hpp"
 #include "blendbench/timing/scurve.hpp"
 #include "papers_internal.hpp"
@@ -104,47 +103,6 @@ std::pair<int, int> fillet_pieces_at_feed(const PlannedRun& run) {
     if (p.binding == "feed") ++at_feed;
   }
   return {at_feed, all};
-}
-
-namespace {
-
-// max over samples a of `from` (every `step` m at most) of min over b in `to` of |a - b|. Segments
-// of `to` are visited nearest first by the lower bound |a - m| - L/2 (m the point at half its
-// length L: every point of it is within L/2 of m), and skipped once the bound exceeds the best
-// distance so far, so each sample needs the exact closest point on only a few segments.
-double directed_distance(const std::vector<Segment>& from, const std::vector<Segment>& to, double step) {
-  std::vector<Vec3> mid(to.size());
-  std::vector<double> half(to.size());
-  for (std::size_t k = 0; k < to.size(); ++k) {
-    half[k] = 0.5 * length(to[k]);
-    mid[k] = point(to[k], half[k]);
-  }
-  std::vector<std::pair<double, std::size_t>> order(to.size());
-  double worst = 0;
-  for (const Segment& seg : from) {
-    const double len = length(seg);
-    const int n = std::max(8, static_cast<int>(std::ceil(len / step)));
-    for (int i = 0; i <= n; ++i) {
-      const Vec3 a = point(seg, len * i / n);
-      for (std::size_t k = 0; k < to.size(); ++k) order[k] = {(a - mid[k]).norm() - half[k], k};
-      std::sort(order.begin(), order.end());
-      double best = std::numeric_limits<double>::infinity();
-      for (const auto& [bound, k] : order) {
-        if (bound >= best) break;
-        best = std::min(best, closest_point(to[k], a).distance);
-      }
-      worst = std::max(worst, best);
-    }
-  }
-  return worst;
-}
-
-}  // namespace
-
-// The Hausdorff distance (m) between two paths given as segments, both directions sampled every
-// `step` m at most.
-double path_hausdorff(const std::vector<Segment>& a, const std::vector<Segment>& b, double step) {
-  return std::max(directed_distance(a, b, step), directed_distance(b, a, step));
 }
 
 }  // namespace papers_detail
