@@ -105,7 +105,7 @@ std::string markdown_margins_section(const std::vector<PlannedRun>& runs) {
   std::string out = "## Limits on the planned profiles\n\n";
   out +=
       "Every profile above was sampled at the 1 ms servo period and checked against its path (`profile_margins`, "
-      "papers/src/reproduce.cpp). Each column is the largest ratio of a quantity to its limit over all samples (≤ 1: "
+      "planner/timing/src/profile_margins.cpp). Each column is the largest ratio of a quantity to its limit over all samples (≤ 1: "
       "within the limit). The path-level terms are those the planner guarantees: v against v_lim(s) (programmed feed "
       "and 004 eq. 25-27 at the sample's curvature and sharpness), tangential acceleration and jerk, normal "
       "acceleration κv², and eq. 24's constant-speed axis-jerk bound √(c² + κ⁴)·v³. The axis columns are what one "

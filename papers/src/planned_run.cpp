@@ -16,14 +16,6 @@
 
 namespace blendbench {
 using namespace papers_detail;  // the helpers private to the reproductions
-namespace {
-
-// Relative rounding allowance of the finite-difference axis terms (positions of ~0.1 m to 1e-16,
-// divided by dt^3 = 1e-9 s^3, against jerk limits of ~100 m/s^3).
-constexpr double kAxisSlack = 1e-6;
-
-}  // namespace
-
 namespace papers_detail {
 
 // The file path of a repository input.
@@ -119,55 +111,6 @@ const Figure& FigureTable::at(std::string_view key) const {
   throw std::out_of_range("no figure '" + std::string(key) + "' in table '" + title + "'");
 }
 
-ProfileMargins profile_margins(const Path& path, const Timing& timing) {
-  ProfileMargins m;
-  const auto& x = timing.samples;
-  const double dt = timing.dt;
-  std::vector<Vec3> p(x.size());
-  std::vector<Limits> lim(x.size());
-  for (std::size_t k = 0; k < x.size(); ++k) {
-    const TimedSample& q = x[k];
-    p[k] = path.point(q.s);
-    // path-level terms over the pieces touching s
-    double v_lim = std::numeric_limits<double>::infinity();
-    Limits local{0, std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(),
-                 std::numeric_limits<double>::infinity()};
-    path.for_pieces_at(q.s, [&](std::size_t piece_index, double s) {
-      const PathPiece& piece = path.pieces()[piece_index];
-      const Limits& l = piece.limits;
-      const double kappa = curvature_vector(piece.segment, s).norm();
-      const double c = sharpness(piece.segment, s);
-      v_lim = std::min(v_lim, std::min(l.velocity, curvature_speed_limit(kappa, c, l.acceleration, l.jerk)));
-      m.normal_acceleration = std::max(m.normal_acceleration, kappa * q.v * q.v / l.acceleration);
-      m.eq24_jerk = std::max(m.eq24_jerk, std::hypot(c, kappa * kappa) * q.v * q.v * q.v / l.jerk);
-      local.acceleration = std::min(local.acceleration, l.acceleration);
-      local.deceleration = std::min(local.deceleration, l.deceleration);
-      local.jerk = std::min(local.jerk, l.jerk);
-    });
-    lim[k] = local;
-    m.velocity = std::max(m.velocity, q.v / v_lim);
-    m.tangential_acceleration =
-        std::max(m.tangential_acceleration, q.a >= 0 ? q.a / local.acceleration : -q.a / local.deceleration);
-    m.tangential_jerk = std::max(m.tangential_jerk, std::abs(q.j) / local.jerk);
-  }
-  // axis terms: centred differences of the sampled positions
-  for (std::size_t k = 1; k + 1 < x.size(); ++k) {
-    const Vec3 a = (p[k + 1] - 2 * p[k] + p[k - 1]) / (dt * dt);
-    m.axis_acceleration = std::max(m.axis_acceleration, a.cwiseAbs().maxCoeff() / lim[k].acceleration);
-  }
-  for (std::size_t k = 1; k + 2 < x.size(); ++k) {
-    const Vec3 j = (p[k + 2] - 3 * p[k + 1] + 3 * p[k] - p[k - 1]) / (dt * dt * dt);
-    const double ratio = j.cwiseAbs().maxCoeff() / std::min(lim[k].jerk, lim[k + 1].jerk);
-    if (ratio > 1 + kAxisSlack) m.axis_jerk_over_time += dt;
-    if (ratio > m.axis_jerk) {
-      m.axis_jerk = ratio;
-      m.axis_jerk_time = 0.5 * (x[k].t + x[k + 1].t);
-      m.axis_jerk_s = 0.5 * (x[k].s + x[k + 1].s);
-    }
-  }
-  return m;
-}
-
 PlannedRun plan_run(std::string name, std::string description, Program program, TimingOptions::Baseline baseline) {
   PlannedRun run;
   run.name = std::move(name);
@@ -181,7 +124,7 @@ PlannedRun plan_run(std::string name, std::string description, Program program, 
   if (!run.timing.outcome.ok()) {
     throw std::runtime_error("reproduction '" + run.name + "': planning failed: " + run.timing.outcome.message);
   }
-  run.margins = profile_margins(run.path, run.timing);
+  run.margins = profile_margins(run.path, run.timing, handover_zones(run.path, options));
   run.fillets = fillet_count(run.path);
   return run;
 }
