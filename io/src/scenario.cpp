@@ -53,14 +53,16 @@ class Reader {
     return path.empty() ? key : path + "." + key;
   }
 
-  // The child `key` of map `f`; undefined when absent.
+  // The child `key` of map `f`; undefined when absent. Looked up through a const node and
+  // copy-constructed: assigning a yaml-cpp node to one of another document merges the two
+  // documents' node sets, which made every lookup cost the size of the file (loading was
+  // quadratic in the number of moves).
   static Field child(const Field& f, const std::string& key) {
-    Field out{YAML::Node(YAML::NodeType::Undefined), join(f.path, key)};
     if (f.node.IsMap()) {
-      const YAML::Node c = f.node[key];
-      if (c.IsDefined()) out.node = c;
+      const YAML::Node& map = f.node;
+      if (YAML::Node c = map[key]; c.IsDefined()) return {c, join(f.path, key)};
     }
-    return out;
+    return {YAML::Node(YAML::NodeType::Undefined), join(f.path, key)};
   }
 
   Field require(const Field& f, const std::string& key) const {
