@@ -13,6 +13,8 @@
 #      <prefix>/share/blendbench (path, run with and without a scenario, check against the
 #      installed baseline, reproduce), and a copy of it with no data beside it fails naming
 #      the places it tried.
+# The consumer is configured with the generator and compiler in CMAKE_GENERATOR and CXX (ctest
+# sets them to the build's).
 set -euo pipefail
 
 cmake_command=$1
