@@ -17,6 +17,7 @@
 #include "blendbench/timing/scurve.hpp"
 #include "blendbench/report/output.hpp"
 #include "blendbench/report/process.hpp"
+#include "blendbench/io/data_root.hpp"
 #include "blendbench/io/program_io.hpp"
 #include "blendbench/report/report.hpp"
 #include "blendbench/io/scenario.hpp"
@@ -66,9 +67,6 @@ int decimals_of(double step) {
 
 std::string percent(double ratio) { return std::isfinite(ratio) ? fixed(100.0 * ratio, 1) + " %" : "—"; }
 
-// The file path of a repository input.
-std::string repo_file(const std::string& relative) { return source_root() + "/" + relative; }
-
 Figure figure(std::string key, std::string label, double paper, double ours, double printed_step) {
   return Figure{std::move(key), std::move(label), paper, ours, printed_step};
 }
@@ -80,7 +78,7 @@ Limits limits_004() { return Limits{kFeed004, kAcc004, kAcc004, kJerk004}; }
 Program listing1(const Transition& transition) {
   GcodeOptions options;
   options.limits = limits_004();
-  Program program = load_gcode_file(repo_file("scenarios/parts/listing1.ngc"), options).program;
+  Program program = load_gcode_file(data_file("scenarios/parts/listing1.ngc"), options).program;
   for (Move& move : program.moves) {
     move.transition = transition;
     move.limits = limits_004();
@@ -650,7 +648,7 @@ Paper004 reproduce_004() {
 
 Paper000 reproduce_000() {
   Paper000 r;
-  const Scenario scenario = load_scenario(repo_file("scenarios/papers/000_section_3_2.yaml"));
+  const Scenario scenario = load_scenario(data_file("scenarios/papers/000_section_3_2.yaml"));
   r.runs.push_back(plan_run("bezier_tp5", "000 section 3.2 program, Bezier transitions TP 5 mm",
                             program_for(scenario, find_variant(scenario, "bezier_tp5"))));
   r.runs.push_back(plan_run("exact_stop", "000 section 3.2 program, exact stop at every corner",
@@ -964,7 +962,7 @@ std::string markdown_margins_section(const std::vector<PlannedRun>& runs) {
 bool plot(const std::filesystem::path& dir, const std::string& paper, std::ostream& log) {
   // an argument vector, no shell: the output folder is data, whatever characters it holds
   const ProcessResult plotted =
-      run_process({"/usr/bin/python3", source_root() + "/papers/scripts/plot_papers.py", dir.string(), paper});
+      run_process({"/usr/bin/python3", data_file("papers/scripts/plot_papers.py"), dir.string(), paper});
   if (!plotted.ok) log << "warning: the plot script failed (" << plotted.message << ")" << std::endl;
   return plotted.ok;
 }
