@@ -7,6 +7,7 @@
 #include <string>
 #include <variant>
 
+#include "blendbench/io/data_root.hpp"
 #include "blendbench/io/scenario.hpp"
 #include "papers_internal.hpp"
 
@@ -15,7 +16,7 @@ using namespace papers_detail;  // the helpers private to the reproductions
 
 Paper000 reproduce_000() {
   Paper000 r;
-  const Scenario scenario = load_scenario(repo_file("scenarios/papers/000_section_3_2.yaml"));
+  const Scenario scenario = load_scenario(data_file("scenarios/papers/000_section_3_2.yaml"));
   r.runs.push_back(plan_run("bezier_tp5", "000 section 3.2 program, Bezier transitions TP 5 mm",
                             program_for(scenario, find_variant(scenario, "bezier_tp5"))));
   r.runs.push_back(plan_run("exact_stop", "000 section 3.2 program, exact stop at every corner",

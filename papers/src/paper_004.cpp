@@ -11,6 +11,7 @@
 #include "blendbench/corner/biclothoid.hpp"
 #include "blendbench/corner/blend.hpp"
 #include "blendbench/geometry/closest.hpp"
+#include "blendbench/io/data_root.hpp"
 #include "blendbench/io/program_io.hpp"
 #include "papers_internal.hpp"
 
@@ -100,7 +101,7 @@ void set_bezier_tp(Program& program, double tolerance) {
 Program papers_detail::listing1(const Transition& transition) {
   GcodeOptions options;
   options.limits = limits_004();
-  Program program = load_gcode_file(repo_file("scenarios/parts/listing1.ngc"), options).program;
+  Program program = load_gcode_file(data_file("scenarios/parts/listing1.ngc"), options).program;
   for (Move& move : program.moves) {
     move.transition = transition;
     move.limits = limits_004();

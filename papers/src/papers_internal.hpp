@@ -26,9 +26,6 @@ inline constexpr double kServoPeriod = 1e-3;  // s: the planner's servo period (
 inline constexpr int kDecimate004 = 4;
 inline constexpr int kDecimate000 = 20;
 
-// The file path of a repository input.
-std::string repo_file(const std::string& relative);
-
 Figure figure(std::string key, std::string label, double paper, double ours, double printed_step);
 Transition transition(Method method, double parameter);
 

@@ -10,16 +10,12 @@
 #include <utility>
 
 #include "blendbench/corner/blend.hpp"
-#include "blendbench/io/scenario.hpp"
 #include "blendbench/timing/scurve.hpp"
 #include "papers_internal.hpp"
 
 namespace blendbench {
 using namespace papers_detail;  // the helpers private to the reproductions
 namespace papers_detail {
-
-// The file path of a repository input.
-std::string repo_file(const std::string& relative) { return source_root() + "/" + relative; }
 
 Figure figure(std::string key, std::string label, double paper, double ours, double printed_step) {
   return Figure{std::move(key), std::move(label), paper, ours, printed_step};

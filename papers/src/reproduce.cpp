@@ -12,7 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "blendbench/core/input_error.hpp"
-#include "blendbench/io/scenario.hpp"
+#include "blendbench/io/data_root.hpp"
 #include "blendbench/report/output.hpp"
 #include "blendbench/report/process.hpp"
 #include "blendbench/report/report.hpp"
@@ -148,7 +148,7 @@ std::string table2_fillets_csv(const Paper004& r) {
 bool plot(const std::filesystem::path& dir, const std::string& paper, std::ostream& log) {
   // an argument vector, no shell: the output folder is data, whatever characters it holds
   const ProcessResult plotted =
-      run_process({"/usr/bin/python3", source_root() + "/papers/scripts/plot_papers.py", dir.string(), paper});
+      run_process({"/usr/bin/python3", data_file("papers/scripts/plot_papers.py"), dir.string(), paper});
   if (!plotted.ok) log << "warning: the plot script failed (" << plotted.message << ")" << std::endl;
   return plotted.ok;
 }

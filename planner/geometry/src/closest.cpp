@@ -1,6 +1,7 @@
 #include "blendbench/geometry/closest.hpp"
 
 #include "blendbench/core/golden.hpp"
+#include "blendbench/core/overloaded.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -11,11 +12,6 @@
 
 namespace blendbench {
 namespace {
-
-template <class... Ts>
-struct Overloaded : Ts... {
-  using Ts::operator()...;
-};
 
 Closest make(const Segment& segment, double s, const Vec3& query) {
   const Vec3 p = point(segment, s);
