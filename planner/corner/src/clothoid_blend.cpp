@@ -9,6 +9,7 @@
 #include "blendbench/core/format.hpp"
 #include "blendbench/corner/biclothoid.hpp"
 #include "blendbench/corner/corner.hpp"
+#include "blendbench/corner/corner_plane.hpp"
 #include "blendbench/geometry/fresnel.hpp"
 
 namespace blendbench {

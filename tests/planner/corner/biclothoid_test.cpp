@@ -74,7 +74,7 @@ TEST(Biclothoid, WorkedExampleOfSection5) {
 
 TEST(Biclothoid, Eq11IsTheRootWhereTheCurvaturePeaks) {
   // eq. 11 takes -sqrt(SQ); that is the root with 0 <= s1 <= L when A = dtheta - L kbar >= 0,
-  // and +sqrt(SQ) is when A < 0 (biclothoid.cpp derives both)
+  // and +sqrt(SQ) is when A < 0 (biclothoid_curve.cpp derives both)
   const std::uint64_t seed = 21;
   auto rng = test::make_rng(seed);
   const int cases = test::property_cases(2000);
