@@ -9,6 +9,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "blendbench/geometry/arc_construction.hpp"
 #include "support/property.hpp"
 
 namespace blendbench {
@@ -292,6 +293,16 @@ TEST(Gcode, HelixRiseAlongTheNormalAxis) {
   EXPECT_NEAR(arc_of(r, 0).sweep, 6 * kPi, 1e-14);
   EXPECT_VEC_NEAR(end_of(r.program.moves[0].geometry), mm(0, 0, -6), kTol);
   EXPECT_VEC_NEAR(point(r.program.moves[0].geometry, length(r.program.moves[0].geometry) / 3), mm(0, 0, -2), kTol);
+}
+
+// P turns are bounded (kMaxArcTurns): the work per arc is known before any is done.
+TEST(Gcode, TurnsBeyondTheLimitAreRefusedNamingTheWordAndTheLimit) {
+  const std::string limit = std::to_string(kMaxArcTurns);
+  EXPECT_NEAR(arc_of(parse("G3 Z-6 I5 P" + limit), 0).sweep, 2 * kPi * kMaxArcTurns, 1e-9);
+  for (const std::string p : {std::to_string(kMaxArcTurns + 1), std::string("10000"), std::string("100000000000000000000"), std::string("2.5")}) {
+    const std::string message = expect_error("G21\nG3 Z-6 I5 P" + p, 2, 11, "P" + p);
+    EXPECT_NE(message.find("from 1 to " + limit + " (the limit bounds the work per arc)"), std::string::npos) << message;
+  }
 }
 
 TEST(Gcode, IncrementalAndAbsoluteDistanceModes) {

@@ -409,6 +409,22 @@ TEST(Validate, AZeroLengthLineIsAnInputErrorNamingTheMove) {
   }
 }
 
+// The join tolerance is relative to the longest move, so beside a huge move a normal one is
+// below it: the message names that cause (the huge move and the tolerance), not "zero length".
+TEST(Validate, AMoveShorterThanTheToleranceOfAHugeMoveNamesTheHugeMove) {
+  Program program;
+  program.moves = {line_move({0, 0, 0}, {0.01, 0, 0}), line_move({0.01, 0, 0}, {0.01, 1e27, 0})};
+  program.moves[0].name = "line 2 G1";
+  program.moves[0].where = {"part.ngc", 2, 1};
+  program.moves[1].name = "line 3 G1";
+  const InputError e = validation_error(program);
+  expect_at(e, program.moves[0], "geometry");
+  EXPECT_TRUE(starts_with(e.detail(), "line 2 G1 (10 mm) is too short to be told from a point; the join tolerance 1e+21 mm "
+                                      "is 1e-9 of the longest move, line 3 G1 of 1e+30 mm"))
+      << e.what();
+  EXPECT_EQ(e.detail().find("zero length"), std::string::npos) << e.what();
+}
+
 TEST(Validate, ANonFiniteCoordinateIsNamedAsSuchWhereverItIs) {
   // on a line, or anywhere on an arc: its centre, axes, radius, sweep or rise; an arc with a NaN
   // centre has a finite radius, sweep and length, so only its points show the NaN
