@@ -31,18 +31,27 @@ using yaml_detail::Ref;
 constexpr double kDeg = std::numbers::pi / 180.0;
 
 // A value of the file with its key path, so every error can name file, line, column and key.
+// The path is kept as a link to the parent and built only for a message (a path string per
+// lookup was a tenth of the loading time): a Field lives no longer than its parent.
 struct Field {
   Ref node;                            // no node: the key is absent
-  std::string path;                    // e.g. "program.moves[3].arc.center"
+  const Field* parent = nullptr;       // the map or list it is in; nullptr for the top level
+  std::string_view name;               // its key in the parent map ("" for a list item)
+  std::size_t index = 0;               // its index in the parent list
   std::string_view map;                // a map's table map (the keys it may hold)
   const ScenarioKey* key = nullptr;    // the table entry of this value; nullptr for a list item
   Ref at;                              // where an absent key is reported: its map
   bool fallback = false;               // the table's default, not the file's (lengths in mm)
-};
 
-std::string join(const std::string& path, std::string_view key) {
-  return path.empty() ? std::string(key) : path + "." + std::string(key);
-}
+  // e.g. "program.moves[3].arc.center"
+  [[nodiscard]] std::string path() const {
+    if (parent == nullptr) return std::string(name);
+    std::string out = parent->path();
+    if (name.empty()) return out.append("[").append(std::to_string(index)).append("]");
+    if (!out.empty()) out += '.';
+    return out.append(name);
+  }
+};
 
 // A word for what a node is, for "expected a number, got a list".
 std::string what_is(const Ref& node) {
@@ -90,14 +99,14 @@ class Reader {
   Reader(const Document& doc, std::string file, std::string base_dir)
       : doc_(doc), file_(std::move(file)), base_dir_(std::move(base_dir)) {}
 
-  [[nodiscard]] Field root() const { return {doc_.root(), "", "", nullptr, doc_.root(), false}; }
+  [[nodiscard]] Field root() const { return {doc_.root(), nullptr, "", 0, "", nullptr, doc_.root(), false}; }
 
   // The file's length unit in metres (1e-3 for mm), once `units` is read.
   void set_scale(double scale) { scale_ = scale; }
 
   [[noreturn]] void fail(const Field& f, const std::string& message) const {
     const Ref& at = f.node.defined() ? f.node : f.at;
-    throw InputError(file_, at.line(), at.column(), f.path, message);
+    throw InputError(file_, at.line(), at.column(), f.path(), message);
   }
 
   [[nodiscard]] SourceRef where(const Field& f) const {
@@ -113,8 +122,8 @@ class Reader {
     for (std::size_t i = 0; i < f.node.size(); ++i) {
       const Ref key = f.node.key(i);
       const ScenarioKey* spec = find_scenario_key(f.map, key.scalar());
-      if (spec == nullptr) fail({key, join(f.path, key.scalar()), f.map, nullptr, key, false}, unknown_key(f.map, key.scalar()));
-      check_value({f.node.value(i), join(f.path, key.scalar()), spec->opens, spec, key, false});
+      if (spec == nullptr) fail({key, &f, key.scalar(), 0, f.map, nullptr, key, false}, unknown_key(f.map, key.scalar()));
+      check_value({f.node.value(i), &f, spec->name, 0, spec->opens, spec, key, false});
     }
   }
 
@@ -143,7 +152,7 @@ class Reader {
     const ScenarioKey* spec = find_scenario_key(f.map, key);
     if (spec == nullptr) throw std::logic_error("scenario loader: key '" + std::string(key) + "' of '" + std::string(f.map) + "' is not in the table");
     Ref node = f.node.is_map() ? f.node.get(key) : Ref();
-    return {node, join(f.path, key), spec->opens, spec, f.node.defined() ? f.node : f.at, false};
+    return {node, &f, spec->name, 0, spec->opens, spec, f.node.defined() ? f.node : f.at, false};
   }
 
   // The value of `key`, or the table's default when absent (no node when it has none).
@@ -164,7 +173,7 @@ class Reader {
 
   // Item `i` of list `f`, a map of the table map `f` opens.
   [[nodiscard]] Field item(const Field& f, std::size_t i) const {
-    return {f.node[i], f.path + "[" + std::to_string(i) + "]", f.map, nullptr, f.node[i], false};
+    return {f.node[i], &f, "", i, f.map, nullptr, f.node[i], false};
   }
 
   [[nodiscard]] std::string missing() const {
@@ -209,28 +218,29 @@ class Reader {
     fail(f, "expected true or false, got " + what_is(f.node));
   }
 
-  [[nodiscard]] std::string text(const Field& f) const {
+  [[nodiscard]] const std::string& text(const Field& f) const {
     if (!f.node.is_scalar()) fail(f, "expected a string, got " + what_is(f.node));
     return f.node.scalar();
   }
 
   // One of the entry's choices, as the table spells it (the file's may differ in case).
   [[nodiscard]] std::string choice(const Field& f) const {
-    const std::string given = text(f);
+    const std::string& given = text(f);
+    const auto same = [&](std::string_view option) {
+      return option.size() == given.size() &&
+             std::equal(option.begin(), option.end(), given.begin(), [](char a, char b) {
+               return std::tolower(static_cast<unsigned char>(a)) == std::tolower(static_cast<unsigned char>(b));
+             });
+    };
     std::vector<std::string> options;
     std::string_view rest = f.key->choices;
     while (true) {
       const std::size_t bar = rest.find('|');
-      options.emplace_back(rest.substr(0, bar));
+      const std::string_view option = rest.substr(0, bar);
+      if (same(option)) return std::string(option);
+      options.emplace_back(option);
       if (bar == std::string_view::npos) break;
       rest.remove_prefix(bar + 1);
-    }
-    const auto lower = [](std::string t) {
-      for (char& c : t) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-      return t;
-    };
-    for (const std::string& o : options) {
-      if (lower(o) == lower(given)) return o;
     }
     std::string list;
     for (const std::string& o : options) list += (list.empty() ? "" : ", ") + o;
@@ -248,7 +258,9 @@ class Reader {
     for (std::size_t i = 0; i < n; ++i) {
       Field element = f;
       element.node = f.node[i];
-      element.path = f.path + "[" + std::to_string(i) + "]";
+      element.parent = &f;
+      element.name = "";
+      element.index = i;
       out[i] = number(element);
     }
     return out;
@@ -292,8 +304,10 @@ class Reader {
   [[nodiscard]] double raw_number(const Field& f) const {
     if (!f.node.is_scalar()) fail(f, "expected a number, got " + what_is(f.node));
     const std::string& s = f.node.scalar();
-    if (names_non_finite(s)) fail(f, "expected a finite number, got '" + s + "'");
-    if (!is_decimal(s)) fail(f, "expected a number, got '" + s + "'");
+    if (!is_decimal(s)) {
+      if (names_non_finite(s)) fail(f, "expected a finite number, got '" + s + "'");
+      fail(f, "expected a number, got '" + s + "'");
+    }
     std::string_view digits = s;
     if (digits.front() == '+') digits.remove_prefix(1);
     double value = 0;
@@ -328,7 +342,12 @@ class Reader {
   // SI per unit of the file: the length unit to the entry's power (a default's lengths are mm).
   [[nodiscard]] double unit_factor(const Field& f) const {
     const double scale = f.fallback ? 1e-3 : scale_;
-    return std::pow(scale, f.key->unit.length_power);
+    switch (f.key->unit.length_power) {
+      case 0: return 1.0;
+      case 1: return scale;
+      case -1: return 1.0 / scale;
+      default: return std::pow(scale, f.key->unit.length_power);
+    }
   }
 
   // The table's default of an entry, parsed once.

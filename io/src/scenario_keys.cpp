@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <unordered_map>
 
 #include "blendbench/core/format.hpp"
 #include "blendbench/geometry/arc_construction.hpp"
@@ -100,18 +99,18 @@ constexpr std::array kKeys = {
 };
 // clang-format on
 
-std::string lookup_key(std::string_view map, std::string_view name) {
-  std::string key(map);
-  key += '\0';
-  key += name;
-  return key;
-}
+// The table by map: each map's keys, looked up by a scan (a map has at most a dozen keys, and
+// lookups run for every key of every move).
+using KeyIndex = std::vector<std::pair<std::string_view, std::vector<const ScenarioKey*>>>;
 
-// The table indexed by (map, name), built once.
-const std::unordered_map<std::string, const ScenarioKey*>& key_index() {
-  static const std::unordered_map<std::string, const ScenarioKey*> index = [] {
-    std::unordered_map<std::string, const ScenarioKey*> out;
-    for (const ScenarioKey& k : kKeys) out.emplace(lookup_key(k.map, k.name), &k);
+const KeyIndex& key_index() {
+  static const KeyIndex index = [] {
+    KeyIndex out;
+    for (const ScenarioKey& k : kKeys) {
+      auto it = std::find_if(out.begin(), out.end(), [&](const auto& m) { return m.first == k.map; });
+      if (it == out.end()) it = out.insert(out.end(), {k.map, {}});
+      it->second.push_back(&k);
+    }
     return out;
   }();
   return index;
@@ -217,9 +216,14 @@ std::string range_text(const KeyRange& r) {
 std::span<const ScenarioKey> scenario_keys() { return kKeys; }
 
 const ScenarioKey* find_scenario_key(std::string_view map, std::string_view name) {
-  const auto& index = key_index();
-  const auto it = index.find(lookup_key(map, name));
-  return it == index.end() ? nullptr : it->second;
+  for (const auto& [m, keys] : key_index()) {
+    if (m != map) continue;
+    for (const ScenarioKey* k : keys) {
+      if (k->name == name) return k;
+    }
+    return nullptr;
+  }
+  return nullptr;
 }
 
 std::vector<std::string> scenario_map_path_list(std::string_view map) {

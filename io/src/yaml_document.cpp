@@ -4,6 +4,7 @@
 
 #include <yaml.h>
 
+#include <algorithm>
 #include <limits>
 #include <optional>
 #include <unordered_map>
@@ -28,7 +29,8 @@ Ref Ref::value(std::size_t i) const { return {doc_, doc_->links_[node().first + 
 Ref Ref::get(std::string_view key_text) const {
   if (!is_map()) return {};
   for (std::size_t i = 0; i < size(); ++i) {
-    if (key(i).scalar() == key_text) return value(i);
+    const std::string& k = key(i).scalar();
+    if (k.size() == key_text.size() && std::equal(k.begin(), k.end(), key_text.begin())) return value(i);
   }
   return {};
 }
