@@ -9,6 +9,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "support/input_error.hpp"
 #include "support/property.hpp"
 #include "blendbench/app/runner.hpp"
 #include "blendbench/io/scenario.hpp"
@@ -86,18 +87,11 @@ TEST_F(EndToEnd, UnreachableTargetIsBadInputNamingTheMove) {
   request.out_dir = dir_;
   request.video = false;
   request.plots = false;
-  try {
-    (void)run_scenario(sc, request);
-    FAIL() << "expected an InputError";
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.file(), "e2e.yaml");
-    EXPECT_EQ(e.line(), 10) << e.what();
-    EXPECT_EQ(e.field(), "program.moves[1]") << e.what();
-    // when and where: the time on the plan and the pose that is out of reach
-    const std::string what = e.what();
-    EXPECT_NE(what.find("t = "), std::string::npos) << what;
-    EXPECT_NE(what.find("out of reach: position ("), std::string::npos) << what;
-  }
+  // when and where: the time on the plan and the pose that is out of reach
+  const InputError e = test::expect_input_error([&] { (void)run_scenario(sc, request); },
+                                                {.file = "e2e.yaml", .line = 10, .field = "program.moves[1]",
+                                                 .message = "out of reach: position ("});
+  EXPECT_NE(std::string(e.what()).find("t = "), std::string::npos) << e.what();
 }
 
 }  // namespace

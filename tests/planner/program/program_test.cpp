@@ -13,6 +13,7 @@
 #include <string_view>
 #include <vector>
 
+#include "support/input_error.hpp"
 #include "support/property.hpp"
 #include "support/random_geometry.hpp"
 #include "blendbench/core/format.hpp"
@@ -191,15 +192,7 @@ Program three_moves() {
 }
 
 // The InputError validate throws; a failure (and an empty error) when it throws none.
-InputError validation_error(const Program& program) {
-  try {
-    validate(program);
-  } catch (const InputError& e) {
-    return e;
-  }
-  ADD_FAILURE() << "validate accepted the program";
-  return InputError("", 0, 0, "", "");
-}
+InputError validation_error(const Program& program) { return test::expect_input_error([&] { validate(program); }, {}); }
 
 // Checks that the error is located where `move` was written and names `field`.
 void expect_at(const InputError& e, const Move& move, const std::string& field) {
