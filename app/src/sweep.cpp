@@ -22,6 +22,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using sweep_detail::point_dir;
+using sweep_detail::read_text;
 
 constexpr int kExitOk = 0;
 constexpr int kExitNotOk = 1;
@@ -29,16 +30,14 @@ constexpr const char* kPlanFile = "sweep.plan.json";
 
 nlohmann::json where_json(const SourceRef& where) { return {{"line", where.line}, {"column", where.column}}; }
 
-SourceRef where_from(const nlohmann::json& j, const std::string& file) {
-  return {file, j.value("line", 0), j.value("column", 0)};
+// An object of the plan with the sweep file line and column it came from.
+nlohmann::json located(const SourceRef& where, nlohmann::json object) {
+  object.update(where_json(where));
+  return object;
 }
 
-std::optional<std::string> read_text(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
+SourceRef where_from(const nlohmann::json& j, const std::string& file) {
+  return {file, j.value("line", 0), j.value("column", 0)};
 }
 
 nlohmann::json read_plan(const fs::path& out_dir) {
@@ -99,15 +98,20 @@ std::string jobs_text(int jobs) { return "--jobs " + std::to_string(jobs); }
 // The tables from the points' results: sweep.csv, sweep.json, best.csv, pareto.png, report.html.
 int collect(const fs::path& out_dir, bool plots, std::ostream& out) {
   const SweepPlan plan = plan_from_json(read_plan(out_dir), (out_dir / kPlanFile).string());
-  std::map<std::string, PointOutcome> by_hash;
+  // one outcome per point; a point that shares its run with an earlier one copies it
+  std::vector<PointOutcome> outcomes;
+  outcomes.reserve(plan.points.size());
+  std::map<std::string, std::size_t> first_of_hash;
   std::vector<std::size_t> missing;
-  for (const std::size_t i : distinct_runs(plan)) {
-    const std::optional<PointOutcome> outcome = sweep_detail::read_outcome(point_dir(out_dir, plan.points[i]));
-    if (outcome) {
-      by_hash[plan.points[i].hash] = *outcome;
-    } else {
-      missing.push_back(i);
+  for (const SweepPoint& p : plan.points) {
+    if (const auto seen = first_of_hash.find(p.hash); seen != first_of_hash.end()) {
+      outcomes.push_back(outcomes[seen->second]);
+      continue;
     }
+    first_of_hash.emplace(p.hash, p.index);
+    std::optional<PointOutcome> outcome = sweep_detail::read_outcome(point_dir(out_dir, p));
+    if (!outcome) missing.push_back(p.index);
+    outcomes.push_back(outcome ? std::move(*outcome) : PointOutcome());
   }
   if (!missing.empty()) {
     std::string list;
@@ -117,9 +121,6 @@ int collect(const fs::path& out_dir, bool plots, std::ostream& out) {
         << "); run their shards again, or `blendbench sweep FILE --out DIR --resume`" << std::endl;
     return kExitNotOk;
   }
-  std::vector<PointOutcome> outcomes;
-  outcomes.reserve(plan.points.size());
-  for (const SweepPoint& p : plan.points) outcomes.push_back(by_hash.at(p.hash));
   const SweepTable table = build_table(plan, outcomes);
 
   write_file_atomic(out_dir / "sweep.csv", sweep_csv(plan, table));
@@ -274,32 +275,15 @@ std::vector<std::size_t> distinct_runs(const SweepPlan& plan) {
 nlohmann::json plan_json(const SweepPlan& plan) {
   const SweepSpec& spec = plan.spec;
   nlohmann::json variants = nlohmann::json::array();
-  for (std::size_t i = 0; i < spec.variants.size(); ++i) {
-    nlohmann::json v = where_json(spec.variants_where[i]);
-    v["name"] = spec.variants[i];
-    variants.push_back(v);
-  }
+  for (std::size_t i = 0; i < spec.variants.size(); ++i) variants.push_back(located(spec.variants_where[i], {{"name", spec.variants[i]}}));
   nlohmann::json axes = nlohmann::json::array();
   for (const SweepAxis& a : spec.axes) {
-    nlohmann::json j = where_json(a.where);
-    j["path"] = a.path;
-    j["values"] = a.values;
-    j["labels"] = a.labels;
-    axes.push_back(j);
+    axes.push_back(located(a.where, {{"path", a.path}, {"values", a.values}, {"labels", a.labels}}));
   }
   nlohmann::json constraints = nlohmann::json::array();
-  for (const Constraint& c : spec.constraints) {
-    nlohmann::json j = where_json(c.where);
-    j["text"] = c.text;
-    constraints.push_back(j);
-  }
+  for (const Constraint& c : spec.constraints) constraints.push_back(located(c.where, {{"text", c.text}}));
   nlohmann::json names = nlohmann::json::array();
-  for (const MetricName& m : spec.named_metrics) {
-    nlohmann::json j = where_json(m.where);
-    j["name"] = m.name;
-    j["field"] = m.field;
-    names.push_back(j);
-  }
+  for (const MetricName& m : spec.named_metrics) names.push_back(located(m.where, {{"name", m.name}, {"field", m.field}}));
   nlohmann::json points = nlohmann::json::array();
   for (const SweepPoint& p : plan.points) points.push_back({{"choice", p.choice}, {"variants", p.variants}, {"hash", p.hash}});
   return {{"blendbench_sweep_plan", 1},

@@ -27,14 +27,6 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-std::optional<std::string> read_text(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
-}
-
 nlohmann::json read_json_or_null(const fs::path& path) {
   const std::optional<std::string> text = read_text(path);
   if (!text) return nullptr;
@@ -78,13 +70,15 @@ PointOutcome run_one(const SweepPlan& plan, const SweepPoint& point, const fs::p
   const ProcessResult result = run_process({self, "sweep", "--run-point", dir.string()}, options);
   PointOutcome outcome;
   outcome.wall_time_s = std::chrono::duration<double>(Clock::now() - start).count();
-  outcome.summary = read_json_or_null(dir / "summary.json");
+  const nlohmann::json summary = read_json_or_null(dir / "summary.json");
+  outcome.has_summary = summary.is_object();
+  outcome.variants = variant_results(summary);
   if (result.ok) {
     outcome.status = "ok";
   } else if (result.signal != 0) {
     outcome.status = "crashed";
     outcome.message = result.message;
-  } else if (result.exit_status == 1 && outcome.summary.is_object()) {
+  } else if (result.exit_status == 1 && outcome.has_summary) {
     outcome.status = "failed";
     outcome.message = "a variant failed";
   } else {
@@ -101,15 +95,12 @@ PointOutcome run_one(const SweepPlan& plan, const SweepPoint& point, const fs::p
   return outcome;
 }
 
-// Every metric name the ok variants of a summary have.
-std::set<std::string> known_metrics(const nlohmann::json& summary) {
+// Every metric name the ok variants of a run have.
+std::set<std::string> known_metrics(const PointOutcome& outcome) {
   std::set<std::string> known;
-  if (!summary.is_object()) return known;
-  const auto variants = summary.find("variants");
-  if (variants == summary.end() || !variants->is_array()) return known;
-  for (const nlohmann::json& v : *variants) {
-    if (v.value("status", "") != "ok") continue;
-    for (const auto& [key, value] : flatten_metrics(v)) known.insert(key);
+  for (const VariantResult& v : outcome.variants) {
+    if (v.status != "ok") continue;
+    for (const auto& [key, value] : v.metrics) known.insert(key);
   }
   return known;
 }
@@ -154,6 +145,14 @@ class Progress {
 
 fs::path point_dir(const fs::path& out_dir, const SweepPoint& point) { return out_dir / "points" / point.hash; }
 
+std::optional<std::string> read_text(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  return buffer.str();
+}
+
 std::optional<PointOutcome> read_outcome(const fs::path& dir) {
   const nlohmann::json status = read_json_or_null(dir / "status.json");
   if (!status.is_object() || !status.contains("status") || !status["status"].is_string()) return std::nullopt;
@@ -161,7 +160,9 @@ std::optional<PointOutcome> read_outcome(const fs::path& dir) {
   outcome.status = status["status"].get<std::string>();
   outcome.message = status.value("message", "");
   outcome.wall_time_s = status.value("wall_time_s", 0.0);
-  outcome.summary = read_json_or_null(dir / "summary.json");
+  const nlohmann::json summary = read_json_or_null(dir / "summary.json");
+  outcome.has_summary = summary.is_object();
+  outcome.variants = variant_results(summary);
   return outcome;
 }
 
@@ -240,7 +241,7 @@ PoolStats run_pool(const SweepPlan& plan, const std::vector<std::size_t>& runs, 
       }
       // the metric names of the sweep file, against the first summary that has ok variants
       if (!names_checked) {
-        const std::set<std::string> known = known_metrics(outcome.summary);
+        const std::set<std::string> known = known_metrics(outcome);
         if (!known.empty()) {
           names_checked = true;
           try {

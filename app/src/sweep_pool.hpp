@@ -15,6 +15,9 @@ namespace blendbench::sweep_detail {
 
 std::filesystem::path point_dir(const std::filesystem::path& out_dir, const SweepPoint& point);
 
+// A file's bytes; nullopt when it cannot be read.
+std::optional<std::string> read_text(const std::filesystem::path& path);
+
 // How a point's run ended, from its status.json (and summary.json); nullopt when it has not
 // finished (no readable status.json).
 std::optional<PointOutcome> read_outcome(const std::filesystem::path& dir);

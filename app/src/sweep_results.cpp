@@ -30,17 +30,6 @@ void flatten_into(const nlohmann::json& j, const std::string& name, std::map<std
   }
 }
 
-// The entry of variant `name` in a summary.json, or null.
-const nlohmann::json* variant_entry(const nlohmann::json& summary, const std::string& name) {
-  if (!summary.is_object()) return nullptr;
-  const auto variants = summary.find("variants");
-  if (variants == summary.end() || !variants->is_array()) return nullptr;
-  for (const nlohmann::json& v : *variants) {
-    if (v.is_object() && v.value("name", "") == name) return &v;
-  }
-  return nullptr;
-}
-
 double metric_of(const SweepRow& row, const std::string& name) {
   const auto it = row.metrics.find(name);
   return it == row.metrics.end() ? kNaN : it->second;
@@ -145,6 +134,22 @@ std::map<std::string, double> flatten_metrics(const nlohmann::json& entry) {
   return out;
 }
 
+std::vector<VariantResult> variant_results(const nlohmann::json& summary) {
+  std::vector<VariantResult> out;
+  if (!summary.is_object()) return out;
+  const auto variants = summary.find("variants");
+  if (variants == summary.end() || !variants->is_array()) return out;
+  const auto text = [](const nlohmann::json& v, const char* key) {
+    const auto it = v.find(key);
+    return it != v.end() && it->is_string() ? it->get<std::string>() : std::string();
+  };
+  for (const nlohmann::json& v : *variants) {
+    if (!v.is_object()) continue;
+    out.push_back({text(v, "name"), text(v, "method"), text(v, "status"), text(v, "message"), flatten_metrics(v)});
+  }
+  return out;
+}
+
 bool machine_metric(const std::string& name) {
   return name.find("wall_time") != std::string::npos || name.find("real_time_factor") != std::string::npos;
 }
@@ -158,7 +163,7 @@ void check_metric_names(const SweepSpec& spec, const std::set<std::string>& know
   }
 }
 
-SweepTable build_table(const SweepPlan& plan, const std::vector<PointOutcome>& outcomes) {
+SweepTable build_table(const SweepPlan& plan, std::vector<PointOutcome> outcomes) {
   const SweepSpec& spec = plan.spec;
   SweepTable table;
 
@@ -167,21 +172,20 @@ SweepTable build_table(const SweepPlan& plan, const std::vector<PointOutcome>& o
   std::set<std::string> known;
   bool any_ok = false;
   for (std::size_t p = 0; p < plan.points.size(); ++p) {
-    const PointOutcome& outcome = outcomes[p];
+    PointOutcome& outcome = outcomes[p];
     for (const std::string& name : plan.points[p].variants) {
       SweepRow row;
       row.point = p;
       row.variant = name;
       row.status = outcome.status;
       row.message = outcome.message;
-      const nlohmann::json* entry = variant_entry(outcome.summary, name);
-      if (entry != nullptr) {
-        row.metrics = flatten_metrics(*entry);
-        if (outcome.status == "ok" || outcome.status == "failed") row.status = entry->value("status", "failed");
-        if (row.status != "ok") row.message = entry->value("message", outcome.message);
-        if (const auto method = entry->find("method"); method != entry->end() && method->is_string()) {
-          method_of_variant.emplace(name, method->get<std::string>());
-        }
+      const auto entry = std::find_if(outcome.variants.begin(), outcome.variants.end(),
+                                      [&](const VariantResult& v) { return v.name == name; });
+      if (entry != outcome.variants.end()) {
+        row.metrics = std::move(entry->metrics);
+        if (outcome.status == "ok" || outcome.status == "failed") row.status = entry->status.empty() ? "failed" : entry->status;
+        if (row.status != "ok") row.message = entry->message.empty() ? outcome.message : entry->message;
+        if (!entry->method.empty()) method_of_variant.emplace(name, entry->method);
         any_ok = any_ok || row.status == "ok";
         for (const auto& [key, value] : row.metrics) known.insert(key);
       } else if (outcome.status == "ok" || outcome.status == "failed") {
@@ -307,8 +311,8 @@ nlohmann::json sweep_json(const SweepPlan& plan, const SweepTable& table) {
     const SweepPoint& point = plan.points[row.point];
     nlohmann::json values = nlohmann::json::object();
     for (std::size_t a = 0; a < spec.axes.size(); ++a) values[spec.axes[a].path] = spec.axes[a].labels[point.choice[a]];
-    nlohmann::json metrics = nlohmann::json::object();
-    for (const std::string& m : table.metrics) metrics[m] = number_json(metric_of(row, m));
+    nlohmann::json metrics = nlohmann::json::array();
+    for (const std::string& m : table.metrics) metrics.push_back(number_json(metric_of(row, m)));
     nlohmann::json r = {{"point", row.point},     {"hash", point.hash},
                         {"variant", row.variant}, {"method", row.method},
                         {"values", values},       {"status", row.status},

@@ -43,6 +43,10 @@ def main(sweep_dir):
         sweep = json.load(f)
     x_name, y_name = sweep["pareto"]["x"], sweep["pareto"]["y"]
     rows = sweep["rows"]
+    # a row's metrics are a list in the order of sweep["metrics"]
+    names = sweep["metrics"]
+    for r in rows:
+        r["metrics"] = dict(zip(names, r["metrics"]))
 
     fig, ax = plt.subplots(figsize=(8.5, 6))
     colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]

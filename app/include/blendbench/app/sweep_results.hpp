@@ -31,12 +31,26 @@ bool machine_metric(const std::string& name);
 // Throws InputError at the sweep file key that names a metric not in `known`, listing them.
 void check_metric_names(const SweepSpec& spec, const std::set<std::string>& known);
 
+// One variant's entry of a run's summary.json: its name, `method` and `status` (as written;
+// empty when absent), `message`, and its metrics (flatten_metrics).
+struct VariantResult {
+  std::string name;
+  std::string method;
+  std::string status;
+  std::string message;
+  std::map<std::string, double> metrics;
+};
+
+// The variant entries of a summary.json; none when it has no `variants` list.
+std::vector<VariantResult> variant_results(const nlohmann::json& summary);
+
 // What running a point gave (DIR/points/<hash>/status.json and summary.json).
 struct PointOutcome {
-  std::string status;       // ok (every variant ok), failed (a variant failed), error, crashed
-  std::string message;      // why not ok (the run's last message, the signal)
-  nlohmann::json summary;   // the run's summary.json; null when the run wrote none
-  double wall_time_s = 0;   // how long the run took (not part of the table)
+  std::string status;                   // ok (every variant ok), failed (a variant failed), error, crashed
+  std::string message;                  // why not ok (the run's last message, the signal)
+  bool has_summary = false;             // the run wrote its summary.json
+  std::vector<VariantResult> variants;  // from the summary
+  double wall_time_s = 0;               // how long the run took (not part of the table)
 };
 
 struct SweepRow {
@@ -69,15 +83,17 @@ struct SweepTable {
 // columns: the sweep's `metrics` (plus any a constraint or the Pareto axes name), else every
 // metric of any row that is not a machine metric, sorted by name. Throws InputError when a name
 // the sweep uses is a metric of no row (unless no row ran ok).
-SweepTable build_table(const SweepPlan& plan, const std::vector<PointOutcome>& outcomes);
+// The outcomes are consumed (their metrics move into the rows).
+SweepTable build_table(const SweepPlan& plan, std::vector<PointOutcome> outcomes);
 
 // sweep.csv: columns point, variant, method, one per axis (named by its key path), status,
 // meets_constraints, on_pareto_front, then the metric columns (names with their units, as the
 // summary has them); a metric a row lacks is an empty cell.
 std::string sweep_csv(const SweepPlan& plan, const SweepTable& table);
 
-// sweep.json: the sweep (file, scenario, axes and values, constraints, Pareto axes), every row
-// (values by axis, status, message, metrics), and per method its front, best row and counts.
+// sweep.json: the sweep (file, scenario, axes and values, constraints, Pareto axes, the metric
+// names), every row (values by axis, status, message, and its metrics as a list in the order of
+// the metric names, null where a row lacks one), and per method its front, best row and counts.
 nlohmann::json sweep_json(const SweepPlan& plan, const SweepTable& table);
 
 // best.csv: per method its best row under the constraints: method, variant, point, the axes,
