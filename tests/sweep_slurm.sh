@@ -4,11 +4,15 @@
 # locally and as a job array through sbatch, waits for the array, merges it with --collect and
 # checks that its sweep.csv equals the local run's byte for byte. Stops what it started by pid,
 # munged last. Exit 77 (ctest: skipped, with the reason on stderr) when Slurm cannot start here.
-#   tests/sweep_slurm.sh BLENDBENCH_BINARY TINY_SCENARIO WORK_DIR
+#   tests/sweep_slurm.sh BLENDBENCH_BINARY TINY_SCENARIO WORK_DIR [SWEEP_FILE [ARRAY_SIZE]]
+# With SWEEP_FILE, that sweep runs instead of the small one on the tiny scenario (by hand: the
+# shipped example through a job array of ARRAY_SIZE tasks, default 2).
 set -uo pipefail
 binary=$1
 scenario=$2
 work=$3
+sweep=${4:-}
+tasks=${5:-2}
 
 skip() { echo "SKIPPED: $*" >&2; exit 77; }
 fail() { echo "FAILED: $*" >&2; exit 1; }
@@ -104,19 +108,22 @@ echo "slurm: slurmctld and slurmd up on ports $port and $((port + 1)) ($(sinfo -
 # the sweep: 2 x 2 points of both variants of the tiny scenario
 rm -rf "$work"
 mkdir -p "$work"
-cat >"$work/sweep.yaml" <<EOF
+if [ -z "$sweep" ]; then
+  sweep=$work/sweep.yaml
+  cat >"$sweep" <<EOF
 scenario: $scenario
 axes:
   variants[1].transition.parameter: [2, 5]
   defaults.velocity: [150, 200]
 constraints: ["contour_error_max_mm <= 1.0"]
 EOF
-"$binary" sweep "$work/sweep.yaml" --out "$work/local" --jobs 2 --no-plots >"$work/local.log" 2>&1 ||
+fi
+"$binary" sweep "$sweep" --out "$work/local" --jobs 2 --no-plots >"$work/local.log" 2>&1 ||
   fail "the local sweep failed: $(tail -5 "$work/local.log")"
 
 # through sbatch: the array of 2 shards, waited for, then merged
 start=$(now)
-"$binary" sweep "$work/sweep.yaml" --out "$work/slurm" --slurm --array-size 2 >"$work/submit.log" 2>&1 ||
+"$binary" sweep "$sweep" --out "$work/slurm" --slurm --array-size "$tasks" >"$work/submit.log" 2>&1 ||
   fail "--slurm failed: $(cat "$work/submit.log")"
 [ -s "$work/slurm/slurm/job_id" ] || fail "no job was submitted: $(cat "$work/submit.log")"
 job=$(cat "$work/slurm/slurm/job_id")
@@ -128,13 +135,14 @@ done
 [ -n "$done_" ] || fail "job array $job did not end within 180 s: $(squeue -j "$job" 2>&1)"
 ran=$(now)
 states=$(scontrol show job "$job" 2>/dev/null | grep -o 'JobState=[A-Z]*' | sort | uniq -c | tr -s ' ')
-for shard in 0 1; do
-  [ -s "$work/slurm/shards/$shard-of-2.json" ] ||
+for shard in $(seq 0 $((tasks - 1))); do
+  [ -s "$work/slurm/shards/$shard-of-$tasks.json" ] ||
     fail "array task $shard left no shard record (states:$states): $(cat "$work/slurm/slurm/"*_"$shard".out 2>/dev/null | tail -5)"
 done
 "$binary" sweep --collect "$work/slurm" --no-plots >"$work/collect.log" 2>&1 || fail "--collect failed: $(cat "$work/collect.log")"
 end=$(now)
 cmp "$work/local/sweep.csv" "$work/slurm/sweep.csv" || fail "the merged sweep.csv differs from the local run's"
 cmp "$work/local/best.csv" "$work/slurm/best.csv" || fail "the merged best.csv differs from the local run's"
-printf 'slurm: job array %s (tasks:%s) ran 4 points in %.1f s from sbatch to the end; %.1f s from submission to the merged sweep.csv, equal to the local run'"'"'s\n' \
-  "$job" "$states" "$(awk "BEGIN {print $ran - $start}")" "$(awk "BEGIN {print $end - $start}")"
+rows=$(($(wc -l <"$work/slurm/sweep.csv") - 1))
+printf 'slurm: job array %s (tasks:%s) ran %s rows in %.1f s from sbatch to the end; %.1f s from submission to the merged sweep.csv, equal to the local run'"'"'s\n' \
+  "$job" "$states" "$rows" "$(awk "BEGIN {print $ran - $start}")" "$(awk "BEGIN {print $end - $start}")"
