@@ -103,13 +103,15 @@ int collect(const fs::path& out_dir, bool plots, std::ostream& out) {
   outcomes.reserve(plan.points.size());
   std::map<std::string, std::size_t> first_of_hash;
   std::vector<std::size_t> missing;
+  const std::set<std::string> named = named_metrics(plan.spec);
+  std::set<std::string> known;
   for (const SweepPoint& p : plan.points) {
     if (const auto seen = first_of_hash.find(p.hash); seen != first_of_hash.end()) {
       outcomes.push_back(outcomes[seen->second]);
       continue;
     }
     first_of_hash.emplace(p.hash, p.index);
-    std::optional<PointOutcome> outcome = sweep_detail::read_outcome(point_dir(out_dir, p));
+    std::optional<PointOutcome> outcome = sweep_detail::read_outcome(point_dir(out_dir, p), named, &known);
     if (!outcome) missing.push_back(p.index);
     outcomes.push_back(outcome ? std::move(*outcome) : PointOutcome());
   }
@@ -121,7 +123,7 @@ int collect(const fs::path& out_dir, bool plots, std::ostream& out) {
         << "); run their shards again, or `blendbench sweep FILE --out DIR --resume`" << std::endl;
     return kExitNotOk;
   }
-  const SweepTable table = build_table(plan, outcomes);
+  const SweepTable table = build_table(plan, std::move(outcomes), known);
 
   write_file_atomic(out_dir / "sweep.csv", sweep_csv(plan, table));
   write_file_atomic(out_dir / "sweep.json", sweep_json(plan, table).dump(2) + "\n");

@@ -56,7 +56,8 @@ std::string format_duration(double seconds) {
 }
 
 // Runs one point in its folder and records how it ended in status.json.
-PointOutcome run_one(const SweepPlan& plan, const SweepPoint& point, const fs::path& dir, const std::string& self) {
+PointOutcome run_one(const SweepPlan& plan, const SweepPoint& point, const fs::path& dir, const std::string& self,
+                     std::set<std::string>& known) {
   write_file_atomic(dir / "point.json", nlohmann::json({{"base_dir", plan.base_dir}, {"variants", point.variants}}).dump(2) + "\n");
   if (read_text(dir / "scenario.yaml") != point.scenario_text) write_file_atomic(dir / "scenario.yaml", point.scenario_text);
   // nothing of an earlier run may stand for this one
@@ -72,7 +73,7 @@ PointOutcome run_one(const SweepPlan& plan, const SweepPoint& point, const fs::p
   outcome.wall_time_s = std::chrono::duration<double>(Clock::now() - start).count();
   const nlohmann::json summary = read_json_or_null(dir / "summary.json");
   outcome.has_summary = summary.is_object();
-  outcome.variants = variant_results(summary);
+  outcome.variants = variant_results(summary, named_metrics(plan.spec), &known);
   if (result.ok) {
     outcome.status = "ok";
   } else if (result.signal != 0) {
@@ -93,16 +94,6 @@ PointOutcome run_one(const SweepPlan& plan, const SweepPoint& point, const fs::p
   if (!outcome.message.empty()) status["message"] = outcome.message;
   write_file_atomic(dir / "status.json", status.dump(2) + "\n");
   return outcome;
-}
-
-// Every metric name the ok variants of a run have.
-std::set<std::string> known_metrics(const PointOutcome& outcome) {
-  std::set<std::string> known;
-  for (const VariantResult& v : outcome.variants) {
-    if (v.status != "ok") continue;
-    for (const auto& [key, value] : v.metrics) known.insert(key);
-  }
-  return known;
 }
 
 // The progress bar: drawn in place on a terminal, silent otherwise.
@@ -153,7 +144,7 @@ std::optional<std::string> read_text(const fs::path& path) {
   return buffer.str();
 }
 
-std::optional<PointOutcome> read_outcome(const fs::path& dir) {
+std::optional<PointOutcome> read_outcome(const fs::path& dir, const std::set<std::string>& named, std::set<std::string>* known) {
   const nlohmann::json status = read_json_or_null(dir / "status.json");
   if (!status.is_object() || !status.contains("status") || !status["status"].is_string()) return std::nullopt;
   PointOutcome outcome;
@@ -162,7 +153,7 @@ std::optional<PointOutcome> read_outcome(const fs::path& dir) {
   outcome.wall_time_s = status.value("wall_time_s", 0.0);
   const nlohmann::json summary = read_json_or_null(dir / "summary.json");
   outcome.has_summary = summary.is_object();
-  outcome.variants = variant_results(summary);
+  outcome.variants = variant_results(summary, named, known);
   return outcome;
 }
 
@@ -185,7 +176,7 @@ PoolStats run_pool(const SweepPlan& plan, const std::vector<std::size_t>& runs, 
     const SweepPoint& point = plan.points[i];
     const fs::path dir = point_dir(out_dir, point);
     if (resume) {
-      const std::optional<PointOutcome> done = read_outcome(dir);
+      const std::optional<PointOutcome> done = read_outcome(dir, {}, nullptr);
       if (done && done->status != "crashed" && read_text(dir / "scenario.yaml") == point.scenario_text) {
         ++stats.resumed;
         stats.not_ok += done->status == "ok" ? 0 : 1;
@@ -220,8 +211,9 @@ PoolStats run_pool(const SweepPlan& plan, const std::vector<std::size_t>& runs, 
         ++running;
       }
       PointOutcome outcome;
+      std::set<std::string> known;
       try {
-        outcome = run_one(plan, point, point_dir(out_dir, point), self);
+        outcome = run_one(plan, point, point_dir(out_dir, point), self, known);
       } catch (...) {
         const std::lock_guard<std::mutex> lock(mutex);
         if (!failure) failure = std::current_exception();
@@ -241,7 +233,6 @@ PoolStats run_pool(const SweepPlan& plan, const std::vector<std::size_t>& runs, 
       }
       // the metric names of the sweep file, against the first summary that has ok variants
       if (!names_checked) {
-        const std::set<std::string> known = known_metrics(outcome);
         if (!known.empty()) {
           names_checked = true;
           try {

@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -18,9 +19,11 @@ std::filesystem::path point_dir(const std::filesystem::path& out_dir, const Swee
 // A file's bytes; nullopt when it cannot be read.
 std::optional<std::string> read_text(const std::filesystem::path& path);
 
-// How a point's run ended, from its status.json (and summary.json); nullopt when it has not
-// finished (no readable status.json).
-std::optional<PointOutcome> read_outcome(const std::filesystem::path& dir);
+// How a point's run ended, from its status.json (and summary.json, keeping the metrics that are
+// default metrics or in `named`; `known` receives every metric name of the ok variants); nullopt
+// when it has not finished (no readable status.json).
+std::optional<PointOutcome> read_outcome(const std::filesystem::path& dir, const std::set<std::string>& named,
+                                         std::set<std::string>* known);
 
 struct PoolStats {
   std::size_t runs = 0;      // points asked for

@@ -15,11 +15,6 @@ void flatten_into(const nlohmann::json& j, const std::string& name, std::map<std
   if (j.is_object()) {
     for (const auto& [key, value] : j.items()) flatten_into(value, name.empty() ? key : name + "." + key, out);
   } else if (j.is_array()) {
-    // a list of numbers is a metric per element; a list of reports is not a metric
-    const bool numbers = std::all_of(j.begin(), j.end(), [](const nlohmann::json& e) {
-      return e.is_number() || e.is_boolean() || e.is_null();
-    });
-    if (!numbers) return;
     for (std::size_t i = 0; i < j.size(); ++i) flatten_into(j[i], name + "[" + std::to_string(i) + "]", out);
   } else if (j.is_number()) {
     out[name] = j.get<double>();
@@ -134,7 +129,8 @@ std::map<std::string, double> flatten_metrics(const nlohmann::json& entry) {
   return out;
 }
 
-std::vector<VariantResult> variant_results(const nlohmann::json& summary) {
+std::vector<VariantResult> variant_results(const nlohmann::json& summary, const std::set<std::string>& named,
+                                           std::set<std::string>* known) {
   std::vector<VariantResult> out;
   if (!summary.is_object()) return out;
   const auto variants = summary.find("variants");
@@ -145,7 +141,13 @@ std::vector<VariantResult> variant_results(const nlohmann::json& summary) {
   };
   for (const nlohmann::json& v : *variants) {
     if (!v.is_object()) continue;
-    out.push_back({text(v, "name"), text(v, "method"), text(v, "status"), text(v, "message"), flatten_metrics(v)});
+    VariantResult r{text(v, "name"), text(v, "method"), text(v, "status"), text(v, "message"), {}};
+    // only the metrics a table can show are kept: a report field per corner costs memory per row
+    for (auto& [key, value] : flatten_metrics(v)) {
+      if (known != nullptr && r.status == "ok") known->insert(key);
+      if (default_metric(key) || named.count(key) != 0) r.metrics.emplace(key, value);
+    }
+    out.push_back(std::move(r));
   }
   return out;
 }
@@ -154,23 +156,41 @@ bool machine_metric(const std::string& name) {
   return name.find("wall_time") != std::string::npos || name.find("real_time_factor") != std::string::npos;
 }
 
+bool report_field(const std::string& name) { return name.find("].") != std::string::npos; }
+
+bool default_metric(const std::string& name) { return !machine_metric(name) && !report_field(name); }
+
+std::set<std::string> named_metrics(const SweepSpec& spec) {
+  std::set<std::string> names;
+  for (const MetricName& m : spec.named_metrics) names.insert(m.name);
+  return names;
+}
+
 void check_metric_names(const SweepSpec& spec, const std::set<std::string>& known) {
   for (const MetricName& m : spec.named_metrics) {
     if (known.count(m.name) != 0) continue;
     std::string list;
-    for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+    std::size_t reports = 0;
+    std::string example;
+    for (const std::string& k : known) {
+      if (report_field(k)) {
+        if (++reports == 1) example = k;
+      } else {
+        list += (list.empty() ? "" : ", ") + k;
+      }
+    }
+    if (reports > 0) list += "; and " + std::to_string(reports) + " fields of the reports per corner and piece, such as " + example;
     fail_at(m.where, m.field, "no metric '" + m.name + "' in the runs' summaries (metrics: " + list + ")");
   }
 }
 
-SweepTable build_table(const SweepPlan& plan, std::vector<PointOutcome> outcomes) {
+SweepTable build_table(const SweepPlan& plan, std::vector<PointOutcome> outcomes, const std::set<std::string>& known) {
   const SweepSpec& spec = plan.spec;
   SweepTable table;
 
   // a row per point and variant, from the variant's entry in the point's summary
   std::map<std::string, std::string> method_of_variant;
-  std::set<std::string> known;
-  bool any_ok = false;
+  std::set<std::string> columns;
   for (std::size_t p = 0; p < plan.points.size(); ++p) {
     PointOutcome& outcome = outcomes[p];
     for (const std::string& name : plan.points[p].variants) {
@@ -186,8 +206,7 @@ SweepTable build_table(const SweepPlan& plan, std::vector<PointOutcome> outcomes
         if (outcome.status == "ok" || outcome.status == "failed") row.status = entry->status.empty() ? "failed" : entry->status;
         if (row.status != "ok") row.message = entry->message.empty() ? outcome.message : entry->message;
         if (!entry->method.empty()) method_of_variant.emplace(name, entry->method);
-        any_ok = any_ok || row.status == "ok";
-        for (const auto& [key, value] : row.metrics) known.insert(key);
+        for (const auto& [key, value] : row.metrics) columns.insert(key);
       } else if (outcome.status == "ok" || outcome.status == "failed") {
         row.status = "error";
         row.message = "the run's summary has no variant '" + name + "'";
@@ -199,12 +218,12 @@ SweepTable build_table(const SweepPlan& plan, std::vector<PointOutcome> outcomes
     const auto it = method_of_variant.find(row.variant);
     row.method = it == method_of_variant.end() ? row.variant : it->second;
   }
-  if (any_ok) check_metric_names(spec, known);
+  if (!known.empty()) check_metric_names(spec, known);
 
   // the metric columns
   if (spec.metrics.empty()) {
-    for (const std::string& k : known) {
-      if (!machine_metric(k)) table.metrics.push_back(k);
+    for (const std::string& k : columns) {
+      if (default_metric(k)) table.metrics.push_back(k);
     }
   } else {
     table.metrics = spec.metrics;

@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <limits>
+#include <set>
 
 #include "support/property.hpp"
 
@@ -45,11 +46,27 @@ json entry(const std::string& name, const std::string& method, double x, double 
   return {{"name", name}, {"method", method}, {"status", "ok"}, {"x_s", x}, {"y_mm", y}};
 }
 
+// Every metric name of the ok variants of the outcomes.
+std::set<std::string> known_of(const std::vector<PointOutcome>& outcomes) {
+  std::set<std::string> known;
+  for (const PointOutcome& o : outcomes) {
+    for (const VariantResult& v : o.variants) {
+      if (v.status != "ok") continue;
+      for (const auto& [k, value] : v.metrics) known.insert(k);
+    }
+  }
+  return known;
+}
+
+SweepTable table_of(const SweepPlan& plan, const std::vector<PointOutcome>& outcomes) {
+  return build_table(plan, outcomes, known_of(outcomes));
+}
+
 PointOutcome ok_outcome(const std::vector<json>& entries) {
   PointOutcome o;
   o.status = "ok";
   o.has_summary = true;
-  o.variants = variant_results({{"variants", entries}});
+  o.variants = variant_results({{"variants", entries}}, {});
   return o;
 }
 
@@ -71,11 +88,35 @@ TEST(Flatten, NumbersByDottedNameAndIndexBooleansAndNulls) {
   EXPECT_DOUBLE_EQ(m.at("torque_peak_nm[2]"), 3.0);
   EXPECT_DOUBLE_EQ(m.at("residual.amplitude_mm"), 0.01);
   EXPECT_DOUBLE_EQ(m.at("residual.frequency_hz.first"), 7.5);
-  // strings and lists of reports are not metrics
+  // a list of objects by index and field; strings are not metrics
+  EXPECT_DOUBLE_EQ(m.at("corners[0].deviation_mm"), 0.1);
+  EXPECT_DOUBLE_EQ(m.at("corners[0].index"), 0.0);
   EXPECT_EQ(m.count("name"), 0U);
   EXPECT_EQ(m.count("method"), 0U);
-  for (const auto& [k, v] : m) EXPECT_EQ(k.rfind("corners", 0), std::string::npos) << k;
-  EXPECT_EQ(m.size(), 9U);
+  EXPECT_EQ(m.size(), 11U);
+}
+
+// The table keeps what it can show: default metrics and the ones the sweep names; a report
+// field is known (a sweep may name it) but is no default column.
+TEST(Flatten, VariantResultsKeepDefaultAndNamedMetrics) {
+  const json summary = {{"variants",
+                         {{{"name", "a"},
+                           {"status", "ok"},
+                           {"x_s", 1.0},
+                           {"sim_wall_time_s", 0.2},
+                           {"corners", {{{"deviation_mm", 0.1}}, {{"deviation_mm", 0.3}}}}}}}};
+  std::set<std::string> known;
+  const std::vector<VariantResult> r = variant_results(summary, {"corners[1].deviation_mm"}, &known);
+  ASSERT_EQ(r.size(), 1U);
+  EXPECT_EQ(r[0].metrics.size(), 2U);
+  EXPECT_EQ(r[0].metrics.count("x_s"), 1U);
+  EXPECT_EQ(r[0].metrics.count("corners[1].deviation_mm"), 1U);
+  EXPECT_EQ(known, (std::set<std::string>{"corners[0].deviation_mm", "corners[1].deviation_mm", "sim_wall_time_s", "x_s"}));
+  EXPECT_TRUE(report_field("corners[1].deviation_mm"));
+  EXPECT_FALSE(report_field("torque_peak_nm[1]"));
+  EXPECT_TRUE(default_metric("torque_peak_nm[1]"));
+  EXPECT_FALSE(default_metric("corners[1].deviation_mm"));
+  EXPECT_FALSE(default_metric("sim_wall_time_s"));
 }
 
 TEST(Flatten, MachineMetricsAreTheClockOnes) {
@@ -97,7 +138,7 @@ TEST(Table, RowsTakeTheVariantsStatusAndThePointsWhenTheRunStopped) {
   crashed.status = "crashed";
   crashed.message = "killed by signal 11";
   outcomes.push_back(crashed);
-  const SweepTable t = build_table(plan, outcomes);
+  const SweepTable t = table_of(plan, outcomes);
   ASSERT_EQ(t.rows.size(), 6U);
   EXPECT_EQ(t.rows[3].status, "failed");
   EXPECT_EQ(t.rows[3].message, "diverged");
@@ -113,7 +154,7 @@ TEST(Table, UnknownMetricNamesAreRefusedWithTheKnownOnes) {
   SweepPlan plan = plan_of(1, {"a"}, {"z_mm <= 1"});
   plan.spec.named_metrics.push_back({"z_mm", "constraints[0]", {"s.yaml", 6, 3}});
   try {
-    (void)build_table(plan, {ok_outcome({entry("a", "arc", 1, 1)})});
+    (void)table_of(plan, {ok_outcome({entry("a", "arc", 1, 1)})});
     FAIL() << "expected an InputError";
   } catch (const InputError& e) {
     EXPECT_EQ(e.file(), "s.yaml");
@@ -141,7 +182,7 @@ TEST(Table, ParetoFrontAndBestAgreeWithBruteForce) {
       if (test::uniform(rng, 0, 1) < 0.1) entries[1]["status"] = "failed";
       outcomes.push_back(ok_outcome(entries));
     }
-    const SweepTable t = build_table(plan, outcomes);
+    const SweepTable t = table_of(plan, outcomes);
     const auto x = [&](std::size_t r) { return t.rows[r].metrics.at("x_s"); };
     const auto y = [&](std::size_t r) { return t.rows[r].metrics.at("y_mm"); };
     for (const MethodSummary& m : t.methods) {
@@ -182,7 +223,7 @@ TEST(Table, CsvHasTheNamedColumnsAndEmptyCellsForMissingMetrics) {
   json with_extra = entry("a", "arc", 1, 0.25);
   with_extra["extra_mm"] = 3;
   with_extra["sim_wall_time_s"] = 0.01;
-  const SweepTable t = build_table(plan, {ok_outcome({with_extra}), ok_outcome({entry("a", "arc", 2, 0.5)})});
+  const SweepTable t = table_of(plan, {ok_outcome({with_extra}), ok_outcome({entry("a", "arc", 2, 0.5)})});
   EXPECT_EQ(sweep_csv(plan, t),
             "point,variant,method,variants[*].transition.parameter,status,meets_constraints,on_pareto_front,extra_mm,x_s,y_mm\n"
             "0,a,arc,0.5,ok,true,true,3,1,0.25\n"

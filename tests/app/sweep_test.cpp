@@ -178,6 +178,27 @@ TEST_F(Sweep, ShardsCollectToTheLocalTable) {
   EXPECT_TRUE(has(stale.output, "no longer expands")) << stale.output;
 }
 
+// A field of a report list (the corner reports) is no default column, but a sweep may name it.
+TEST_F(Sweep, AReportFieldCanBeNamed) {
+  const std::string file = sweep_file(R"(axes:
+  defaults.velocity: [200]
+metrics: [cycle_time_s]
+constraints: ["corners[0].deviation_mm <= 0.001"]
+pareto: {x: cycle_time_s, y: "corners[0].deviation_mm"}
+)");
+  const Result r = run({"sweep", file, "--out", (dir_ / "out").string(), "--no-plots"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string csv = read(dir_ / "out" / "sweep.csv");
+  EXPECT_EQ(csv.substr(0, csv.find('\n')),
+            "point,variant,method,defaults.velocity,status,meets_constraints,on_pareto_front,cycle_time_s,corners[0].deviation_mm");
+  // the exact stop passes through the corner; the 5 mm arc blend does not
+  const nlohmann::json sweep = nlohmann::json::parse(read(dir_ / "out" / "sweep.json"));
+  EXPECT_EQ(sweep["rows"][0]["variant"], "exact");
+  EXPECT_EQ(sweep["rows"][0]["meets_constraints"], true);
+  EXPECT_EQ(sweep["rows"][1]["meets_constraints"], false);
+  EXPECT_GT(sweep["rows"][1]["metrics"][1].get<double>(), 1.0);
+}
+
 // A point the robot cannot reach stops with an error in its own child: it is recorded with its
 // status and message, the other points still give their rows, and the exit code is 1.
 TEST_F(Sweep, APointThatFailsFailsAlone) {

@@ -18,17 +18,29 @@
 namespace blendbench {
 
 // Every number of one variant entry of a summary.json by flattened name: nested objects as
-// dotted names ("residual.amplitude_mm"), lists of numbers by index ("torque_peak_nm[2]"),
-// booleans as 0 or 1, null (a cycle that never settled) as NaN. Strings and lists of objects
-// (the corner and piece reports) are not metrics and are left out.
+// dotted names ("residual.amplitude_mm"), list elements by index ("torque_peak_nm[2]", and in a
+// list of objects "corners[1].deviation_mm"), booleans as 0 or 1, null (a cycle that never
+// settled) as NaN. Strings are not metrics.
 std::map<std::string, double> flatten_metrics(const nlohmann::json& entry);
 
 // Whether a metric measures the machine rather than the point (a name with "wall_time" or
 // "real_time_factor" in it): left out of the default metrics, so the table does not depend on
-// --jobs or the load of the machine. A sweep may still name one in `metrics`.
+// --jobs or the load of the machine.
 bool machine_metric(const std::string& name);
 
-// Throws InputError at the sweep file key that names a metric not in `known`, listing them.
+// Whether a metric is a field of an element of a list of objects (the reports per corner and per
+// piece: "corners[1].deviation_mm"), whose number varies from point to point.
+bool report_field(const std::string& name);
+
+// The default metric columns: every metric that is neither a machine metric nor a report field.
+// A sweep may name any metric (in `metrics`, a constraint or `pareto`).
+bool default_metric(const std::string& name);
+
+// The metric names a sweep file uses.
+std::set<std::string> named_metrics(const SweepSpec& spec);
+
+// Throws InputError at the sweep file key that names a metric not in `known`, listing the known
+// default metrics (and how many report fields there are besides).
 void check_metric_names(const SweepSpec& spec, const std::set<std::string>& known);
 
 // One variant's entry of a run's summary.json: its name, `method` and `status` (as written;
@@ -41,8 +53,11 @@ struct VariantResult {
   std::map<std::string, double> metrics;
 };
 
-// The variant entries of a summary.json; none when it has no `variants` list.
-std::vector<VariantResult> variant_results(const nlohmann::json& summary);
+// The variant entries of a summary.json (none when it has no `variants` list), each keeping the
+// metrics that are default metrics or in `named`. `known`, when given, receives every metric
+// name of the variants that ran ok.
+std::vector<VariantResult> variant_results(const nlohmann::json& summary, const std::set<std::string>& named,
+                                           std::set<std::string>* known = nullptr);
 
 // What running a point gave (DIR/points/<hash>/status.json and summary.json).
 struct PointOutcome {
@@ -79,12 +94,12 @@ struct SweepTable {
   std::vector<MethodSummary> methods;   // by best x (methods with no best last, in order met)
 };
 
-// The table of a plan from its points' outcomes (outcomes[i] for plan.points[i]). Metric
-// columns: the sweep's `metrics` (plus any a constraint or the Pareto axes name), else every
-// metric of any row that is not a machine metric, sorted by name. Throws InputError when a name
-// the sweep uses is a metric of no row (unless no row ran ok).
-// The outcomes are consumed (their metrics move into the rows).
-SweepTable build_table(const SweepPlan& plan, std::vector<PointOutcome> outcomes);
+// The table of a plan from its points' outcomes (outcomes[i] for plan.points[i]; consumed: their
+// metrics move into the rows). Metric columns: the sweep's `metrics` (plus any a constraint or
+// the Pareto axes name), else every default metric of any row, sorted by name. `known` holds
+// every metric name of the variants that ran ok; a name the sweep uses that is not in it is an
+// InputError (no check when it is empty: nothing ran ok).
+SweepTable build_table(const SweepPlan& plan, std::vector<PointOutcome> outcomes, const std::set<std::string>& known);
 
 // sweep.csv: columns point, variant, method, one per axis (named by its key path), status,
 // meets_constraints, on_pareto_front, then the metric columns (names with their units, as the
