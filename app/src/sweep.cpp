@@ -12,7 +12,7 @@
 #include <ostream>
 #include <sstream>
 
-#include "blendbench/io/scenario.hpp"
+#include "blendbench/io/data_root.hpp"
 #include "blendbench/report/output.hpp"
 #include "blendbench/report/process.hpp"
 #include "sweep_pool.hpp"
@@ -132,7 +132,7 @@ int collect(const fs::path& out_dir, bool plots, std::ostream& out) {
   if (plots) {
     // an argument vector, no shell: the output folder is data, whatever characters it holds
     const ProcessResult plotted =
-        run_process({"/usr/bin/python3", source_root() + "/report/scripts/plot_sweep.py", out_dir.string()});
+        run_process({"/usr/bin/python3", data_file("report/scripts/plot_sweep.py"), out_dir.string()});
     if (plotted.ok) {
       png = read_text(out_dir / "pareto.png").value_or("");
     } else {

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "blendbench/app/sweep_results.hpp"
-#include "blendbench/app/sweep_spec.hpp"
+#include "blendbench/io/sweep_spec.hpp"
 
 namespace blendbench::sweep_detail {
 

@@ -25,7 +25,7 @@
 #include <nlohmann/json.hpp>
 
 #include "blendbench/app/sweep_results.hpp"
-#include "blendbench/app/sweep_spec.hpp"
+#include "blendbench/io/sweep_spec.hpp"
 
 namespace blendbench {
 

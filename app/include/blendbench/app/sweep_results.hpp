@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "blendbench/app/sweep_spec.hpp"
+#include "blendbench/io/sweep_spec.hpp"
 
 namespace blendbench {
 

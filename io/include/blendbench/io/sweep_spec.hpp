@@ -1,5 +1,5 @@
 #pragma once
-// Sweep files and their expansion (DESIGN: a sweep sits above a run). A sweep file names a base
+// Sweep files and their expansion (a sweep sits above a run). A sweep file names a base
 // scenario and axes over any of its values by key path; the product of the axes gives the
 // points, and each point is the base scenario with the point's values set, validated exactly as
 // the scenario loader validates a file:
@@ -89,7 +89,7 @@ struct SweepSpec {
 };
 
 // Reads a sweep file from text: `file` names it in errors, `base_dir` resolves `scenario`
-// (then the repository root, as the scenario loader resolves its files). Throws InputError.
+// (then the data root, as the scenario loader resolves its files). Throws InputError.
 SweepSpec parse_sweep(const std::string& text, const std::string& file, const std::string& base_dir);
 
 // The same from a file.

@@ -2,7 +2,7 @@
 // set in the scenario tree and validated by the scenario loader, and errors that name the sweep
 // file, the axis and the point.
 
-#include "blendbench/app/sweep_spec.hpp"
+#include "blendbench/io/sweep_spec.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "blendbench/app/sweep_spec.hpp"
+#include "blendbench/io/sweep_spec.hpp"
 
 #include <yaml-cpp/yaml.h>
 
@@ -11,8 +11,9 @@
 #include <set>
 #include <sstream>
 
+#include "blendbench/io/data_root.hpp"
 #include "blendbench/io/scenario.hpp"
-#include "blendbench/report/output.hpp"
+#include "blendbench/core/format.hpp"
 
 namespace blendbench {
 namespace {
@@ -111,7 +112,7 @@ void read_range(const SweepReader& r, const YAML::Node& node, const std::string&
     if (s != "linear" && s != "log") r.fail(scale, field + ".scale", "scale must be 'linear' or 'log', got '" + s + "'");
     log = s == "log";
     if (log && !(from > 0 && to > 0)) {
-      r.fail(node, field, "a log range needs positive ends, got from " + format_number(from) + " to " + format_number(to));
+      r.fail(node, field, "a log range needs positive ends, got from " + format_value(from) + " to " + format_value(to));
     }
   }
   for (int i = 0; i < steps; ++i) {
@@ -120,7 +121,7 @@ void read_range(const SweepReader& r, const YAML::Node& node, const std::string&
     double value = log ? from * std::pow(to / from, t) : from + (to - from) * t;
     if (i == 0) value = from;
     if (i == steps - 1) value = to;
-    const std::string text = format_number(value, 10);
+    const std::string text = format_value(value, 10);
     axis.values.push_back(text);
     axis.labels.push_back(text);
   }
@@ -393,12 +394,20 @@ SweepSpec parse_sweep(const std::string& text, const std::string& file, const st
   spec.file = file;
   spec.where = {file, 1, 1};
 
-  // the base scenario, as the loader resolves a file name: the sweep file's folder, then the root
+  // the base scenario, as the loader resolves a file name: the sweep file's folder, then the
+  // data root (data_root.hpp)
   const YAML::Node scenario = doc["scenario"];
   if (!scenario.IsDefined() || scenario.IsNull()) r.fail(doc, "scenario", "missing required field");
   const std::string name = r.text(scenario, "scenario");
-  for (const fs::path& base : {fs::path(base_dir), fs::path(source_root())}) {
-    const fs::path candidate = fs::path(name).is_absolute() ? fs::path(name) : base / name;
+  std::vector<fs::path> candidates = {fs::path(name).is_absolute() ? fs::path(name) : fs::path(base_dir) / name};
+  if (!fs::path(name).is_absolute()) {
+    try {
+      candidates.push_back(data_root() / name);
+    } catch (const DataRootError&) {
+      // no data root: only the sweep file's folder
+    }
+  }
+  for (const fs::path& candidate : candidates) {
     if (fs::is_regular_file(candidate)) {
       spec.scenario = fs::absolute(candidate).lexically_normal().string();
       break;
