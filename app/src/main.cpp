@@ -382,7 +382,7 @@ int main(int argc, char** argv) {
     std::cerr << "blendbench: error: " << e.what() << std::endl;
     return kExitBadInput;
   } catch (const std::exception& e) {
-    std::cerr << "blendbench: failed: " << e.what() << std::endl;
+    std::cerr << "blendbench: failed: " << bb::printable(e.what()) << std::endl;
     return kExitCheckFailed;
   }
   return kExitOk;
