@@ -8,6 +8,8 @@
 #     i.e. "FILE:LINE:COLUMN: 'KEY': " followed somewhere by WORDS (FILE defaults to the file
 #     itself; KEY '' means a refusal before any key, which prints no key);
 #   - write nothing (the folder stays empty).
+# A third line "# commands: plan run" names the commands that must refuse when not all do (a
+# plan too long to sample is refused by planning, not by loading or blending).
 # Then inputs that cannot be committed are made here: a file over the size limit (sparse), a
 # FIFO, /dev/zero, and a path spacing of 1e-300 mm.
 #   tests/corpus.sh BLENDBENCH CORPUS_DIR WORK_DIR
@@ -70,12 +72,19 @@ for file in "$corpus"/*.yaml "$corpus"/*.ngc; do
   location="$where:${BASH_REMATCH[3]}:${BASH_REMATCH[4]}: "
   [ -n "$key" ] && location+="'$key': "
   words=${BASH_REMATCH[6]}
-  run_case "$base.validate" "$location" "$words" "$binary" validate "$file"
-  run_case "$base.path" "$location" "$words" "$binary" path "$file" --csv out/path.csv --report out/report.json
-  run_case "$base.plan" "$location" "$words" "$binary" plan "$file" --csv out/plan.csv --summary out/summary.json
-  if [[ "$file" == *.yaml ]]; then
-    run_case "$base.run" "$location" "$words" "$binary" run "$file" --out out/run --no-video --no-plots
-  fi
+  commands="validate path plan run"
+  [[ "$file" == *.ngc ]] && commands="validate path plan"
+  third=$(sed -n 3p "$file")
+  [[ "$third" =~ ^[\#\;]\ commands:\ (.*)$ ]] && commands=${BASH_REMATCH[1]}
+  for command in $commands; do
+    case "$command" in
+      validate) run_case "$base.validate" "$location" "$words" "$binary" validate "$file" ;;
+      path) run_case "$base.path" "$location" "$words" "$binary" path "$file" --csv out/path.csv --report out/report.json ;;
+      plan) run_case "$base.plan" "$location" "$words" "$binary" plan "$file" --csv out/plan.csv --summary out/summary.json ;;
+      run) run_case "$base.run" "$location" "$words" "$binary" run "$file" --out out/run --no-video --no-plots ;;
+      *) fail "$base: unknown command '$command' on line 3" ;;
+    esac
+  done
 done
 
 # made here: a file over the size limit (sparse, so no disk is used), a FIFO, a device
