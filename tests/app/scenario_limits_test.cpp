@@ -26,7 +26,7 @@ TEST(ScenarioLimits, EveryScenarioVariantAndBaselineHoldsEveryLimit) {
       const Path path = blend(program_for(sc, v));
       for (const Baseline b : {Baseline::kNone, Baseline::kExactStop, Baseline::kJunctionSlowdown}) {
         TimingOptions options;
-        options.dt = 1.0 / sc.servo.rate_hz;
+        options.dt = 1.0 / sc.servo.setpoint_rate_hz;
         options.baseline = b;
         const Timing timing = plan_timing(path, options);
         const std::string where = entry.path().filename().string() + " / " + v.name + " / baseline " +
