@@ -16,6 +16,7 @@
 #include "blendbench/robot/joint_mapping.hpp"
 #include "blendbench/sim/simulator.hpp"
 #include "blendbench/timing/timing.hpp"
+#include "blendbench/io/data_root.hpp"
 #ifdef BLENDBENCH_HAS_RENDER
 #include "blendbench/render/render.hpp"
 #include "blendbench/render/video.hpp"
@@ -454,7 +455,7 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
     const auto plot_start = Clock::now();
     // an argument vector, no shell: the output folder is data, whatever characters it holds
     const ProcessResult plotted =
-        run_process({"/usr/bin/python3", source_root() + "/report/scripts/plot_run.py", request.out_dir.string()});
+        run_process({"/usr/bin/python3", data_file("report/scripts/plot_run.py"), request.out_dir.string()});
     if (plotted.ok) result.report = request.out_dir / "report.html";
     if (request.progress) {
       request.progress(plotted.ok ? "plots and report written (" + format_fixed(seconds_since(plot_start), 1) + " s)"

@@ -60,8 +60,8 @@ nlohmann::json corner_json(const CornerReport& c) {
   return {
         {"index", c.index},
         {"method", std::string(to_string(c.method))},
-        {"case", c.case_name},
-        {"fallback", c.fallback},
+        {"case", std::string(to_string(c.corner_case))},
+        {"fallback", std::string(to_string(c.fallback))},
         {"note", c.note},
         {"parameter_mm", c.parameter * kMm},
         {"length_mm", c.length * kMm},

@@ -2,6 +2,7 @@
 
 #include "blendbench/core/golden.hpp"
 #include "blendbench/geometry/phase_series.hpp"
+#include "blendbench/core/overloaded.hpp"
 
 #include <algorithm>
 #include <array>
@@ -10,11 +11,6 @@
 
 namespace blendbench {
 namespace {
-
-template <class... Ts>
-struct Overloaded : Ts... {
-  using Ts::operator()...;
-};
 
 // 10-point Gauss-Legendre nodes and weights on [-1, 1] (symmetric half).
 constexpr std::array<double, 5> kGlNodes = {0.1488743389816312, 0.4333953941292472, 0.6794095682990244,

@@ -110,10 +110,7 @@ const Variant& find_variant(const Scenario& scenario, const std::string& name);
 // such a name, or an empty string when it is.
 std::string folder_name_problem(const std::string& name);
 
-// The repository root baked in at build time (models/ and scenarios/ live there).
-std::string source_root();
-
-// The MJCF file of a dynamics model under models/.
-std::string model_mjcf(ArmModel model);
+// The MJCF file of a dynamics model, relative to the data root (data_root.hpp).
+std::string model_file(ArmModel model);
 
 }  // namespace blendbench
