@@ -291,7 +291,7 @@ int main(int argc, char** argv) {
   std::string papers_out = "results/papers";
   bool no_paper_plots = false;
   CLI::App* reproduce = app.add_subcommand("reproduce", "Reproduce a source paper's published numbers: report and data");
-  reproduce->add_option("name", paper, "004, 000 or all")->required();
+  reproduce->add_option("name", paper, "004, 000, 002 or all")->required();
   reproduce->add_option("--out", papers_out, "Parent folder; each paper goes to DIR/<paper>/ (default: results/papers)");
   reproduce->add_flag("--no-plots", no_paper_plots, "Do not draw the figures");
 

@@ -12,11 +12,10 @@
 #include "blendbench/report/csv.hpp"
 #include "blendbench/report/output.hpp"
 #include "blendbench/report/process.hpp"
-#include "blendbench/robot/ik.hpp"
-#include "blendbench/robot/joint_mapping.hpp"
-#include "blendbench/sim/simulator.hpp"
-#include "blendbench/timing/timing.hpp"
 #include "blendbench/io/data_root.hpp"
+#include "blendbench/robot/ik.hpp"
+#include "blendbench/sim/execution.hpp"
+#include "blendbench/timing/timing.hpp"
 #ifdef BLENDBENCH_HAS_RENDER
 #include "blendbench/render/render.hpp"
 #include "blendbench/render/video.hpp"
@@ -30,8 +29,6 @@ constexpr double kMm = 1e3;
 constexpr double kDeg = 180 / std::numbers::pi;
 // Path sampling for path.csv / program.csv (m): fine enough for plots, small enough for files.
 constexpr double kCsvStep = 0.5e-3;
-// Arc-length tolerance for "the reference is at this point of the path" (m).
-constexpr double kOnPath = 1e-9;
 
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -77,28 +74,6 @@ std::size_t move_at(const Path& path, double s) {
 
 [[noreturn]] void fail_at(const Scenario& sc, const SourceRef& where, const std::string& field, const std::string& what) {
   throw InputError(where.file.empty() ? sc.file : where.file, where.line, where.column, field, what);
-}
-
-// When the reference passes each corner: the first sample at its transition's start, the last
-// at its end (for a stop: when the reference arrives and when it leaves).
-std::vector<CornerTiming> corner_times(const std::vector<CornerPlacement>& placements, const Timing& timing) {
-  std::vector<CornerTiming> out;
-  for (const CornerPlacement& p : placements) {
-    CornerTiming c;
-    c.index = p.index;
-    c.t_start = c.t_end = timing.cycle_time;
-    for (const TimedSample& s : timing.samples) {
-      if (s.s >= p.s_start - kOnPath) {
-        c.t_start = s.t;
-        break;
-      }
-    }
-    for (const TimedSample& s : timing.samples) {
-      if (s.s <= p.s_end + kOnPath) c.t_end = s.t;
-    }
-    out.push_back(c);
-  }
-  return out;
 }
 
 // Everything shared by the variants of one scenario: robot models, solvers and the servo.
@@ -260,27 +235,21 @@ class VariantRun {
     plan.placements = corner_placements(path, program);
     plan.pieces = pieces_json(path, timing);
     if (!timing.outcome.ok()) return failed(std::move(out), VariantStatus::kPlanningFailed, "planning failed: " + timing.outcome.message);
-    plan.corner_times = corner_times(plan.placements, timing);
     say("planned " + format_fixed(path.length() * kMm, 1) + " mm in " + format_fixed(timing.cycle_time, 3) + " s (" +
         format_fixed(out.timings.planning * 1e3, 1) + " ms)");
 
-    // IK along the timed path
-    start = Clock::now();
-    std::vector<Eigen::Isometry3d> poses;
-    poses.reserve(timing.samples.size());
-    for (const TimedSample& s : timing.samples) poses.push_back(tool_pose(path.point(s.s), sc_.robot.tool_rotation));
-    const JointMapping joints = map_to_joints(*robot_.ik, poses, topt.dt, robot_.q0);
-    if (!joints.outcome.ok()) {
-      const double s = timing.samples[joints.failed_index].s;
-      fail_unreachable(sc_, program, move_at(path, s), "the path leaves the robot's reach or limits at " + joints.outcome.message);
-    }
-    out.timings.inverse_kinematics = seconds_since(start);
-    say("inverse kinematics for " + std::to_string(poses.size()) + " poses (" +
-        format_fixed(out.timings.inverse_kinematics * 1e3, 1) + " ms)");
-
-    // simulate, rendering frames on the way
-    RunOptions options;
-    options.settle_time = sc_.simulation.settle_time;
+    // execute: IK, the simulation (rendering frames on the way), metrics and health
+    ExecutionOptions options;
+    options.tool_rotation = sc_.robot.tool_rotation;
+    options.q0 = robot_.q0;
+    options.servo = robot_.servo;
+    options.run.settle_time = sc_.simulation.settle_time;
+    options.metrics.settle_tolerance = sc_.simulation.settle_tolerance;
+    options.metrics.settle_speed_tolerance = sc_.simulation.settle_speed_tolerance;
+    options.metrics.settle_window = sc_.simulation.settle_window;
+    options.metrics.vibration_window = sc_.simulation.vibration_window;
+    options.metrics.vibration_highpass = sc_.simulation.vibration_highpass;
+    options.metrics.jerk_lowpass = sc_.simulation.jerk_lowpass;
     double video_seconds = 0;
 #ifdef BLENDBENCH_HAS_RENDER
     std::unique_ptr<OffscreenRenderer> renderer;
@@ -298,21 +267,28 @@ class VariantRun {
       renderer = std::make_unique<OffscreenRenderer>(robot_.sim->model(), ropt);
       std::filesystem::create_directories(dir_);
       video = std::make_unique<VideoWriter>((dir_ / "video.mp4").string(), ropt.width, ropt.height, sc_.video.fps);
-      options.frame_rate = sc_.video.fps;
-      options.on_frame = [&](const mjModel&, const mjData& d, double) {
+      options.run.frame_rate = sc_.video.fps;
+      options.run.on_frame = [&](const mjModel&, const mjData& d, double) {
         const auto frame_start = Clock::now();
         video->write(renderer->render(d));
         video_seconds += seconds_since(frame_start);
       };
     }
 #endif
-    start = Clock::now();
-    const Trace trace = robot_.sim->run(joints.joints, robot_.servo, options);
-    const double wall = seconds_since(start);
+    const Execution run = execute(*robot_.sim, *robot_.ik, program, path, timing, options);
+    if (!run.joints.outcome.ok()) {
+      const double s = timing.samples[run.joints.failed_index].s;
+      fail_unreachable(sc_, program, move_at(path, s), "the path leaves the robot's reach or limits at " + run.joints.outcome.message);
+    }
+    const Trace& trace = run.trace;
+    plan.corner_times = run.corners;
+    out.timings.inverse_kinematics = run.ik_seconds;
     out.timings.simulated = trace.samples.empty() ? 0.0 : trace.samples.back().t;
     out.timings.video = video_seconds;
-    out.timings.simulation = wall - video_seconds;
+    out.timings.simulation = run.simulation_seconds - video_seconds;
     out.warning = trace.warning;
+    say("inverse kinematics for " + std::to_string(timing.samples.size()) + " poses (" +
+        format_fixed(out.timings.inverse_kinematics * 1e3, 1) + " ms)");
     if (trace.diverged) return failed(std::move(out), VariantStatus::kDiverged, "the simulation diverged: " + trace.warning);
 #ifdef BLENDBENCH_HAS_RENDER
     if (video) video->finish();
@@ -323,21 +299,13 @@ class VariantRun {
                               format_fixed(out.timings.real_time_factor_with_video(), 1) + "x real time with it)"
                         : std::string()));
 
-    // metrics, health and files
-    MetricsOptions mopt;
-    mopt.end_point = point(program.moves.back().geometry, length(program.moves.back().geometry));
-    mopt.settle_tolerance = sc_.simulation.settle_tolerance;
-    mopt.settle_speed_tolerance = sc_.simulation.settle_speed_tolerance;
-    mopt.settle_window = sc_.simulation.settle_window;
-    mopt.vibration_window = sc_.simulation.vibration_window;
-    mopt.vibration_highpass = sc_.simulation.vibration_highpass;
-    mopt.jerk_lowpass = sc_.simulation.jerk_lowpass;
-    mopt.corners = plan.corner_times;
-    out.metrics = compute_metrics(trace, program, path, mopt);
-    out.health = check_health(trace, joints.joints, robot_.sim->limits());
-    const Metrics& m = *out.metrics;
-    out.status = status_of(m, *out.health);
-    out.message = status_message(m, *out.health);
+    // status and files
+    const Metrics& m = run.metrics.value();
+    const Health& health = run.health.value();
+    out.status = status_of(m, health);
+    out.message = status_message(m, health);
+    out.metrics = m;
+    out.health = health;
     write_file_atomic(dir_ / "trace.csv", trace_csv(trace, timing, m));
     write_file_atomic(dir_ / "path.csv", path_csv(path, kCsvStep));
     write_file_atomic(dir_ / "program.csv", program_csv(program, kCsvStep));

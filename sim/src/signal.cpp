@@ -109,20 +109,26 @@ double dominant_frequency(const std::vector<double>& x, double fs, double f_min,
   };
   const double f_lo = std::max(f_min, resolution);
   const double f_hi = 0.5 * fs;
-  double best_f = 0, best_p = 0, before = 0, after = 0;
-  double previous = 0;
-  bool have_previous = false;
-  for (double f = f_lo; f <= f_hi; f += resolution) {
-    const double p = power(f);
-    if (p > best_p) {
-      best_p = p;
-      best_f = f;
-      before = have_previous ? previous : p;
-      after = power(std::min(f + resolution, f_hi));
-    }
-    previous = p;
-    have_previous = true;
+  std::vector<double> f, p;
+  for (double g = f_lo; g <= f_hi; g += resolution) {
+    f.push_back(g);
+    p.push_back(power(g));
   }
+  // the largest spectral peak (a local maximum inside the band); a spectrum that only falls
+  // from f_min (a transient's, not a vibration's) gives its largest value
+  std::size_t best = 0;
+  bool peak = false;
+  for (std::size_t k = 1; k + 1 < p.size(); ++k) {
+    if (p[k] > p[k - 1] && p[k] >= p[k + 1] && (!peak || p[k] > p[best])) {
+      best = k;
+      peak = true;
+    }
+  }
+  if (!peak) best = static_cast<std::size_t>(std::max_element(p.begin(), p.end()) - p.begin());
+  const double best_p = p.empty() ? 0.0 : p[best];
+  const double best_f = p.empty() ? 0.0 : f[best];
+  const double before = best > 0 ? p[best - 1] : best_p;
+  const double after = best + 1 < p.size() ? p[best + 1] : best_p;
   if (!(best_p > 0)) return 0;
   // parabola through the peak and its neighbours
   const double denominator = before - 2 * best_p + after;

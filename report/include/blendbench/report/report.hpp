@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "blendbench/program/corner_placement.hpp"
 #include "blendbench/program/path.hpp"
 #include "blendbench/timing/timing.hpp"
 #include "blendbench/program/program.hpp"
@@ -19,20 +20,6 @@ std::string path_csv(const Path& path, double ds);
 
 // The programmed moves sampled every `ds` m at most, header `s,x,y,z` (mm).
 std::string program_csv(const Program& program, double ds);
-
-// Where a corner lies (m): the programmed corner point (the end of move `index`), its arc length
-// along the programmed path, and the span of its transition on the planned path (for a corner
-// without a transition piece, an exact stop or a kink, start = end = the junction).
-struct CornerPlacement {
-  int index = 0;
-  Vec3 point = Vec3::Zero();
-  double s_programmed = 0;
-  double s_start = 0, s_end = 0;
-};
-
-// The placement of every corner of `path`, in the order of path.corners; `program` is the
-// program `path` was blended from.
-std::vector<CornerPlacement> corner_placements(const Path& path, const Program& program);
 
 // One corner report as JSON: index, method, case, fallback, note, parameter_mm, length_mm,
 // deviation_mm, kappa_max_per_mm, sharpness_max_per_mm2, feed_max_mm_per_min, trim_in_mm,

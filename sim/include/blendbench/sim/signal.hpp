@@ -18,7 +18,9 @@ std::vector<double> highpass_zero_phase(const std::vector<double>& x, double fs,
 
 // The frequency (Hz) of the largest peak of the Hann-windowed spectrum of x (its mean removed)
 // between f_min and fs / 2, scanned every `resolution` Hz and refined by a parabola through the
-// peak and its neighbours. 0 when x has fewer than 8 samples or no energy.
+// peak and its neighbours. A peak is a local maximum inside the band; a spectrum without one
+// (falling from f_min on: a transient, not a vibration) gives the frequency of its largest value.
+// 0 when x has fewer than 8 samples or no energy.
 double dominant_frequency(const std::vector<double>& x, double fs, double f_min, double resolution = 0.25);
 
 }  // namespace blendbench
