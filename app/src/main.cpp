@@ -1,4 +1,4 @@
-// blendbench: the command-line program (DESIGN: the command-line contract).
+// blendbench: the command-line program (the contract: README, "What a run produces" and "Other commands").
 // Exit codes: 0 ok, 1 a check failed or a variant did not complete, 2 bad input.
 
 #include <CLI/CLI.hpp>

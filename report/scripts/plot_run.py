@@ -381,7 +381,14 @@ def report_html(run_dir, summary, variants):
                f"corner deviation). Least residual vibration after the stop: "
                f"<b>{best_name('vibration after stop [µm] / [Hz]')}</b>; after the corners: "
                f"<b>{best_name('largest corner vibration [µm]')}</b>. Best values are shaded; only variants with "
-               f"status ok (clean tracking data) compete.</p>")
+               f"status ok (clean tracking data) compete.</p>"
+               "<p>Why, in the plots: the cycle time follows the planned path speed (<i>Path speed</i>: an exact "
+               "stop comes to rest at every corner, a circular arc slows where its curvature jumps, a G2 "
+               "transition keeps its speed); the vibration follows what the reference asks of the arm at the "
+               "corners (<i>Acceleration and jerk</i>, <i>Curvature</i>: stopping and restarting, or a curvature "
+               "step, against curvature that ramps) and shows in <i>Residual vibration</i> and the joints' "
+               "<i>following errors</i>; the contour error against the programmed path is mostly each method's "
+               "designed corner deviation, the one against the planned path the servo's own error.</p>")
     r = summary["robot"]
     s = summary["servo"]
     sim = summary["simulation"]

@@ -163,23 +163,21 @@ TEST_F(EndToEnd, RigidModelRunsAndMismatchesAreBadInput) {
   EXPECT_TRUE(rigid.all_ok);
   EXPECT_EQ(rigid.summary.robot.model, ArmModel::kRigid);
   EXPECT_EQ(rigid.summary.robot.natural_frequency_arm, JointVector::Zero());
-  // robot.model rigid on the elastic file: named at the key
-  try {
-    (void)run(with("units: mm", "units: mm\nrobot: {model: rigid, mjcf: ../models/ur5e_like.xml}"));
-    FAIL() << "expected an InputError";
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.field(), "robot.model");
-    EXPECT_EQ(e.line(), 3);
-    EXPECT_NE(std::string(e.what()).find("elastic joints"), std::string::npos) << e.what();
-  }
-  // a servo rate that does not divide the 8 kHz physics
-  try {
-    (void)run(with("units: mm", "units: mm\nservo: {rate_hz: 3000, setpoint_rate_hz: 500}"));
-    FAIL() << "expected an InputError";
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.field(), "servo.rate_hz");
-    EXPECT_EQ(e.line(), 3);
-    EXPECT_NE(std::string(e.what()).find("8000 Hz physics"), std::string::npos) << e.what();
+  // found when the model is loaded, named at the YAML key (line 3): robot.model rigid on the
+  // elastic file, and a servo rate that does not divide the 8 kHz physics
+  const struct {
+    std::string line, field, fragment;
+  } cases[] = {{"robot: {model: rigid, mjcf: ../models/ur5e_like.xml}", "robot.model", "elastic joints"},
+               {"servo: {rate_hz: 3000, setpoint_rate_hz: 500}", "servo.rate_hz", "8000 Hz physics"}};
+  for (const auto& c : cases) {
+    try {
+      (void)run(with("units: mm", "units: mm\n" + c.line));
+      ADD_FAILURE() << "expected an InputError for " << c.line;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.field(), c.field);
+      EXPECT_EQ(e.line(), 3);
+      EXPECT_NE(std::string(e.what()).find(c.fragment), std::string::npos) << e.what();
+    }
   }
 }
 

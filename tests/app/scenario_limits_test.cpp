@@ -1,4 +1,4 @@
-// Issue 4: every limit holds on the sampled profile of every shipped scenario, for every
+// Every limit holds on the sampled profile of every shipped scenario, for every
 // variant and both baselines, and of random programs blended with every method.
 
 #include <gtest/gtest.h>

@@ -48,8 +48,8 @@ constexpr double kHoldTolerance = 0.01e-3;  // m
 // loop delay and the Coulomb friction lengthen it, and the gear lets the motor start ahead of
 // the link (it first moves its rotor alone), which shortens it; the elasticity adds a little
 // overshoot.
-constexpr double kRiseMin = 5.0, kRiseMax = 9.5;
-constexpr double kOvershootMax = 0.06;
+constexpr double kRiseMin = 5.0, kRiseMax = 7.5;
+constexpr double kOvershootMax = 0.03;
 
 std::string elastic_model() { return test::source_path("models/ur5e_like.xml"); }
 std::string rigid_model() { return test::source_path("models/ur5e_like_rigid.xml"); }

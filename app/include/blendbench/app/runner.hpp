@@ -1,5 +1,5 @@
 #pragma once
-// The whole pipeline for one scenario (DESIGN: data flow): per variant, blend -> time -> IK ->
+// The whole pipeline for one scenario: per variant, blend -> time -> IK ->
 // simulate -> metrics, then results on disk (summary.json, per-variant trace.csv, path.csv,
 // program.csv, corners.json, plots, video.mp4, and report.html). Used by `blendbench run` and
 // the end-to-end test.

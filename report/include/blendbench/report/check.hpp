@@ -1,5 +1,5 @@
 #pragma once
-// Regression checks of a run against a committed baseline (DESIGN: `blendbench check`).
+// Regression checks of a run against a committed baseline (`blendbench check`).
 //
 // A baseline file (results/baselines/<scenario>.json) holds, per variant, the metric values of
 // a reference run and, per metric, a tolerance: a metric regresses when
