@@ -113,16 +113,16 @@ nlohmann::json plan_json(const PlanFigures& p) {
 }
 
 nlohmann::json timings_json(const Timings& t) {
-  return {{"planning_wall_s", t.planning},
-          {"inverse_kinematics_wall_s", t.inverse_kinematics},
+  return {{"planning_wall_time_s", t.planning},
+          {"inverse_kinematics_wall_time_s", t.inverse_kinematics},
           {"simulated_s", t.simulated},
-          {"sim_wall_s", t.simulation},
-          {"video_wall_s", t.video},
+          {"sim_wall_time_s", t.simulation},
+          {"video_wall_time_s", t.video},
           {"real_time_factor", t.real_time_factor()},
           {"real_time_factor_with_video", t.real_time_factor_with_video()}};
 }
 
-nlohmann::json comparison_json(const Comparison& c) {
+nlohmann::json comparison_json(const ExactStopComparison& c) {
   nlohmann::json out = {{"reference_variant", c.reference},
                         {"cycle_time_saved_percent", c.cycle_time_saved_percent ? nlohmann::json(*c.cycle_time_saved_percent)
                                                                                 : nlohmann::json()}};
@@ -195,8 +195,8 @@ std::string_view to_string(VariantStatus status) {
 }
 
 void compare_with_exact_stop(RunSummary& summary) {
-  const VariantResult* reference = nullptr;
-  for (const VariantResult& v : summary.variants) {
+  const VariantSummary* reference = nullptr;
+  for (const VariantSummary& v : summary.variants) {
     if (v.method == Method::kNone && v.status == VariantStatus::kOk && v.metrics && v.metrics->cycle_time) {
       reference = &v;
       break;
@@ -205,9 +205,9 @@ void compare_with_exact_stop(RunSummary& summary) {
   if (reference == nullptr) return;
   const double t_ref = *reference->metrics->cycle_time;
   const auto errors_ref = compared_errors(*reference->metrics);
-  for (VariantResult& v : summary.variants) {
+  for (VariantSummary& v : summary.variants) {
     if (!v.metrics) continue;
-    Comparison c;
+    ExactStopComparison c;
     c.reference = reference->name;
     if (v.metrics->cycle_time && t_ref > 0) c.cycle_time_saved_percent = 100 * (t_ref - *v.metrics->cycle_time) / t_ref;
     const auto errors = compared_errors(*v.metrics);
@@ -219,7 +219,7 @@ void compare_with_exact_stop(RunSummary& summary) {
   }
 }
 
-void to_json(nlohmann::json& out, const VariantResult& v) {
+void to_json(nlohmann::json& out, const VariantSummary& v) {
   out = {{"name", v.name},
          {"method", std::string(to_string(v.method))},
          {"parameter_mm", v.parameter * kMm},

@@ -210,9 +210,9 @@ class VariantRun {
   VariantRun(const Scenario& sc, const Robot& robot, const RunRequest& request, const Variant& variant)
       : sc_(sc), robot_(robot), request_(request), variant_(variant), dir_(request.out_dir / variant.name) {}
 
-  VariantResult run() {
+  VariantSummary run() {
     const Program program = program_for(sc_, variant_);
-    VariantResult out;
+    VariantSummary out;
     out.name = variant_.name;
     out.method = variant_method(program, variant_);
     out.parameter = variant_.transition ? variant_.transition->parameter : 0.0;
@@ -299,17 +299,19 @@ class VariantRun {
                               format_fixed(out.timings.real_time_factor_with_video(), 1) + "x real time with it)"
                         : std::string()));
 
-    // status and files
+    // status and files (a sweep keeps only summary.json)
     const Metrics& m = run.metrics.value();
     const Health& health = run.health.value();
     out.status = status_of(m, health);
     out.message = status_message(m, health);
     out.metrics = m;
     out.health = health;
-    write_file_atomic(dir_ / "trace.csv", trace_csv(trace, timing, m));
-    write_file_atomic(dir_ / "path.csv", path_csv(path, kCsvStep));
-    write_file_atomic(dir_ / "program.csv", program_csv(program, kCsvStep));
-    write_file_atomic(dir_ / "corners.json", corners_json(plan).dump(2) + "\n");
+    if (request_.variant_files) {
+      write_file_atomic(dir_ / "trace.csv", trace_csv(trace, timing, m));
+      write_file_atomic(dir_ / "path.csv", path_csv(path, kCsvStep));
+      write_file_atomic(dir_ / "program.csv", program_csv(program, kCsvStep));
+      write_file_atomic(dir_ / "corners.json", corners_json(plan).dump(2) + "\n");
+    }
     const std::string cycle = m.cycle_time ? format_fixed(*m.cycle_time, 3) + " s" : std::string("not settled");
     say("cycle " + cycle + ", tracking error max " + format_fixed(m.tracking_error_max * kMm, 3) +
         " mm, contour error (planned path) max " + format_fixed(m.contour_error_planned_max * kMm, 3) +
@@ -323,7 +325,7 @@ class VariantRun {
     if (request_.progress) request_.progress("  " + variant_.name + ": " + line);
   }
 
-  VariantResult failed(VariantResult out, VariantStatus status, const std::string& message) const {
+  VariantSummary failed(VariantSummary out, VariantStatus status, const std::string& message) const {
     out.status = status;
     out.message = message;
     say(message);

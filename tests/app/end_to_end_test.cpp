@@ -75,7 +75,7 @@ TEST_F(EndToEnd, MetricsAreFiniteAndPlausible) {
   EXPECT_GT(summary.robot.natural_frequency_arm[0], 8);
   EXPECT_EQ(summary.servo.rate_hz, 2000);
   EXPECT_EQ(summary.servo.setpoint_rate_hz, 500);
-  for (const VariantResult& v : summary.variants) {
+  for (const VariantSummary& v : summary.variants) {
     SCOPED_TRACE(v.name);
     ASSERT_EQ(v.status, VariantStatus::kOk) << v.message;
     ASSERT_TRUE(v.metrics && v.health);
@@ -136,7 +136,7 @@ TEST_F(EndToEnd, TrackingErrorGrowsWithSpeedAndFeedForwardReducesIt) {
   // (a PD without integral action may stop short of the end point by friction: not settled,
   // but clean tracking data)
   const auto clean = [](const RunResult& r, const std::string& what) {
-    for (const VariantResult& v : r.summary.variants) {
+    for (const VariantSummary& v : r.summary.variants) {
       EXPECT_TRUE(v.metrics && v.health && !v.health->saturated && !v.health->limits_exceeded()) << what << " " << v.name << ": " << v.message;
     }
   };

@@ -51,13 +51,13 @@ struct Timings {
 
 // A variant against the exact-stop variant of the run: cycle time saved (%) and the ratio of
 // each error (this / the exact stop's; empty when the exact stop's is zero).
-struct Comparison {
+struct ExactStopComparison {
   std::string reference;  // name of the exact-stop variant
   std::optional<double> cycle_time_saved_percent;
   std::vector<std::pair<std::string, std::optional<double>>> ratios;  // key (ends in _ratio), value
 };
 
-struct VariantResult {
+struct VariantSummary {
   std::string name;
   Method method = Method::kNone;  // the variant's transition method (or the first move's)
   double parameter = 0;           // m, the variant's transition parameter (0 when none)
@@ -69,7 +69,7 @@ struct VariantResult {
   std::optional<Metrics> metrics;
   std::optional<Health> health;
   Timings timings;
-  std::optional<Comparison> comparison;
+  std::optional<ExactStopComparison> comparison;
 };
 
 // The arm that ran: its model, timestep and natural frequencies at the start pose.
@@ -89,7 +89,7 @@ struct RunSummary {
   ServoController controller = ServoController::kCascade;
   ServoConfig servo;  // as tuned at the start pose
   SimulationSettings simulation;
-  std::vector<VariantResult> variants;
+  std::vector<VariantSummary> variants;
 };
 
 // The comparison block of every variant that has a cycle time against the first exact-stop
@@ -102,6 +102,6 @@ nlohmann::json corners_json(const PlanFigures& plan);
 
 // The one serializer of run results (nlohmann's ADL hook): summary.json is to_json(RunSummary).
 void to_json(nlohmann::json& out, const RunSummary& summary);
-void to_json(nlohmann::json& out, const VariantResult& variant);
+void to_json(nlohmann::json& out, const VariantSummary& variant);
 
 }  // namespace blendbench
