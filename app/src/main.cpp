@@ -1,4 +1,4 @@
-// blendbench: the command-line program (DESIGN: the command-line contract).
+// blendbench: the command-line program (the contract: README, "What a run produces" and "Other commands").
 // Exit codes: 0 ok, 1 a check failed or a variant did not complete, 2 bad input.
 
 #include <CLI/CLI.hpp>
@@ -50,16 +50,26 @@ int cmd_run(std::string scenario_path, std::string out_dir, bool no_video, bool 
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::cout << "done in " << bb::format_number(wall, 3) << " s: " << (std::filesystem::path(out_dir) / "summary.json").string()
             << std::endl;
-  for (const auto& v : result.summary["variants"]) {
-    std::cout << "  " << v["name"].get<std::string>() << ": ";
-    if (v["status"] != "ok") {
-      std::cout << v["status"].get<std::string>() << " - " << v.value("message", "") << std::endl;
+  for (const bb::VariantSummary& v : result.summary.variants) {
+    std::cout << "  " << v.name << ": ";
+    if (!v.metrics) {
+      std::cout << bb::to_string(v.status) << " - " << v.message << std::endl;
       continue;
     }
-    const auto& cycle = v["cycle_time_s"];
-    std::cout << "cycle " << (cycle.is_number() ? bb::format_number(cycle.get<double>(), 4) + " s" : "not settled")
-              << ", tracking max " << bb::format_number(v["tracking_error_max_mm"].get<double>(), 3) << " mm"
-              << ", contour max " << bb::format_number(v["contour_error_max_mm"].get<double>(), 3) << " mm" << std::endl;
+    const bb::Metrics& m = *v.metrics;
+    std::cout << "cycle " << (m.cycle_time ? bb::format_number(*m.cycle_time, 4) + " s" : "not settled") << ", tracking max "
+              << bb::format_number(m.tracking_error_max * 1e3, 3) << " mm, contour (planned path) max "
+              << bb::format_number(m.contour_error_planned_max * 1e3, 3) << " mm, residual vibration "
+              << bb::format_number(m.vibration_final.peak_to_peak * 1e6, 3) << " um";
+    if (v.status != bb::VariantStatus::kOk) std::cout << " [" << bb::to_string(v.status) << ": " << v.message << "]";
+    std::cout << std::endl;
+  }
+  if (result.report) {
+    std::cout << "report: " << result.report->string() << std::endl;
+  } else if (request.plots) {
+    std::cout << "no report: the plot script failed (see above)" << std::endl;
+  } else {
+    std::cout << "no report (--no-plots)" << std::endl;
   }
   return result.all_ok ? kExitOk : kExitCheckFailed;
 }
@@ -78,7 +88,7 @@ struct ProgramFlags {
 struct LoadedProgram {
   bb::Program program;
   std::vector<std::string> ignored;
-  double dt = 1e-3;  // servo period for timing (s)
+  double dt = 1e-3;  // setpoint period for timing (s): 1 ms for G-code, the scenario's setpoint rate otherwise
 };
 
 // Defaults for G-code programs, which carry no acceleration or jerk (documented in the README).
@@ -143,7 +153,7 @@ LoadedProgram load_program(const std::string& input, const ProgramFlags& flags) 
     const bb::Variant& v = flags.variant.empty() ? scenario.variants.front() : bb::find_variant(scenario, flags.variant);
     out.program = bb::program_for(scenario, v);
     out.ignored = scenario.ignored;
-    out.dt = 1.0 / scenario.servo.rate_hz;
+    out.dt = 1.0 / scenario.servo.setpoint_rate_hz;
   }
   for (bb::Move& move : out.program.moves) {
     if (transition) move.transition = *transition;
@@ -168,7 +178,7 @@ int cmd_path(const std::string& input, const ProgramFlags& flags, const std::str
                              " rows; the limit is " + bb::format_number(bb::kMaxPathSamples, 3) + " (raise --ds)");
   }
   bb::write_file_atomic(csv, bb::path_csv(path, ds_mm * 1e-3));
-  if (!report.empty()) bb::write_file_atomic(report, bb::corners_json(path).dump(2) + "\n");
+  if (!report.empty()) bb::write_file_atomic(report, bb::corners_json(path, loaded.program).dump(2) + "\n");
   std::cout << "path: " << bb::format_number(path.length() * 1e3, 6) << " mm, " << path.pieces().size() << " pieces, "
             << path.corners.size() << " corners -> " << csv << std::endl;
   return kExitOk;
@@ -186,7 +196,7 @@ int cmd_plan(const std::string& input, const ProgramFlags& flags, const std::str
     std::cerr << "blendbench: planning failed: " << timing.outcome.message << std::endl;
     return kExitCheckFailed;
   }
-  nlohmann::json j = bb::plan_summary_json(path, timing);
+  nlohmann::json j = bb::plan_summary_json(path, timing, loaded.program);
   j["ignored"] = loaded.ignored;
   j["planning_wall_time_s"] = wall;
   bb::write_file_atomic(csv, bb::timed_csv(path, timing));
@@ -339,7 +349,7 @@ int main(int argc, char** argv) {
   std::string papers_out = "results/papers";
   bool no_paper_plots = false;
   CLI::App* reproduce = app.add_subcommand("reproduce", "Reproduce a source paper's published numbers: report and data");
-  reproduce->add_option("name", paper, "004, 000 or all")->required();
+  reproduce->add_option("name", paper, "004, 000, 002 or all")->required();
   reproduce->add_option("--out", papers_out, "Parent folder; each paper goes to DIR/<paper>/ (default: results/papers)");
   reproduce->add_flag("--no-plots", no_paper_plots, "Do not draw the figures");
 

@@ -11,7 +11,9 @@
 #include <numbers>
 #include <set>
 
+#include "blendbench/core/format.hpp"
 #include "blendbench/geometry/arc_construction.hpp"
+#include "blendbench/io/data_root.hpp"
 #include "blendbench/io/program_io.hpp"
 #include "scenario_reader.hpp"
 
@@ -225,9 +227,19 @@ void read_program(const Reader& r, const Field& root, Scenario& sc) {
 void read_robot(const Reader& r, const Field& root, Scenario& sc) {
   const Field robot = r.child(root, "robot");
   if (robot.node.defined()) r.check_keys(robot);
-  // the shipped arm in the data root (data_root.hpp) unless the scenario names its own model
+  // the shipped arm in the data root (data_root.hpp) unless the scenario names its own model;
+  // the dynamics of the chosen `model` unless it names its own MJCF
+  const Field model = r.value(robot, "model");
+  sc.robot.model = r.choice(model) == "rigid" ? ArmModel::kRigid : ArmModel::kElastic;
+  const Field mjcf = r.child(robot, "mjcf");
+  sc.robot.mjcf = mjcf.node.defined() ? r.existing_file(mjcf) : data_file(model_file(sc.robot.model));
+  // where the model was chosen, for later errors: `model`, else `mjcf`, else nowhere
+  if (const Field given = r.child(robot, "model"); given.node.defined()) {
+    sc.robot.model_where = r.where(given);
+  } else if (mjcf.node.defined()) {
+    sc.robot.model_where = r.where(mjcf);
+  }
   sc.robot.urdf = r.existing_file(r.value(robot, "urdf"));
-  sc.robot.mjcf = r.existing_file(r.value(robot, "mjcf"));
   sc.robot.base_link = r.text(r.value(robot, "base_link"));
   sc.robot.tip_link = r.text(r.value(robot, "tip_link"));
   sc.robot.tool_rotation = rpy_deg(radians(r.numbers(r.value(robot, "tool_rpy_deg"))));
@@ -235,32 +247,69 @@ void read_robot(const Reader& r, const Field& root, Scenario& sc) {
   for (int i = 0; i < 6; ++i) sc.robot.q_seed[i] = q[static_cast<std::size_t>(i)];
 }
 
-std::array<double, 6> six(const std::vector<double>& v) {
-  std::array<double, 6> out{};
-  std::copy(v.begin(), v.end(), out.begin());
-  return out;
+// Whether `a` is a whole multiple of `b` (both > 0), to 1e-9 of the ratio.
+bool whole_multiple(double a, double b) {
+  const double ratio = a / b;
+  return std::abs(ratio - std::round(ratio)) <= 1e-9 * ratio;
 }
 
-void read_settings(const Reader& r, const Field& root, Scenario& sc) {
+void read_servo(const Reader& r, const Field& root, Scenario& sc) {
   const Field servo = r.child(root, "servo");
   if (servo.node.defined()) r.check_keys(servo);
+  ServoSettings& s = sc.servo;
+  s.controller = r.choice(r.value(servo, "controller")) == "pd" ? ServoController::kPd : ServoController::kCascade;
   const Field rate = r.value(servo, "rate_hz");
-  sc.servo.rate_hz = r.number(rate);
-  // the physics step is 1 ms: a servo tick must fall on a step
-  const double ratio = 1000.0 / sc.servo.rate_hz;
-  if (std::abs(ratio - std::round(ratio)) > 1e-9) {
-    r.fail(rate, "the servo rate must divide the 1000 Hz physics rate (1000, 500, 250, 200, ...), got " + rate.node.scalar());
+  s.rate_hz = r.number(rate);
+  if (r.child(servo, "rate_hz").node.defined()) s.rate_where = r.where(rate);
+  if (const Field f = r.child(servo, "setpoint_rate_hz"); f.node.defined()) {
+    s.setpoint_rate_hz = r.number(f);
+    if (s.setpoint_rate_hz > s.rate_hz) {
+      r.fail(f, "the setpoint rate must be at most the servo rate (" + format_value(s.rate_hz) + " Hz), got " + f.node.scalar());
+    }
+    if (!whole_multiple(s.rate_hz, s.setpoint_rate_hz)) {
+      r.fail(f, "the servo rate (" + format_value(s.rate_hz) + " Hz) must be a whole multiple of the setpoint rate");
+    }
+  } else if (s.rate_hz < s.setpoint_rate_hz || !whole_multiple(s.rate_hz, s.setpoint_rate_hz)) {
+    // a servo rate given alone runs the setpoints at its own rate when it cannot take 500 Hz
+    s.setpoint_rate_hz = s.rate_hz;
   }
-  if (const Field f = r.child(servo, "kp"); f.node.defined()) sc.servo.kp = six(r.numbers(f));
-  if (const Field f = r.child(servo, "kd"); f.node.defined()) sc.servo.kd = six(r.numbers(f));
-  sc.servo.gravity_compensation = r.flag(r.value(servo, "gravity_compensation"));
-  sc.servo.feedforward = r.flag(r.value(servo, "feedforward"));
+  s.measurement_delay_ticks = r.integer(r.value(servo, "measurement_delay_ticks"));
+  const Field counts = r.value(servo, "encoder_counts_per_turn");
+  s.encoder_counts_per_turn = r.number(counts);
+  if (s.encoder_counts_per_turn != std::round(s.encoder_counts_per_turn)) {
+    r.fail(counts, "counts per turn must be a whole number (0: an exact encoder), got " + counts.node.scalar());
+  }
+  // unset switches take the controller's defaults (sim/servo.hpp)
+  for (auto [key, target] : {std::pair{"velocity_feedforward", &s.velocity_feedforward},
+                             std::pair{"acceleration_feedforward", &s.acceleration_feedforward},
+                             std::pair{"gravity_compensation", &s.gravity_compensation},
+                             std::pair{"deflection_compensation", &s.deflection_compensation}}) {
+    if (const Field f = r.child(servo, key); f.node.defined()) *target = r.flag(f);
+  }
+}
 
+void read_simulation(const Reader& r, const Field& root, Scenario& sc) {
   const Field sim = r.child(root, "simulation");
   if (sim.node.defined()) r.check_keys(sim);
-  sc.simulation.settle_tolerance = r.number(r.value(sim, "settle_tolerance"));
-  sc.simulation.settle_time = r.number(r.value(sim, "settle_time_s"));
+  SimulationSettings& s = sc.simulation;
+  s.settle_tolerance = r.number(r.value(sim, "settle_tolerance"));
+  s.settle_speed_tolerance = r.number(r.value(sim, "settle_speed_tolerance"));
+  s.settle_window = r.number(r.value(sim, "settle_window_s"));
+  s.vibration_window = r.number(r.value(sim, "vibration_window_s"));
+  s.vibration_highpass = r.number(r.value(sim, "vibration_highpass_hz"));
+  s.jerk_lowpass = r.number(r.value(sim, "jerk_lowpass_hz"));
+  const Field time = r.value(sim, "settle_time_s");
+  s.settle_time = r.number(time);
+  // the settle window must fit into the simulated time after the reference
+  if (s.settle_time < s.settle_window) {
+    const Field window = r.child(sim, "settle_window_s");
+    r.fail(r.child(sim, "settle_time_s").node.defined() || !window.node.defined() ? time : window,
+           "settle_time_s (" + format_value(s.settle_time) + " s) must be at least the settle window settle_window_s (" +
+               format_value(s.settle_window) + " s)");
+  }
+}
 
+void read_video(const Reader& r, const Field& root, Scenario& sc) {
   const Field video = r.child(root, "video");
   if (video.node.defined()) r.check_keys(video);
   sc.video.fps = r.number(r.value(video, "fps"));
@@ -316,6 +365,10 @@ std::string folder_name_problem(const std::string& name) {
   return {};
 }
 
+std::string model_file(ArmModel model) {
+  return model == ArmModel::kElastic ? "models/ur5e_like.xml" : "models/ur5e_like_rigid.xml";
+}
+
 Scenario parse_scenario(const std::string& text, const std::string& file, const std::string& base_dir) {
   const Document doc(text, file);
   Reader r(doc, file, base_dir);
@@ -338,7 +391,9 @@ Scenario parse_scenario(const std::string& text, const std::string& file, const 
     sc.frame.linear() = rpy_deg(radians(r.numbers(r.value(frame, "rpy_deg"))));
   }
   read_robot(r, root, sc);
-  read_settings(r, root, sc);
+  read_servo(r, root, sc);
+  read_simulation(r, root, sc);
+  read_video(r, root, sc);
   read_program(r, root, sc);
   read_variants(r, root, sc);
   // the planner's own checks (joins, limits) on the first variant's program

@@ -60,12 +60,12 @@ std::string what_is(const Ref& node) {
 }
 
 void Reader::fail(const Field& f, const std::string& message) const {
-  const Ref& at = f.node.defined() ? f.node : f.at;
+  const Ref& at = f.node.defined() && !f.fallback ? f.node : f.at;
   throw InputError(file_, at.line(), at.column(), f.path(), message);
 }
 
 SourceRef Reader::where(const Field& f) const {
-  const Ref& at = f.node.defined() ? f.node : f.at;
+  const Ref& at = f.node.defined() && !f.fallback ? f.node : f.at;
   return {file_, at.line(), at.column()};
 }
 

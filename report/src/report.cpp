@@ -5,24 +5,14 @@
 
 #include "blendbench/core/format.hpp"
 #include "blendbench/core/input_error.hpp"
-#include "blendbench/report/output.hpp"
+#include "blendbench/report/csv.hpp"
+#include "blendbench/report/json.hpp"
 
 namespace blendbench {
 namespace {
 
 // mm from m, for output
 constexpr double kMm = 1e3;
-
-// Appends "v0,v1,...\n".
-void append_row(std::string& out, std::initializer_list<double> values) {
-  bool first = true;
-  for (const double v : values) {
-    if (!first) out += ',';
-    out += format_number(v, 12);
-    first = false;
-  }
-  out += '\n';
-}
 
 // Intervals a piece of length `len` is sampled in (a double: len / ds may exceed any integer).
 double intervals(double len, double ds) { return std::max(1.0, std::ceil(len / ds - 1e-9)); }
@@ -35,8 +25,7 @@ void check_rows(double rows, double length, double ds) {
                        " rows; the limit is " + format_value(kMaxPathSamples) + " (a larger spacing)");
 }
 
-// A JSON number, or null when not finite (JSON has no infinity).
-nlohmann::json finite_or_null(double value) { return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(); }
+nlohmann::json mm(const Vec3& p) { return nlohmann::json::array({p.x() * kMm, p.y() * kMm, p.z() * kMm}); }
 
 }  // namespace
 
@@ -47,8 +36,8 @@ double path_sample_count(const Path& path, double ds) {
 }
 
 std::string path_csv(const Path& path, double ds) {
-  std::string out = "s,x,y,z,tx,ty,tz,kappa\n";
-  if (path.pieces().empty()) return out;
+  CsvWriter out({"s", "x", "y", "z", "tx", "ty", "tz", "kappa"});
+  if (path.pieces().empty()) return out.text();
   check_rows(path_sample_count(path, ds), path.length(), ds);
   for (std::size_t k = 0; k < path.pieces().size(); ++k) {
     const Segment& seg = path.pieces()[k].segment;
@@ -61,15 +50,14 @@ std::string path_csv(const Path& path, double ds) {
       const Vec3 p = point(seg, s);
       const Vec3 t = tangent(seg, s);
       const double kappa = curvature_vector(seg, s).norm();
-      append_row(out, {(path.offset(k) + s) * kMm, p.x() * kMm, p.y() * kMm, p.z() * kMm, t.x(), t.y(), t.z(),
-                       kappa / kMm});
+      out.row({(path.offset(k) + s) * kMm, p.x() * kMm, p.y() * kMm, p.z() * kMm, t.x(), t.y(), t.z(), kappa / kMm});
     }
   }
-  return out;
+  return out.text();
 }
 
 std::string program_csv(const Program& program, double ds) {
-  std::string out = "s,x,y,z\n";
+  CsvWriter out({"s", "x", "y", "z"});
   double rows = 1;
   double total = 0;
   for (const Move& move : program.moves) {
@@ -86,17 +74,15 @@ std::string program_csv(const Program& program, double ds) {
     for (int i = 0; i <= last; ++i) {
       const double s = len * i / n;
       const Vec3 p = point(g, s);
-      append_row(out, {(offset + s) * kMm, p.x() * kMm, p.y() * kMm, p.z() * kMm});
+      out.row({(offset + s) * kMm, p.x() * kMm, p.y() * kMm, p.z() * kMm});
     }
     offset += len;
   }
-  return out;
+  return out.text();
 }
 
-nlohmann::json corners_json(const Path& path) {
-  nlohmann::json out = nlohmann::json::array();
-  for (const CornerReport& c : path.corners) {
-    out.push_back({
+nlohmann::json corner_json(const CornerReport& c) {
+  return {
         {"index", c.index},
         {"method", std::string(to_string(c.method))},
         {"case", std::string(to_string(c.corner_case))},
@@ -111,24 +97,45 @@ nlohmann::json corners_json(const Path& path) {
         {"trim_in_mm", c.trim_in * kMm},
         {"trim_out_mm", c.trim_out * kMm},
         {"stop", c.stop},
-    });
-  }
+  };
+}
+
+nlohmann::json corner_json(const CornerReport& c, const CornerPlacement& where) {
+  nlohmann::json out = corner_json(c);
+  out["point_mm"] = mm(where.point);
+  out["s_programmed_mm"] = where.s_programmed * kMm;
+  out["s_start_mm"] = where.s_start * kMm;
+  out["s_end_mm"] = where.s_end * kMm;
   return out;
 }
 
+nlohmann::json corners_json(const Path& path) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const CornerReport& c : path.corners) out.push_back(corner_json(c));
+  return out;
+}
+
+nlohmann::json corners_json(const Path& path, const Program& program) {
+  const std::vector<CornerPlacement> where = corner_placements(path, program);
+  nlohmann::json out = nlohmann::json::array();
+  for (std::size_t k = 0; k < path.corners.size(); ++k) out.push_back(corner_json(path.corners[k], where[k]));
+  return out;
+}
+
+
 std::string timed_csv(const Path& path, const Timing& timing) {
-  std::string out = "t,s,x,y,z,v,a,j,kappa\n";
-  out.reserve(timing.samples.size() * 96);
+  CsvWriter out({"t", "s", "x", "y", "z", "v", "a", "j", "kappa"});
+  out.reserve(timing.samples.size());
   for (const TimedSample& sample : timing.samples) {
     const Vec3 p = path.point(sample.s);
     const double kappa = path.curvature_vector(sample.s).norm();
-    append_row(out, {sample.t, sample.s * kMm, p.x() * kMm, p.y() * kMm, p.z() * kMm, sample.v * kMm, sample.a * kMm,
-                     sample.j * kMm, kappa / kMm});
+    out.row({sample.t, sample.s * kMm, p.x() * kMm, p.y() * kMm, p.z() * kMm, sample.v * kMm, sample.a * kMm,
+             sample.j * kMm, kappa / kMm});
   }
-  return out;
+  return out.text();
 }
 
-nlohmann::json plan_summary_json(const Path& path, const Timing& timing) {
+nlohmann::json pieces_json(const Path& path, const Timing& timing) {
   nlohmann::json pieces = nlohmann::json::array();
   for (const PieceTiming& p : timing.pieces) {
     const PathPiece& piece = path.pieces()[p.piece];
@@ -139,12 +146,16 @@ nlohmann::json plan_summary_json(const Path& path, const Timing& timing) {
                       {"v_peak_mm_s", p.v_peak * kMm},
                       {"binding", p.binding}});
   }
+  return pieces;
+}
+
+nlohmann::json plan_summary_json(const Path& path, const Timing& timing, const Program& program) {
   return {{"cycle_time_s", timing.cycle_time},
           {"path_length_mm", path.length() * kMm},
           {"feed_share", timing.feed_share},
           {"servo_period_s", timing.dt},
-          {"corners", corners_json(path)},
-          {"pieces", pieces}};
+          {"corners", corners_json(path, program)},
+          {"pieces", pieces_json(path, timing)}};
 }
 
 }  // namespace blendbench

@@ -1,4 +1,4 @@
-// Issue 4: every limit holds on the sampled profile of every shipped scenario, for every
+// Every limit holds on the sampled profile of every shipped scenario, for every
 // variant and both baselines, and of random programs blended with every method.
 
 #include <gtest/gtest.h>
@@ -27,7 +27,7 @@ TEST(ScenarioLimits, EveryScenarioVariantAndBaselineHoldsEveryLimit) {
       const Path path = blend(program_for(sc, v));
       for (const Baseline b : {Baseline::kNone, Baseline::kExactStop, Baseline::kJunctionSlowdown}) {
         TimingOptions options;
-        options.dt = 1.0 / sc.servo.rate_hz;
+        options.dt = 1.0 / sc.servo.setpoint_rate_hz;
         options.baseline = b;
         const Timing timing = plan_timing(path, options);
         const std::string where = entry.path().filename().string() + " / " + v.name + " / baseline " +

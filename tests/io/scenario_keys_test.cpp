@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <utility>
@@ -115,11 +116,17 @@ std::string signature(const Scenario& sc) {
         << t.velocity << ';';
   };
   out << sc.name << '|' << sc.description << '|' << sc.frame.matrix() << '|' << sc.start.transpose() << '|';
-  out << sc.robot.urdf << sc.robot.mjcf << sc.robot.base_link << sc.robot.tip_link << sc.robot.tool_rotation
-      << sc.robot.q_seed.transpose() << '|';
-  out << sc.servo.rate_hz << sc.servo.kp.has_value() << sc.servo.kd.has_value() << sc.servo.gravity_compensation
-      << sc.servo.feedforward << '|' << sc.simulation.settle_tolerance << ' ' << sc.simulation.settle_time << '|'
-      << sc.video.fps << ' ' << sc.video.width << ' ' << sc.video.height << '|';
+  const auto flag = [](const std::optional<bool>& b) { return b ? (*b ? 1 : 0) : -1; };
+  out << static_cast<int>(sc.robot.model) << sc.robot.urdf << sc.robot.mjcf << sc.robot.base_link << sc.robot.tip_link
+      << sc.robot.tool_rotation << sc.robot.q_seed.transpose() << '|';
+  const ServoSettings& s = sc.servo;
+  out << static_cast<int>(s.controller) << ' ' << s.rate_hz << ' ' << s.setpoint_rate_hz << ' ' << s.measurement_delay_ticks
+      << ' ' << s.encoder_counts_per_turn << ' ' << flag(s.velocity_feedforward) << flag(s.acceleration_feedforward)
+      << flag(s.gravity_compensation) << flag(s.deflection_compensation) << '|';
+  const SimulationSettings& sim = sc.simulation;
+  out << sim.settle_tolerance << ' ' << sim.settle_speed_tolerance << ' ' << sim.settle_window << ' ' << sim.settle_time
+      << ' ' << sim.vibration_window << ' ' << sim.vibration_highpass << ' ' << sim.jerk_lowpass << '|';
+  out << sc.video.fps << ' ' << sc.video.width << ' ' << sc.video.height << '|';
   for (const Move& m : sc.program.moves) {
     out << length(m.geometry) << ' ' << point(m.geometry, length(m.geometry) / 3).transpose() << ' ' << m.limits.velocity
         << ' ' << m.limits.acceleration << ' ' << m.limits.deceleration << ' ' << m.limits.jerk << ' '

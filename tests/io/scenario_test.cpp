@@ -198,15 +198,32 @@ TEST(Scenario, NanAndInfinitySpellingsAreRefusedNamingTheKey) {
   expect_error(replaced(kValid, "velocity: 100", "velocity: 1e-400"), 4, "defaults.velocity", "must be > 0 mm/s, got 1e-400");
 }
 
-// Every range check names its key and position: gains, rates, durations, counts, pixels.
+// Every range check names its key and position: rates, delays, counts, durations, filters, pixels.
 TEST(Scenario, RangeChecksCarryTheirPosition) {
-  const std::string base = std::string(kValid) + "servo: {rate_hz: 1000, kp: [1, 2, 3, 4, 5, 6]}\nsimulation: {settle_time_s: 1}\n"
-                                                  "video: {width: 640}\n";
-  expect_error(replaced(base, "kp: [1, 2, 3, 4, 5, 6]", "kp: [1, 2, -3, 4, 5, 6]"), 16, "servo.kp[2]", "must be >= 0 N m/rad, got -3");
-  expect_error(replaced(base, "rate_hz: 1000", "rate_hz: 1e-300"), 16, "servo.rate_hz", "must be in [1, 1000] Hz, got 1e-300");
-  expect_error(replaced(base, "rate_hz: 1000", "rate_hz: 300"), 16, "servo.rate_hz", "must divide the 1000 Hz physics rate");
+  const std::string base = std::string(kValid) +
+                           "servo: {rate_hz: 2000, measurement_delay_ticks: 1, encoder_counts_per_turn: 4096}\n"
+                           "simulation: {settle_time_s: 1, vibration_highpass_hz: 12}\nvideo: {width: 640}\n";
+  EXPECT_NO_THROW((void)parse(base));
+  expect_error(replaced(base, "measurement_delay_ticks: 1", "measurement_delay_ticks: -1"), 16,
+               "servo.measurement_delay_ticks", "must be in [0, 100], got -1");
+  expect_error(replaced(base, "encoder_counts_per_turn: 4096", "encoder_counts_per_turn: -4096"), 16,
+               "servo.encoder_counts_per_turn", "must be >= 0, got -4096");
+  expect_error(replaced(base, "encoder_counts_per_turn: 4096", "encoder_counts_per_turn: 4096.5"), 16,
+               "servo.encoder_counts_per_turn", "counts per turn must be a whole number");
+  expect_error(replaced(base, "rate_hz: 2000", "rate_hz: 1e-300"), 16, "servo.rate_hz", "must be in [125, 8000] Hz, got 1e-300");
+  expect_error(replaced(base, "rate_hz: 2000", "rate_hz: 2000, setpoint_rate_hz: 300"), 16, "servo.setpoint_rate_hz",
+               "the servo rate (2000 Hz) must be a whole multiple of the setpoint rate");
+  expect_error(replaced(base, "rate_hz: 2000", "rate_hz: 1000, setpoint_rate_hz: 2000"), 16, "servo.setpoint_rate_hz",
+               "the setpoint rate must be at most the servo rate (1000 Hz), got 2000");
   expect_error(replaced(base, "settle_time_s: 1", "settle_time_s: 1e308"), 17, "simulation.settle_time_s",
                "must be in [0, 60] s, got 1e308");
+  expect_error(replaced(base, "settle_time_s: 1", "settle_time_s: 0.1"), 17, "simulation.settle_time_s",
+               "settle_time_s (0.1 s) must be at least the settle window settle_window_s (0.2 s)");
+  // the default settle time is refused where the window is: the key the user wrote
+  expect_error(replaced(base, "settle_time_s: 1,", "settle_window_s: 5,"), 17, "simulation.settle_window_s",
+               "settle_time_s (1 s) must be at least the settle window settle_window_s (5 s)");
+  expect_error(replaced(base, "vibration_highpass_hz: 12", "vibration_highpass_hz: 1e-300"), 17,
+               "simulation.vibration_highpass_hz", "must be in [1, 4000] Hz, got 1e-300");
   expect_error(replaced(base, "width: 640", "width: 641"), 18, "video.width", "must be an even number of pixels, got 641");
   expect_error(replaced(base, "width: 640", "width: 640.0"), 18, "video.width", "expected an integer (digits only), got '640.0'");
   expect_error(replaced(base, "width: 640", "width: 99999999999999999999999"), 18, "video.width",
@@ -216,6 +233,18 @@ TEST(Scenario, RangeChecksCarryTheirPosition) {
   // in a file in metres, the unit of a length says m
   expect_error(replaced(replaced(kValid, "units: mm", "units: m"), "acceleration: 1000", "acceleration: 0"), 4,
                "defaults.acceleration", "must be > 0 m/s^2, got 0");
+}
+
+// The servo's rates: a rate given alone keeps 500 Hz setpoints when it can, its own otherwise.
+TEST(Scenario, SetpointRateFollowsTheServoRateWhenNotGiven) {
+  EXPECT_EQ(parse(kValid).servo.setpoint_rate_hz, 500);
+  EXPECT_EQ(parse(std::string(kValid) + "servo: {rate_hz: 4000}\n").servo.setpoint_rate_hz, 500);
+  EXPECT_EQ(parse(std::string(kValid) + "servo: {rate_hz: 250}\n").servo.setpoint_rate_hz, 250);
+  EXPECT_EQ(parse(std::string(kValid) + "servo: {rate_hz: 1200}\n").servo.setpoint_rate_hz, 1200);
+  const Scenario sc = parse(std::string(kValid) + "servo: {rate_hz: 4000, setpoint_rate_hz: 1000}\n");
+  EXPECT_EQ(sc.servo.setpoint_rate_hz, 1000);
+  EXPECT_EQ(sc.servo.rate_where.line, 16);
+  EXPECT_EQ(parse(kValid).servo.rate_where.line, 0);
 }
 
 // Where a key is valid but in another map, the message says where it belongs.
@@ -272,6 +301,62 @@ TEST(Scenario, EveryShippedScenarioLoadsAndBlends) {
     }
   }
   EXPECT_GT(count, 10);
+}
+
+// The execution settings: defaults as documented (elastic arm, cascade at 2 kHz under 500 Hz
+// setpoints, one tick of delay, a 2^14-count motor encoder through ratio 100; settled within
+// 0.03 mm and 1 mm/s for 0.2 s), every key read and converted, bad values refused at the key.
+TEST(Scenario, RobotServoAndSimulationSettings) {
+  const Scenario d = parse(kValid);
+  EXPECT_EQ(d.robot.model, ArmModel::kElastic);
+  EXPECT_NE(d.robot.mjcf.find("models/ur5e_like.xml"), std::string::npos);
+  EXPECT_EQ(d.servo.controller, ServoController::kCascade);
+  EXPECT_EQ(d.servo.rate_hz, 2000);
+  EXPECT_EQ(d.servo.setpoint_rate_hz, 500);
+  EXPECT_EQ(d.servo.measurement_delay_ticks, 1);
+  EXPECT_EQ(d.servo.encoder_counts_per_turn, 1638400);
+  EXPECT_FALSE(d.servo.acceleration_feedforward.has_value());
+  EXPECT_DOUBLE_EQ(d.simulation.settle_tolerance, 0.03e-3);
+  EXPECT_DOUBLE_EQ(d.simulation.settle_speed_tolerance, 1e-3);
+  EXPECT_DOUBLE_EQ(d.simulation.settle_window, 0.2);
+
+  const Scenario s = parse(replaced(kValid, "units: mm\n",
+                                    "units: mm\nrobot: {model: rigid}\n"
+                                    "servo: {controller: pd, rate_hz: 4000, setpoint_rate_hz: 1000, measurement_delay_ticks: 2,"
+                                    " encoder_counts_per_turn: 0, acceleration_feedforward: false, gravity_compensation: false}\n"
+                                    "simulation: {settle_tolerance: 0.05, settle_speed_tolerance: 2, settle_window_s: 0.1,"
+                                    " settle_time_s: 0.4, vibration_window_s: 0.3, vibration_highpass_hz: 10, jerk_lowpass_hz: 40}\n"));
+  EXPECT_EQ(s.robot.model, ArmModel::kRigid);
+  EXPECT_NE(s.robot.mjcf.find("models/ur5e_like_rigid.xml"), std::string::npos);
+  EXPECT_EQ(s.robot.model_where.line, 3);
+  EXPECT_EQ(s.servo.controller, ServoController::kPd);
+  EXPECT_EQ(s.servo.rate_hz, 4000);
+  EXPECT_EQ(s.servo.setpoint_rate_hz, 1000);
+  EXPECT_EQ(s.servo.rate_where.line, 4);
+  EXPECT_EQ(s.servo.measurement_delay_ticks, 2);
+  EXPECT_EQ(s.servo.encoder_counts_per_turn, 0);
+  EXPECT_EQ(s.servo.acceleration_feedforward, std::optional<bool>(false));
+  EXPECT_EQ(s.servo.gravity_compensation, std::optional<bool>(false));
+  EXPECT_DOUBLE_EQ(s.simulation.settle_tolerance, 0.05e-3);
+  EXPECT_DOUBLE_EQ(s.simulation.settle_speed_tolerance, 2e-3);
+  EXPECT_DOUBLE_EQ(s.simulation.settle_window, 0.1);
+  EXPECT_DOUBLE_EQ(s.simulation.settle_time, 0.4);
+  EXPECT_DOUBLE_EQ(s.simulation.vibration_window, 0.3);
+  EXPECT_DOUBLE_EQ(s.simulation.vibration_highpass, 10);
+  EXPECT_DOUBLE_EQ(s.simulation.jerk_lowpass, 40);
+  // a servo rate alone that 500 Hz setpoints do not divide: the setpoints take its rate
+  EXPECT_EQ(parse(replaced(kValid, "units: mm\n", "units: mm\nservo: {rate_hz: 250}\n")).servo.setpoint_rate_hz, 250);
+
+  const std::string at = "units: mm\n";
+  expect_error(replaced(kValid, at, at + "servo: {rate_hz: 9000}\n"), 3, "servo.rate_hz", "must be in [125, 8000] Hz, got 9000");
+  expect_error(replaced(kValid, at, at + "servo: {setpoint_rate_hz: 3000}\n"), 3, "servo.setpoint_rate_hz",
+               "the setpoint rate must be at most the servo rate (2000 Hz), got 3000");
+  expect_error(replaced(kValid, at, at + "servo: {encoder_counts_per_turn: 10.5}\n"), 3, "servo.encoder_counts_per_turn",
+               "whole number");
+  expect_error(replaced(kValid, at, at + "servo: {kp: [1, 2, 3, 4, 5, 6]}\n"), 3, "servo.kp", "unknown key 'kp'");
+  expect_error(replaced(kValid, at, at + "robot: {model: flexible}\n"), 3, "robot.model", "unknown value 'flexible' (one of: elastic, rigid)");
+  expect_error(replaced(kValid, at, at + "simulation: {settle_window_s: 2}\n"), 3, "simulation.settle_window_s",
+               "must be at least the settle window");
 }
 
 }  // namespace

@@ -125,8 +125,8 @@ pareto: {x: cycle_time_s, y: tracking_error_max_mm}
 
 TEST(SweepFile, DefaultParetoIsCycleTimeAgainstContourError) {
   const SweepSpec spec = parse(tiny_sweep("axes: {defaults.velocity: [100]}\n"));
-  EXPECT_EQ(spec.pareto_x, "cycle_time_s");
-  EXPECT_EQ(spec.pareto_y, "contour_error_max_mm");
+  EXPECT_EQ(spec.pareto_x, "metrics.cycle_time_s");
+  EXPECT_EQ(spec.pareto_y, "metrics.contour_error_programmed_max_mm");
   EXPECT_TRUE(spec.metrics.empty());
 }
 

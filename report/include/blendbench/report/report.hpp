@@ -4,7 +4,9 @@
 
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
+#include "blendbench/program/corner_placement.hpp"
 #include "blendbench/program/path.hpp"
 #include "blendbench/timing/timing.hpp"
 #include "blendbench/program/program.hpp"
@@ -26,17 +28,27 @@ std::string path_csv(const Path& path, double ds);
 // The programmed moves sampled every `ds` m at most, header `s,x,y,z` (mm); the same limit.
 std::string program_csv(const Program& program, double ds);
 
-// One JSON object per corner: index, method, case, fallback, note, parameter_mm, length_mm,
+// One corner report as JSON: index, method, case, fallback, note, parameter_mm, length_mm,
 // deviation_mm, kappa_max_per_mm, sharpness_max_per_mm2, feed_max_mm_per_min, trim_in_mm,
-// trim_out_mm, stop.
+// trim_out_mm, stop; with a placement also point_mm ([x, y, z]), s_programmed_mm, s_start_mm
+// and s_end_mm.
+nlohmann::json corner_json(const CornerReport& corner);
+nlohmann::json corner_json(const CornerReport& corner, const CornerPlacement& where);
+
+// Every corner of `path` as corner_json, without and with the placement (`program` is the
+// program `path` was blended from).
 nlohmann::json corners_json(const Path& path);
+nlohmann::json corners_json(const Path& path, const Program& program);
+
+// The timed pieces: index, move, corner, length_mm, v_peak_mm_s and the binding constraint.
+nlohmann::json pieces_json(const Path& path, const Timing& timing);
 
 // The timed profile, one row per sample: `t,s,x,y,z,v,a,j,kappa` in s, mm, mm/s, mm/s^2 and
 // mm/s^3 (tangential), 1/mm.
 std::string timed_csv(const Path& path, const Timing& timing);
 
 // The plan summary of the command-line contract: cycle_time_s, path_length_mm, feed_share,
-// corners (as corners_json) and pieces (index, move, corner, v_peak_mm_s, binding).
-nlohmann::json plan_summary_json(const Path& path, const Timing& timing);
+// servo_period_s, corners (corners_json with placements) and pieces (pieces_json).
+nlohmann::json plan_summary_json(const Path& path, const Timing& timing, const Program& program);
 
 }  // namespace blendbench
