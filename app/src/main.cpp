@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -30,8 +31,28 @@ constexpr int kExitBadInput = 2;
 
 std::string default_scenario() { return bb::source_root() + "/scenarios/default.yaml"; }
 
+// --limits and --max-samples, shared by `run` and `plan`.
+struct TimingFlags {
+  std::string limits;  // empty: the scenario's (cartesian by default)
+  std::optional<double> max_samples;
+};
+
+std::optional<bb::LimitsMode> limits_flag(const TimingFlags& flags) {
+  if (flags.limits.empty()) return std::nullopt;
+  const auto mode = bb::limits_mode_from_string(flags.limits);
+  if (!mode) throw bb::InputError("", 0, 0, "--limits", "must be 'path' or 'cartesian', got '" + flags.limits + "'");
+  return mode;
+}
+
+std::optional<double> max_samples_flag(const TimingFlags& flags) {
+  if (flags.max_samples && !(*flags.max_samples >= 1 && std::isfinite(*flags.max_samples))) {
+    throw bb::InputError("", 0, 0, "--max-samples", "must be at least 1");
+  }
+  return flags.max_samples;
+}
+
 int cmd_run(const std::string& scenario_path, std::string out_dir, bool no_video, bool no_plots,
-            const std::vector<std::string>& variants) {
+            const std::vector<std::string>& variants, const TimingFlags& timing_flags) {
   const auto start = std::chrono::steady_clock::now();
   const bb::Scenario scenario = bb::load_scenario(scenario_path);
   if (out_dir.empty()) out_dir = "results/runs/" + scenario.name;
@@ -40,6 +61,8 @@ int cmd_run(const std::string& scenario_path, std::string out_dir, bool no_video
   request.video = !no_video;
   request.plots = !no_plots;
   request.variants = variants;
+  request.limits = limits_flag(timing_flags);
+  request.max_samples = max_samples_flag(timing_flags);
   request.progress = [](const std::string& line) { std::cout << line << std::endl; };
   std::cout << "blendbench: scenario '" << scenario.name << "' (" << scenario_path << ") -> " << out_dir << std::endl;
   const bb::RunResult result = bb::run_scenario(scenario, request);
@@ -74,7 +97,7 @@ struct ProgramFlags {
 struct LoadedProgram {
   bb::Program program;
   std::vector<std::string> ignored;
-  double dt = 1e-3;  // servo period for timing (s)
+  bb::TimingOptions timing;  // a scenario's (servo period, limits, its variant's baseline); G-code: 1 ms, cartesian
 };
 
 // Defaults for G-code programs, which carry no acceleration or jerk (documented in the README).
@@ -139,7 +162,7 @@ LoadedProgram load_program(const std::string& input, const ProgramFlags& flags) 
     const bb::Variant& v = flags.variant.empty() ? scenario.variants.front() : bb::find_variant(scenario, flags.variant);
     out.program = bb::program_for(scenario, v);
     out.ignored = scenario.ignored;
-    out.dt = 1.0 / scenario.servo.rate_hz;
+    out.timing = bb::timing_options(scenario, v);
   }
   for (bb::Move& move : out.program.moves) {
     if (transition) move.transition = *transition;
@@ -163,12 +186,19 @@ int cmd_path(const std::string& input, const ProgramFlags& flags, const std::str
   return kExitOk;
 }
 
-int cmd_plan(const std::string& input, const ProgramFlags& flags, const std::string& csv, const std::string& summary) {
+int cmd_plan(const std::string& input, const ProgramFlags& flags, const TimingFlags& timing_flags, const std::string& csv,
+             const std::string& summary) {
+  const std::optional<bb::LimitsMode> limits = limits_flag(timing_flags);
+  const std::optional<double> max_samples = max_samples_flag(timing_flags);
   const LoadedProgram loaded = load_program(input, flags);
   const auto start = std::chrono::steady_clock::now();
   const bb::Path path = bb::blend(loaded.program);
-  bb::TimingOptions options;
-  options.dt = loaded.dt;
+  bb::TimingOptions options = loaded.timing;
+  if (limits) {
+    options.limits = *limits;
+    if (*limits == bb::LimitsMode::kPath) options.axis_limits.reset();
+  }
+  if (max_samples) options.max_samples = *max_samples;
   const bb::Timing timing = bb::plan_timing(path, options);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!timing.outcome.ok()) {
@@ -236,6 +266,14 @@ int main(int argc, char** argv) {
   run->add_flag("--no-video", no_video, "Do not render videos");
   run->add_flag("--no-plots", no_plots, "Do not draw plots");
   run->add_option("--variant", variants, "Run only this variant (repeatable)");
+  TimingFlags timing_flags;
+  const auto add_timing_flags = [&](CLI::App* cmd) {
+    cmd->add_option("--limits", timing_flags.limits,
+                    "Limits the plan holds: cartesian (vectors on the TCP, the default) or path (tangential, as in 004)");
+    cmd->add_option("--max-samples", timing_flags.max_samples,
+                    "Refuse a plan of more servo samples than this (default 1e7)");
+  };
+  add_timing_flags(run);
 
   // shared by `path` and `plan`
   std::string input;
@@ -266,7 +304,10 @@ int main(int argc, char** argv) {
   CLI::App* plan = app.add_subcommand("plan", "Write the timed profile (every servo period) and a plan summary");
   add_program_flags(plan);
   plan->add_option("--csv", csv, "Output CSV: t,s,x,y,z,v,a,j,kappa (s, mm, mm/s, mm/s^2, mm/s^3, 1/mm)")->required();
-  plan->add_option("--summary", summary, "Output JSON: cycle_time_s, path_length_mm, corners, pieces")->required();
+  plan->add_option("--summary", summary,
+                   "Output JSON: cycle_time_s, path_length_mm, limits, bound_cycle_time_s, planned_to_bound_ratio, corners, pieces")
+      ->required();
+  add_timing_flags(plan);
 
   std::string run_dir;
   std::string baseline;
@@ -292,9 +333,9 @@ int main(int argc, char** argv) {
   }
 
   try {
-    if (*run) return cmd_run(scenario_path, out_dir, no_video, no_plots, variants);
+    if (*run) return cmd_run(scenario_path, out_dir, no_video, no_plots, variants, timing_flags);
     if (*path) return cmd_path(input, flags, csv, report, ds_mm);
-    if (*plan) return cmd_plan(input, flags, csv, summary);
+    if (*plan) return cmd_plan(input, flags, timing_flags, csv, summary);
     if (*check) return cmd_check(run_dir, baseline, update);
     if (*reproduce) return bb::reproduce(paper, papers_out, !no_paper_plots, std::cout);
   } catch (const bb::InputError& e) {

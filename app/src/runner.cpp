@@ -44,12 +44,6 @@ nlohmann::json to_json(const JointVector& v) {
   return out;
 }
 
-TimingOptions::Baseline baseline_of(const Variant& variant) {
-  if (variant.baseline == "exact_stop") return TimingOptions::Baseline::kExactStop;
-  if (variant.baseline == "junction_slowdown") return TimingOptions::Baseline::kJunctionSlowdown;
-  return TimingOptions::Baseline::kNone;
-}
-
 // The method a variant mostly uses: its own transition, else the first move's.
 Method variant_method(const Program& program, const Variant& variant) {
   if (variant.transition) return variant.transition->method;
@@ -174,14 +168,20 @@ class VariantRun {
     // plan: blend and time
     auto start = Clock::now();
     const Path path = blend(program);
-    TimingOptions topt;
-    topt.dt = 1.0 / sc_.servo.rate_hz;
-    topt.baseline = baseline_of(variant_);
+    TimingOptions topt = timing_options(sc_, variant_);
+    if (request_.limits) {
+      topt.limits = *request_.limits;
+      if (topt.limits == LimitsMode::kPath) topt.axis_limits.reset();
+    }
+    if (request_.max_samples) topt.max_samples = *request_.max_samples;
     const Timing timing = plan_timing(path, topt);
     {
-      // the plan's own figures: length, corners, binding constraint per piece (issue 4)
+      // the plan's own figures: length, limits mode, the time-optimal bound, corners, binding
+      // constraint per piece
       nlohmann::json plan = plan_summary_json(path, timing);
-      out["path_length_mm"] = plan["path_length_mm"];
+      for (const char* key : {"path_length_mm", "limits", "bound_cycle_time_s", "planned_to_bound_ratio"}) {
+        out[key] = plan[key];
+      }
       out["corners"] = std::move(plan["corners"]);
       out["pieces"] = std::move(plan["pieces"]);
     }

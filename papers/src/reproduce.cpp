@@ -350,6 +350,9 @@ PlannedRun plan_run(std::string name, std::string description, Program program, 
   TimingOptions options;
   options.dt = kServoPeriod;
   options.baseline = baseline;
+  // the sources' own model: tangential limits and eq. 25-27 of 004 (the paper tables compare
+  // with it), not the vectors on the TCP that runs default to
+  options.limits = LimitsMode::kPath;
   run.timing = plan_timing(run.path, options);
   if (!run.timing.outcome.ok()) {
     throw std::runtime_error("reproduction '" + run.name + "': planning failed: " + run.timing.outcome.message);
@@ -635,7 +638,7 @@ Paper004 reproduce_004() {
             " The biclothoid paths are slightly shorter than the original, hence their shorter times in table 3.",
         "**With transition jerk limiting** the AMC5 slows down at A, B and C (fig. 4); by how much follows its own "
         "rule, which the paper does not give. Our junction slow-down baseline "
-        "(`TimingOptions::Baseline::kJunctionSlowdown`, planner/timing/src/timing.cpp) keeps the acceleration step at a "
+        "(`TimingOptions::Baseline::kJunctionSlowdown`, planner/timing/src/intervals.cpp) keeps the acceleration step at a "
         "junction within j·dt at the 1 ms servo period: at the curvature jumps A and B (0.1 /mm) v ≤ √(j dt / Δκ) = " +
             fixed(cap_ab, 1) + " mm/s, at the " + fixed(kink_c * 180 / kPi, 2) + "° kink C v ≤ j dt² / (2 sin(θ/2)) = " +
             fixed(cap_c, 1) + " mm/s. Its time, " + fixed(js.timing.cycle_time, 3) + " s, " +

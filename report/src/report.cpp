@@ -114,11 +114,24 @@ nlohmann::json plan_summary_json(const Path& path, const Timing& timing) {
                       {"v_peak_mm_s", p.v_peak * kMm},
                       {"binding", p.binding}});
   }
+  // the corners with the curvature step each leaves and the jerk it implies at the servo period
+  nlohmann::json corners = corners_json(path);
+  for (std::size_t k = 0; k < corners.size(); ++k) {
+    corners[k]["curvature_steps"] = std::string(to_string(path.corners[k].curvature_steps));
+    const Timing::CornerStep step = k < timing.corner_steps.size() ? timing.corner_steps[k] : Timing::CornerStep{};
+    corners[k]["curvature_step_per_mm"] = step.dk / kMm;
+    corners[k]["curvature_step_velocity_mm_s"] = step.velocity * kMm;
+    corners[k]["curvature_step_jerk_mm_s3"] = step.jerk * kMm;
+  }
   return {{"cycle_time_s", timing.cycle_time},
           {"path_length_mm", path.length() * kMm},
           {"feed_share", timing.feed_share},
           {"servo_period_s", timing.dt},
-          {"corners", corners_json(path)},
+          {"limits", std::string(to_string(timing.limits))},
+          {"bound_cycle_time_s", timing.bound_cycle_time},
+          {"planned_to_bound_ratio",
+           finite_or_null(timing.bound_cycle_time > 0 ? timing.cycle_time / timing.bound_cycle_time : 1.0)},
+          {"corners", corners},
           {"pieces", pieces}};
 }
 

@@ -172,8 +172,10 @@ Path blend(const Program& program) {
     const double s0 = trim_start[k];
     const double s1 = lengths[k] - trim_end[k];
     if (s1 - s0 > 1e-12 * lengths[k]) {
+      // the junction at its start belongs to the corner before it
+      const bool allowed = k > 0 && program.moves[k - 1].transition.curvature_steps == CurvatureSteps::kAllow;
       append(PathPiece{to_segment(sub_segment(move.geometry, s0, s1)), static_cast<int>(k), -1, move.limits,
-                       move.buffer, false, 0.0},
+                       move.buffer, false, 0.0, allowed, move.where},
              k > 0 ? program.moves[k - 1].buffer : move.buffer, tangent(move.geometry, s0),
              tangent(move.geometry, s1));
     }
@@ -191,12 +193,19 @@ Path blend(const Program& program) {
     report.trim_in = fit.trim_in;
     report.trim_out = fit.trim_out;
     report.stop = fit.stop;
+    report.curvature_steps = move.transition.curvature_steps;
     measure_corner(report, fit.transition, move.geometry, next.geometry, next.limits.acceleration, next.limits.jerk);
     stop_next = stop_next || fit.stop;
     const Limits lim = transition_limits(move, next);
+    // where the transition's limits were written: the next move's (acceleration, deceleration,
+    // jerk, and the velocity unless the incoming move sets it)
+    const SourceRef& source =
+        move.transition.velocity > 0 || lim.velocity != next.limits.velocity ? move.where : next.where;
     for (const Segment& seg : fit.transition) {
       if (length(seg) <= 0) continue;
-      append(PathPiece{seg, -1, static_cast<int>(k), lim, move.buffer, false, 0.0}, move.buffer, tangent(seg, 0.0),
+      append(PathPiece{seg, -1, static_cast<int>(k), lim, move.buffer, false, 0.0,
+                       report.curvature_steps == CurvatureSteps::kAllow, source},
+             move.buffer, tangent(seg, 0.0),
              tangent(seg, length(seg)));
     }
     path.corners.push_back(std::move(report));

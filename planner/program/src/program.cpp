@@ -67,6 +67,14 @@ double junction_velocity(BufferMode mode, double v_prev, double v_next) {
   return std::min(v_prev, v_next);
 }
 
+std::string_view to_string(CurvatureSteps steps) { return steps == CurvatureSteps::kAllow ? "allow" : "limit"; }
+
+std::optional<CurvatureSteps> curvature_steps_from_string(std::string_view name) {
+  if (name == "limit") return CurvatureSteps::kLimit;
+  if (name == "allow") return CurvatureSteps::kAllow;
+  return std::nullopt;
+}
+
 std::optional<BufferMode> buffer_mode_from_string(std::string_view name) {
   const std::string key = lower(name);
   for (const auto& [m, n] : kBufferNames) {

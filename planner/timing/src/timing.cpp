@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <tuple>
 
 #include "blendbench/corner/blend.hpp"
 #include "blendbench/core/format.hpp"
 #include "blendbench/core/input_error.hpp"
 #include "blendbench/timing/scurve.hpp"
+#include "blendbench/timing/time_optimal.hpp"
 #include "intervals.hpp"
 #include "spans.hpp"
 
@@ -65,6 +67,23 @@ constexpr double kReachShare = 1e-3;
 void validate(const Path& path, const TimingOptions& options) {
   if (!(options.dt > 0) || !std::isfinite(options.dt)) {
     throw InputError("", 0, 0, "dt", "servo period must be positive, got " + format_value(options.dt) + " s");
+  }
+  if (!(options.max_samples >= 1) || !std::isfinite(options.max_samples)) {
+    throw InputError("", 0, 0, "max_samples", "must be at least 1, got " + format_value(options.max_samples));
+  }
+  if (options.axis_limits) {
+    if (options.limits != LimitsMode::kCartesian) {
+      throw InputError("", 0, 0, "axis_limits", "per-axis limits need the cartesian limits mode (path mode bounds no vector)");
+    }
+    for (int i = 0; i < 3; ++i) {
+      for (const auto& [name, value, unit] : {std::tuple{"axis_limits.a", options.axis_limits->acceleration[i], " mm/s^2"},
+                                              std::tuple{"axis_limits.j", options.axis_limits->jerk[i], " mm/s^3"}}) {
+        if (!(value > 0) || !std::isfinite(value)) {
+          throw InputError("", 0, 0, name, std::string("axis ") + "xyz"[i] + ": must be positive, got " +
+                                               format_value(value * 1e3) + unit);
+        }
+      }
+    }
   }
   for (std::size_t k = 0; k < path.pieces().size(); ++k) {
     const Limits& lim = path.pieces()[k].limits;
@@ -195,26 +214,120 @@ std::vector<PieceTiming> piece_reports(const Path& path, const std::vector<Inter
   return reports;
 }
 
-}  // namespace
+// The time (s) the chained spans spend on each piece.
+std::vector<double> piece_times(const Path& path, const std::vector<Span>& spans) {
+  std::vector<double> times(path.pieces().size(), 0.0);
+  for (const Span& sp : spans) {
+    for (std::size_t k = path.locate(sp.s0).piece; k < path.pieces().size() && path.offset(k) < sp.s1; ++k) {
+      const double a = std::max(path.offset(k), sp.s0) - sp.s0;
+      const double b = std::min(path.offset(k + 1), sp.s1) - sp.s0;
+      if (b > a) times[k] += sp.curve.time_at_distance(b) - sp.curve.time_at_distance(a);
+    }
+  }
+  return times;
+}
 
+// Refuses a plan of `cycle_time` (s) as too long for options.max_samples (timing.hpp): an
+// InputError at the move of `piece`, naming the limit its binding constraint makes the one to
+// raise.
+[[noreturn]] void refuse_work(const PathPiece& piece, const std::string& binding, double cycle_time,
+                              const TimingOptions& options) {
+  const bool feed = binding == "feed" || binding == "stop";
+  const bool jerk = binding == "sharpness" || binding == "jerk";
+  const char* field = feed ? "velocity" : jerk ? "jerk" : "acceleration";
+  const double value = feed ? piece.limits.velocity : jerk ? piece.limits.jerk : piece.limits.acceleration;
+  const char* unit = feed ? " mm/s" : jerk ? " mm/s^3" : " mm/s^2";
+  std::string at = piece.where.line > 0 ? " at line " + std::to_string(piece.where.line) : "";
+  if (at.empty()) {
+    at = piece.move >= 0 ? " on move " + std::to_string(piece.move + 1) : " on corner " + std::to_string(piece.corner + 1);
+  }
+  throw InputError(piece.where.file, piece.where.line, piece.where.column, field,
+                   "the plan would take " + format_value(cycle_time, 3) + " s = " +
+                       format_value(cycle_time / options.dt, 3) + " samples at " + format_value(options.dt * 1e3, 3) +
+                       " ms; limit " + format_value(options.max_samples, 3) + " samples; raise `" + field + "` (" +
+                       format_value(value * 1e3, 3) + unit + at + ")");
+}
+
+// Refuses (refuse_work) a plan of more samples than options.max_samples, or of no finite
+// duration, before it is sampled: at the piece that takes the longest.
+void check_work(const Path& path, const std::vector<Span>& spans, const std::vector<PieceTiming>& reports,
+                double cycle_time, const TimingOptions& options) {
+  if (cycle_time / options.dt <= options.max_samples - 1) return;
+  const std::vector<double> times = piece_times(path, spans);
+  std::size_t worst = 0;
+  for (std::size_t k = 0; k < times.size(); ++k) {
+    if (!(times[k] <= times[worst])) worst = k;
+  }
+  refuse_work(path.pieces()[worst], reports[worst].binding, cycle_time, options);
+}
+
+// The largest curvature step of every corner (Timing::corner_steps): at each junction with a
+// curvature jump that is not a stop, the planned velocity and |dK| v^2 / dt.
+std::vector<Timing::CornerStep> corner_steps(const Path& path, const std::vector<Junction>& joints,
+                                             const std::vector<Span>& spans, double dt) {
+  std::vector<Timing::CornerStep> out(path.corners.size());
+  for (const Junction& jn : joints) {
+    if (!(jn.dk > 0)) continue;
+    const PathPiece& prev = path.pieces()[jn.prev];
+    const PathPiece& next = path.pieces()[jn.next];
+    // the corner the junction belongs to: a transition's, else the one between the two moves
+    const int corner = next.corner >= 0 ? next.corner : prev.corner >= 0 ? prev.corner : prev.move;
+    if (corner < 0 || static_cast<std::size_t>(corner) >= out.size()) continue;
+    const double s = path.offset(jn.next);
+    const auto it = std::upper_bound(spans.begin(), spans.end(), s, [](double x, const Span& sp) { return x < sp.s0; });
+    const Span& sp = it == spans.begin() ? spans.front() : *std::prev(it);
+    const double v = sp.velocity_at(std::clamp(s - sp.s0, 0.0, sp.length()));
+    Timing::CornerStep& step = out[static_cast<std::size_t>(corner)];
+    const double jerk = jn.dk * v * v / dt;
+    if (jerk >= step.jerk) step = {jn.dk, v, jerk};
+  }
+  return out;
+}
+
+}  // namespace
 
 std::vector<HandoverZone> handover_zones(const Path& path, const TimingOptions& options) {
   validate(path, options);
-  return all_zones(path, junctions(path, options));
+  std::vector<PieceModel> models = piece_models(path, options);
+  const std::vector<Junction> joints = junctions(path, options, models);
+  share_budgets(path, options, joints, models);
+  return all_zones(path, joints, models);
+}
+
+double time_optimal_bound(const Path& path, const TimingOptions& options) {
+  validate(path, options);
+  std::vector<PieceModel> models = piece_models(path, options);
+  const std::vector<Junction> joints = junctions(path, options, models);
+  share_budgets(path, options, joints, models);
+  std::vector<Interval> intervals;
+  std::vector<double> knot_cap;
+  build_intervals(path, options, models, joints, all_zones(path, joints, models), intervals, knot_cap);
+  return timing_detail::time_optimal_bound(path, options, models, joints, intervals);
 }
 
 Timing plan_timing(const Path& path, const TimingOptions& options) {
   validate(path, options);
   Timing timing;
   timing.dt = options.dt;
+  timing.limits = options.limits;
+  timing.corner_steps.resize(path.corners.size());
+  std::vector<PieceModel> models = piece_models(path, options);
+  const std::vector<Junction> joints = junctions(path, options, models);
+  share_budgets(path, options, joints, models);
   std::vector<Interval> intervals;
   std::vector<double> knot_cap;
-  build_intervals(path, options, intervals, knot_cap);
+  build_intervals(path, options, models, joints, all_zones(path, joints, models), intervals, knot_cap);
+  timing.bound_cycle_time = timing_detail::time_optimal_bound(path, options, models, joints, intervals);
   merge_intervals(path, intervals, knot_cap);
   if (intervals.empty()) {
     timing.samples.push_back({0, path.length(), 0, 0, 0});
     for (std::size_t k = 0; k < path.pieces().size(); ++k) timing.pieces.push_back({k, 0.0, "stop"});
     return timing;
+  }
+
+  // an interval whose cap rounds to zero (limits near the smallest doubles) is never crossed
+  for (const Interval& iv : intervals) {
+    if (!(iv.limits.velocity > 0)) refuse_work(path.pieces()[iv.piece], iv.terms.binding(), kInf, options);
   }
 
   // spans and knot velocities; each span's curve, or its fine alternative where that is faster
@@ -257,8 +370,10 @@ Timing plan_timing(const Path& path, const TimingOptions& options) {
   }
   timing.cycle_time = t;
   timing.feed_share = t > 0 ? feed / t : 0.0;
-  timing.samples = sample(chosen, t, path.length(), options.dt);
   timing.pieces = piece_reports(path, intervals, chosen);
+  check_work(path, chosen, timing.pieces, t, options);
+  timing.samples = sample(chosen, t, path.length(), options.dt);
+  timing.corner_steps = corner_steps(path, joints, chosen, options.dt);
   return timing;
 }
 

@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,8 @@ struct RunRequest {
   bool video = true;                  // render video.mp4 per variant (needs BLENDBENCH_RENDER)
   bool plots = true;                  // run the matplotlib script after the summary is written
   std::vector<std::string> variants;  // names to run; empty = all
+  std::optional<LimitsMode> limits;   // replaces the scenario's limits mode (`--limits`)
+  std::optional<double> max_samples;  // replaces TimingOptions::max_samples (`--max-samples`)
   // receives one line of progress at a time (variant started, stage timings, warnings)
   std::function<void(const std::string&)> progress;
 };

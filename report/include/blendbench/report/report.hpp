@@ -29,7 +29,12 @@ nlohmann::json corners_json(const Path& path);
 std::string timed_csv(const Path& path, const Timing& timing);
 
 // The plan summary of the command-line contract: cycle_time_s, path_length_mm, feed_share,
-// corners (as corners_json) and pieces (index, move, corner, v_peak_mm_s, binding).
+// servo_period_s, limits ("path" or "cartesian"), bound_cycle_time_s (the time-optimal bound of
+// the same path under the same limits without jerk) and planned_to_bound_ratio (cycle time over
+// bound, 1 for an empty path), corners (as corners_json, plus the transition's curvature_steps,
+// "limit" or "allow", and the largest curvature step the corner leaves: curvature_step_per_mm, the planned speed there curvature_step_velocity_mm_s
+// and the jerk the step implies at the servo period curvature_step_jerk_mm_s3 = |dK| v^2 / dt;
+// 0 where none) and pieces (index, move, corner, v_peak_mm_s, binding).
 nlohmann::json plan_summary_json(const Path& path, const Timing& timing);
 
 }  // namespace blendbench
