@@ -15,6 +15,7 @@
 #include "blendbench/timing/timing.hpp"
 #include "blendbench/report/check.hpp"
 #include "blendbench/report/output.hpp"
+#include "blendbench/io/data_root.hpp"
 #include "blendbench/io/program_io.hpp"
 #include "blendbench/report/report.hpp"
 #include "blendbench/papers/reproduce.hpp"
@@ -28,8 +29,6 @@ namespace {
 constexpr int kExitOk = 0;
 constexpr int kExitCheckFailed = 1;
 constexpr int kExitBadInput = 2;
-
-std::string default_scenario() { return bb::source_root() + "/scenarios/default.yaml"; }
 
 // --limits and --max-samples, shared by `run` and `plan`.
 struct TimingFlags {
@@ -51,9 +50,11 @@ std::optional<double> max_samples_flag(const TimingFlags& flags) {
   return flags.max_samples;
 }
 
-int cmd_run(const std::string& scenario_path, std::string out_dir, bool no_video, bool no_plots,
+int cmd_run(std::string scenario_path, std::string out_dir, bool no_video, bool no_plots,
             const std::vector<std::string>& variants, const TimingFlags& timing_flags) {
   const auto start = std::chrono::steady_clock::now();
+  // no scenario given: the default one in the data root (data_root.hpp)
+  if (scenario_path.empty()) scenario_path = bb::data_file("scenarios/default.yaml");
   const bb::Scenario scenario = bb::load_scenario(scenario_path);
   if (out_dir.empty()) out_dir = "results/runs/" + scenario.name;
   bb::RunRequest request;
@@ -235,7 +236,7 @@ int cmd_check(const std::string& run_dir, std::string baseline_file, bool update
     if (const std::string problem = bb::folder_name_problem(name); !problem.empty()) {
       throw bb::InputError((std::filesystem::path(run_dir) / "summary.json").string(), 0, 0, "scenario", "scenario " + problem);
     }
-    baseline_file = bb::source_root() + "/results/baselines/" + name + ".json";
+    baseline_file = bb::data_file("results/baselines/" + name + ".json");
   }
   if (update) {
     bb::write_file_atomic(baseline_file, bb::make_baseline(summary).dump(2) + "\n");
@@ -255,7 +256,7 @@ int main(int argc, char** argv) {
   CLI::App app{"BlendBench: a testbench for blended robot trajectories"};
   app.require_subcommand(1);
 
-  std::string scenario_path = default_scenario();
+  std::string scenario_path;  // empty: scenarios/default.yaml in the data root
   std::string out_dir;
   bool no_video = false;
   bool no_plots = false;

@@ -18,6 +18,7 @@
 #include "blendbench/report/process.hpp"
 #include "blendbench/report/report.hpp"
 #include "blendbench/sim/simulator.hpp"
+#include "blendbench/io/data_root.hpp"
 #include "blendbench/io/urdf_chain.hpp"
 #ifdef BLENDBENCH_HAS_RENDER
 #include "blendbench/render/render.hpp"
@@ -377,7 +378,7 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
     const auto start = Clock::now();
     // an argument vector, no shell: the output folder is data, whatever characters it holds
     const ProcessResult plotted =
-        run_process({"/usr/bin/python3", source_root() + "/report/scripts/plot_run.py", request.out_dir.string()});
+        run_process({"/usr/bin/python3", data_file("report/scripts/plot_run.py"), request.out_dir.string()});
     if (request.progress) {
       request.progress(plotted.ok ? "plots written (" + format_fixed(seconds_since(start), 1) + " s)"
                                   : "warning: the plot script failed (" + plotted.message + ")");

@@ -1,3 +1,7 @@
+// The G-code reader (gcode.hpp): an interpreter of RS274/NGC blocks that keeps LinuxCNC's
+// modal state and turns motion words into moves. The lexer (gcode_lexer.cpp) splits a line into
+// words, gcode_words.cpp checks them against the RS274/NGC tables; this file executes them.
+
 #include "blendbench/io/gcode.hpp"
 
 #include "blendbench/geometry/arc_construction.hpp"
@@ -5,15 +9,18 @@
 
 #include <algorithm>
 #include <array>
-#include <charconv>
 #include <cmath>
 #include <numbers>
 #include <optional>
-#include <sstream>
 #include <utility>
+
+#include "gcode_lexer.hpp"
+#include "gcode_words.hpp"
 
 namespace blendbench {
 namespace {
+
+using namespace gcode_detail;  // the lexer and word checks private to the G-code reader
 
 constexpr double kMetresPerMm = 1e-3;
 constexpr double kMetresPerInch = 0.0254;
@@ -41,19 +48,6 @@ using Vec2 = Eigen::Vector2d;
 enum class Plane { kXY, kXZ, kYZ };
 enum class Motion { kNone, kRapid, kLinear, kCw, kCcw };
 
-struct Word {
-  char letter = 0;   // upper case
-  double value = 0;  // as written, program units
-  std::string text;  // upper-case letter + number as written (U+2212 shown as '-')
-  int column = 0;    // 1-based, in characters
-};
-
-struct Block {
-  int line = 0;
-  std::vector<Word> words;
-  bool unicode_minus = false;
-};
-
 // The plane's in-plane axes a1, a2 and normal n = a1 x a2 (RS274/NGC: G17 XY about +Z,
 // G18 ZX about +Y, G19 YZ about +X; G2 is clockwise seen from the positive end of n).
 struct PlaneAxes {
@@ -76,91 +70,6 @@ PlaneAxes axes_of(Plane plane) {
 }
 
 std::string format_number(double value) { return format_value(value, 10); }
-
-bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v'; }
-bool is_continuation(unsigned char c) { return (c & 0xC0) == 0x80; }
-bool is_unicode_minus(std::string_view s, std::size_t i) {
-  return i + 2 < s.size() && static_cast<unsigned char>(s[i]) == 0xE2 &&
-         static_cast<unsigned char>(s[i + 1]) == 0x88 && static_cast<unsigned char>(s[i + 2]) == 0x92;
-}
-
-// G code numbers are handled as ten times their value (G90.1 -> 901), as in LinuxCNC.
-std::optional<int> code_times_ten(double value) {
-  const double scaled = value * 10;
-  const double rounded = std::round(scaled);
-  if (std::abs(scaled - rounded) > 1e-6 || rounded < 0 || rounded > 10000) return std::nullopt;
-  return static_cast<int>(rounded);
-}
-
-// What is wrong with a G code the reader does not support; nullptr for unknown codes.
-const char* rejected_g_reason(int code) {
-  switch (code) {
-    case 410: case 411: case 420: case 421:
-      return "cutter radius compensation (G41/G42) changes the path and is not supported";
-    case 430: case 431: case 432:
-      return "tool length offset (G43) changes the path and is not supported";
-    case 700: case 710: case 711: case 712: case 720: case 721: case 722: case 730: case 740: case 760:
-    case 810: case 820: case 830: case 840: case 850: case 860: case 870: case 880: case 890:
-      return "canned cycles are not supported";
-    case 330: case 331:
-      return "spindle-synchronised motion (G33) is not supported";
-    case 50: case 51: case 52: case 53:
-      return "splines and NURBS (G5, G5.1, G5.2, G5.3) are not supported";
-    case 920: case 921: case 922: case 923: case 520:
-      return "coordinate offsets (G52/G92) are not supported";
-    case 280: case 281: case 300: case 301:
-      return "moves to stored positions (G28/G30) are not supported";
-    case 530:
-      return "moves in machine coordinates (G53) are not supported";
-    case 100:
-      return "G10 (setting offsets and tool data) is not supported";
-    case 382: case 383: case 384: case 385:
-      return "probing (G38) is not supported";
-    case 70: case 80:
-      return "lathe diameter/radius mode (G7/G8) is not supported";
-    case 930: case 950:
-      return "only units-per-minute feed (G94) is supported";
-    case 171: case 181: case 191:
-      return "planes G17.1, G18.1, G19.1 are not supported (LinuxCNC does not support them either)";
-    default:
-      return nullptr;
-  }
-}
-
-// Modal groups of the supported G codes (RS274/NGC table 4), for the one-per-line rule.
-enum class GGroup { kNonModal, kMotion, kPlane, kDistance, kArcDistance, kFeedMode, kUnits, kCutterComp,
-                    kToolLength, kCoordSystem, kPathControl };
-
-std::optional<GGroup> group_of(int code) {
-  switch (code) {
-    case 0: case 10: case 20: case 30: case 800: return GGroup::kMotion;
-    case 40: return GGroup::kNonModal;
-    case 170: case 180: case 190: return GGroup::kPlane;
-    case 900: case 910: return GGroup::kDistance;
-    case 901: case 911: return GGroup::kArcDistance;
-    case 940: return GGroup::kFeedMode;
-    case 200: case 210: return GGroup::kUnits;
-    case 400: return GGroup::kCutterComp;
-    case 490: return GGroup::kToolLength;
-    case 540: case 550: case 560: case 570: case 580: case 590: case 591: case 592: case 593:
-      return GGroup::kCoordSystem;
-    case 610: case 611: case 640: return GGroup::kPathControl;
-    default: return std::nullopt;
-  }
-}
-
-// M codes: groups for the one-per-line rule (RS274/NGC), nullopt when unsupported.
-enum class MGroup { kStop, kToolChange, kSpindle, kCoolant };
-
-std::optional<MGroup> m_group_of(int code) {
-  switch (code) {
-    case 0: case 1: case 2: case 30: return MGroup::kStop;
-    case 6: return MGroup::kToolChange;
-    case 3: case 4: case 5: return MGroup::kSpindle;
-    case 7: case 8: case 9: return MGroup::kCoolant;
-    default: return std::nullopt;
-  }
-}
 
 class Reader {
  public:
@@ -186,7 +95,7 @@ class Reader {
     for (std::size_t k = 0; k < lines.size(); ++k) {
       const int line_no = static_cast<int>(k) + 1;
       const std::string_view line = lines[k];
-      const std::string_view stripped = strip(line);
+      const std::string_view stripped = strip_blanks(line);
       // tape markers: '%' alone on a line opens the program (first) or ends it
       if (stripped == "%") {
         if (!opened_ && !seen_code_) {
@@ -201,7 +110,7 @@ class Reader {
         seen_code_ = true;
         continue;
       }
-      Block block = lex(line, line_no);
+      Block block = lex_block(line, line_no, file_);
       if (block.words.empty()) continue;
       seen_code_ = true;
       if (block.unicode_minus) {
@@ -240,18 +149,12 @@ class Reader {
     if (!options_.start.allFinite()) throw InputError(file_, 0, 0, "start", "G-code options: start must be finite");
   }
 
-  static std::string_view strip(std::string_view s) {
-    while (!s.empty() && is_space(s.front())) s.remove_prefix(1);
-    while (!s.empty() && is_space(s.back())) s.remove_suffix(1);
-    return s;
-  }
-
   // Notes the non-blank lines after line k that are not read.
   void note_rest(const std::vector<std::string_view>& lines, std::size_t k, const std::string& why) {
     std::size_t first = 0;
     std::size_t last = 0;
     for (std::size_t j = k + 1; j < lines.size(); ++j) {
-      if (strip(lines[j]).empty()) continue;
+      if (strip_blanks(lines[j]).empty()) continue;
       if (first == 0) first = j + 1;
       last = j + 1;
     }
@@ -261,114 +164,6 @@ class Reader {
     result_.ignored.push_back(range + " after " + why + " not read");
   }
 
-  // Splits a line into words. Spaces and tabs are skipped anywhere outside comments (RS274/NGC).
-  Block lex(std::string_view s, int line_no) const {
-    Block block;
-    block.line = line_no;
-    // 1-based character column of every byte (UTF-8 continuation bytes share their lead's column)
-    std::vector<int> col(s.size() + 1, 1);
-    int c = 0;
-    for (std::size_t i = 0; i < s.size(); ++i) {
-      if (!is_continuation(static_cast<unsigned char>(s[i]))) ++c;
-      col[i] = c;
-    }
-    col[s.size()] = c + 1;
-
-    const auto skip_spaces = [&](std::size_t& i) {
-      while (i < s.size() && is_space(s[i])) ++i;
-    };
-    std::size_t i = 0;
-    while (true) {
-      skip_spaces(i);
-      if (i >= s.size()) break;
-      const char ch = s[i];
-      if (ch == '(') {
-        const std::size_t close = s.find(')', i + 1);
-        const std::size_t nested = s.find('(', i + 1);
-        if (close == std::string_view::npos) fail(line_no, col[i], "(", "comment is not closed on this line");
-        if (nested < close) fail(line_no, col[nested], "(", "nested comments are not allowed");
-        i = close + 1;
-        continue;
-      }
-      if (ch == ';') break;
-      if (std::isalpha(static_cast<unsigned char>(ch))) {
-        block.words.push_back(lex_word(s, i, col, line_no, block.unicode_minus));
-        continue;
-      }
-      const std::string what(1, ch);
-      if (ch == '#') fail(line_no, col[i], what, "parameters (#) are not supported");
-      if (ch == '[' || ch == ']') fail(line_no, col[i], what, "expressions ([ ]) are not supported");
-      if (ch == '%') fail(line_no, col[i], what, "'%' must stand alone on its line (tape marker)");
-      if (ch == '/') fail(line_no, col[i], what, "block delete '/' must be the first character of the line");
-      if (is_unicode_minus(s, i)) fail(line_no, col[i], "\u2212", "a minus sign must follow a word letter");
-      if (static_cast<unsigned char>(ch) >= 0x80) {
-        std::size_t len = 1;
-        while (i + len < s.size() && is_continuation(static_cast<unsigned char>(s[i + len]))) ++len;
-        fail(line_no, col[i], std::string(s.substr(i, len)), "unexpected character");
-      }
-      fail(line_no, col[i], what, "unexpected character");
-    }
-    return block;
-  }
-
-  // Reads a letter and its number starting at s[i]; advances i past them.
-  Word lex_word(std::string_view s, std::size_t& i, const std::vector<int>& col, int line_no, bool& unicode_minus) const {
-    Word word;
-    word.letter = static_cast<char>(std::toupper(static_cast<unsigned char>(s[i])));
-    word.column = col[i];
-    ++i;
-    const auto skip_spaces = [&] {
-      while (i < s.size() && is_space(s[i])) ++i;
-    };
-    // O-words name subroutines and control flow; report them whole
-    if (word.letter == 'O') {
-      std::size_t end = i;
-      while (end < s.size() && !is_space(s[end]) && s[end] != '(' && s[end] != ';') ++end;
-      fail(line_no, word.column, "O" + std::string(s.substr(i, end - i)),
-           "O-words (subroutines, loops, conditionals) are not supported");
-    }
-    std::string number;
-    skip_spaces();
-    if (i < s.size() && (s[i] == '+' || s[i] == '-')) {
-      number += s[i];
-      ++i;
-    } else if (is_unicode_minus(s, i)) {
-      number += '-';
-      unicode_minus = true;
-      i += 3;
-    }
-    bool digits = false;
-    bool dot = false;
-    while (true) {
-      skip_spaces();
-      if (i >= s.size()) break;
-      const char ch = s[i];
-      if (std::isdigit(static_cast<unsigned char>(ch))) {
-        digits = true;
-      } else if (ch == '.') {
-        if (dot) fail(line_no, col[i], std::string(1, word.letter) + number + ".", "malformed number (two decimal points)");
-        dot = true;
-      } else {
-        break;
-      }
-      number += ch;
-      ++i;
-    }
-    word.text = std::string(1, word.letter) + number;
-    if (!digits) {
-      if (i < s.size() && s[i] == '#') fail(line_no, col[i], word.text + "#", "parameters (#) are not supported");
-      if (i < s.size() && s[i] == '[') fail(line_no, col[i], word.text + "[", "expressions ([ ]) are not supported");
-      fail(line_no, word.column, word.text, std::string("word '") + word.letter + "' has no number");
-    }
-    // std::from_chars takes neither a leading '+' nor a bare trailing '.'
-    std::string plain = number;
-    if (!plain.empty() && plain.front() == '+') plain.erase(0, 1);
-    const auto result = std::from_chars(plain.data(), plain.data() + plain.size(), word.value);
-    if (result.ec != std::errc() || result.ptr != plain.data() + plain.size() || !std::isfinite(word.value)) {
-      fail(line_no, word.column, word.text, "malformed number");
-    }
-    return word;
-  }
 
   std::string note_of(const Word& word, int line) const { return word.text + " (line " + std::to_string(line) + ")"; }
 
@@ -380,11 +175,39 @@ class Reader {
   double scale() const { return inch_ ? kMetresPerInch : kMetresPerMm; }
   std::string unit_name() const { return inch_ ? "in" : "mm"; }
 
+  // One block, in the RS274/NGC order of execution: the words checked, units, feed and tool,
+  // M6/spindle/coolant, dwell, plane and the other modal settings, path control, distance
+  // modes, motion, and last the stops and the program end.
   void execute(const Block& block) {
     const int line = block.line;
     std::vector<Word> words = block.words;
+    const std::string label = take_line_number(words, line);
+    const LineWords lw = sort_words(words, line, file_);
 
-    // N: line number, first word only
+    // units first: every value on the line is read in the units in force after it
+    if (const auto units = lw.g_in(GGroup::kUnits)) inch_ = units->first == 200;
+    set_feed_and_tool(lw, line);
+    before_motion(lw.m_codes, line);
+
+    // users of P and Q, checked once the motion of the line is known
+    const auto dwell = lw.g_in(GGroup::kNonModal);
+    const auto path_control = lw.g_in(GGroup::kPathControl);
+    const bool g64 = path_control && path_control->first == 640;
+    const Word* p = lw.get('P');
+    const Word* q = lw.get('Q');
+    if (q && !g64) fail(line, q->column, q->text, "Q word with no G64 that uses it");
+    if (dwell) dwell_here(*dwell->second, p, line);
+    set_modes(lw, line);
+    if (path_control) set_path_control(g64, dwell ? nullptr : p, q, line);
+    if (const auto d = lw.g_in(GGroup::kDistance)) incremental_ = d->first == 910;
+    if (const auto d = lw.g_in(GGroup::kArcDistance)) ij_absolute_ = d->first == 901;
+    motion(lw, label, line, (dwell ? 1 : 0) + (g64 ? 1 : 0));
+    after_motion(lw.m_codes, line);
+  }
+
+  // N: the line number, first word only; removed from `words`. The block's label for move
+  // names: the N word, else "line <n>".
+  std::string take_line_number(std::vector<Word>& words, int line) const {
     std::string label = "line " + std::to_string(line);
     for (std::size_t k = 0; k < words.size(); ++k) {
       if (words[k].letter != 'N') continue;
@@ -392,85 +215,22 @@ class Reader {
       label = words[k].text;
     }
     if (!words.empty() && words.front().letter == 'N') words.erase(words.begin());
+    return label;
+  }
 
-    // one of each letter (G and M may repeat across modal groups)
-    std::array<const Word*, 26> by_letter{};
-    std::vector<std::pair<int, const Word*>> g_codes;
-    std::vector<std::pair<int, const Word*>> m_codes;
-    for (const Word& w : words) {
-      switch (w.letter) {
-        case 'G': {
-          const std::optional<int> code = code_times_ten(w.value);
-          if (!code) fail(line, w.column, w.text, "not a G code");
-          if (const char* reason = rejected_g_reason(*code)) fail(line, w.column, w.text, reason);
-          if (!group_of(*code)) fail(line, w.column, w.text, "unsupported G code");
-          g_codes.emplace_back(*code, &w);
-          continue;
-        }
-        case 'M': {
-          const double rounded = std::round(w.value);
-          if (rounded != w.value || rounded < 0 || rounded > 10000) fail(line, w.column, w.text, "not an M code");
-          const int code = static_cast<int>(rounded);
-          if (code == 98 || code == 99) fail(line, w.column, w.text, "subprogram calls (M98/M99) are not supported");
-          if (!m_group_of(code)) fail(line, w.column, w.text, "unsupported M code");
-          m_codes.emplace_back(code, &w);
-          continue;
-        }
-        case 'A': case 'B': case 'C': case 'U': case 'V': case 'W':
-          fail(line, w.column, w.text, std::string("axis ") + w.letter + " is not supported (only X, Y, Z)");
-        case 'L':
-          fail(line, w.column, w.text, "L words (G10, canned cycles) are not supported");
-        case 'N':
-          fail(line, w.column, w.text, "the line number N must be the first word of the line");
-        case 'X': case 'Y': case 'Z': case 'I': case 'J': case 'K': case 'R': case 'P': case 'Q':
-        case 'F': case 'S': case 'T': case 'H': case 'D':
-          break;
-        default:
-          fail(line, w.column, w.text, std::string("unknown word letter '") + w.letter + "'");
-      }
-      const Word*& slot = by_letter[static_cast<std::size_t>(w.letter - 'A')];
-      if (slot) fail(line, w.column, w.text, std::string("word '") + w.letter + "' given twice on one line");
-      slot = &w;
-    }
-    const auto get = [&](char letter) { return by_letter[static_cast<std::size_t>(letter - 'A')]; };
-
-    // one G code per modal group, one M code per group
-    for (std::size_t a = 0; a < g_codes.size(); ++a) {
-      for (std::size_t b = 0; b < a; ++b) {
-        if (group_of(g_codes[a].first) == group_of(g_codes[b].first)) {
-          fail(line, g_codes[a].second->column, g_codes[a].second->text,
-               "two G codes of one modal group on a line (" + g_codes[b].second->text + " and " + g_codes[a].second->text + ")");
-        }
-      }
-    }
-    for (std::size_t a = 0; a < m_codes.size(); ++a) {
-      for (std::size_t b = 0; b < a; ++b) {
-        if (m_group_of(m_codes[a].first) == m_group_of(m_codes[b].first)) {
-          fail(line, m_codes[a].second->column, m_codes[a].second->text,
-               "two M codes of one modal group on a line (" + m_codes[b].second->text + " and " + m_codes[a].second->text + ")");
-        }
-      }
-    }
-    const auto g_in = [&](GGroup group) -> std::optional<std::pair<int, const Word*>> {
-      for (const auto& g : g_codes) {
-        if (group_of(g.first) == group) return g;
-      }
-      return std::nullopt;
-    };
-
-    // units first: every value on the line is read in the units in force after it
-    if (const auto units = g_in(GGroup::kUnits)) inch_ = units->first == 200;
-
-    // F, S, T, H, D (RS274/NGC order of execution: feed, speed, tool before motion)
-    if (const Word* f = get('F')) {
+  // F, S, T, H, D (RS274/NGC order of execution: feed, speed, tool before motion)
+  void set_feed_and_tool(const LineWords& lw, int line) {
+    if (const Word* f = lw.get('F')) {
       if (!(f->value > 0)) fail(line, f->column, f->text, "the feed rate F must be positive");
       feed_ = f->value * scale() / 60.0;
     }
     for (const char letter : {'S', 'T', 'H', 'D'}) {
-      if (const Word* w = get(letter)) result_.ignored.push_back(note_of(*w, line));
+      if (const Word* w = lw.get(letter)) result_.ignored.push_back(note_of(*w, line));
     }
+  }
 
-    // M6, spindle, coolant (before motion)
+  // M6, spindle, coolant (before motion)
+  void before_motion(const std::vector<Code>& m_codes, int line) {
     for (const auto& [code, w] : m_codes) {
       if (code == 6) {
         stop_here();
@@ -479,30 +239,27 @@ class Reader {
         result_.ignored.push_back(note_of(*w, line));
       }
     }
+  }
 
-    // users of P and Q, checked once the motion of the line is known
-    const auto dwell = g_in(GGroup::kNonModal);
-    const auto path_control = g_in(GGroup::kPathControl);
-    const Word* p = get('P');
-    const Word* q = get('Q');
-    if (q && !(path_control && path_control->first == 640)) fail(line, q->column, q->text, "Q word with no G64 that uses it");
+  // G4 dwell (the word `g4`, its time P): the machine stops here
+  void dwell_here(const Word& g4, const Word* p, int line) {
+    if (!p) fail(line, g4.column, g4.text, "G4 needs a P word (dwell time in seconds)");
+    if (p->value < 0) fail(line, p->column, p->text, "the dwell time P must be >= 0");
+    stop_here();
+    result_.ignored.push_back(g4.text + " " + p->text + " (line " + std::to_string(line) +
+                              "): dwell treated as an exact stop");
+  }
 
-    // G4 dwell: the machine stops here
-    if (dwell) {
-      if (!p) fail(line, dwell->second->column, dwell->second->text, "G4 needs a P word (dwell time in seconds)");
-      if (p->value < 0) fail(line, p->column, p->text, "the dwell time P must be >= 0");
-      stop_here();
-      result_.ignored.push_back(dwell->second->text + " " + p->text + " (line " + std::to_string(line) +
-                                "): dwell treated as an exact stop");
-    }
-
-    if (const auto plane = g_in(GGroup::kPlane)) {
+  // The plane, and the modal codes that do not change the path (noted): cutter and tool length
+  // compensation off, feed mode, one coordinate system
+  void set_modes(const LineWords& lw, int line) {
+    if (const auto plane = lw.g_in(GGroup::kPlane)) {
       plane_ = plane->first == 170 ? Plane::kXY : plane->first == 180 ? Plane::kXZ : Plane::kYZ;
     }
     for (const GGroup group : {GGroup::kCutterComp, GGroup::kToolLength, GGroup::kFeedMode}) {
-      if (const auto g = g_in(group)) result_.ignored.push_back(note_of(*g->second, line));
+      if (const auto g = lw.g_in(group)) result_.ignored.push_back(note_of(*g->second, line));
     }
-    if (const auto cs = g_in(GGroup::kCoordSystem)) {
+    if (const auto cs = lw.g_in(GGroup::kCoordSystem)) {
       if (coord_system_ && *coord_system_ != cs->first && !result_.program.moves.empty()) {
         fail(line, cs->second->column, cs->second->text,
              "changing the coordinate system after moves shifts the rest of the path; not supported");
@@ -510,31 +267,27 @@ class Reader {
       coord_system_ = cs->first;
       result_.ignored.push_back(note_of(*cs->second, line));
     }
+  }
 
-    // path control: G61/G61.1 exact stop, G64 [P tol] [Q]
-    if (path_control) {
-      if (path_control->first == 640) {
-        const bool with_p = p && !dwell;
-        if (with_p && p->value < 0) fail(line, p->column, p->text, "the G64 tolerance P must be >= 0");
-        if (with_p && p->value > 0) {
-          transition_ = options_.blending;
-          transition_.method = options_.tolerance_method;
-          transition_.parameter = p->value * scale();
-        } else {
-          transition_ = options_.blending;
-        }
-        if (q) result_.ignored.push_back(note_of(*q, line) + ": G64 naive CAM tolerance Q ignored");
-      } else {
-        transition_ = Transition{};
-      }
+  // path control: G61/G61.1 exact stop, G64 [P tol] [Q]; `p` is the line's P unless a G4 uses it
+  void set_path_control(bool g64, const Word* p, const Word* q, int line) {
+    if (!g64) {
+      transition_ = Transition{};
+      return;
     }
+    if (p && p->value < 0) fail(line, p->column, p->text, "the G64 tolerance P must be >= 0");
+    transition_ = options_.blending;
+    if (p && p->value > 0) {
+      transition_.method = options_.tolerance_method;
+      transition_.parameter = p->value * scale();
+    }
+    if (q) result_.ignored.push_back(note_of(*q, line) + ": G64 naive CAM tolerance Q ignored");
+  }
 
-    if (const auto d = g_in(GGroup::kDistance)) incremental_ = d->first == 910;
-    if (const auto d = g_in(GGroup::kArcDistance)) ij_absolute_ = d->first == 901;
-
-    // motion
-    const auto motion_word = g_in(GGroup::kMotion);
-    if (motion_word) {
+  // The motion mode (G0-G3, G80) and the move of the line, if it has one; `p_users` counts the
+  // other commands on the line that use its P word (G4, G64).
+  void motion(const LineWords& lw, const std::string& label, int line, int p_users) {
+    if (const auto motion_word = lw.g_in(GGroup::kMotion)) {
       switch (motion_word->first) {
         case 0: motion_ = Motion::kRapid; break;
         case 10: motion_ = Motion::kLinear; break;
@@ -544,14 +297,8 @@ class Reader {
       }
     }
     const bool arc_mode = motion_ == Motion::kCw || motion_ == Motion::kCcw;
-    const Word* first_axis = nullptr;
-    for (const Word& w : words) {
-      if ((w.letter == 'X' || w.letter == 'Y' || w.letter == 'Z') && !first_axis) first_axis = &w;
-    }
-    const Word* first_arc_word = nullptr;
-    for (const Word& w : words) {
-      if ((w.letter == 'I' || w.letter == 'J' || w.letter == 'K' || w.letter == 'R') && !first_arc_word) first_arc_word = &w;
-    }
+    const Word* first_axis = lw.first_of("XYZ");
+    const Word* first_arc_word = lw.first_of("IJKR");
     if (first_arc_word && !arc_mode) {
       fail(line, first_arc_word->column, first_arc_word->text,
            std::string(1, first_arc_word->letter) + " word with no G2/G3 that uses it");
@@ -561,26 +308,29 @@ class Reader {
     }
     const bool arc_here = arc_mode && (first_axis || first_arc_word);
     // P has exactly one user on the line
+    const Word* p = lw.get('P');
     if (p) {
-      const int users = (dwell ? 1 : 0) + (path_control && path_control->first == 640 ? 1 : 0) + (arc_here ? 1 : 0);
+      const int users = p_users + (arc_here ? 1 : 0);
       if (users == 0) fail(line, p->column, p->text, "P word with no G4, G64 or G2/G3 that uses it");
       if (users > 1) fail(line, p->column, p->text, "P word used by two commands on one line (G4, G64, G2/G3)");
     }
-    if (first_axis || arc_here) {
-      const Word* at = motion_word ? motion_word->second : (first_axis ? first_axis : first_arc_word);
-      const SourceRef where{file_, line, at->column};
-      const std::string code = motion_ == Motion::kRapid ? "G0" : motion_ == Motion::kLinear ? "G1"
-                               : motion_ == Motion::kCw  ? "G2" : "G3";
-      const std::string name = label + " " + code;
-      const Vec3 target = target_of(get);
-      if (arc_mode) {
-        arc_move(target, get, p, where, name, line);
-      } else {
-        line_move(target, where, name);
-      }
+    if (!first_axis && !arc_here) return;
+    const auto motion_word = lw.g_in(GGroup::kMotion);
+    const Word* at = motion_word ? motion_word->second : (first_axis ? first_axis : first_arc_word);
+    const SourceRef where{file_, line, at->column};
+    const std::string code = motion_ == Motion::kRapid ? "G0" : motion_ == Motion::kLinear ? "G1"
+                             : motion_ == Motion::kCw  ? "G2" : "G3";
+    const std::string name = label + " " + code;
+    const Vec3 target = target_of(lw);
+    if (arc_mode) {
+      arc_move(target, lw, p, where, name, line);
+    } else {
+      line_move(target, where, name);
     }
+  }
 
-    // stops and program end (after motion)
+  // stops and program end (after motion)
+  void after_motion(const std::vector<Code>& m_codes, int line) {
     for (const auto& [code, w] : m_codes) {
       if (code == 0 || code == 1) {
         stop_here();
@@ -593,12 +343,11 @@ class Reader {
   }
 
   // The end point of a motion (m): absent axes keep their value; G91 adds to the current point.
-  template <class Get>
-  Vec3 target_of(const Get& get) const {
+  Vec3 target_of(const LineWords& lw) const {
     Vec3 target = pos_;
     const std::array<char, 3> letters = {'X', 'Y', 'Z'};
     for (int axis = 0; axis < 3; ++axis) {
-      if (const Word* w = get(letters[static_cast<std::size_t>(axis)])) {
+      if (const Word* w = lw.get(letters[static_cast<std::size_t>(axis)])) {
         const double value = w->value * scale();
         target[axis] = incremental_ ? pos_[axis] + value : value;
       }
@@ -635,8 +384,7 @@ class Reader {
     add_move(make_move(Line{path_end_, target}, where, name, motion_ == Motion::kRapid), target);
   }
 
-  template <class Get>
-  void arc_move(const Vec3& target, const Get& get, const Word* p, const SourceRef& where, const std::string& name, int line) {
+  void arc_move(const Vec3& target, const LineWords& lw, const Word* p, const SourceRef& where, const std::string& name, int line) {
     const PlaneAxes ax = axes_of(plane_);
     const bool ccw = motion_ == Motion::kCcw;
     const double sign = ccw ? 1.0 : -1.0;
@@ -655,14 +403,14 @@ class Reader {
       turns = static_cast<int>(p->value);
     }
 
-    const Word* r_word = get('R');
-    const Word* off_normal = get(ax.off_normal);
+    const Word* r_word = lw.get('R');
+    const Word* off_normal = lw.get(ax.off_normal);
     if (off_normal) {
       fail(line, off_normal->column, off_normal->text,
            std::string(1, ax.off_normal) + " is not a centre offset in plane " + ax.name + "; use " + ax.off1 + "/" + ax.off2);
     }
-    const Word* o1 = get(ax.off1);
-    const Word* o2 = get(ax.off2);
+    const Word* o1 = lw.get(ax.off1);
+    const Word* o2 = lw.get(ax.off2);
     if (r_word && (o1 || o2)) {
       const Word* w = o1 ? o1 : o2;
       fail(line, w->column, w->text, "an arc takes either R or centre offsets, not both");

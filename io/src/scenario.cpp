@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "blendbench/geometry/arc_construction.hpp"
+#include "blendbench/io/data_root.hpp"
 #include "blendbench/io/program_io.hpp"
 
 namespace blendbench {
@@ -139,14 +140,25 @@ class Reader {
     return {file_, mark.line >= 0 ? mark.line + 1 : 0, mark.column >= 0 ? mark.column + 1 : 0};
   }
 
-  // An existing file named relative to the scenario's directory or the repository root.
+  // An existing file named relative to the scenario's directory, then to the data root
+  // (data_root.hpp: models/ and scenarios/ in the source tree or the install prefix).
   std::string existing_file(const Field& f) const {
     const std::string name = text(f);
     namespace fs = std::filesystem;
-    for (const fs::path& base : {fs::path(base_dir_), fs::path(source_root())}) {
-      const fs::path candidate = fs::path(name).is_absolute() ? fs::path(name) : base / name;
-      if (fs::is_regular_file(candidate)) return fs::absolute(candidate).lexically_normal().string();
+    const auto found = [](const fs::path& candidate) { return fs::is_regular_file(candidate); };
+    const auto result = [](const fs::path& candidate) { return fs::absolute(candidate).lexically_normal().string(); };
+    if (fs::path(name).is_absolute()) {
+      if (found(name)) return result(name);
+      fail(f, "file not found: " + name);
     }
+    if (found(fs::path(base_dir_) / name)) return result(fs::path(base_dir_) / name);
+    fs::path root;
+    try {
+      root = data_root();
+    } catch (const DataRootError& e) {
+      fail(f, "file not found: " + name + " (not beside the scenario, and " + e.what() + ")");
+    }
+    if (found(root / name)) return result(root / name);
     fail(f, "file not found: " + name);
   }
 
@@ -374,10 +386,8 @@ void read_program(const Reader& r, const Field& root, double scale, Scenario& sc
   }
 }
 
-void read_robot(const Reader& r, const Field& root, Scenario& sc) {
+void read_robot_fields(const Reader& r, const Field& root, Scenario& sc) {
   const Field robot = Reader::child(root, "robot");
-  sc.robot.urdf = source_root() + "/models/ur5e_like.urdf";
-  sc.robot.mjcf = source_root() + "/models/ur5e_like.xml";
   // default: tool pointing down (TCP z along -Z of the base)
   sc.robot.tool_rotation = rpy_deg({180, 0, 0});
   // the ready configuration of the model (keyframe "ready"): elbow up, tool down, facing +x
@@ -395,6 +405,13 @@ void read_robot(const Reader& r, const Field& root, Scenario& sc) {
     const auto q = r.numbers<6>(f);
     for (int i = 0; i < 6; ++i) sc.robot.q_seed[i] = q[static_cast<std::size_t>(i)] * kDeg;
   }
+}
+
+void read_robot(const Reader& r, const Field& root, Scenario& sc) {
+  read_robot_fields(r, root, sc);
+  // the shipped arm in the data root (data_root.hpp) unless the scenario names its own model
+  if (sc.robot.urdf.empty()) sc.robot.urdf = data_file("models/ur5e_like.urdf");
+  if (sc.robot.mjcf.empty()) sc.robot.mjcf = data_file("models/ur5e_like.xml");
 }
 
 void read_settings(const Reader& r, const Field& root, double scale, Scenario& sc) {
@@ -507,14 +524,6 @@ std::string folder_name_problem(const std::string& name) {
     }
   }
   return {};
-}
-
-std::string source_root() {
-#ifdef BLENDBENCH_SOURCE_ROOT
-  return BLENDBENCH_SOURCE_ROOT;
-#else
-  return ".";
-#endif
 }
 
 Scenario parse_scenario(const std::string& text, const std::string& file, const std::string& base_dir) {

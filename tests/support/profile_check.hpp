@@ -1,7 +1,9 @@
 #pragma once
 // Checks a timed profile against its path: every limit of issue 4 on the sampled result
 // (v <= v_lim(s) with 004 eq. 25-27, kappa v^2 <= a, |a_t|, |j_t|, also by finite differences of
-// the samples) and v = 0 at every stop. Shared by the timing tests and the scenario tests.
+// the samples) and v = 0 at every stop. Shared by the timing tests and the scenario tests; the
+// limits at a sample and the path-level margins come from the planner's profile checker
+// (timing/profile_margins.hpp), which the paper reproductions report too.
 // The one place the check takes the planner's word: in a hand-over zone of a buffer mode
 // (handover_zones, timing.hpp) the feed limit is the zone's junction velocity; timing_test
 // checks the zones themselves against the rule.
@@ -17,53 +19,13 @@
 
 #include "blendbench/corner/blend.hpp"
 #include "blendbench/timing/cartesian.hpp"
+#include "blendbench/timing/profile_margins.hpp"
 #include "blendbench/timing/timing.hpp"
 
 namespace blendbench::test {
 
 inline constexpr double kRel = 1e-9;  // relative slack on every limit (issue 4)
 inline constexpr double kEps = std::numeric_limits<double>::epsilon();
-
-// Limits that apply at path arc length s: those of every piece touching s (both at a junction).
-struct LocalLimits {
-  double v_lim = std::numeric_limits<double>::infinity();  // v_lim(s), 004 eq. 25-27
-  double kappa = 0;                                         // largest curvature at s
-  double a_normal = std::numeric_limits<double>::infinity();  // the bound on kappa v^2
-  double acceleration = 0, deceleration = 0, jerk = 0, feed = 0;  // the largest of the pieces
-};
-
-// The feed limit at local arc length `local` of piece k: its velocity, or the highest junction
-// velocity of the hand-over zones (ordered by piece) that contain it.
-inline double feed_at(const Path& path, const std::vector<HandoverZone>& zones, std::size_t k, double local) {
-  double feed = path.pieces()[k].limits.velocity;
-  const auto first = std::lower_bound(zones.begin(), zones.end(), k,
-                                      [](const HandoverZone& z, std::size_t piece) { return z.piece < piece; });
-  for (auto z = first; z != zones.end() && z->piece == k; ++z) {
-    if (z->s0 <= local && local <= z->s1) feed = std::max(feed, z->velocity);
-  }
-  return feed;
-}
-
-inline LocalLimits limits_at(const Path& path, double s, const std::vector<HandoverZone>& zones = {}) {
-  LocalLimits out;
-  const auto& pieces = path.pieces();
-  path.for_pieces_at(s, [&](std::size_t k, double local) {
-    const PathPiece& p = pieces[k];
-    const double kappa = curvature_vector(p.segment, local).norm();
-    const double c = sharpness(p.segment, local);
-    const double feed = feed_at(path, zones, k, local);
-    out.v_lim = std::min(out.v_lim, std::min(feed, curvature_speed_limit(kappa, c, p.limits.acceleration, p.limits.jerk)));
-    if (kappa > out.kappa) {
-      out.kappa = kappa;
-      out.a_normal = p.limits.acceleration;
-    }
-    out.acceleration = std::max(out.acceleration, p.limits.acceleration);
-    out.deceleration = std::max(out.deceleration, p.limits.deceleration);
-    out.jerk = std::max(out.jerk, p.limits.jerk);
-    out.feed = std::max(out.feed, feed);
-  });
-  return out;
-}
 
 // Margins of a sampled profile: the largest ratio value/limit seen (<= 1 + kRel required).
 struct Margins {
@@ -105,11 +67,13 @@ inline Margins expect_valid(const Path& path, const Timing& timing, const std::s
       EXPECT_GE(x[k].s, x[k - 1].s) << where << " k=" << k;
     }
     EXPECT_GE(x[k].v, 0.0) << where << " k=" << k;
-    m.v = std::max(m.v, x[k].v / lim[k].v_lim);
-    m.normal = std::max(m.normal, lim[k].kappa * x[k].v * x[k].v / lim[k].a_normal);
-    m.a = std::max(m.a, x[k].a >= 0 ? x[k].a / lim[k].acceleration : -x[k].a / lim[k].deceleration);
-    m.j = std::max(m.j, std::abs(x[k].j) / lim[k].jerk);
   }
+  // the path-level margins with the limits above (profile_margins, as the reproductions report)
+  const ProfileMargins pm = profile_margins(path, timing, lim);
+  m.v = pm.velocity;
+  m.normal = pm.normal_acceleration;
+  m.a = pm.tangential_acceleration;
+  m.j = pm.tangential_jerk;
   EXPECT_LE(m.v, 1 + kRel) << where;
   EXPECT_LE(m.normal, 1 + kRel) << where;
   EXPECT_LE(m.a, 1 + kRel) << where;
@@ -121,29 +85,19 @@ inline Margins expect_valid(const Path& path, const Timing& timing, const std::s
   for (const PathPiece& p : path.pieces()) v_top = std::max(v_top, p.limits.velocity);
   for (const HandoverZone& z : zones) v_top = std::max(v_top, z.velocity);
   const double noise = 4 * kEps * std::max(path.length() + v_top * timing.cycle_time, 1e-300);
-  const auto widest = [&](std::size_t k0, std::size_t k1) {
-    LocalLimits w;
-    for (std::size_t k = k0; k <= k1; ++k) {
-      w.feed = std::max(w.feed, lim[k].feed);
-      w.acceleration = std::max(w.acceleration, lim[k].acceleration);
-      w.deceleration = std::max(w.deceleration, lim[k].deceleration);
-      w.jerk = std::max(w.jerk, lim[k].jerk);
-    }
-    return w;
-  };
   for (std::size_t k = 0; k + 1 < x.size(); ++k) {
     const double v = (x[k + 1].s - x[k].s) / dt;
-    EXPECT_LE(v, widest(k, k + 1).feed * (1 + kRel) + 2 * noise / dt) << where << " k=" << k;
+    EXPECT_LE(v, widest(lim, k, k + 1).feed * (1 + kRel) + 2 * noise / dt) << where << " k=" << k;
   }
   for (std::size_t k = 1; k + 1 < x.size(); ++k) {
     const double a = (x[k + 1].s - 2 * x[k].s + x[k - 1].s) / (dt * dt);
-    const LocalLimits w = widest(k - 1, k + 1);
+    const LocalLimits w = widest(lim, k - 1, k + 1);
     EXPECT_LE(a, w.acceleration * (1 + kRel) + 4 * noise / (dt * dt)) << where << " k=" << k;
     EXPECT_GE(a, -w.deceleration * (1 + kRel) - 4 * noise / (dt * dt)) << where << " k=" << k;
   }
   for (std::size_t k = 1; k + 2 < x.size(); ++k) {
     const double j = (x[k + 2].s - 3 * x[k + 1].s + 3 * x[k].s - x[k - 1].s) / (dt * dt * dt);
-    EXPECT_LE(std::abs(j), widest(k - 1, k + 2).jerk * (1 + kRel) + 8 * noise / (dt * dt * dt))
+    EXPECT_LE(std::abs(j), widest(lim, k - 1, k + 2).jerk * (1 + kRel) + 8 * noise / (dt * dt * dt))
         << where << " k=" << k;
   }
 

@@ -146,10 +146,25 @@ class Target {
   mutable std::vector<double> d2_;  // scratch for one query, reused to avoid an allocation each
 };
 
+// Relative margin on the reach of a target (rounding of its length and of its midpoint, a
+// Bezier's arc-length table included, is below 1e-12 of the length).
+constexpr double kReachMargin = 1e-9;
+
 double directed(const std::vector<Segment>& from, const std::vector<Segment>& to, double step) {
   std::vector<Target> targets;
   targets.reserve(to.size());
   for (const Segment& seg : to) targets.emplace_back(seg);
+  // every point of a target lies within half its length L of its midpoint m (along the curve),
+  // so |x - m| - L/2 bounds its distance from x below: targets are tried nearest bound first and
+  // passed over once the bound exceeds the best distance so far, which leaves the minimum as it is
+  std::vector<Vec3> mid(to.size());
+  std::vector<double> reach(to.size());
+  for (std::size_t k = 0; k < to.size(); ++k) {
+    const double half = 0.5 * length(to[k]);
+    mid[k] = point(to[k], half);
+    reach[k] = half * (1 + kReachMargin);
+  }
+  std::vector<std::pair<double, std::size_t>> order(to.size());
   double worst = 0;
   for (const Segment& seg : from) {
     const double len = length(seg);
@@ -162,8 +177,13 @@ double directed(const std::vector<Segment>& from, const std::vector<Segment>& to
     const Bezier* bezier = std::get_if<Bezier>(&seg);
     for (int i = 0; i <= n; ++i) {
       const Vec3 p = bezier != nullptr ? bezier->eval(static_cast<double>(i) / n) : point(seg, len * i / n);
+      for (std::size_t k = 0; k < to.size(); ++k) order[k] = {(p - mid[k]).norm() - reach[k], k};
+      if (order.size() > 1) std::sort(order.begin(), order.end());
       double best = std::numeric_limits<double>::infinity();
-      for (const Target& target : targets) best = std::min(best, target.distance(p));
+      for (const auto& [bound, k] : order) {
+        if (bound > best) break;
+        best = std::min(best, targets[k].distance(p));
+      }
       worst = std::max(worst, best);
     }
   }

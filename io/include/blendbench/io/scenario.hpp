@@ -99,7 +99,4 @@ const Variant& find_variant(const Scenario& scenario, const std::string& name);
 // such a name, or an empty string when it is.
 std::string folder_name_problem(const std::string& name);
 
-// The repository root baked in at build time (models/ and scenarios/ live there).
-std::string source_root();
-
 }  // namespace blendbench

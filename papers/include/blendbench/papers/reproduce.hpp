@@ -18,6 +18,7 @@
 
 #include "blendbench/program/path.hpp"
 #include "blendbench/program/program.hpp"
+#include "blendbench/timing/profile_margins.hpp"
 #include "blendbench/timing/timing.hpp"
 
 namespace blendbench {
@@ -48,27 +49,6 @@ struct FigureTable {
   [[nodiscard]] const Figure& at(std::string_view key) const;
 };
 
-// The largest ratio value / limit found on a sampled profile (<= 1: within the limit). The
-// path-level terms are what plan_timing guarantees (timing.hpp); the axis terms are what one
-// machine axis sees, from finite differences of the sampled positions at the servo period
-// (centred second and third differences), in the frame of the program.
-struct ProfileMargins {
-  double velocity = 0;                 // v / v_lim(s): programmed feed and 004 eq. 25-27 at s
-  double tangential_acceleration = 0;  // |a_t| / (acceleration or deceleration limit)
-  double tangential_jerk = 0;          // |j_t| / jerk limit
-  double normal_acceleration = 0;      // kappa v^2 / acceleration limit
-  double eq24_jerk = 0;                // sqrt(c^2 + kappa^4) v^3 / jerk limit (004 eq. 24)
-  double axis_acceleration = 0;        // max over x, y, z of |d2x/dt2| / acceleration limit
-  double axis_jerk = 0;                // max over x, y, z of |d3x/dt3| / jerk limit
-  double axis_jerk_time = 0;           // s: where axis_jerk is reached (the stencil's centre)
-  double axis_jerk_s = 0;              // m: path arc length there
-  double axis_jerk_over_time = 0;      // s: total time (stencils x dt) with an axis jerk above its limit
-};
-
-// Checks a planned profile against its path (see ProfileMargins). At a junction of pieces the
-// smaller v_lim and the larger curvature of the pieces touching the sample count.
-ProfileMargins profile_margins(const Path& path, const Timing& timing);
-
 // One planned program: what it is, its path, its timing and the checks of its profile.
 struct PlannedRun {
   std::string name;         // file-name friendly, e.g. "biclothoid_0.1mm"
@@ -76,7 +56,7 @@ struct PlannedRun {
   Program program;
   Path path;
   Timing timing;
-  ProfileMargins margins;
+  ProfileMargins margins;  // profile_margins (timing/profile_margins.hpp)
   int fillets = 0;  // corners replaced by a transition curve of non-zero length
 };
 

@@ -7,21 +7,21 @@
 // corner between two lines, a line and an arc or two arcs by a G2 fillet whose deviation from
 // the programmed path is bounded by a tolerance (004 Algorithms 1 and 2).
 //
-// Plane conventions: 2D coordinates in the corner plane, angles in rad measured
-// counter-clockwise from the x axis, curvature signed (positive turns left), lengths in m.
+// The sources follow the algorithm: the curve (biclothoid_curve.cpp), Algorithm 1
+// (biclothoid_fit.cpp), the deviation (biclothoid_deviation.cpp), Algorithm 2 and the
+// start-distance fit (biclothoid_tolerance.cpp), the corner method (biclothoid_corner.cpp).
+//
+// Plane conventions as in corner_plane.hpp: 2D coordinates in the corner plane, angles in rad
+// measured counter-clockwise from the x axis, curvature signed (positive turns left), lengths in m.
 
 #include <optional>
 #include <vector>
 
-#include <Eigen/Core>
-
-#include "blendbench/corner/corner.hpp"
-#include "blendbench/geometry/segment.hpp"
 #include "blendbench/core/status.hpp"
+#include "blendbench/corner/corner_plane.hpp"
+#include "blendbench/geometry/segment.hpp"
 
 namespace blendbench {
-
-using Vec2 = Eigen::Vector2d;
 
 // 004 definition 1: position, curvature (1/m, signed) and tangent angle (rad) at a point.
 struct Posture {
@@ -46,14 +46,14 @@ Biclothoid make_biclothoid(const Posture& start, double c, double s1, double s2)
 
 // 004 eq. 9-14: the biclothoid of total length `length` (> 0) that starts at `start` and ends
 // with curvature kappa_e and tangent angle start.theta + dtheta. Always exists; derived in
-// closed form (biclothoid.cpp) in a form that stays exact when kappa0 = kappa_e, where eq. 11
-// is 0/0. nullopt only for a non-positive or non-finite length.
+// closed form (biclothoid_curve.cpp) in a form that stays exact when kappa0 = kappa_e, where
+// eq. 11 is 0/0. nullopt only for a non-positive or non-finite length.
 std::optional<Biclothoid> biclothoid_from_turn(const Posture& start, double kappa_e, double dtheta, double length);
 
 // The curve of biclothoid_from_turn with its end point and the derivatives of that end point
 // with respect to the length and the turn (kappa_e and start held), in closed form from the
-// first three moments of each clothoid's tangent (derived in biclothoid.cpp); Algorithm 1
-// uses them for Newton's method. nullopt as for biclothoid_from_turn.
+// first three moments of each clothoid's tangent (derived in biclothoid_curve.cpp);
+// Algorithm 1 uses them for Newton's method. nullopt as for biclothoid_from_turn.
 struct BiclothoidEnd {
   Biclothoid curve;
   Vec2 p = Vec2::Zero();         // end point
@@ -69,24 +69,6 @@ Posture posture_at(const Biclothoid& curve, double s);
 Posture end_posture(const Biclothoid& curve);
 // The same curve traversed backwards (a biclothoid again: c -> -c, s1 <-> s2).
 Biclothoid reversed(const Biclothoid& curve);
-
-// A programmed move near the corner: a line (kappa = 0) or a circle through the origin (the
-// corner) with tangent angle `theta` there; sigma is the signed arc length from the corner
-// along the direction of travel (negative before the corner).
-struct PlanarShape {
-  double theta = 0;
-  double kappa = 0;
-};
-
-Vec2 shape_point(const PlanarShape& shape, double sigma);
-double shape_angle(const PlanarShape& shape, double sigma);
-
-// The incoming shape q1 reaches the corner (the origin), the outgoing q2 leaves it. The fillet
-// starts at sigma = -a on q1 and ends at sigma = +b on q2.
-struct CornerShapes {
-  PlanarShape q1;
-  PlanarShape q2;
-};
 
 // 004 Algorithm 1 (derived here: the paper gives only its first lines): the biclothoid that
 // starts G2 on q1 at distance `a` before the corner and ends G2 on q2. Unknowns: its length L
@@ -126,8 +108,8 @@ Deviation biclothoid_deviation(const BiclothoidSolution& fillet, const CornerSha
 // Newton's method on y = max(log(deviation / tolerance), log(b / b_max)) against x = log(a)
 // (y is nearly linear in x: deviation ~ a at a tangent jump, ~ a^2 at a curvature jump), its
 // slope from the envelope theorem at the point where the deviation is attained (derived in
-// biclothoid.cpp), kept inside the bracket once there is one, bisection otherwise; the first a
-// blends the two small-fillet models, so two solves usually suffice. The result satisfies
+// biclothoid_tolerance.cpp), kept inside the bracket once there is one, bisection otherwise;
+// the first a blends the two small-fillet models, so two solves usually suffice. The result satisfies
 // tolerance (1 - 1e-4) <= deviation <= tolerance unless the move lengths limit it (`limited` =
 // true, deviation < tolerance). A fillet replaces at most an eighth of a turn of an arc (a
 // larger one is no longer a corner fillet, and its turn approaches 2 pi) and stays short of a
@@ -168,41 +150,7 @@ struct BiclothoidStartFit {
 BiclothoidStartFit fit_biclothoid_from_start(const CornerShapes& shapes, double start_distance, double a_max,
                                              double b_max);
 
-// The plane of a corner in 3D: the corner point and an orthonormal basis (x, y) of the plane;
-// 2D corner coordinates map to origin + px x + py y.
-struct CornerPlane {
-  Vec3 origin = Vec3::Zero();
-  Vec3 x = Vec3::UnitX();
-  Vec3 y = Vec3::UnitY();
-};
-Vec3 to_space(const CornerPlane& plane, const Vec2& p);
 // The clothoid segments of a biclothoid in 3D (pieces of zero length omitted).
 std::vector<Segment> to_segments(const Biclothoid& curve, const CornerPlane& plane);
-
-// A corner between two programmed moves seen in its plane. For two lines the plane is the one
-// they span, oriented so that the turn is positive (towards +y); with an arc it is the arc's
-// plane (normal u x v of the arc, of the incoming one when both are arcs). x is the incoming
-// tangent at the corner, so shapes.q1.theta = 0.
-struct PlanarCorner {
-  bool planar = false;        // false: a helix, or a line or arc out of the other arc's plane
-  bool lines = false;         // both moves are lines
-  bool same_circle = false;   // two arcs on one circle (same centre, radius and plane)
-  bool same_curvature = false;  // equal curvature vectors at the corner
-  double angle = 0;           // rad, unsigned angle between the tangents at the corner (3D)
-  CornerPlane plane;
-  CornerShapes shapes;  // valid when planar
-};
-PlanarCorner planar_corner(const Primitive& in, const Primitive& out);
-
-// The corners both clothoid methods treat alike, or nullopt for a corner to fit:
-//  - a reversal (tangent turns by pi, within 1e-9 rad): no fillet exists; a kink ("reversal",
-//    or "same_circle_opposite_direction"), a stop when the buffer mode is Buffered;
-//  - a G2-continuous corner (equal tangents and curvature vectors): nothing to do
-//    ("collinear", or "same_circle_same_direction");
-//  - parameter 0 at a tangent discontinuity: throws InputError at corner.where
-//    (field transition.parameter), since no curve stays within a zero deviation;
-//  - parameter 0 at a curvature jump only ("tangent"): the path is left as programmed;
-//  - no length available on one of the moves: outcome kInfeasible (the blender stops there).
-std::optional<CornerFit> clothoid_special_case(const CornerInput& corner, const PlanarCorner& geometry);
 
 }  // namespace blendbench

@@ -22,7 +22,8 @@ Closest closest_point(const Primitive& primitive, const Vec3& query);
 // the two directed distances max_{a in A} min_{b in B} |a - b| and the reverse, each measured
 // by sampling the first set every `step` m (at least 64 and at most 2^20 samples a segment; a
 // Bezier takes as many samples, evenly in its parameter u rather than in arc length) and
-// finding exact or refined closest points on the second.
+// finding exact or refined closest points on the second (its segments tried nearest first, and
+// one that cannot come nearer than the best so far passed over).
 double hausdorff(const std::vector<Segment>& a, const std::vector<Segment>& b, double step);
 
 // The directed part alone: max over points of `from` of the distance to the closest point of

@@ -1,7 +1,8 @@
 #pragma once
 // Taylor series of exp(i phi(t)) with a quadratic phase phi(t) = b t + g t^2 / 2: the kernel
 // of every clothoid integral in the planner (segment positions, biclothoid moments and panels).
-// Shared by the geometry (segment.cpp) and the corner methods (biclothoid.cpp).
+// Shared by the geometry (segment.cpp) and the biclothoid sources of the corner methods
+// (biclothoid_curve.cpp, biclothoid_deviation.cpp).
 
 #include <array>
 #include <cmath>

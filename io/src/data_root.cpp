@@ -1,0 +1,83 @@
+#include "blendbench/io/data_root.hpp"
+
+#include <cstdlib>
+#include <fstream>
+#include <system_error>
+#include <vector>
+
+namespace blendbench {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// The data relative to an installed program's folder (io/CMakeLists.txt: from
+// CMAKE_INSTALL_BINDIR to CMAKE_INSTALL_DATADIR/blendbench).
+constexpr const char* kBinToData = BLENDBENCH_BIN_TO_DATA;
+
+fs::path normalised(const fs::path& p) { return fs::absolute(p).lexically_normal(); }
+
+bool is_folder(const fs::path& p) {
+  std::error_code ec;
+  return fs::is_directory(p, ec);
+}
+
+// The first line of `file` without trailing blanks; empty when the file cannot be read.
+std::string first_line(const fs::path& file) {
+  std::ifstream in(file);
+  std::string line;
+  if (!in || !std::getline(in, line)) return {};
+  while (!line.empty() && (line.back() == '\r' || line.back() == ' ' || line.back() == '\t')) line.pop_back();
+  return line;
+}
+
+}  // namespace
+
+fs::path find_data_root(const char* env_value, const fs::path& executable) {
+  std::vector<std::string> tried;
+
+  // 1. the environment variable, an explicit choice
+  if (env_value != nullptr && *env_value != '\0') {
+    if (is_folder(env_value)) return normalised(env_value);
+    throw DataRootError(std::string(kDataDirVariable) + "=" + env_value + " is not a folder");
+  }
+  tried.push_back(std::string(kDataDirVariable) + " (not set)");
+
+  if (executable.empty()) {
+    tried.emplace_back("the running program's folder (unknown)");
+  } else {
+    const fs::path bin = normalised(executable).parent_path();
+
+    // 2. an installed program: <prefix>/bin/../share/blendbench
+    const fs::path installed = (bin / kBinToData).lexically_normal();
+    if (is_folder(installed)) return installed;
+    tried.push_back(installed.string() + " (no such folder)");
+
+    // 3. the build tree: a file naming the source tree, beside the program or one folder up
+    for (const fs::path& dir : {bin, bin.parent_path()}) {
+      const fs::path marker = dir / kDataRootFile;
+      if (!fs::exists(marker)) {
+        tried.push_back(marker.string() + " (no such file)");
+        continue;
+      }
+      const std::string named = first_line(marker);
+      if (!named.empty() && is_folder(named)) return normalised(named);
+      tried.push_back(marker.string() + " (names '" + named + "', not a folder)");
+    }
+  }
+
+  std::string message = "cannot find BlendBench's data (models/, scenarios/, ...); tried:";
+  for (const std::string& t : tried) message += "\n  " + t;
+  message += "\nset " + std::string(kDataDirVariable) + " to the folder that holds models/ and scenarios/";
+  throw DataRootError(message);
+}
+
+fs::path data_root() {
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  return find_data_root(std::getenv(kDataDirVariable), ec ? fs::path() : exe);
+}
+
+std::string data_file(const std::string& relative) { return (data_root() / relative).string(); }
+
+}  // namespace blendbench

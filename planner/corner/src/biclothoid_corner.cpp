@@ -1,0 +1,113 @@
+// 004 as a transition method: fit_biclothoid_corner (corner.hpp) sizes a biclothoid fillet by
+// a tolerance or a start distance in the corner's plane, with the closed-form pair between two
+// lines and the Bezier method as the fallback for a non-planar corner.
+
+#include "blendbench/corner/biclothoid.hpp"
+
+#include <algorithm>
+#include <string>
+
+#include "biclothoid_internal.hpp"
+#include "blendbench/core/format.hpp"
+#include "blendbench/corner/clothoid_blend.hpp"
+#include "blendbench/corner/corner.hpp"
+
+namespace blendbench {
+using namespace biclothoid_detail;  // the helpers private to the biclothoid sources
+namespace {
+
+// Makes a fillet fitted in the corner's plane the corner's transition (false, with the fit's
+// outcome and the corner's name in front of its message, when the fit failed).
+bool use_fillet(const Outcome& outcome, const BiclothoidSolution& fillet, const CornerInput& corner,
+                const CornerPlane& plane, CornerFit& fit) {
+  if (!outcome.ok()) {
+    fit.outcome = outcome;
+    fit.outcome.message = corner.name + ": " + outcome.message;
+    return false;
+  }
+  fit.transition = to_segments(fillet.curve, plane);
+  fit.trim_in = fillet.a;
+  fit.trim_out = fillet.b;
+  return true;
+}
+
+}  // namespace
+
+CornerFit fit_biclothoid_corner(const CornerInput& corner) {
+  const PlanarCorner geometry = planar_corner(corner.in, corner.out);
+  if (auto special = clothoid_special_case(corner, geometry)) return *special;
+  const double tolerance = corner.spec.parameter;
+  const double start_distance = corner.spec.start_distance;  // > 0: sized by it, not by tolerance
+  CornerFit fit;
+  fit.corner_case = geometry.angle <= kTangentAngle ? CornerCase::kTangent : CornerCase::kRegular;
+
+  // two lines: the symmetric fillet in closed form (004 section 7.1, 002 eq. 9), shrunk to
+  // the shorter available length
+  if (geometry.lines) {
+    ClothoidPair pair = start_distance > 0 ? clothoid_pair_for_tangent_length(geometry.angle, start_distance)
+                                           : clothoid_pair_for_deviation(geometry.angle, tolerance);
+    const double available = std::min(corner.in_available, corner.out_available);
+    if (pair.tangent_length > available) {
+      const double asked = start_distance > 0 ? start_distance : tolerance;
+      pair = clothoid_pair_for_tangent_length(geometry.angle, available);
+      fit.note = std::string(start_distance > 0 ? "start distance" : "deviation") + " shrunk from " +
+                 format_mm(asked) + " to " + format_mm(start_distance > 0 ? pair.tangent_length : pair.deviation) +
+                 ": the " + (corner.in_available <= corner.out_available ? "incoming" : "outgoing") + " move is short";
+    }
+    const Posture start{Vec2(-pair.tangent_length, 0.0), 0.0, 0.0};
+    fit.transition = to_segments(make_biclothoid(start, pair.sharpness, pair.half_length, pair.half_length),
+                                 geometry.plane);
+    fit.trim_in = pair.tangent_length;
+    fit.trim_out = pair.tangent_length;
+    fit.parameter_used = start_distance > 0 ? pair.tangent_length : pair.deviation;
+    return fit;
+  }
+
+  // 004 has no 3D form: a non-planar corner goes to the Bezier method (000, quartic in 3D),
+  // with its transition parameter set to the tolerance (a fillet that starts and ends within
+  // that distance of the corner deviates less than it)
+  if (!geometry.planar) {
+    CornerFit bezier = fit_bezier_corner(corner);
+    bezier.corner_case = CornerCase::kNonPlanar;
+    bezier.fallback = Fallback::kBezier;
+    if (!bezier.outcome.ok()) {
+      bezier.outcome.message = "non-planar corner, Bezier fallback failed: " + bezier.outcome.message;
+    }
+    return bezier;
+  }
+
+  // 004 Algorithm 1 at the given start distance
+  if (start_distance > 0) {
+    const BiclothoidStartFit start_fit =
+        fit_biclothoid_from_start(geometry.shapes, start_distance, corner.in_available, corner.out_available);
+    if (!use_fillet(start_fit.outcome, start_fit.fillet, corner, geometry.plane, fit)) return fit;
+    fit.parameter_used = start_fit.fillet.a;
+    using Limit = BiclothoidStartFit::Limit;
+    if (start_fit.limit != Limit::kNone) {
+      const char* why = start_fit.limit == Limit::kIncoming
+                            ? "limited by the incoming move (or an eighth of a turn of its arc)"
+                        : start_fit.limit == Limit::kOutgoing
+                            ? "the fillet must end within the outgoing move (or an eighth of a turn of its arc)"
+                            : "004 Algorithm 1 found no fillet starting further out";
+      fit.note = "start distance shrunk from " + format_mm(start_distance) + " to " + format_mm(start_fit.fillet.a) +
+                 ": " + why;
+    }
+    return fit;
+  }
+
+  // 004 Algorithms 1 and 2 in the corner plane
+  const BiclothoidToleranceFit tol_fit =
+      fit_biclothoid_with_tolerance(geometry.shapes, tolerance, corner.in_available, corner.out_available);
+  if (!use_fillet(tol_fit.outcome, tol_fit.fillet, corner, geometry.plane, fit)) return fit;
+  fit.parameter_used = tol_fit.deviation.max();
+  if (tol_fit.limited) {
+    fit.note = "deviation " + format_mm(fit.parameter_used) + " below the tolerance " + format_mm(tolerance) +
+               ": the fillet is limited by the move lengths (or an eighth of a turn of an arc)";
+  } else if (!tol_fit.converged) {
+    fit.note = "deviation " + format_mm(fit.parameter_used) + " below the tolerance " + format_mm(tolerance) +
+               ": the tolerance loop (004 Algorithm 2) stopped before reaching it";
+  }
+  return fit;
+}
+
+}  // namespace blendbench

@@ -1,0 +1,253 @@
+// The biclothoid curve itself (004 def. 2, eq. 7-14): construction from a start posture and a
+// turn, its end point with the derivatives Algorithm 1 needs, postures along it, and its
+// clothoid segments in 3D.
+
+#include "blendbench/corner/biclothoid.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "biclothoid_internal.hpp"
+#include "blendbench/geometry/phase_series.hpp"
+#include "blendbench/geometry/segment.hpp"
+
+namespace blendbench {
+using namespace biclothoid_detail;  // the helpers private to the biclothoid sources
+namespace {
+
+// clothoid_moments: largest phase excursion on a panel (rad).
+constexpr double kMomentPanelPhase = 2.0;
+
+// The first three moments of a clothoid's unit tangent about its start (derived here;
+// clothoid_xy sums only the zeroth): with T(u) = exp(i theta(u)),
+// theta(u) = theta0 + kappa0 u + c u^2 / 2,
+//   M_k = int_0^len u^k T(u) du   (k = 0, 1, 2; M_0 is the displacement).
+// On panels of half-width h about midpoints m as in clothoid_xy, but with the local phase
+// below 2 rad (half as many panels; the terms below decay like 2^n / n!, so summing them loses
+// at most a factor e^2 in rounding, about 1e-15 relative),
+// T(m + h tau) = R sum_n e_n tau^n with R = exp(i theta(m)), e_0 = 1 and
+// e_{n+1} = i (beta e_n + gamma e_{n-1}) / (n + 1), beta = kappa(m) h, gamma = c h^2. Since
+// int_{-1}^{1} tau^j dtau is 2 / (j + 1) for even j and 0 for odd j, with
+//   S_0 = sum_{n even} e_n / (n + 1),  S_1 = sum_{n odd} e_n / (n + 2),  S_2 = sum_{n even} e_n / (n + 3)
+// and (m + h tau)^k expanded, a panel adds
+//   M_0 += 2 h R S_0,   M_1 += 2 h R (m S_0 + h S_1),   M_2 += 2 h R (m^2 S_0 + 2 m h S_1 + h^2 S_2).
+// The series stop as clothoid_xy's (two successive terms below 1e-18 of a sum near 1: from
+// there on n + 1 > |beta| + |gamma| and the terms keep falling).
+struct ClothoidMoments {
+  Vec2 m0 = Vec2::Zero();  // m
+  Vec2 m1 = Vec2::Zero();  // m^2
+  Vec2 m2 = Vec2::Zero();  // m^3
+};
+ClothoidMoments clothoid_moments(double theta0, double kappa0, double c, double len) {
+  ClothoidMoments out;
+  if (!(len > 0)) return out;
+  const double kappa_max = std::max(std::abs(kappa0), std::abs(kappa0 + c * len));
+  const double phase = 0.5 * kappa_max * len + 0.125 * std::abs(c) * len * len;
+  const int panels = std::max(1, static_cast<int>(std::ceil(phase / kMomentPanelPhase)));
+  const double h = 0.5 * len / panels;
+  double m0x = 0;
+  double m0y = 0;
+  double m1x = 0;
+  double m1y = 0;
+  double m2x = 0;
+  double m2y = 0;
+  for (int j = 0; j < panels; ++j) {
+    const double m = h * (2 * j + 1);
+    const double beta = (kappa0 + c * m) * h;
+    const double gamma = c * h * h;
+    // the Taylor coefficients e_n (n even) and e_{n-1} of the integrand
+    series::PhaseTaylor e{.b = beta, .g = gamma};
+    double s0r = 1;
+    double s0i = 0;
+    double s1r = 0;
+    double s1i = 0;
+    double s2r = series::kInverse[3];
+    double s2i = 0;
+    for (std::size_t n = 0; n + 5 < series::kInverse.size(); n += 2) {
+      e.step_two(n);
+      s0r += e.re * series::kInverse[n + 3];
+      s0i += e.im * series::kInverse[n + 3];
+      s1r += e.prev_re * series::kInverse[n + 3];
+      s1i += e.prev_im * series::kInverse[n + 3];
+      s2r += e.re * series::kInverse[n + 5];
+      s2i += e.im * series::kInverse[n + 5];
+      if (e.below(1e-18)) break;
+    }
+    // the panel's moments in its frame, turned by theta(m); in scalars, as an Eigen 2-vector
+    // built from two scalars and read back as a pair stalls store forwarding
+    const double theta = theta0 + (kappa0 + 0.5 * c * m) * m;
+    const double cs = std::cos(theta);
+    const double sn = std::sin(theta);
+    const double w = 2 * h;
+    const double p0r = w * s0r;
+    const double p0i = w * s0i;
+    const double p1r = w * (m * s0r + h * s1r);
+    const double p1i = w * (m * s0i + h * s1i);
+    const double p2r = w * (m * m * s0r + 2 * m * h * s1r + h * h * s2r);
+    const double p2i = w * (m * m * s0i + 2 * m * h * s1i + h * h * s2i);
+    m0x += cs * p0r - sn * p0i;
+    m0y += sn * p0r + cs * p0i;
+    m1x += cs * p1r - sn * p1i;
+    m1y += sn * p1r + cs * p1i;
+    m2x += cs * p2r - sn * p2i;
+    m2y += sn * p2r + cs * p2i;
+  }
+  out.m0.x() = m0x;
+  out.m0.y() = m0y;
+  out.m1.x() = m1x;
+  out.m1.y() = m1y;
+  out.m2.x() = m2x;
+  out.m2.y() = m2y;
+  return out;
+}
+
+// Derivation of eq. 11-13 in a form without the 0/0 of eq. 11 at kappa0 = kappa_e: with peak
+// kappa_m, the tent profile gives kappa_m - kappa0 = c s1, kappa_m - kappa_e = c s2, and
+// the turn is the area under it, 2 dtheta = (2 kappa_m^2 - kappa0^2 - kappa_e^2) / c with
+// c = (2 kappa_m - kappa0 - kappa_e) / L. Eliminating c gives the quadratic
+//   L kappa_m^2 - 2 dtheta kappa_m + dtheta (kappa0 + kappa_e) - L (kappa0^2 + kappa_e^2) / 2 = 0,
+// kappa_m = (dtheta +- sqrt(SQ)) / L with 004's SQ = A^2 + B^2, A = dtheta - L kbar,
+// B = L (kappa_e - kappa0) / 2, kbar = (kappa0 + kappa_e) / 2. The root with s1, s2 >= 0 is the
+// one whose sign matches A: D = kappa_m - kbar = (A + sign(A) sqrt(SQ)) / L, c = 2 D / L,
+// s1 = L (1 + B / (L D)) / 2. Eq. 11, which always takes -sqrt(SQ), is this root when A >= 0
+// (the curvature peaks above both end values, as in 004's example); for A < 0 (a valley) eq. 11
+// gives s1 outside [0, L] and the valid root has +sqrt(SQ).
+struct TurnProfile {
+  double c;   // 1/m^2
+  double s1;  // m, in [0, L]
+};
+TurnProfile turn_profile(double kappa0, double kappa_e, double dtheta, double length) {
+  const double kbar = 0.5 * (kappa0 + kappa_e);
+  const double half_jump = 0.5 * (kappa_e - kappa0);
+  const double a = dtheta - length * kbar;
+  const double b = length * half_jump;
+  const double root = std::sqrt(a * a + b * b);  // both terms are turns (rad): no overflow
+  if (root == 0) return {0.0, 0.5 * length};
+  const double d = (a >= 0 ? a + root : a - root) / length;
+  return {2 * d / length, std::clamp(0.5 * length * (1 + half_jump / d), 0.0, length)};
+}
+
+}  // namespace
+
+Biclothoid make_biclothoid(const Posture& start, double c, double s1, double s2) {
+  Biclothoid curve;
+  curve.start = start;
+  curve.c = c;
+  curve.s1 = s1;
+  curve.s2 = s2;
+  curve.mid.p = start.p + clothoid_displacement(start.theta, start.kappa, c, s1);
+  curve.mid.kappa = start.kappa + c * s1;
+  curve.mid.theta = start.theta + (start.kappa + 0.5 * c * s1) * s1;
+  return curve;
+}
+
+std::optional<Biclothoid> biclothoid_from_turn(const Posture& start, double kappa_e, double dtheta, double length) {
+  if (!(length > 0) || !std::isfinite(length)) return std::nullopt;
+  const TurnProfile profile = turn_profile(start.kappa, kappa_e, dtheta, length);
+  return make_biclothoid(start, profile.c, profile.s1, length - profile.s1);
+}
+
+// Derivatives of a point of the curve and of its end (derived here; 004 solves Algorithm 1
+// without them). With c and s1 the tangent angle is
+//   theta(s) = theta0 + kappa0 s + c s^2 / 2 - c (s - s1)_+^2
+// (curvature kappa0 + c s up to s1, then falling with slope c). The length L and the turn
+// dtheta fix c and s1 through the end curvature and the turn,
+//   kappa0 + c (2 s1 - L) = kappa_e,   kappa0 L + c (2 s1 L - s1^2 - L^2 / 2) = dtheta.
+// Differentiating both and eliminating w = c ds1 (regular as c -> 0, where s1 is not) leaves
+//   dc = (d dtheta - kappa_m dL) / Q,   Q = (s1 - L/2)^2 + L^2/4 > 0,   w = (c dL - (2 s1 - L) dc) / 2,
+// kappa_m = kappa0 + c s1 the peak. A point V(s) = p0 + int_0^s T(u) du, T = exp(i theta), at a
+// fixed s moves by
+//   dV(s) = i int_0^s (d theta(u)) T(u) du,   d theta(u) = (u^2/2 - (u - s1)_+^2) dc + 2 (u - s1)_+ w,
+// which in the tangent moments A_k of the first clothoid (about the start, up to min(s, s1))
+// and B_k of the second (about the peak, u = s1 + v, up to s - s1; zero when s <= s1) is
+//   dV(s) = i [dc (A_2 / 2 + s1^2 B_0 / 2 + s1 B_1 - B_2 / 2) + 2 w B_1];
+// the end p = V(L) moves by T(L) dL more, as L is its arc length.
+namespace {
+
+PointSlopes point_slopes(const Biclothoid& curve, const ClothoidMoments& first, const ClothoidMoments& second) {
+  const double c = curve.c;
+  const double s1 = curve.s1;
+  const double len = curve.s1 + curve.s2;
+  const Vec2 phi = 0.5 * first.m2 + 0.5 * s1 * s1 * second.m0 + s1 * second.m1 - 0.5 * second.m2;
+  const double q = (s1 - 0.5 * len) * (s1 - 0.5 * len) + 0.25 * len * len;
+  const auto moved = [&](double dc, double w) { return perp(dc * phi + 2 * w * second.m1); };
+  const double dc_length = -curve.mid.kappa / q;
+  const double dc_turn = 1 / q;
+  return {moved(dc_length, 0.5 * (c - (2 * s1 - len) * dc_length)), moved(dc_turn, -0.5 * (2 * s1 - len) * dc_turn)};
+}
+
+}  // namespace
+
+// point_slopes at arc length s in [0, L]; `offset` receives V(s) - p0.
+PointSlopes biclothoid_detail::point_slopes_at(const Biclothoid& curve, double s, Vec2& offset) {
+  s = std::clamp(s, 0.0, length(curve));
+  const ClothoidMoments first =
+      clothoid_moments(curve.start.theta, curve.start.kappa, curve.c, std::min(s, curve.s1));
+  const ClothoidMoments second =
+      s > curve.s1 ? clothoid_moments(curve.mid.theta, curve.mid.kappa, -curve.c, s - curve.s1) : ClothoidMoments{};
+  offset = first.m0 + second.m0;
+  return point_slopes(curve, first, second);
+}
+
+std::optional<BiclothoidEnd> biclothoid_end(const Posture& start, double kappa_e, double dtheta, double length) {
+  if (!(length > 0) || !std::isfinite(length)) return std::nullopt;
+  const TurnProfile profile = turn_profile(start.kappa, kappa_e, dtheta, length);
+  const double c = profile.c;
+  const double s1 = profile.s1;
+  BiclothoidEnd out;
+  Biclothoid& curve = out.curve;
+  curve.start = start;
+  curve.c = c;
+  curve.s1 = s1;
+  curve.s2 = length - s1;
+  const ClothoidMoments first = clothoid_moments(start.theta, start.kappa, c, s1);
+  curve.mid.p = start.p + first.m0;
+  curve.mid.kappa = start.kappa + c * s1;
+  curve.mid.theta = start.theta + (start.kappa + 0.5 * c * s1) * s1;
+  const ClothoidMoments second = clothoid_moments(curve.mid.theta, curve.mid.kappa, -c, curve.s2);
+  out.p = curve.mid.p + second.m0;
+  out.tangent = direction(start.theta + dtheta);
+  const PointSlopes slopes = point_slopes(curve, first, second);
+  out.d_length = out.tangent + slopes.d_length;
+  out.d_turn = slopes.d_turn;
+  return out;
+}
+
+double length(const Biclothoid& curve) { return curve.s1 + curve.s2; }
+
+Posture posture_at(const Biclothoid& curve, double s) {
+  s = std::clamp(s, 0.0, length(curve));
+  if (s <= curve.s1) {
+    const Posture& p0 = curve.start;
+    return {p0.p + clothoid_displacement(p0.theta, p0.kappa, curve.c, s), p0.kappa + curve.c * s,
+            p0.theta + (p0.kappa + 0.5 * curve.c * s) * s};
+  }
+  const double t = s - curve.s1;
+  const Posture& pm = curve.mid;
+  return {pm.p + clothoid_displacement(pm.theta, pm.kappa, -curve.c, t), pm.kappa - curve.c * t,
+          pm.theta + (pm.kappa - 0.5 * curve.c * t) * t};
+}
+
+Posture end_posture(const Biclothoid& curve) { return posture_at(curve, length(curve)); }
+
+Biclothoid reversed(const Biclothoid& curve) {
+  const Posture e = end_posture(curve);
+  return make_biclothoid(Posture{e.p, -e.kappa, e.theta + kPi}, -curve.c, curve.s2, curve.s1);
+}
+
+std::vector<Segment> to_segments(const Biclothoid& curve, const CornerPlane& plane) {
+  std::vector<Segment> out;
+  const auto piece = [&](const Posture& at, double c, double len) {
+    if (!(len > 0)) return;
+    const double cs = std::cos(at.theta);
+    const double sn = std::sin(at.theta);
+    out.emplace_back(Clothoid{to_space(plane, at.p), cs * plane.x + sn * plane.y, -sn * plane.x + cs * plane.y,
+                              at.kappa, c, len});
+  };
+  piece(curve.start, curve.c, curve.s1);
+  piece(curve.mid, -curve.c, curve.s2);
+  return out;
+}
+
+}  // namespace blendbench

@@ -1,0 +1,209 @@
+// 004 Algorithm 1: the biclothoid that starts G2 on the incoming move at a given distance
+// before the corner and ends G2 on the outgoing one (Newton on the closed-form derivatives of
+// biclothoid_end), with its sensitivities to the start distance for Algorithm 2.
+
+#include "blendbench/corner/biclothoid.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <utility>
+
+#include <Eigen/LU>
+
+#include "biclothoid_internal.hpp"
+#include "blendbench/corner/clothoid_blend.hpp"
+
+namespace blendbench {
+using namespace biclothoid_detail;  // the helpers private to the biclothoid sources
+namespace {
+
+// Shortest chord (start to end) of a fillet accepted, relative to a + b: near a reversal of
+// 179.999 deg a fillet's chord is 8.7e-6 (a + b); where q1 and q2 cross just after the corner
+// the equations also admit vanishing hairpins with start = end, which are no fillets.
+constexpr double kMinChordRatio = 1e-6;
+// Algorithm 1 stops when the end misses q2 by less than this fraction of a + b (the blender's
+// continuity needs 1e-9).
+constexpr double kSolveTolerance = 1e-13;
+
+}  // namespace
+
+std::optional<Solve> biclothoid_detail::fit_at(const CornerShapes& shapes, double a, double guess_length,
+                                              double guess_b) {
+  if (!(a > 0) || !std::isfinite(a)) return std::nullopt;
+  const PlanarShape& q1 = shapes.q1;
+  const PlanarShape& q2 = shapes.q2;
+  const double delta = corner_turn(shapes);
+  const ShapeAt on_q1 = shape_at(q1, direction(q1.theta), -a);
+  const Posture start{on_q1.p, q1.kappa, shape_angle(q1, -a)};
+  // the fillet turns as much as the path it replaces: kappa1 a + delta + kappa2 b
+  const double base_turn = delta + q1.kappa * a;
+  // how the end of a fillet of fixed length moves with a: the start slides back along q1
+  // (d p0 / d a = -T0), the curve turns with its start tangent (by -kappa1 per unit of a) and
+  // its turn grows by kappa1
+  const Vec2 t0 = on_q1.t;
+  const auto end_da = [&](const BiclothoidEnd& e) -> Vec2 {
+    return -t0 - q1.kappa * perp(e.p - start.p) + q1.kappa * e.d_turn;
+  };
+
+  // a cold guess: the symmetric line-line fillet with tangent length a where the tangent jump
+  // dominates (the limit of small fillets), else L = 1.5 a, b = a / 2 (004 table 1's fillets).
+  // Which dominates: the deviation of the pair grows like |delta| a / 6, that of a curvature
+  // jump like |kappa1 - kappa2| a^2 / 42 (see fit_biclothoid_with_tolerance).
+  if (!(guess_length > 0 && guess_b > 0)) {
+    const double jump = std::abs(q1.kappa - q2.kappa);
+    if (std::abs(delta) / 6 > jump * a / 42) {
+      const ClothoidPair pair = clothoid_pair_for_tangent_length(std::abs(delta), a);
+      guess_length = 2 * pair.half_length;
+      guess_b = a;
+    } else {
+      guess_length = 1.5 * a;
+      guess_b = 0.5 * a;
+    }
+  }
+
+  if (q2.kappa == 0) {
+    // q2 is a line: the end angle is fixed, so one equation in L: the end lies on the line,
+    // f(L) = t2 x p(L) = 0 with f' = t2 x dp/dL. Newton from the guess (L at most halves or
+    // doubles per step) converges to the root nearest the guess; once a sign change brackets
+    // it, steps leaving the bracket bisect it. A bracket search if that fails.
+    const Vec2 t2 = direction(q2.theta);
+    const auto eval = [&](double len) { return biclothoid_end(start, 0.0, base_turn, len); };
+    const auto offset = [&](double len) { return cross(t2, eval(len)->p); };
+    if (cross(t2, start.p) == 0) return std::nullopt;
+    const double scale = a + guess_b;
+    const double f_tol = kSolveTolerance * scale;
+    // the end must lie after the corner (b > 0): a fillet can also cross the line just after
+    // its start
+    const auto finish = [&](const BiclothoidEnd& e) -> std::optional<Solve> {
+      const double b = e.p.dot(t2);
+      if (!(b > 0) || std::abs(cross(t2, e.p)) > 1e-11 * (a + b)) return std::nullopt;
+      if (!((e.p - start.p).norm() > kMinChordRatio * (a + b))) return std::nullopt;
+      // f(L(a), a) = 0 and b = t2 . p(L(a), a)
+      const Vec2 dp_da = end_da(e);
+      const double dlen_da = -cross(t2, dp_da) / cross(t2, e.d_length);
+      return Solve{{e.curve, a, b}, dlen_da, t2.dot(e.d_length * dlen_da + dp_da)};
+    };
+    double x = guess_length;
+    auto e = eval(x);
+    double prev_x = 0;
+    double prev_f = 0;
+    double lo = 0;  // a bracket [lo, hi] once hi > 0, f(lo) of sign lo_sign
+    double hi = 0;
+    bool lo_positive = false;
+    for (int it = 0; it < 40 && e; ++it) {
+      const double f = cross(t2, e->p);
+      if (std::abs(f) <= f_tol) {
+        if (auto sol = finish(*e)) return sol;
+        break;
+      }
+      if (hi > 0) {
+        ((f > 0) == lo_positive ? lo : hi) = x;
+      } else if (prev_x > 0 && (f > 0) != (prev_f > 0)) {
+        lo = std::min(prev_x, x);
+        hi = std::max(prev_x, x);
+        lo_positive = ((lo == x ? f : prev_f) > 0);
+      }
+      double next = x - f / cross(t2, e->d_length);
+      if (hi > 0) {
+        if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+        if (hi - lo <= 1e-15 * hi) break;
+      } else {
+        if (!std::isfinite(next)) next = 2 * x;
+        next = std::clamp(next, 0.5 * x, 2 * x);
+      }
+      prev_x = x;
+      prev_f = f;
+      x = next;
+      e = eval(x);
+    }
+    // fallback: scan L geometrically for sign changes, polish each bracket by false position
+    // (Illinois) and keep the root with b > 0 nearest the guess
+    std::optional<Solve> best;
+    double scan_x = 0.02 * scale;
+    double scan_f = offset(scan_x);
+    for (int k = 1; k < 48; ++k) {
+      const double x1 = scan_x * 1.25;
+      const double f1 = offset(x1);
+      if ((f1 > 0) != (scan_f > 0)) {
+        const Bracket br = illinois(offset, Bracket{scan_x, scan_f, x1, f1}, 1e-15 * x1, f_tol, 100);
+        const auto sol = finish(*eval(std::abs(br.f0) < std::abs(br.f1) ? br.x0 : br.x1));
+        if (sol && (!best || std::abs(length(sol->fillet.curve) - guess_length) <
+                                 std::abs(length(best->fillet.curve) - guess_length))) {
+          best = sol;
+        }
+      }
+      scan_x = x1;
+      scan_f = f1;
+    }
+    return best;
+  }
+
+  // q2 is an arc: Newton on (L, b) for r(L, b) = p(L, turn(b)) - q2(b) = 0 with
+  // turn(b) = base_turn + kappa2 b and the Jacobian [dp/dL, kappa2 dp/dturn - T2(b)]
+  // (biclothoid_end); L and b at most halve or double per step, and the step halves while |r|
+  // does not decrease
+  struct Eval {
+    BiclothoidEnd end;
+    Vec2 r;
+    Eigen::Matrix2d jac;
+  };
+  const Vec2 t2 = direction(q2.theta);
+  const auto evaluate = [&](double len, double b) -> std::optional<Eval> {
+    const auto e = biclothoid_end(start, q2.kappa, base_turn + q2.kappa * b, len);
+    if (!e) return std::nullopt;
+    const ShapeAt on_q2 = shape_at(q2, t2, b);
+    Eval ev{*e, e->p - on_q2.p, Eigen::Matrix2d()};
+    ev.jac.col(0) = e->d_length;
+    ev.jac.col(1) = q2.kappa * e->d_turn - on_q2.t;
+    return ev;
+  };
+  // a solution that shrinks to a point where q1 and q2 cross (near a reversal) is not a fillet
+  const auto accept = [&](const Eval& ev, double b) -> std::optional<Solve> {
+    if (!((ev.end.p - start.p).norm() > kMinChordRatio * (a + b))) return std::nullopt;
+    // r(L(a), b(a), a) = 0: J d(L, b)/da = -dr/da
+    const Vec2 slope = -(ev.jac.inverse() * end_da(ev.end));
+    return Solve{{ev.end.curve, a, b}, slope.x(), slope.y()};
+  };
+  const auto solve_from = [&](double len, double b) -> std::optional<Solve> {
+    auto cur = evaluate(len, b);
+    for (int it = 0; it < 25 && cur; ++it) {
+      const double scale = a + b;
+      if (cur->r.norm() <= kSolveTolerance * scale) return accept(*cur, b);
+      const double det = cur->jac.determinant();
+      if (!(std::abs(det) > 0) || !std::isfinite(det)) return std::nullopt;
+      const Vec2 step = -(cur->jac.inverse() * cur->r);
+      double lambda = 1;
+      if (std::abs(step.x()) > 0.5 * len) lambda = std::min(lambda, 0.5 * len / std::abs(step.x()));
+      if (std::abs(step.y()) > 0.5 * b) lambda = std::min(lambda, 0.5 * b / std::abs(step.y()));
+      bool accepted = false;
+      for (int half = 0; half < 12 && !accepted; ++half, lambda *= 0.5) {
+        auto next = evaluate(len + lambda * step.x(), b + lambda * step.y());
+        if (next && next->r.norm() < cur->r.norm()) {
+          len += lambda * step.x();
+          b += lambda * step.y();
+          cur = std::move(next);
+          accepted = true;
+        }
+      }
+      // no decrease along the Newton direction: converged to rounding, or stuck
+      if (!accepted) return cur->r.norm() <= 1e-12 * scale ? accept(*cur, b) : std::nullopt;
+    }
+    return std::nullopt;
+  };
+  if (auto sol = solve_from(guess_length, guess_b)) return sol;
+  // other starts: a symmetric fillet, then unequal ones (tangent corners are not symmetric)
+  for (const double ratio : {1.0, 0.5, 2.0}) {
+    if (auto sol = solve_from(a * (1 + ratio), a * ratio)) return sol;
+  }
+  return std::nullopt;
+}
+
+std::optional<BiclothoidSolution> fit_biclothoid_at(const CornerShapes& shapes, double a, double guess_length,
+                                                    double guess_b) {
+  const auto sol = fit_at(shapes, a, guess_length, guess_b);
+  if (!sol) return std::nullopt;
+  return sol->fillet;
+}
+
+}  // namespace blendbench

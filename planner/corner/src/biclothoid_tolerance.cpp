@@ -1,0 +1,323 @@
+// 004 Algorithm 2 (the largest fillet within a deviation tolerance) and the other way to size a
+// fillet, by its start distance (Algorithm 1 alone, shrunk until it fits).
+
+#include "blendbench/corner/biclothoid.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "biclothoid_internal.hpp"
+#include "blendbench/core/format.hpp"
+#include "blendbench/corner/clothoid_blend.hpp"
+
+namespace blendbench {
+using namespace biclothoid_detail;  // the helpers private to the biclothoid sources
+namespace {
+
+// How close to a point where the moves cross again a fillet may start or end (fraction of the
+// distance from the corner).
+constexpr double kCrossingMargin = 0.98;
+// Algorithm 2 stops once tolerance (1 - kReached) <= deviation <= tolerance (log scale).
+constexpr double kReached = 1e-4;
+// The most of an arc a fillet replaces (rad of the arc's turn).
+constexpr double kMaxArcTurn = 0.25 * std::numbers::pi;
+
+// Where q1 (sigma in [-a_max, 0)) and q2 (sigma in (0, b_max]) meet again after the corner,
+// as (-sigma1, sigma2), or nullopt. Both pass through the origin, so a line meets a circle of
+// centre c once more at 2 (t . c) t, and two circles meet at the mirror image of the origin in
+// their line of centres. At a tangent corner (no tangent jump) they touch at the origin and meet
+// nowhere else; the formulas then give the origin up to rounding (a point 1e-33 m away once
+// capped a tangent S-bend's fillet to nothing), so there is no crossing.
+std::optional<std::pair<double, double>> crossing(const PlanarShape& q1, const PlanarShape& q2, double a_max,
+                                                  double b_max) {
+  const auto centre = [](const PlanarShape& q) -> Vec2 {
+    return Vec2(-std::sin(q.theta), std::cos(q.theta)) / q.kappa;
+  };
+  if (q1.kappa == 0 && q2.kappa == 0) return std::nullopt;
+  if (std::abs(std::remainder(q2.theta - q1.theta, 2 * kPi)) <= kTangentAngle) return std::nullopt;
+  Vec2 x = Vec2::Zero();
+  if (q1.kappa == 0 || q2.kappa == 0) {
+    const PlanarShape& line = q1.kappa == 0 ? q1 : q2;
+    const Vec2 t = direction(line.theta);
+    x = 2 * t.dot(centre(q1.kappa == 0 ? q2 : q1)) * t;
+  } else {
+    const Vec2 c1 = centre(q1);
+    const Vec2 d = centre(q2) - c1;
+    if (!(d.squaredNorm() > 0)) return std::nullopt;
+    x = 2 * (c1 - c1.dot(d) / d.squaredNorm() * d);
+  }
+  const auto sigma = [&](const PlanarShape& q) {
+    if (q.kappa == 0) return x.dot(direction(q.theta));
+    const Vec2 c = centre(q);
+    return std::atan2(cross(-c, x - c), (-c).dot(x - c)) / q.kappa;
+  };
+  const double s1 = sigma(q1);
+  const double s2 = sigma(q2);
+  if (!(x.norm() > 0) || !(s1 < 0 && -s1 <= a_max) || !(s2 > 0 && s2 <= b_max)) return std::nullopt;
+  return std::make_pair(-s1, s2);
+}
+
+// The largest start distance a (on q1) and end distance b (on q2) a fillet may take: the move
+// lengths a_max, b_max; at most an eighth of a turn of an arc is replaced, and only up to where
+// the two moves cross again (near a reversal an arc can curl back across the other move).
+struct Caps {
+  double a;  // m
+  double b;  // m
+};
+Caps fillet_caps(const CornerShapes& shapes, double a_max, double b_max) {
+  double a_cap = shapes.q1.kappa != 0 ? std::min(a_max, kMaxArcTurn / std::abs(shapes.q1.kappa)) : a_max;
+  double b_cap = shapes.q2.kappa != 0 ? std::min(b_max, kMaxArcTurn / std::abs(shapes.q2.kappa)) : b_max;
+  if (const auto meet = crossing(shapes.q1, shapes.q2, a_cap, b_cap)) {
+    a_cap = std::min(a_cap, kCrossingMargin * meet->first);
+    b_cap = std::min(b_cap, kCrossingMargin * meet->second);
+  }
+  return {a_cap, b_cap};
+}
+
+}  // namespace
+
+BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes, double tolerance, double a_max,
+                                                     double b_max) {
+  BiclothoidToleranceFit result;
+  // section 6: fit from the more curved shape to the less curved one
+  CornerShapes work = shapes;
+  result.swapped = std::abs(shapes.q2.kappa) > std::abs(shapes.q1.kappa);
+  if (result.swapped) {
+    work.q1 = PlanarShape{shapes.q2.theta + kPi, -shapes.q2.kappa};
+    work.q2 = PlanarShape{shapes.q1.theta + kPi, -shapes.q1.kappa};
+    std::swap(a_max, b_max);
+  }
+  const Caps caps = fillet_caps(work, a_max, b_max);
+  const double a_cap = caps.a;
+  const double b_cap = caps.b;
+  const bool tangent_jump = std::abs(corner_turn(work)) > 1e-9;
+
+  struct Trial {
+    BiclothoidSolution fillet;
+    double dlen_da = 0;  // sensitivities of Algorithm 1 (Solve)
+    double db_da = 0;
+    Deviation deviation;
+    Witness witness;
+    bool measured = false;
+  };
+  // the solves so far; the capacity is reserved once, so addresses stay stable (an array of
+  // optionals would be cleared in full on every call, 20 kB)
+  constexpr std::size_t kMaxTrials = 96;
+  std::vector<Trial> store;
+  store.reserve(kMaxTrials);
+  // Algorithm 1 at start distance a, warm-started from the nearest earlier solve: its L and b
+  // moved along their sensitivities in log-log coordinates, L (a) ~ L_n (a / a_n)^p with
+  // p = (a_n / L_n) dL/da (exact for the line-line pair, where L and b are proportional to a)
+  const auto solve = [&](double a) -> Trial* {
+    // the nearest in log a: the smallest ratio max(a_n / a, a / a_n)
+    const auto gap = [&](const Trial& t) { return std::max(t.fillet.a / a, a / t.fillet.a); };
+    Trial* near = nullptr;
+    for (Trial& t : store) {
+      if (t.fillet.a == a) return &t;
+      if (!near || gap(t) < gap(*near)) near = &t;
+    }
+    double guess_len = 0;
+    double guess_b = 0;
+    if (near) {
+      const BiclothoidSolution& f = near->fillet;
+      const double x = std::log(a / f.a);
+      const double len = length(f.curve);
+      double p_len = near->dlen_da * f.a / len;
+      double p_b = near->db_da * f.a / f.b;
+      if (!(std::abs(p_len) < 4)) p_len = 1;
+      if (!(std::abs(p_b) < 4)) p_b = 1;
+      guess_len = len * std::exp(p_len * x);
+      guess_b = f.b * std::exp(p_b * x);
+    }
+    if (store.size() == kMaxTrials) return nullptr;
+    ++result.solves;
+    const auto sol = fit_at(work, a, guess_len, guess_b);
+    if (!sol) return nullptr;
+    store.push_back(Trial{sol->fillet, sol->dlen_da, sol->db_da, {}, {}, false});
+    return &store.back();
+  };
+  const auto measure = [&](Trial* t) {
+    if (!t->measured) {
+      const Measured m = measure_deviation(t->fillet, work);
+      t->deviation = m.deviation;
+      t->witness = m.witness;
+      t->measured = true;
+    }
+    return t->deviation.max();
+  };
+  const auto fail = [&](const std::string& why) {
+    result.outcome = {Status::kNotConverged, why};
+    return result;
+  };
+
+  // dy/dx (x = log a, y below) at a measured trial, from the term that sets y: the end bound
+  // through db/da, the deviation D through its witness (measure_deviation) and the motion of
+  // the fillet point V(s) at a fixed s as a grows: the start slides back along q1
+  // (-T0), the fillet turns with its start tangent (by -kappa1 per unit of a), and its length
+  // and turn (delta + kappa1 a + kappa2 b) change along the solve's sensitivities
+  const auto slope_at = [&](const Trial& t) {
+    const BiclothoidSolution& f = t.fillet;
+    const double dev = t.deviation.max();
+    if (f.b / b_cap >= dev / tolerance) return f.a * t.db_da / f.b;
+    const Witness& w = t.witness;
+    Vec2 offset;
+    const PointSlopes at = point_slopes_at(f.curve, w.s, offset);
+    const Vec2 dv = -direction(f.curve.start.theta) - work.q1.kappa * perp(offset) + at.d_length * t.dlen_da +
+                    at.d_turn * (work.q1.kappa + work.q2.kappa * t.db_da);
+    double dd = w.u.dot(dv);
+    if (w.crossing) dd = (w.slope1 * w.u2.dot(dv) - w.slope2 * dd) / (w.slope1 - w.slope2);
+    return f.a * dd / dev;
+  };
+
+  // Algorithm 2 with the end bound folded in: the largest a with
+  //   y(a) = max(log(dev / tol), log(b / b_cap)) <= 0,
+  // both terms growing with a. Newton steps on y against x = log a with the slope above
+  // (deviation ~ a^p, p = 1 at a tangent jump, 2 at a curvature jump only, so y is nearly
+  // linear in x), secant steps where the slope is not usable, bisection once bracketed steps
+  // leave the bracket, stopping at -kReached <= y <= 0.
+  const double delta = corner_turn(work);
+  const double x_cap = std::log(a_cap);
+  // a first start distance from the two small-fillet models: the line-line pair for the
+  // tangent jump (deviation ~ a) and, from 004 table 1 (arc R10 -> line at 0.1 mm: a = 6.5 mm),
+  // dev ~ |kappa jump| a^2 / 42 for the curvature jump; where both act, the harmonic blend
+  // 1 / a^2 = 1 / a_angle^2 + 1 / a_curvature^2 (an empirical fit: within about 1% of the
+  // solution for 004 listing 1 point C and a 20 deg line-arc kink, against 6% for the smaller)
+  const double kappa_jump = std::abs(work.q1.kappa - work.q2.kappa);
+  const double a_angle = tangent_jump ? clothoid_pair_for_deviation(std::abs(delta), tolerance).tangent_length
+                                      : std::numeric_limits<double>::infinity();
+  const double a_curvature =
+      kappa_jump > 0 ? std::sqrt(42.0 * tolerance / kappa_jump) : std::numeric_limits<double>::infinity();
+  const double a_model = 1 / std::hypot(1 / a_angle, 1 / a_curvature);
+  const double a_start = std::min({a_cap, b_cap, a_model});
+  const double p_guess = a_angle <= a_curvature ? 1.0 : 2.0;
+  struct Point {
+    double x;
+    double y;
+    Trial* trial;
+  };
+  const auto evaluate = [&](double x) -> Point {
+    Trial* t = solve(std::min(std::exp(x), a_cap));
+    if (!t) return {x, std::numeric_limits<double>::infinity(), nullptr};
+    const double y = std::max(std::log(measure(t) / tolerance), std::log(t->fillet.b / b_cap));
+    return {x, y, t};
+  };
+  // the first point: back off (halving a) while Algorithm 1 fails
+  Point cur = evaluate(std::log(a_start));
+  for (int attempt = 0; attempt < 12 && !cur.trial; ++attempt) cur = evaluate(cur.x - std::log(2.0));
+  if (!cur.trial) return fail("biclothoid (004 Algorithm 1) did not converge");
+  Point prev{0, 0, nullptr};
+  double lo = -std::numeric_limits<double>::infinity();  // y <= 0 here
+  double hi = std::numeric_limits<double>::infinity();   // y > 0 (or no solution) here
+  Trial* best = nullptr;  // the largest a with y <= 0 so far
+  double best_y = 0;
+  for (int it = 0; it < 60; ++it) {
+    if (cur.y <= 0) {
+      lo = std::max(lo, cur.x);
+      if (!best || cur.trial->fillet.a >= best->fillet.a) {
+        best = cur.trial;
+        best_y = cur.y;
+      }
+      if (cur.y >= -kReached || cur.x >= x_cap - 1e-12) break;
+    } else {
+      hi = std::min(hi, cur.x);
+    }
+    // next x: Newton towards the middle of the accepted band (a at most halved or doubled),
+    // else a secant step, else the slope guess; bisection when a bracketed step leaves the
+    // bracket
+    double next;
+    const double slope = cur.trial && std::isfinite(cur.y) ? slope_at(*cur.trial) : 0.0;
+    if (slope > 0 && std::isfinite(slope)) {
+      next = cur.x - std::clamp((cur.y + 0.3 * kReached) / slope, -std::log(2.0), std::log(2.0));
+    } else if (prev.trial && cur.trial && std::isfinite(prev.y) && cur.y != prev.y) {
+      next = cur.x - (cur.y + 0.3 * kReached) * (cur.x - prev.x) / (cur.y - prev.y);
+    } else if (std::isfinite(cur.y)) {
+      next = cur.x - (cur.y + 0.3 * kReached) / p_guess;
+    } else {
+      next = cur.x - std::log(2.0);
+    }
+    if (std::isfinite(lo) && std::isfinite(hi)) {
+      if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+      if (hi - lo < 1e-13) break;
+    } else if (std::isfinite(hi) && !(next < hi)) {
+      next = hi - std::log(2.0);
+    } else if (std::isfinite(lo) && !(next > lo)) {
+      next = lo + std::log(2.0);
+    }
+    next = std::min(next, x_cap);
+    prev = cur;
+    cur = evaluate(next);
+  }
+  if (!best) return fail("no biclothoid fillet met the tolerance (004 Algorithm 2)");
+  // limited: the start cap or the end bound is what stops the fillet growing; otherwise the
+  // deviation reached the tolerance band unless the iterations ran out
+  const bool limited = best->fillet.a >= a_cap * (1 - 1e-12) ||
+                       std::log(best->fillet.b / b_cap) >= std::log(measure(best) / tolerance) - 1e-12;
+  result.limited = limited;
+  result.converged = limited || best_y >= -kReached;
+  measure(best);
+  result.deviation = best->deviation;
+  result.fillet = best->fillet;
+  if (result.swapped) {
+    result.fillet.curve = reversed(best->fillet.curve);
+    result.fillet.a = best->fillet.b;
+    result.fillet.b = best->fillet.a;
+  }
+  return result;
+}
+
+BiclothoidStartFit fit_biclothoid_from_start(const CornerShapes& shapes, double start_distance, double a_max,
+                                             double b_max) {
+  BiclothoidStartFit result;
+  const Caps caps = fillet_caps(shapes, a_max, b_max);
+  const double a_cap = caps.a;
+  const double b_cap = caps.b;
+  using Limit = BiclothoidStartFit::Limit;
+  // why the first (largest) start distance that failed did not fit
+  Limit first_failure = Limit::kNone;
+  const auto fits = [&](double a) -> std::optional<BiclothoidSolution> {
+    auto sol = fit_biclothoid_at(shapes, a);
+    if (!sol || sol->b > b_cap) {
+      if (first_failure == Limit::kNone) first_failure = sol ? Limit::kOutgoing : Limit::kNoSolution;
+      return std::nullopt;
+    }
+    return sol;
+  };
+  double a = std::min(start_distance, a_cap);
+  if (a < start_distance) first_failure = Limit::kIncoming;
+  std::optional<BiclothoidSolution> best = fits(a);
+  if (!best) {
+    // halve until a fillet fits, then bisect in log a between that and the last that did not
+    double hi = a;
+    for (int i = 0; i < 60 && !best; ++i) {
+      hi = a;
+      a *= 0.5;
+      best = fits(a);
+    }
+    if (!best) {
+      result.outcome = {Status::kNotConverged, "no biclothoid fillet fits at start distance " +
+                                                   format_mm(start_distance) + " or any shorter (004 Algorithm 1)"};
+      return result;
+    }
+    double lo = a;
+    while (hi / lo > 1 + 1e-9) {
+      const double mid = std::sqrt(lo * hi);
+      if (auto sol = fits(mid)) {
+        lo = mid;
+        best = sol;
+      } else {
+        hi = mid;
+      }
+    }
+  }
+  result.fillet = *best;
+  result.limit = best->a < start_distance * (1 - 1e-12) ? first_failure : Limit::kNone;
+  result.deviation = biclothoid_deviation(*best, shapes);
+  return result;
+}
+
+}  // namespace blendbench

@@ -1,0 +1,130 @@
+// A corner seen in its plane (corner_plane.hpp): the programmed moves as planar shapes, the
+// plane's frame, and the corners both clothoid methods treat alike.
+
+#include "blendbench/corner/corner_plane.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <variant>
+
+#include "biclothoid_internal.hpp"
+#include "blendbench/core/format.hpp"
+#include "blendbench/core/geometry.hpp"
+#include "blendbench/core/input_error.hpp"
+
+namespace blendbench {
+using namespace biclothoid_detail;  // the helpers private to the biclothoid sources
+namespace {
+
+// How close to pi a turn must be to count as a reversal (rad).
+constexpr double kReversalAngle = 1e-9;
+// Largest out-of-plane angle (rad) of a line or arc normal for a corner to count as planar.
+constexpr double kPlanarAngle = 1e-10;
+
+// sin(x) / x, exact to rounding near 0
+double sinc(double x) {
+  if (std::abs(x) < 1e-4) return 1.0 - x * x / 6.0;
+  return std::sin(x) / x;
+}
+
+}  // namespace
+
+Vec2 shape_point(const PlanarShape& shape, double sigma) {
+  const double half = 0.5 * shape.kappa * sigma;
+  return sigma * sinc(half) * direction(shape.theta + half);
+}
+
+double shape_angle(const PlanarShape& shape, double sigma) { return shape.theta + shape.kappa * sigma; }
+
+Vec3 to_space(const CornerPlane& plane, const Vec2& p) { return plane.origin + p.x() * plane.x + p.y() * plane.y; }
+
+PlanarCorner planar_corner(const Primitive& in, const Primitive& out) {
+  PlanarCorner pc;
+  const double len_in = length(in);
+  const Vec3 corner = point(in, len_in);
+  const Vec3 t1 = tangent(in, len_in);
+  const Vec3 t2 = tangent(out, 0.0);
+  pc.angle = angle_between(t1, t2);
+  const Vec3 k1 = curvature_vector(in, len_in);
+  const Vec3 k2 = curvature_vector(out, 0.0);
+  pc.same_curvature = (k1 - k2).norm() <= 1e-9 * std::max({k1.norm(), k2.norm(), 1e-300});
+  const Arc* arc1 = std::get_if<Arc>(&in);
+  const Arc* arc2 = std::get_if<Arc>(&out);
+  pc.lines = !arc1 && !arc2;
+  if (arc1 && arc2) {
+    pc.same_circle = (arc1->center - arc2->center).norm() <= 1e-9 * arc1->radius &&
+                     std::abs(arc1->radius - arc2->radius) <= 1e-9 * arc1->radius && arc1->rise == 0 &&
+                     arc2->rise == 0 &&
+                     arc1->u.cross(arc1->v).cross(arc2->u.cross(arc2->v)).norm() <= kPlanarAngle;
+  }
+
+  // the plane normal: the arc's axis, or the lines' common normal oriented with the turn
+  Vec3 normal;
+  if (arc1) normal = arc1->u.cross(arc1->v).normalized();
+  else if (arc2) normal = arc2->u.cross(arc2->v).normalized();
+  else if (t1.cross(t2).norm() > 0) normal = t1.cross(t2).normalized();
+  else normal = any_perpendicular(t1);
+
+  // planar: no helix, every line in the plane, every arc axis along the normal
+  pc.planar = true;
+  for (const Primitive* prim : {&in, &out}) {
+    if (const Arc* arc = std::get_if<Arc>(prim)) {
+      if (arc->rise != 0 || arc->u.cross(arc->v).normalized().cross(normal).norm() > kPlanarAngle) pc.planar = false;
+    } else {
+      const Line& line = std::get<Line>(*prim);
+      if (std::abs((line.p1 - line.p0).normalized().dot(normal)) > kPlanarAngle) pc.planar = false;
+    }
+  }
+
+  pc.plane.origin = corner;
+  pc.plane.x = (t1 - t1.dot(normal) * normal).normalized();
+  pc.plane.y = normal.cross(pc.plane.x);
+  const auto signed_curvature = [&](const Primitive& prim) {
+    const Arc* arc = std::get_if<Arc>(&prim);
+    if (!arc) return 0.0;
+    return (arc->u.cross(arc->v).dot(normal) > 0 ? 1.0 : -1.0) / arc->radius;
+  };
+  pc.shapes.q1 = PlanarShape{0.0, signed_curvature(in)};
+  pc.shapes.q2 = PlanarShape{std::atan2(t2.dot(pc.plane.y), t2.dot(pc.plane.x)), signed_curvature(out)};
+  return pc;
+}
+
+std::optional<CornerFit> clothoid_special_case(const CornerInput& corner, const PlanarCorner& geometry) {
+  CornerFit fit;
+  fit.parameter_used = 0;
+  // a reversal has no fillet: a kink that stops the path when Buffered (001, 003)
+  if (geometry.angle >= kPi - kReversalAngle) {
+    fit.corner_case = geometry.same_circle ? CornerCase::kSameCircleOppositeDirection : CornerCase::kReversal;
+    fit.stop = corner.buffer == BufferMode::kBuffered;
+    fit.note = "the path reverses at the corner: no curvature-continuous transition exists, the corner stays a kink";
+    return fit;
+  }
+  const bool tangent = geometry.angle <= kTangentAngle;
+  // already G2: nothing to smooth
+  if (tangent && geometry.same_curvature) {
+    fit.corner_case = geometry.same_circle ? CornerCase::kSameCircleSameDirection : CornerCase::kCollinear;
+    return fit;
+  }
+  // no length left on a move (consumed by the neighbouring corner): the corner stays as it is
+  if (!(corner.in_available > 0) || !(corner.out_available > 0)) {
+    fit.outcome = {Status::kInfeasible, corner.name + ": no length of the " +
+                                            (corner.in_available > 0 ? "outgoing" : "incoming") +
+                                            " move is left for a transition"};
+    return fit;
+  }
+  if (corner.spec.parameter <= 0 && corner.spec.start_distance <= 0) {
+    if (!tangent) {
+      fail_at(corner.where, "transition.parameter",
+              corner.name + ": a " + std::string(to_string(corner.spec.method)) +
+                  " transition with maximum deviation 0 is impossible at a tangent discontinuity of " +
+                  format_deg(geometry.angle) + "; give a positive deviation or use method none");
+    }
+    fit.corner_case = CornerCase::kTangent;
+    fit.note = "maximum deviation 0: the curvature jump is left as programmed";
+    return fit;
+  }
+  return std::nullopt;
+}
+
+}  // namespace blendbench
