@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "blendbench/geometry/closest.hpp"
+#include "blendbench/core/format.hpp"
 #include "blendbench/corner/corner.hpp"
 
 namespace blendbench {
@@ -19,6 +21,11 @@ std::string move_name(const Program& program, std::size_t k) {
 }
 
 CornerFit fit_corner(const CornerInput& corner) {
+  // near reversals by one rule for every method (corner.hpp)
+  if (corner.spec.method != Method::kNone) {
+    const double theta = angle_between(tangent(corner.in, length(corner.in)), tangent(corner.out, 0.0));
+    if (auto fit = near_reversal_fit(corner, theta)) return *fit;
+  }
   switch (corner.spec.method) {
     case Method::kNone: {
       CornerFit fit;
@@ -46,6 +53,33 @@ Limits transition_limits(const Move& in, const Move& out) {
 }
 
 }  // namespace
+
+std::optional<CornerFit> near_reversal_fit(const CornerInput& corner, double theta) {
+  if (!(theta >= std::numbers::pi - kNearReversalAngle) || theta >= std::numbers::pi - kReversalAngle) {
+    return std::nullopt;
+  }
+  const std::string why = "the tangent turns by " + format_deg(theta) + ", within " + format_deg(kNearReversalAngle) +
+                          " of a reversal";
+  // as at a reversal: no transition, the kink stays
+  CornerFit fit;
+  fit.corner_case = CornerCase::kNearReversal;
+  fit.note = why + ": no transition, the kink stays (as at a reversal)";
+  fit.stop = corner.buffer == BufferMode::kBuffered;
+  return fit;
+}
+
+std::string cusp_problem(const CornerInput& corner, const CornerFit& fit) {
+  if (fit.transition.empty() || !(fit.parameter_used > 0)) return {};
+  double scale = fit.parameter_used;
+  for (const Primitive* p : {&corner.in, &corner.out}) {
+    if (const auto* a = std::get_if<Arc>(p)) scale = std::min(scale, a->radius);
+  }
+  double kappa = 0;
+  for (const Segment& seg : fit.transition) kappa = std::max(kappa, max_curvature(seg, 0, length(seg)));
+  if (!(kappa * scale > 1 / kCuspShare)) return {};
+  return "the transition would be a cusp: its smallest radius " + format_mm(1 / kappa) + " is below " +
+         format_value(100 * kCuspShare) + " % of " + format_mm(scale) + " (the parameter or a programmed radius)";
+}
 
 double curvature_speed_limit(double kappa, double sharpness, double a_max, double j_max) {
   const double inf = std::numeric_limits<double>::infinity();
@@ -134,6 +168,9 @@ Path blend(const Program& program) {
     corner.name = "corner " + std::to_string(k + 1) + " (" + move_name(program, k) + " -> " + move_name(program, k + 1) + ")";
     corner.where = a.where;
     CornerFit fit = fit_corner(corner);
+    if (fit.outcome.ok()) {
+      if (const std::string cusp = cusp_problem(corner, fit); !cusp.empty()) fit.outcome = {Status::kInfeasible, cusp};
+    }
     if (!fit.outcome.ok()) {
       // documented fallback: leave the corner as programmed and stop there
       CornerFit kink;

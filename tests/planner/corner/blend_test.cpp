@@ -3,6 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <map>
+#include <numbers>
+
+#include "blendbench/corner/corner.hpp"
+#include "support/property.hpp"
+#include "support/random_geometry.hpp"
 
 namespace blendbench {
 namespace {
@@ -115,6 +122,98 @@ TEST(Blend, SpeedLimitOfPaper004Table1) {
   // 004 table 1, fillet S1S2: c = 0.016 1/mm^2, kappa = 0.124 1/mm -> 12486 mm/min
   const double v = curvature_speed_limit(124.0, 16000.0, 9.8, 200.0);
   EXPECT_NEAR(v * 60000.0, 12486.0, 1.0);
+}
+
+// A two-move program meeting at the origin with the tangent turning by `theta`: each move a
+// line (0.1 m) or an arc (radius 0.02..0.2 m) tangent to its direction there, in a random plane.
+Program corner_program(std::mt19937_64& rng, double theta, bool arc_in, bool arc_out, bool planar, Method method,
+                       double parameter) {
+  const Vec3 t_in = test::random_unit(rng);
+  const Vec3 axis = test::random_perpendicular(rng, t_in);
+  const Vec3 t_out = Eigen::AngleAxisd(theta, axis) * t_in;
+  const auto arc_along = [&](const Vec3& start, const Vec3& dir, double sign) {
+    // an arc starting at `start` with tangent `dir`, in the corner's plane or a random one
+    const Vec3 side = planar ? Vec3((test::uniform(rng, 0, 1) < 0.5 ? 1 : -1) * axis.cross(dir).normalized())
+                             : test::random_perpendicular(rng, dir);
+    const double r = test::uniform(rng, 0.02, 0.2);
+    return Arc{start + r * side, -side, sign * dir, r, test::uniform(rng, 0.3, 1.5), 0.0};
+  };
+  Program program;
+  Move in;
+  Move out;
+  if (arc_in) {
+    // the reversed arc from the corner backwards, turned around
+    const Arc back = arc_along(Vec3::Zero(), -t_in, 1);
+    const Vec3 start = point(back, length(back));
+    const Vec3 start_dir = -tangent(back, length(back));
+    const Vec3 c = back.center;
+    const Vec3 u = (start - c).normalized();
+    in.geometry = Arc{c, u, start_dir, back.radius, back.sweep, 0.0};
+  } else {
+    in.geometry = Line{-0.1 * t_in, Vec3::Zero()};
+  }
+  out.geometry = arc_out ? Primitive(arc_along(Vec3::Zero(), t_out, 1)) : Primitive(Line{Vec3::Zero(), 0.1 * t_out});
+  for (Move* m : {&in, &out}) {
+    m->limits = {0.2, 1.0, 1.0, 10.0};
+    m->transition.method = method;
+    m->transition.parameter = parameter;
+  }
+  program.moves = {in, out};
+  return program;
+}
+
+// Near reversals and cusps, one rule for every method (corner.hpp): random corners turning by
+// pi - e (e from 1e-8 to four times the threshold) with lines and arcs, planar or not. Within
+// kNearReversalAngle of a reversal the case is near_reversal and there is no transition; outside
+// it every transition has kappa_max p <= 1 / kCuspShare, p the smaller of the method's parameter
+// and the programmed radii, or the corner is an exact stop whose note says it would be a cusp.
+TEST(Blend, PropertyNearReversalCornersAreReportedAndNeverCusps) {
+  const int cases = test::property_cases(400);
+  std::map<std::string, double> worst;
+  int near = 0;
+  int refused = 0;
+  for (int i = 0; i < cases; ++i) {
+    const auto seed = static_cast<std::uint64_t>(9300000 + i);
+    auto rng = test::make_rng(seed);
+    // half of them in the band (every decade of pi - theta), half in the 15 degrees outside it
+    const double e = test::uniform(rng, 0, 1) < 0.5 ? test::log_uniform(rng, 1e-8, kNearReversalAngle)
+                                                     : test::uniform(rng, kNearReversalAngle, 4 * kNearReversalAngle);
+    const bool arc_in = i % 4 >= 2;
+    const bool arc_out = i % 2 == 1;
+    const bool planar = i % 8 < 4;
+    for (const auto& [method, parameter] : {std::pair{Method::kArc, 0.01}, std::pair{Method::kBezier, 0.01},
+                                            std::pair{Method::kClothoid, 0.002}, std::pair{Method::kBiclothoid, 0.002}}) {
+      auto corner_rng = rng;
+      const Program program = corner_program(corner_rng, std::numbers::pi - e, arc_in, arc_out, planar, method, parameter);
+      const Path path = blend(program);
+      ASSERT_EQ(path.corners.size(), 1u);
+      const CornerReport& report = path.corners[0];
+      const std::string where = test::seed_text(seed) + " " + std::string(to_string(method)) + (arc_in ? " arc" : " line") +
+                                (arc_out ? "-arc" : "-line") + (planar ? " planar" : "") + " e=" + std::to_string(e);
+      // the parameter the fit used (shrunk where a move is short)
+      double scale = report.parameter > 0 ? report.parameter : parameter;
+      for (const Move& m : program.moves) {
+        if (const auto* a = std::get_if<Arc>(&m.geometry)) scale = std::min(scale, a->radius);
+      }
+      const double theta = angle_between(tangent(program.moves[0].geometry, length(program.moves[0].geometry)),
+                                         tangent(program.moves[1].geometry, 0.0));
+      if (theta >= std::numbers::pi - kNearReversalAngle && theta < std::numbers::pi - kReversalAngle) {
+        ++near;
+        EXPECT_EQ(report.corner_case, CornerCase::kNearReversal) << where;
+        EXPECT_EQ(report.length, 0.0) << where;
+      }
+      // outside the band: a fillet with kappa_max p <= 1 / kCuspShare, or a cusp refused
+      if (report.corner_case != CornerCase::kNearReversal && report.fallback != Fallback::kExactStop) {
+        const std::string key = std::string(to_string(method)) + (arc_in || arc_out ? " with arcs" : " lines");
+        worst[key] = std::max(worst[key], report.kappa_max * scale);
+        EXPECT_LE(report.kappa_max * scale, 1 / kCuspShare) << where << " case " << report.corner_case;
+      }
+      if (report.fallback == Fallback::kExactStop) ++refused;
+    }
+  }
+  EXPECT_GT(near, cases);
+  for (const auto& [key, value] : worst) std::printf("largest kappa_max p, %s: %.2f\n", key.c_str(), value);
+  std::printf("%d near reversals, %d cusps refused of %d corners\n", near, refused, 4 * cases);
 }
 
 }  // namespace
