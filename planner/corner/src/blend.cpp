@@ -14,6 +14,9 @@ namespace {
 
 // Angle (rad) below which two tangents count as continuous (G1) at a junction.
 constexpr double kG1Angle = 1e-9;
+// The corner report's deviation is exact to this share of the corner's size (the longer of the
+// transition and the path it replaces): hausdorff_within, closest.hpp.
+constexpr double kDeviationTolerance = 1e-9;
 
 std::string move_name(const Program& program, std::size_t k) {
   const Move& move = program.moves[k];
@@ -113,7 +116,7 @@ void measure_corner(CornerReport& report, const std::vector<Segment>& transition
       if (report.trim_out < len_out) kept.push_back(to_segment(sub_segment(out, report.trim_out, len_out)));
     }
     if (!skipped.empty() && !kept.empty()) {
-      report.deviation = directed_hausdorff(skipped, kept, (report.trim_in + report.trim_out) / 512.0);
+      report.deviation = directed_hausdorff_within(skipped, kept, kDeviationTolerance * (report.trim_in + report.trim_out));
     }
     return;
   }
@@ -133,11 +136,10 @@ void measure_corner(CornerReport& report, const std::vector<Segment>& transition
     replaced.push_back(to_segment(in));
     replaced.push_back(to_segment(out));
   }
-  // sample step from the longer of the two curves: a tiny transition (a near-180 degree fillet)
-  // replacing long trims would otherwise take billions of samples
+  // to kDeviationTolerance of the longer of the two curves
   double replaced_length = 0;
   for (const Segment& seg : replaced) replaced_length += length(seg);
-  report.deviation = hausdorff(transition, replaced, std::max(report.length, replaced_length) / 512.0);
+  report.deviation = hausdorff_within(transition, replaced, kDeviationTolerance * std::max(report.length, replaced_length));
   report.feed_max = curvature_speed_limit(report.kappa_max, report.sharpness_max, a_max, j_max);
 }
 

@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "blendbench/corner/corner.hpp"
+#include "blendbench/geometry/closest.hpp"
 #include "support/property.hpp"
 #include "support/random_geometry.hpp"
 
@@ -214,6 +215,43 @@ TEST(Blend, PropertyNearReversalCornersAreReportedAndNeverCusps) {
   EXPECT_GT(near, cases);
   for (const auto& [key, value] : worst) std::printf("largest kappa_max p, %s: %.2f\n", key.c_str(), value);
   std::printf("%d near reversals, %d cusps refused of %d corners\n", near, refused, 4 * cases);
+}
+
+// The corner report's deviation (hausdorff_within, sampled by turning and refined) against a
+// dense scan (hausdorff with 4096 samples along the corner) on random corners of every method, lines
+// and arcs, planar or not, turning by 0.5 to 175 degrees: the two agree to 1e-6 of the corner's
+// size, and the report is never below the scan (it misses no maximum the scan sees).
+TEST(Blend, PropertyCornerDeviationAgreesWithADenseScan) {
+  const int cases = test::property_cases(32);
+  double worst = 0;
+  for (int i = 0; i < cases; ++i) {
+    const auto seed = static_cast<std::uint64_t>(9400000 + i);
+    auto rng = test::make_rng(seed);
+    const double theta = test::uniform(rng, 0.01, std::numbers::pi - kNearReversalAngle);
+    for (const auto& [method, parameter] : {std::pair{Method::kArc, 0.01}, std::pair{Method::kBezier, 0.01},
+                                            std::pair{Method::kClothoid, 0.002}, std::pair{Method::kBiclothoid, 0.002}}) {
+      auto corner_rng = rng;
+      const Program program = corner_program(corner_rng, theta, i % 4 >= 2, i % 2 == 1, i % 8 < 4, method, parameter);
+      const Path path = blend(program);
+      const CornerReport& r = path.corners[0];
+      std::vector<Segment> transition;
+      for (const PathPiece& piece : path.pieces()) {
+        if (piece.corner == 0) transition.push_back(piece.segment);
+      }
+      if (transition.empty() || r.trim_in <= 0 || r.trim_out <= 0) continue;
+      const Primitive& in = program.moves[0].geometry;
+      const Primitive& out = program.moves[1].geometry;
+      const std::vector<Segment> replaced = {to_segment(sub_segment(in, length(in) - r.trim_in, length(in))),
+                                             to_segment(sub_segment(out, 0.0, r.trim_out))};
+      const double size = std::max(r.length, r.trim_in + r.trim_out);
+      const double dense = hausdorff(transition, replaced, size / 4096);
+      const std::string where = test::seed_text(seed) + " " + std::string(to_string(method));
+      EXPECT_GE(r.deviation, dense - 1e-12 * size) << where;
+      EXPECT_LE(std::abs(r.deviation - dense), 1e-6 * size) << where;
+      worst = std::max(worst, std::abs(r.deviation - dense) / size);
+    }
+  }
+  std::printf("largest |report - dense scan| / size: %.3g\n", worst);
 }
 
 }  // namespace
