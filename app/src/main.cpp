@@ -93,6 +93,7 @@ struct ProgramFlags {
   double feed_mm_per_min = 0;
   double amax_mm_s2 = 0;
   double jmax_mm_s3 = 0;
+  std::optional<double> merge_mm;  // G64 Q on every move: merge collinear lines within it
 };
 
 struct LoadedProgram {
@@ -165,8 +166,12 @@ LoadedProgram load_program(const std::string& input, const ProgramFlags& flags) 
     out.ignored = scenario.ignored;
     out.timing = bb::timing_options(scenario, v);
   }
+  if (flags.merge_mm && !(*flags.merge_mm >= 0 && std::isfinite(*flags.merge_mm))) {
+    throw bb::InputError("", 0, 0, "--merge-tolerance", "must be >= 0 (mm)");
+  }
   for (bb::Move& move : out.program.moves) {
     if (transition) move.transition = *transition;
+    if (flags.merge_mm) move.transition.merge_tolerance = *flags.merge_mm * 1e-3;
     // an F word in a G-code file sets the feed; --feed overrides it as a machine override would
     if (flags.feed_mm_per_min > 0) move.limits.velocity = flags.feed_mm_per_min * 1e-3 / 60.0;
     if (flags.amax_mm_s2 > 0) move.limits.acceleration = move.limits.deceleration = flags.amax_mm_s2 * 1e-3;
@@ -291,6 +296,8 @@ int main(int argc, char** argv) {
     cmd->add_option("--feed", flags.feed_mm_per_min, "Feed on every move, mm/min (G-code default 1000 until an F word)");
     cmd->add_option("--amax", flags.amax_mm_s2, "Acceleration limit, mm/s^2 (G-code default 1000)");
     cmd->add_option("--jmax", flags.jmax_mm_s3, "Jerk limit, mm/s^3 (G-code default 10000)");
+    cmd->add_option("--merge-tolerance", flags.merge_mm,
+                    "Merge runs of collinear lines within this many mm before blending (LinuxCNC's G64 Q); 0 = off");
   };
 
   std::string report;

@@ -180,7 +180,8 @@ class VariantRun {
       // the plan's own figures: length, limits mode, the time-optimal bound, corners, binding
       // constraint per piece
       nlohmann::json plan = plan_summary_json(path, timing);
-      for (const char* key : {"path_length_mm", "limits", "bound_cycle_time_s", "planned_to_bound_ratio"}) {
+      for (const char* key : {"path_length_mm", "limits", "bound_cycle_time_s", "planned_to_bound_ratio", "moves_merged",
+                              "merge_tolerance_mm"}) {
         out[key] = plan[key];
       }
       out["corners"] = std::move(plan["corners"]);

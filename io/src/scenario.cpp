@@ -187,7 +187,7 @@ double unit_scale(const Reader& r, const Field& root) {
 }
 
 Transition read_transition(const Reader& r, const Field& f, double scale) {
-  r.check_keys(f, {"method", "parameter", "start_distance", "kappa_max", "velocity", "curvature_steps"});
+  r.check_keys(f, {"method", "parameter", "start_distance", "kappa_max", "velocity", "curvature_steps", "merge_tolerance"});
   Transition t;
   const Field method = r.require(f, "method");
   const auto m = method_from_string(r.text(method));
@@ -211,6 +211,9 @@ Transition read_transition(const Reader& r, const Field& f, double scale) {
   }
   if (const Field k = Reader::child(f, "kappa_max"); k.node.IsDefined()) t.kappa_max = r.non_negative(k) / scale;
   if (const Field v = Reader::child(f, "velocity"); v.node.IsDefined()) t.velocity = r.non_negative(v) * scale;
+  if (const Field merge = Reader::child(f, "merge_tolerance"); merge.node.IsDefined()) {
+    t.merge_tolerance = r.non_negative(merge) * scale;
+  }
   if (const Field c = Reader::child(f, "curvature_steps"); c.node.IsDefined()) {
     const auto steps = curvature_steps_from_string(r.text(c));
     if (!steps) r.fail(c, "curvature_steps must be 'limit' or 'allow', got '" + r.text(c) + "'");

@@ -128,6 +128,8 @@ nlohmann::json plan_summary_json(const Path& path, const Timing& timing) {
           {"feed_share", timing.feed_share},
           {"servo_period_s", timing.dt},
           {"limits", std::string(to_string(timing.limits))},
+          {"moves_merged", path.moves_merged},
+          {"merge_tolerance_mm", path.merge_tolerance * kMm},
           {"bound_cycle_time_s", timing.bound_cycle_time},
           {"planned_to_bound_ratio",
            finite_or_null(timing.bound_cycle_time > 0 ? timing.cycle_time / timing.bound_cycle_time : 1.0)},

@@ -102,12 +102,13 @@ TEST(Scenario, LimitsModeAxisLimitsAndCurvatureSteps) {
   EXPECT_EQ(plain.program.moves[1].transition.curvature_steps, CurvatureSteps::kLimit);
   const std::string text = replaced(replaced(kValid, "units: mm\n", "units: mm\nlimits: cartesian\naxis_limits: {a: [500, 600, 700], j: [5000, 6000, 7000]}\n"),
                                     "transition: {method: arc, parameter: 5}",
-                                    "transition: {method: arc, parameter: 5, curvature_steps: allow}");
+                                    "transition: {method: arc, parameter: 5, curvature_steps: allow, merge_tolerance: 0.01}");
   const Scenario sc = parse(text);
   ASSERT_TRUE(sc.axis_limits);
   EXPECT_TRUE(sc.axis_limits->acceleration.isApprox(Vec3(0.5, 0.6, 0.7), 1e-15));
   EXPECT_TRUE(sc.axis_limits->jerk.isApprox(Vec3(5, 6, 7), 1e-15));
   EXPECT_EQ(sc.program.moves[1].transition.curvature_steps, CurvatureSteps::kAllow);
+  EXPECT_NEAR(sc.program.moves[1].transition.merge_tolerance, 1e-5, 1e-18);
   const TimingOptions options = timing_options(sc, sc.variants[0]);
   EXPECT_EQ(options.limits, LimitsMode::kCartesian);
   EXPECT_DOUBLE_EQ(options.dt, 1e-3);

@@ -143,8 +143,10 @@ void measure_corner(CornerReport& report, const std::vector<Segment>& transition
   report.feed_max = curvature_speed_limit(report.kappa_max, report.sharpness_max, a_max, j_max);
 }
 
-Path blend(const Program& program) {
-  validate(program);
+namespace {
+
+// The blender on a validated program, without merging.
+Path blend_moves(const Program& program) {
   const std::size_t n = program.moves.size();
   std::vector<double> lengths(n);
   for (std::size_t k = 0; k < n; ++k) lengths[k] = length(program.moves[k].geometry);
@@ -249,6 +251,89 @@ Path blend(const Program& program) {
     }
     path.corners.push_back(std::move(report));
   }
+  return path;
+}
+
+// Whether vertices[i] (i in [1, size - 1)) lie within `tol` of the chord from the first to the
+// last, each ahead of the one before along it.
+bool on_chord(const std::vector<Vec3>& vertices, double tol) {
+  const Vec3& a = vertices.front();
+  const Vec3 d = vertices.back() - a;
+  const double len = d.norm();
+  if (!(len > 0)) return false;
+  const Vec3 u = d / len;
+  double along = 0;
+  for (std::size_t i = 1; i + 1 < vertices.size(); ++i) {
+    const Vec3 r = vertices[i] - a;
+    const double x = r.dot(u);
+    if (x <= along || x >= len || (r - x * u).norm() > tol) return false;
+    along = x;
+  }
+  return true;
+}
+
+// Whether move b may join a run of lines that ends with move a (blend.hpp).
+bool mergeable(const Move& a, const Move& b) {
+  const auto same = [](const Limits& x, const Limits& y) {
+    return x.velocity == y.velocity && x.acceleration == y.acceleration && x.deceleration == y.deceleration &&
+           x.jerk == y.jerk;
+  };
+  return std::holds_alternative<Line>(a.geometry) && std::holds_alternative<Line>(b.geometry) &&
+         a.transition.method != Method::kNone && a.transition.merge_tolerance > 0 && same(a.limits, b.limits) &&
+         a.buffer == b.buffer;
+}
+
+}  // namespace
+
+MergedProgram merge_collinear(const Program& program) {
+  MergedProgram out;
+  const auto& moves = program.moves;
+  std::vector<Vec3> vertices;
+  for (std::size_t k = 0; k < moves.size();) {
+    // grow the run k..m greedily while its inner vertices stay on the chord
+    std::size_t m = k;
+    double tol = moves[k].transition.merge_tolerance;
+    if (std::holds_alternative<Line>(moves[k].geometry)) {
+      vertices = {std::get<Line>(moves[k].geometry).p0, std::get<Line>(moves[k].geometry).p1};
+      while (m + 1 < moves.size() && m + 1 - k < static_cast<std::size_t>(kMaxMergeRun) && mergeable(moves[m], moves[m + 1])) {
+        const double t = std::min(tol, moves[m].transition.merge_tolerance);
+        vertices.push_back(std::get<Line>(moves[m + 1].geometry).p1);
+        if (!on_chord(vertices, t)) break;
+        tol = t;
+        ++m;
+      }
+    }
+    Move merged = moves[k];
+    if (m > k) {
+      merged.geometry = Line{vertices.front(), std::get<Line>(moves[m].geometry).p1};
+      merged.transition = moves[m].transition;
+      out.moves_merged += static_cast<int>(m - k);
+      out.tolerance = std::max(out.tolerance, tol);
+    }
+    out.program.moves.push_back(std::move(merged));
+    out.first.push_back(k);
+    out.last.push_back(m);
+    k = m + 1;
+  }
+  return out;
+}
+
+Path blend(const Program& program) {
+  validate(program);
+  const MergedProgram merged = merge_collinear(program);
+  if (merged.moves_merged == 0) return blend_moves(program);
+  const Path blended = blend_moves(merged.program);
+  // the pieces and reports with the program's own move and corner indices
+  Path path;
+  for (PathPiece piece : blended.pieces()) {
+    if (piece.move >= 0) piece.move = static_cast<int>(merged.first[static_cast<std::size_t>(piece.move)]);
+    if (piece.corner >= 0) piece.corner = static_cast<int>(merged.last[static_cast<std::size_t>(piece.corner)]);
+    path.append(std::move(piece));
+  }
+  path.corners = blended.corners;
+  for (CornerReport& r : path.corners) r.index = static_cast<int>(merged.last[static_cast<std::size_t>(r.index)]);
+  path.moves_merged = merged.moves_merged;
+  path.merge_tolerance = merged.tolerance;
   return path;
 }
 

@@ -29,7 +29,7 @@ const double kInf = std::numeric_limits<double>::infinity();
 constexpr int kTable = 16;
 constexpr int kNewtonSteps = 40;
 // Samples per segment: at least kMinSamples, one more per kSampleTurn rad of turning.
-constexpr int kMinSamples = 16;
+constexpr int kMinSamples = 8;
 constexpr int kMaxSamples = 512;
 constexpr double kSampleTurn = 0.05;
 // Brent steps per refined maximum.
@@ -50,6 +50,18 @@ struct Curve {
       p = bezier->eval(t);
       d1 = bezier->d1(t);
       d2 = bezier->d2(t);
+      return;
+    }
+    if (const auto* c = std::get_if<Clothoid>(segment)) {
+      // one angle for the tangent and the curvature vector
+      const double s = std::clamp(t, 0.0, c->length);
+      const double theta = c->kappa0 * s + 0.5 * c->sharpness * s * s;
+      const double cs = std::cos(theta);
+      const double sn = std::sin(theta);
+      const Eigen::Vector2d xy = clothoid_xy(c->kappa0, c->sharpness, s);
+      p = c->origin + xy.x() * c->e1 + xy.y() * c->e2;
+      d1 = cs * c->e1 + sn * c->e2;
+      d2 = (c->kappa0 + c->sharpness * s) * (-sn * c->e1 + cs * c->e2);
       return;
     }
     p = point(*segment, t);
@@ -109,7 +121,13 @@ class Nearest {
       const bool left = i == 0 || d[k] <= d[k - 1];
       const bool right = i == kTable || d[k] <= d[k + 1];
       if (!left || !right || d[k] - reach >= best) continue;
-      best = std::min(best, refine(q, std::max(0.0, h * (i - 1)), std::min(curve_.t_max, h * (i + 1)), h * i));
+      // start at the vertex of the parabola through the table distances around the minimum
+      double t = h * i;
+      if (i > 0 && i < kTable) {
+        const double den = d[k - 1] - 2 * d[k] + d[k + 1];
+        if (den > 0) t += 0.5 * h * (d[k - 1] - d[k + 1]) / den;
+      }
+      best = std::min(best, refine(q, std::max(0.0, h * (i - 1)), std::min(curve_.t_max, h * (i + 1)), t));
     }
     return best;
   }
@@ -160,7 +178,9 @@ double directed_bounded(const std::vector<Segment>& from, const std::vector<Segm
     const auto f = [&](double t) { return distance_to(targets, c.at(t)); };
     d.resize(static_cast<std::size_t>(n) + 1);
     for (int i = 0; i <= n; ++i) d[static_cast<std::size_t>(i)] = f(h * i);
-    // refine every sampled local maximum (the ends included) on its two neighbouring intervals
+    // refine every sampled local maximum on its two neighbouring intervals; one at an end of
+    // the segment, where the distance still rises towards it, only when the middle of its
+    // interval shows a bump above it
     const double width = tolerance / std::max(c.speed, 1e-300);
     for (int i = 0; i <= n; ++i) {
       const auto k = static_cast<std::size_t>(i);
@@ -168,6 +188,12 @@ double directed_bounded(const std::vector<Segment>& from, const std::vector<Segm
       const bool left = i == 0 || d[k] >= d[k - 1];
       const bool right = i == n || d[k] >= d[k + 1];
       if (!left || !right) continue;
+      if (i == 0 || i == n) {
+        const double inner = d[i == 0 ? 1 : k - 1];
+        const double mid = f(h * (i == 0 ? 0.5 : i - 0.5));
+        best = std::max(best, mid);
+        if (mid <= d[k] && mid >= inner) continue;
+      }
       const auto refined = brent_minimum([&](double t) { return -f(t); }, std::max(0.0, h * (i - 1)),
                                          std::min(c.t_max, h * (i + 1)), h * i, -d[k], width, kBrentSteps);
       best = std::max(best, -refined.second);

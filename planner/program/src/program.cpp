@@ -161,6 +161,10 @@ void validate(const Program& program) {
     if (!std::isfinite(move.transition.kappa_max) || move.transition.kappa_max < 0) {
       fail_at(move.where, "transition.kappa_max", who + ": the curvature cap must be >= 0, got " + format_per_mm(move.transition.kappa_max));
     }
+    if (!std::isfinite(move.transition.merge_tolerance) || move.transition.merge_tolerance < 0) {
+      fail_at(move.where, "transition.merge_tolerance",
+              who + ": the merge tolerance must be >= 0, got " + format_mm(move.transition.merge_tolerance));
+    }
     if (!std::isfinite(move.transition.velocity) || move.transition.velocity < 0) {
       fail_at(move.where, "transition.velocity", who + ": the transition velocity must be >= 0, got " + format_mm_per_s(move.transition.velocity));
     }

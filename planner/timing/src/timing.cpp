@@ -271,8 +271,12 @@ std::vector<Timing::CornerStep> corner_steps(const Path& path, const std::vector
     const PathPiece& prev = path.pieces()[jn.prev];
     const PathPiece& next = path.pieces()[jn.next];
     // the corner the junction belongs to: a transition's, else the one between the two moves
-    const int corner = next.corner >= 0 ? next.corner : prev.corner >= 0 ? prev.corner : prev.move;
-    if (corner < 0 || static_cast<std::size_t>(corner) >= out.size()) continue;
+    // (at the end of the move before the next one), as its report's index
+    const int index = next.corner >= 0 ? next.corner : prev.corner >= 0 ? prev.corner : next.move - 1;
+    const auto at = std::lower_bound(path.corners.begin(), path.corners.end(), index,
+                                     [](const CornerReport& r, int i) { return r.index < i; });
+    if (at == path.corners.end() || at->index != index) continue;
+    const auto corner = at - path.corners.begin();
     const double s = path.offset(jn.next);
     const auto it = std::upper_bound(spans.begin(), spans.end(), s, [](double x, const Span& sp) { return x < sp.s0; });
     const Span& sp = it == spans.begin() ? spans.front() : *std::prev(it);

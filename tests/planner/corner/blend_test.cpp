@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
@@ -252,6 +253,59 @@ TEST(Blend, PropertyCornerDeviationAgreesWithADenseScan) {
     }
   }
   std::printf("largest |report - dense scan| / size: %.3g\n", worst);
+}
+
+// G64 Q: runs of lines within the tolerance of their chord are merged before blending, only
+// where the corners blend and the moves share limits and buffer mode; the path keeps the
+// program's move and corner indices and says how many moves were merged.
+TEST(Blend, CollinearLinesWithinTheMergeToleranceBecomeOneLine) {
+  // ten 1 mm lines along a circle of radius 200 mm: each vertex 1.6 um off the 5 mm chords
+  Program program;
+  const double r = 0.2;
+  const auto on_circle = [&](int i) { return Vec3(r * std::sin(i * 0.001 / r), r * (1 - std::cos(i * 0.001 / r)), 0); };
+  for (int i = 0; i < 10; ++i) {
+    program.moves.push_back(line_move(on_circle(i), on_circle(i + 1), Method::kBiclothoid, 0.01e-3));
+    program.moves.back().transition.merge_tolerance = 0.01e-3;
+  }
+  MergedProgram merged = merge_collinear(program);
+  // the sagitta of a chord of c mm on R 200 mm is c^2 / 1600 mm: 4 mm chords (10 um) are the
+  // longest within 10 um
+  EXPECT_GT(merged.moves_merged, 0);
+  EXPECT_EQ(merged.program.moves.size() + static_cast<std::size_t>(merged.moves_merged), program.moves.size());
+  EXPECT_EQ(merged.tolerance, 0.01e-3);
+  for (std::size_t j = 0; j < merged.program.moves.size(); ++j) {
+    const Line& line = std::get<Line>(merged.program.moves[j].geometry);
+    EXPECT_EQ(line.p0, std::get<Line>(program.moves[merged.first[j]].geometry).p0);
+    EXPECT_EQ(line.p1, std::get<Line>(program.moves[merged.last[j]].geometry).p1);
+    for (std::size_t k = merged.first[j]; k < merged.last[j]; ++k) {
+      EXPECT_LE(closest_point(merged.program.moves[j].geometry, std::get<Line>(program.moves[k].geometry).p1).distance,
+                0.01e-3);
+    }
+  }
+  const Path path = blend(program);
+  EXPECT_EQ(path.moves_merged, merged.moves_merged);
+  EXPECT_EQ(path.corners.size(), merged.program.moves.size() - 1);
+  for (std::size_t j = 0; j < path.corners.size(); ++j) EXPECT_EQ(path.corners[j].index, static_cast<int>(merged.last[j]));
+  for (const PathPiece& piece : path.pieces()) {
+    if (piece.move >= 0) EXPECT_TRUE(std::find(merged.first.begin(), merged.first.end(), static_cast<std::size_t>(piece.move)) != merged.first.end());
+  }
+  // nothing merges without a tolerance, across other limits, at an exact stop, or backwards
+  Program off = program;
+  for (Move& m : off.moves) m.transition.merge_tolerance = 0;
+  EXPECT_EQ(merge_collinear(off).moves_merged, 0);
+  Program limits = program;
+  for (std::size_t k = 0; k < limits.moves.size(); k += 2) limits.moves[k].limits.velocity *= 2;
+  EXPECT_EQ(merge_collinear(limits).moves_merged, 0);
+  Program stops = program;
+  for (Move& m : stops.moves) m.transition.method = Method::kNone;
+  EXPECT_EQ(merge_collinear(stops).moves_merged, 0);
+  Program back;
+  for (const Vec3& q : {Vec3(0.001, 0, 0), Vec3(0.0005, 0, 0)}) {
+    const Vec3 p = back.moves.empty() ? Vec3::Zero() : std::get<Line>(back.moves.back().geometry).p1;
+    back.moves.push_back(line_move(p, q, Method::kBiclothoid, 1e-5));
+    back.moves.back().transition.merge_tolerance = 1e-3;
+  }
+  EXPECT_EQ(merge_collinear(back).moves_merged, 0);
 }
 
 }  // namespace

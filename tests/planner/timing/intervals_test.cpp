@@ -218,11 +218,10 @@ Program rectangle(const Transition& transition) {
   const Vec3 corners[] = {{0, 0, 0}, {0.12, 0, 0}, {0.12, 0.36, 0}, {0, 0.36, 0}, {0, 0, 0}};
   Program program;
   for (int k = 0; k < 4; ++k) {
-    Move move;
+    Move& move = program.moves.emplace_back();
     move.geometry = Line{corners[k], corners[k + 1]};
     move.limits = lim;
     move.transition = transition;
-    program.moves.push_back(move);
   }
   return program;
 }

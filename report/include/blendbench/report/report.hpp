@@ -29,7 +29,8 @@ nlohmann::json corners_json(const Path& path);
 std::string timed_csv(const Path& path, const Timing& timing);
 
 // The plan summary of the command-line contract: cycle_time_s, path_length_mm, feed_share,
-// servo_period_s, limits ("path" or "cartesian"), bound_cycle_time_s (the time-optimal bound of
+// servo_period_s, limits ("path" or "cartesian"), moves_merged and merge_tolerance_mm (collinear
+// lines merged before blending, G64 Q: Path::moves_merged), bound_cycle_time_s (the time-optimal bound of
 // the same path under the same limits without jerk) and planned_to_bound_ratio (cycle time over
 // bound, 1 for an empty path), corners (as corners_json, plus the transition's curvature_steps,
 // "limit" or "allow", and the largest curvature step the corner leaves: curvature_step_per_mm, the planned speed there curvature_step_velocity_mm_s

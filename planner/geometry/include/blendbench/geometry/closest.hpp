@@ -32,7 +32,7 @@ double directed_hausdorff(const std::vector<Segment>& from, const std::vector<Se
 
 // The same distances for short chains (a corner's transition against the path it replaces)
 // without dense sampling (hausdorff.cpp): each chain sampled by the turning and length of its
-// segments (one sample per 0.05 rad, at least 16 a segment), distances to the other chain exact
+// segments (one sample per 0.05 rad, at least 8 a segment), distances to the other chain exact
 // on lines and planar arcs and by a bracketed Newton search elsewhere, and every sampled local
 // maximum refined by Brent's method until its bracket is below `tolerance` (m, > 0) of arc
 // length. The result is a distance realised between the chains.

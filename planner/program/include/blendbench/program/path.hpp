@@ -88,6 +88,11 @@ class Path {
   [[nodiscard]] Vec3 curvature_vector(double s) const;
 
   std::vector<CornerReport> corners;
+  // Collinear lines merged before blending (Transition::merge_tolerance, G64 Q): how many moves
+  // the merging removed and the largest tolerance it used (m). Move and corner indices in the
+  // pieces and reports are the program's own, before merging (a merged line is its first move).
+  int moves_merged = 0;
+  double merge_tolerance = 0;
 
  private:
   std::vector<PathPiece> pieces_;

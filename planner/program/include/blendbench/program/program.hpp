@@ -59,6 +59,10 @@ struct Transition {
   // The curvature steps this transition leaves at its ends (an arc's, or the corner's own when
   // it is left tangent): limited by the junction rule, or allowed and reported.
   CurvatureSteps curvature_steps = CurvatureSteps::kLimit;
+  // m: LinuxCNC's G64 Q ("naive CAM detector"): a run of lines whose corners all set this (and
+  // share limits and buffer mode) is merged into one line before blending where every inner
+  // vertex lies within it of that line, in order along it (blend.hpp); 0 = off.
+  double merge_tolerance = 0;
 };
 
 // Kinematic limits of one move along the path (PLCopen Velocity, Acceleration, Deceleration, Jerk).
