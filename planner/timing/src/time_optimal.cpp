@@ -10,8 +10,11 @@
 namespace blendbench::timing_detail {
 namespace {
 
-// Cells per curved piece at least, and at most this share of the path length per cell on one.
+// Cells per piece of varying curvature at least, and per circular arc in cartesian mode (its MVC
+// is exact on one cell, but the acceleration left to speed changes falls with the speed); at
+// most this share of the path length per cell on either.
 constexpr int kBoundCellsPerCurve = 32;
+constexpr int kBoundCellsPerArc = 8;
 constexpr double kBoundCellShare = 1.0 / 1024;
 // Relative margin for the rounding of the sums (the header).
 constexpr double kRoundingMargin = 1e-12;
@@ -157,12 +160,14 @@ double time_optimal_bound(const Path& path, const TimingOptions& options, const 
     const PathPiece& piece = pieces[iv.piece];
     const Limits& lim = models[iv.piece].vector;
     const double len = length(piece.segment);
-    const bool curved = !std::holds_alternative<Line>(piece.segment);
+    // lines and (path mode) circular arcs: one cell, their constraints constant along them
+    const bool arc = std::holds_alternative<Arc>(piece.segment);
+    const bool curved = !std::holds_alternative<Line>(piece.segment) && (cartesian || !arc);
     if (iv.piece != last_piece && std::holds_alternative<Bezier>(piece.segment)) {
       c_max = max_sharpness(piece.segment, 0, len) * (1 + kBezierScanMargin);
     }
     if (iv.piece != last_piece) u = std::numeric_limits<double>::quiet_NaN();
-    const double h = curved ? std::min(len / kBoundCellsPerCurve, h_path) : kInf;
+    const double h = curved ? std::min(len / (arc ? kBoundCellsPerArc : kBoundCellsPerCurve), h_path) : kInf;
     const int n = curved ? std::max(1, static_cast<int>(std::ceil(iv.length() / h))) : 1;
     const double a_n = cartesian ? std::min(lim.acceleration, lim.deceleration) : lim.acceleration;
     const double local0 = iv.s0 - path.offset(iv.piece);

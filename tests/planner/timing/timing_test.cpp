@@ -395,7 +395,8 @@ TEST(Timing, PropertyRaisingALimitNeverSlowsTheCycle) {
   // which move with the limits, so its cycle time is only bounded by the zero-acceleration
   // method's before the raise. Path mode: in cartesian mode the shares of each budget that the
   // tangential limits get on a curve move with the limits (cartesian.hpp), so raising one can
-  // shift time between changing speed and cruising there.
+  // shift time between changing speed and cruising there (34 of these 300 paths were slower,
+  // by up to 3.5 %, when measured).
   const int cases = test::property_cases(300);
   TimingOptions fine;
   fine.carry_acceleration = false;

@@ -31,7 +31,8 @@
 //     gives 2 dx / (sqrt(y_a) + sqrt(y_b))), and the sum is scaled by (1 - 1e-12) for rounding.
 // So the bound is exact for straight lines (L/v + v/a from rest to rest when the feed is reached,
 // 2 sqrt(L/a) when not) and for circular arcs at constant speed sqrt(a_n r), and within the
-// grid's resolution (at least kBoundCellsPerCurve cells per curved piece) elsewhere.
+// grid's resolution (at least 32 cells per piece of varying curvature, 8 per arc in cartesian
+// mode, time_optimal.cpp) elsewhere.
 
 #include "blendbench/program/path.hpp"
 #include "blendbench/timing/timing.hpp"
