@@ -35,7 +35,7 @@ set(may_io ${planner_stages})
 set(may_sim ${planner_stages})
 set(may_render ${planner_stages} sim)
 set(may_report ${planner_stages})
-set(may_papers ${planner_stages} io report)
+set(may_papers ${planner_stages} io sim report)
 set(may_app ${planner_stages} io sim render report papers)
 set(stages ${planner_stages} io sim render report papers app)
 

@@ -23,6 +23,10 @@ packages=(
   libcli11-dev nlohmann-json3-dev googletest libgtest-dev libbenchmark-dev
   ffmpeg python3 python3-matplotlib python3-numpy python3-pil python3-yaml
 )
+# the test suite also brings up a one-machine Slurm for the sweep's job-array test
+if [ "$mode" = test ]; then
+  packages+=(slurm-wlm munge)
+fi
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

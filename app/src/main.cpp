@@ -1,4 +1,4 @@
-// blendbench: the command-line program (DESIGN: the command-line contract).
+// blendbench: the command-line program (the contract: README, "What a run produces" and "Other commands").
 // Exit codes: 0 ok, 1 a check failed or a variant did not complete, 2 bad input.
 
 #include <CLI/CLI.hpp>
@@ -20,6 +20,7 @@
 #include "blendbench/report/report.hpp"
 #include "blendbench/papers/reproduce.hpp"
 #include "blendbench/app/runner.hpp"
+#include "blendbench/app/sweep.hpp"
 #include "blendbench/io/scenario.hpp"
 
 namespace bb = blendbench;
@@ -70,16 +71,26 @@ int cmd_run(std::string scenario_path, std::string out_dir, bool no_video, bool 
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::cout << "done in " << bb::format_number(wall, 3) << " s: " << (std::filesystem::path(out_dir) / "summary.json").string()
             << std::endl;
-  for (const auto& v : result.summary["variants"]) {
-    std::cout << "  " << v["name"].get<std::string>() << ": ";
-    if (v["status"] != "ok") {
-      std::cout << v["status"].get<std::string>() << " - " << v.value("message", "") << std::endl;
+  for (const bb::VariantSummary& v : result.summary.variants) {
+    std::cout << "  " << v.name << ": ";
+    if (!v.metrics) {
+      std::cout << bb::to_string(v.status) << " - " << v.message << std::endl;
       continue;
     }
-    const auto& cycle = v["cycle_time_s"];
-    std::cout << "cycle " << (cycle.is_number() ? bb::format_number(cycle.get<double>(), 4) + " s" : "not settled")
-              << ", tracking max " << bb::format_number(v["tracking_error_max_mm"].get<double>(), 3) << " mm"
-              << ", contour max " << bb::format_number(v["contour_error_max_mm"].get<double>(), 3) << " mm" << std::endl;
+    const bb::Metrics& m = *v.metrics;
+    std::cout << "cycle " << (m.cycle_time ? bb::format_number(*m.cycle_time, 4) + " s" : "not settled") << ", tracking max "
+              << bb::format_number(m.tracking_error_max * 1e3, 3) << " mm, contour (planned path) max "
+              << bb::format_number(m.contour_error_planned_max * 1e3, 3) << " mm, residual vibration "
+              << bb::format_number(m.vibration_final.peak_to_peak * 1e6, 3) << " um";
+    if (v.status != bb::VariantStatus::kOk) std::cout << " [" << bb::to_string(v.status) << ": " << v.message << "]";
+    std::cout << std::endl;
+  }
+  if (result.report) {
+    std::cout << "report: " << result.report->string() << std::endl;
+  } else if (request.plots) {
+    std::cout << "no report: the plot script failed (see above)" << std::endl;
+  } else {
+    std::cout << "no report (--no-plots)" << std::endl;
   }
   return result.all_ok ? kExitOk : kExitCheckFailed;
 }
@@ -99,7 +110,8 @@ struct ProgramFlags {
 struct LoadedProgram {
   bb::Program program;
   std::vector<std::string> ignored;
-  bb::TimingOptions timing;  // a scenario's (servo period, limits, its variant's baseline); G-code: 1 ms, cartesian
+  // a scenario's (setpoint period, limits, its variant's baseline); G-code: 1 ms, cartesian
+  bb::TimingOptions timing;
 };
 
 // Defaults for G-code programs, which carry no acceleration or jerk (documented in the README).
@@ -186,7 +198,7 @@ int cmd_path(const std::string& input, const ProgramFlags& flags, const std::str
   const LoadedProgram loaded = load_program(input, flags);
   const bb::Path path = bb::blend(loaded.program);
   bb::write_file_atomic(csv, bb::path_csv(path, ds_mm * 1e-3));
-  if (!report.empty()) bb::write_file_atomic(report, bb::corners_json(path).dump(2) + "\n");
+  if (!report.empty()) bb::write_file_atomic(report, bb::corners_json(path, loaded.program).dump(2) + "\n");
   std::cout << "path: " << bb::format_number(path.length() * 1e3, 6) << " mm, " << path.pieces().size() << " pieces, "
             << path.corners.size() << " corners -> " << csv << std::endl;
   return kExitOk;
@@ -211,7 +223,7 @@ int cmd_plan(const std::string& input, const ProgramFlags& flags, const TimingFl
     std::cerr << "blendbench: planning failed: " << timing.outcome.message << std::endl;
     return kExitCheckFailed;
   }
-  nlohmann::json j = bb::plan_summary_json(path, timing);
+  nlohmann::json j = bb::plan_summary_json(path, timing, loaded.program);
   j["ignored"] = loaded.ignored;
   j["planning_wall_time_s"] = wall;
   bb::write_file_atomic(csv, bb::timed_csv(path, timing));
@@ -329,9 +341,26 @@ int main(int argc, char** argv) {
   std::string papers_out = "results/papers";
   bool no_paper_plots = false;
   CLI::App* reproduce = app.add_subcommand("reproduce", "Reproduce a source paper's published numbers: report and data");
-  reproduce->add_option("name", paper, "004, 000 or all")->required();
+  reproduce->add_option("name", paper, "004, 000, 002 or all")->required();
   reproduce->add_option("--out", papers_out, "Parent folder; each paper goes to DIR/<paper>/ (default: results/papers)");
   reproduce->add_flag("--no-plots", no_paper_plots, "Do not draw the figures");
+
+  bb::SweepCommand sweep_args;
+  bool sweep_no_plots = false;
+  CLI::App* sweep = app.add_subcommand("sweep", "Run a scenario over the product of axes, locally or as a Slurm array; tables and a Pareto front");
+  sweep->add_option("file", sweep_args.file, "Sweep YAML file (scenario, variants, axes, metrics, constraints, pareto)");
+  sweep->add_option("--out", sweep_args.out_dir, "Output folder (default: results/runs/sweeps/<file name>)");
+  sweep->add_option("--jobs", sweep_args.jobs, "Runs at a time (default: every core)");
+  sweep->add_flag("--resume", sweep_args.resume, "Skip points whose run finished (same expanded scenario)");
+  sweep->add_flag("--no-plots", sweep_no_plots, "Do not draw pareto.png");
+  sweep->add_flag("--slurm", sweep_args.slurm, "Write DIR/sweep.sbatch (a job array of shards) and submit it with sbatch");
+  sweep->add_option("--array-size", sweep_args.array_size, "Slurm array tasks (default: one per point, at most 100)");
+  sweep->add_option("--partition", sweep_args.partition, "Slurm partition");
+  sweep->add_option("--time", sweep_args.time, "Slurm time limit per task");
+  sweep->add_flag("--dry-run", sweep_args.dry_run, "With --slurm: write the script only");
+  sweep->add_option("--shard", sweep_args.shard, "Run shard I of K (I/K, from 0), as a Slurm task does");
+  sweep->add_option("--collect", sweep_args.collect, "Merge a sweep folder's results into sweep.csv, best.csv, pareto.png");
+  sweep->add_option("--run-point", sweep_args.run_point, "")->group("");  // the child that runs one point
 
   try {
     app.parse(argc, argv);
@@ -346,6 +375,10 @@ int main(int argc, char** argv) {
     if (*plan) return cmd_plan(input, flags, timing_flags, csv, summary);
     if (*check) return cmd_check(run_dir, baseline, update);
     if (*reproduce) return bb::reproduce(paper, papers_out, !no_paper_plots, std::cout);
+    if (*sweep) {
+      sweep_args.plots = !sweep_no_plots;
+      return bb::sweep_command(sweep_args, std::cout);
+    }
   } catch (const bb::InputError& e) {
     std::cerr << "blendbench: error: " << e.what() << std::endl;
     return kExitBadInput;

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "blendbench/geometry/arc_construction.hpp"
+#include "blendbench/core/format.hpp"
 #include "blendbench/io/data_root.hpp"
 #include "blendbench/io/program_io.hpp"
 
@@ -120,6 +121,21 @@ class Reader {
   std::string text(const Field& f) const {
     if (!f.node.IsScalar()) fail(f, "expected a string");
     return f.node.Scalar();
+  }
+
+  // One of the named values; the error lists them ("<what> must be 'a' or 'b', got 'c'").
+  template <class T>
+  T choice(const Field& f, const std::string& what, std::initializer_list<std::pair<const char*, T>> values) const {
+    const std::string given = text(f);
+    std::string names;
+    std::size_t k = 0;
+    for (const auto& [name, value] : values) {
+      if (given == name) return value;
+      if (k > 0) names += k + 1 == values.size() ? " or " : ", ";
+      names += std::string("'") + name + "'";
+      ++k;
+    }
+    fail(f, what + " must be " + names + ", got '" + given + "'");
   }
 
   template <std::size_t N>
@@ -396,9 +412,16 @@ void read_robot_fields(const Reader& r, const Field& root, Scenario& sc) {
   // the ready configuration of the model (keyframe "ready"): elbow up, tool down, facing +x
   sc.robot.q_seed << 180 * kDeg, -90 * kDeg, 90 * kDeg, -90 * kDeg, -90 * kDeg, 0;
   if (!robot.node.IsDefined()) return;
-  r.check_keys(robot, {"urdf", "mjcf", "base_link", "tip_link", "tool_rpy_deg", "q_seed_deg"});
+  r.check_keys(robot, {"model", "urdf", "mjcf", "base_link", "tip_link", "tool_rpy_deg", "q_seed_deg"});
+  if (const Field f = Reader::child(robot, "model"); f.node.IsDefined()) {
+    sc.robot.model = r.choice<ArmModel>(f, "model", {{"rigid", ArmModel::kRigid}, {"elastic", ArmModel::kElastic}});
+    sc.robot.model_where = r.where(f);
+  }
   if (const Field f = Reader::child(robot, "urdf"); f.node.IsDefined()) sc.robot.urdf = r.existing_file(f);
-  if (const Field f = Reader::child(robot, "mjcf"); f.node.IsDefined()) sc.robot.mjcf = r.existing_file(f);
+  if (const Field f = Reader::child(robot, "mjcf"); f.node.IsDefined()) {
+    sc.robot.mjcf = r.existing_file(f);
+    if (!Reader::child(robot, "model").node.IsDefined()) sc.robot.model_where = r.where(f);
+  }
   if (const Field f = Reader::child(robot, "base_link"); f.node.IsDefined()) sc.robot.base_link = r.text(f);
   if (const Field f = Reader::child(robot, "tip_link"); f.node.IsDefined()) sc.robot.tip_link = r.text(f);
   if (const Field f = Reader::child(robot, "tool_rpy_deg"); f.node.IsDefined()) {
@@ -414,36 +437,89 @@ void read_robot(const Reader& r, const Field& root, Scenario& sc) {
   read_robot_fields(r, root, sc);
   // the shipped arm in the data root (data_root.hpp) unless the scenario names its own model
   if (sc.robot.urdf.empty()) sc.robot.urdf = data_file("models/ur5e_like.urdf");
-  if (sc.robot.mjcf.empty()) sc.robot.mjcf = data_file("models/ur5e_like.xml");
+  if (sc.robot.mjcf.empty()) sc.robot.mjcf = data_file(model_file(sc.robot.model));
+}
+
+// The servo rates the simulator accepts (Hz).
+constexpr double kMinServoRate = 125;
+constexpr double kMaxServoRate = 8000;
+
+void read_servo(const Reader& r, const Field& servo, Scenario& sc) {
+  r.check_keys(servo, {"controller", "rate_hz", "setpoint_rate_hz", "measurement_delay_ticks", "encoder_counts_per_turn",
+                       "velocity_feedforward", "acceleration_feedforward", "gravity_compensation",
+                       "deflection_compensation"});
+  if (const Field f = Reader::child(servo, "controller"); f.node.IsDefined()) {
+    sc.servo.controller =
+        r.choice<ServoController>(f, "controller", {{"cascade", ServoController::kCascade}, {"pd", ServoController::kPd}});
+  }
+  if (const Field f = Reader::child(servo, "rate_hz"); f.node.IsDefined()) {
+    sc.servo.rate_hz = r.positive(f);
+    sc.servo.rate_where = r.where(f);
+    if (sc.servo.rate_hz < kMinServoRate || sc.servo.rate_hz > kMaxServoRate) {
+      r.fail(f, "the servo rate must be between 125 and 8000 Hz, got " + f.node.Scalar());
+    }
+  }
+  if (const Field f = Reader::child(servo, "setpoint_rate_hz"); f.node.IsDefined()) {
+    sc.servo.setpoint_rate_hz = r.positive(f);
+    if (sc.servo.setpoint_rate_hz < kMinServoRate || sc.servo.setpoint_rate_hz > sc.servo.rate_hz) {
+      r.fail(f, "the setpoint rate must be between 125 Hz and the servo rate (" + format_value(sc.servo.rate_hz) +
+                    " Hz), got " + f.node.Scalar());
+    }
+    const double ratio = sc.servo.rate_hz / sc.servo.setpoint_rate_hz;
+    if (std::abs(ratio - std::round(ratio)) > 1e-9 * ratio) {
+      r.fail(f, "the servo rate (" + format_value(sc.servo.rate_hz) + " Hz) must be a whole multiple of the setpoint rate");
+    }
+  } else if (sc.servo.rate_hz < sc.servo.setpoint_rate_hz ||
+             std::abs(sc.servo.rate_hz / sc.servo.setpoint_rate_hz - std::round(sc.servo.rate_hz / sc.servo.setpoint_rate_hz)) > 1e-9) {
+    // a servo rate given alone runs the setpoints at its own rate when it cannot take 500 Hz
+    sc.servo.setpoint_rate_hz = sc.servo.rate_hz;
+  }
+  if (const Field f = Reader::child(servo, "measurement_delay_ticks"); f.node.IsDefined()) {
+    sc.servo.measurement_delay_ticks = r.integer(f);
+    if (sc.servo.measurement_delay_ticks < 0 || sc.servo.measurement_delay_ticks > 100) {
+      r.fail(f, "the measurement delay must be between 0 and 100 servo ticks, got " + f.node.Scalar());
+    }
+  }
+  if (const Field f = Reader::child(servo, "encoder_counts_per_turn"); f.node.IsDefined()) {
+    sc.servo.encoder_counts_per_turn = r.non_negative(f);
+    if (sc.servo.encoder_counts_per_turn != std::round(sc.servo.encoder_counts_per_turn)) {
+      r.fail(f, "counts per turn must be a whole number (0: an exact encoder)");
+    }
+  }
+  for (auto [key, target] : {std::pair{"velocity_feedforward", &sc.servo.velocity_feedforward},
+                             std::pair{"acceleration_feedforward", &sc.servo.acceleration_feedforward},
+                             std::pair{"gravity_compensation", &sc.servo.gravity_compensation},
+                             std::pair{"deflection_compensation", &sc.servo.deflection_compensation}}) {
+    if (const Field f = Reader::child(servo, key); f.node.IsDefined()) *target = r.boolean(f);
+  }
+}
+
+void read_simulation(const Reader& r, const Field& sim, double scale, Scenario& sc) {
+  r.check_keys(sim, {"settle_tolerance", "settle_speed_tolerance", "settle_window_s", "settle_time_s",
+                     "vibration_window_s", "vibration_highpass_hz", "jerk_lowpass_hz"});
+  SimulationSettings& s = sc.simulation;
+  if (const Field f = Reader::child(sim, "settle_tolerance"); f.node.IsDefined()) s.settle_tolerance = r.positive(f) * scale;
+  if (const Field f = Reader::child(sim, "settle_speed_tolerance"); f.node.IsDefined()) {
+    s.settle_speed_tolerance = r.positive(f) * scale;
+  }
+  if (const Field f = Reader::child(sim, "settle_window_s"); f.node.IsDefined()) s.settle_window = r.non_negative(f);
+  if (const Field f = Reader::child(sim, "vibration_window_s"); f.node.IsDefined()) s.vibration_window = r.positive(f);
+  if (const Field f = Reader::child(sim, "vibration_highpass_hz"); f.node.IsDefined()) s.vibration_highpass = r.positive(f);
+  if (const Field f = Reader::child(sim, "jerk_lowpass_hz"); f.node.IsDefined()) s.jerk_lowpass = r.positive(f);
+  const Field time = Reader::child(sim, "settle_time_s");
+  if (time.node.IsDefined()) s.settle_time = r.non_negative(time);
+  // the settle window must fit into the simulated time after the reference
+  if (s.settle_time < s.settle_window) {
+    const Field at = time.node.IsDefined() ? time : Reader::child(sim, "settle_window_s");
+    r.fail(at.node.IsDefined() ? at : sim, "settle_time_s (" + format_value(s.settle_time) +
+                                               " s) must be at least the settle window settle_window_s (" +
+                                               format_value(s.settle_window) + " s)");
+  }
 }
 
 void read_settings(const Reader& r, const Field& root, double scale, Scenario& sc) {
-  if (const Field servo = Reader::child(root, "servo"); servo.node.IsDefined()) {
-    r.check_keys(servo, {"rate_hz", "kp", "kd", "gravity_compensation", "feedforward"});
-    if (const Field f = Reader::child(servo, "rate_hz"); f.node.IsDefined()) {
-      sc.servo.rate_hz = r.positive(f);
-      // the physics step is 1 ms: a servo tick must fall on a step
-      const double ratio = 1000.0 / sc.servo.rate_hz;
-      if (sc.servo.rate_hz > 1000.0 || std::abs(ratio - std::round(ratio)) > 1e-9) {
-        r.fail(f, "the servo rate must divide the 1000 Hz physics rate (1000, 500, 250, 200, ...)");
-      }
-    }
-    if (const Field f = Reader::child(servo, "kp"); f.node.IsDefined()) sc.servo.kp = r.numbers<6>(f);
-    if (const Field f = Reader::child(servo, "kd"); f.node.IsDefined()) sc.servo.kd = r.numbers<6>(f);
-    if (const Field f = Reader::child(servo, "gravity_compensation"); f.node.IsDefined()) {
-      sc.servo.gravity_compensation = r.boolean(f);
-    }
-    if (const Field f = Reader::child(servo, "feedforward"); f.node.IsDefined()) sc.servo.feedforward = r.boolean(f);
-  }
-  if (const Field sim = Reader::child(root, "simulation"); sim.node.IsDefined()) {
-    r.check_keys(sim, {"settle_tolerance", "settle_time_s"});
-    if (const Field f = Reader::child(sim, "settle_tolerance"); f.node.IsDefined()) {
-      sc.simulation.settle_tolerance = r.positive(f) * scale;
-    }
-    if (const Field f = Reader::child(sim, "settle_time_s"); f.node.IsDefined()) {
-      sc.simulation.settle_time = r.non_negative(f);
-    }
-  }
+  if (const Field servo = Reader::child(root, "servo"); servo.node.IsDefined()) read_servo(r, servo, sc);
+  if (const Field sim = Reader::child(root, "simulation"); sim.node.IsDefined()) read_simulation(r, sim, scale, sc);
   if (const Field video = Reader::child(root, "video"); video.node.IsDefined()) {
     r.check_keys(video, {"fps", "width", "height"});
     if (const Field f = Reader::child(video, "fps"); f.node.IsDefined()) {
@@ -529,6 +605,10 @@ std::string folder_name_problem(const std::string& name) {
   return {};
 }
 
+std::string model_file(ArmModel model) {
+  return model == ArmModel::kElastic ? "models/ur5e_like.xml" : "models/ur5e_like_rigid.xml";
+}
+
 Scenario parse_scenario(const std::string& text, const std::string& file, const std::string& base_dir) {
   const Reader r(file, base_dir);
   YAML::Node doc;
@@ -585,7 +665,7 @@ Program program_for(const Scenario& scenario, const Variant& variant) {
 
 TimingOptions timing_options(const Scenario& scenario, const Variant& variant) {
   TimingOptions options;
-  options.dt = 1.0 / scenario.servo.rate_hz;
+  options.dt = 1.0 / scenario.servo.setpoint_rate_hz;
   options.limits = scenario.limits;
   options.axis_limits = scenario.axis_limits;
   if (variant.baseline == "exact_stop") options.baseline = TimingOptions::Baseline::kExactStop;

@@ -122,6 +122,14 @@ TEST_F(Cli, BadScenarioExitsTwoNamingFileLineAndField) {
       {"defaults: {velocity: 200, acceleration: 2000, jerk: 20000}", "defaults: {velocity: 200, acceleration: 2000}",
        "bad.yaml:5:11: 'defaults.jerk': missing required field"},
       {"line: [60, 60, 0]", "line: [60, 900, 0]", "bad.yaml:12:7: 'program.moves[1]'"},
+      {"units: mm", "units: mm\nservo: {rate_hz: 100}", "bad.yaml:4:18: 'servo.rate_hz': the servo rate must be between"},
+      {"units: mm", "units: mm\nservo: {setpoint_rate_hz: 300}", "bad.yaml:4:27: 'servo.setpoint_rate_hz': the servo rate (2000 Hz) must be a whole multiple"},
+      {"units: mm", "units: mm\nservo: {controller: pid}", "bad.yaml:4:21: 'servo.controller': controller must be 'cascade' or 'pd'"},
+      {"units: mm", "units: mm\nservo: {measurement_delay_ticks: -1}", "bad.yaml:4:34: 'servo.measurement_delay_ticks'"},
+      {"units: mm", "units: mm\nrobot: {model: flexible}", "bad.yaml:4:16: 'robot.model': model must be 'rigid' or 'elastic'"},
+      {"simulation: {settle_tolerance: 0.2, settle_time_s: 0.3}", "simulation: {settle_tolerance: 0.2, settle_time_s: 0.1}",
+       "bad.yaml:6:52: 'simulation.settle_time_s': settle_time_s (0.1 s) must be at least the settle window"},
+      {"units: mm", "units: mm\nservo: {rate_hz: 3000, setpoint_rate_hz: 500}", "bad.yaml:4:18: 'servo.rate_hz': the servo period"},
   };
   for (const Case& c : cases) {
     const std::string file = scenario_with(c.from, c.to);
@@ -287,27 +295,63 @@ TEST_F(Cli, StartDistanceSizesBiclothoidsAndIsRefusedElsewhere) {
   }
 }
 
-TEST_F(Cli, RunWritesSummaryTracesPlotsAndAPlayableVideo) {
+TEST_F(Cli, RunWritesSummaryTracesPlotsReportAndAPlayableVideo) {
   const fs::path out = dir_ / "run";
   const Result r = run("run " + blendbench::test::source_path("tests/data/tiny.yaml") + " --out " + out.string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("report: " + (out / "report.html").string()), std::string::npos) << r.output;
   std::ifstream in(out / "summary.json");
   const nlohmann::json summary = nlohmann::json::parse(in);
   ASSERT_EQ(summary["variants"].size(), 2u);
+  EXPECT_EQ(summary["robot"]["model"], "elastic");
+  // the report names every variant and shows every figure, beside it
+  std::ifstream page(out / "report.html");
+  std::stringstream html;
+  html << page.rdbuf();
   for (const auto& v : summary["variants"]) {
-    const fs::path vdir = out / v["name"].get<std::string>();
-    for (const char* file : {"trace.csv", "path.csv", "program.csv", "corners.json", "path.png", "speed.png",
-                             "tracking_error.png", "joints.png", "video.mp4"}) {
+    const std::string name = v["name"];
+    EXPECT_EQ(v["status"], "ok") << name;
+    for (const char* key : {"cycle_time_s", "tracking_error_max_mm", "tracking_error_rms_mm", "orientation_error_max_deg",
+                            "contour_error_programmed_max_mm", "contour_error_planned_max_mm", "jerk_actual_peak_mm_s3",
+                            "jerk_commanded_peak_mm_s3", "residual_vibration_final_mm",
+                            "residual_vibration_final_frequency_hz", "residual_vibration_corner_max_mm"}) {
+      EXPECT_TRUE(v["metrics"][key].is_number()) << name << " " << key;
+    }
+    EXPECT_TRUE(v["comparison"]["cycle_time_saved_percent"].is_number()) << name;
+    EXPECT_EQ(v["health"]["saturated"], false) << name;
+    EXPECT_NE(html.str().find("src='" + name + "/vibration.png'"), std::string::npos) << name;
+    const fs::path vdir = out / name;
+    for (const char* file : {"trace.csv", "path.csv", "program.csv", "corners.json", "path.png", "corners.png", "speed.png",
+                             "acceleration.png", "curvature.png", "tracking_error.png", "following_error.png",
+                             "torques.png", "vibration.png", "joints.png", "video.mp4"}) {
       EXPECT_GT(fs::exists(vdir / file) ? fs::file_size(vdir / file) : 0u, 100u) << vdir / file;
     }
+    // corners.json carries what the plot scripts need: the corner point, arc lengths, times
+    std::ifstream corners_file(vdir / "corners.json");
+    const nlohmann::json corners = nlohmann::json::parse(corners_file);
+    ASSERT_EQ(corners.size(), 1u);
+    for (const char* key : {"point_mm", "s_programmed_mm", "s_start_mm", "s_end_mm", "t_start_s", "t_end_s"}) {
+      EXPECT_TRUE(corners[0].contains(key)) << key;
+    }
+    EXPECT_NEAR(corners[0]["point_mm"][0].get<double>(), 460.0, 1e-6);
     const Result probe = run_probe(vdir / "video.mp4");
     EXPECT_EQ(probe.exit_code, 0) << probe.output;
     EXPECT_NE(probe.output.find("codec_name=h264"), std::string::npos) << probe.output;
     EXPECT_NE(probe.output.find("avg_frame_rate=24/1"), std::string::npos) << probe.output;
   }
-  for (const char* file : {"compare_speed.png", "compare_path.png", "compare_metrics.png"}) {
+  for (const char* file : {"compare_speed.png", "compare_path.png", "compare_metrics.png", "report.html"}) {
     EXPECT_TRUE(fs::exists(out / file)) << file;
   }
+}
+
+// --no-plots: no report, and the program says so.
+TEST_F(Cli, RunWithoutPlotsSaysThereIsNoReport) {
+  const fs::path out = dir_ / "run";
+  const Result r = run("run " + blendbench::test::source_path("tests/data/tiny.yaml") + " --no-video --no-plots --out " +
+                       out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("no report (--no-plots)"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(out / "report.html"));
 }
 
 }  // namespace

@@ -111,7 +111,7 @@ TEST(Scenario, LimitsModeAxisLimitsAndCurvatureSteps) {
   EXPECT_NEAR(sc.program.moves[1].transition.merge_tolerance, 1e-5, 1e-18);
   const TimingOptions options = timing_options(sc, sc.variants[0]);
   EXPECT_EQ(options.limits, LimitsMode::kCartesian);
-  EXPECT_DOUBLE_EQ(options.dt, 1e-3);
+  EXPECT_DOUBLE_EQ(options.dt, 1.0 / sc.servo.setpoint_rate_hz);
   ASSERT_TRUE(options.axis_limits);
   EXPECT_EQ(parse(replaced(kValid, "units: mm\n", "units: mm\nlimits: path\n")).limits, LimitsMode::kPath);
   expect_error(replaced(kValid, "units: mm\n", "units: mm\nlimits: tcp\n"), 3, "limits", "'path' or 'cartesian'");
@@ -173,6 +173,7 @@ TEST(Scenario, EveryShippedScenarioLoadsAndBlends) {
   int count = 0;
   for (const auto& entry : std::filesystem::recursive_directory_iterator(test::source_path("scenarios"))) {
     if (entry.path().extension() != ".yaml") continue;
+    if (entry.path().parent_path().filename() == "sweeps") continue;  // sweep files (sweep_test runs them)
     ++count;
     SCOPED_TRACE(entry.path().string());
     try {
@@ -186,6 +187,62 @@ TEST(Scenario, EveryShippedScenarioLoadsAndBlends) {
     }
   }
   EXPECT_GT(count, 10);
+}
+
+// The execution settings: defaults as documented (elastic arm, cascade at 2 kHz under 500 Hz
+// setpoints, one tick of delay, a 2^14-count motor encoder through ratio 100; settled within
+// 0.03 mm and 1 mm/s for 0.2 s), every key read and converted, bad values refused at the key.
+TEST(Scenario, RobotServoAndSimulationSettings) {
+  const Scenario d = parse(kValid);
+  EXPECT_EQ(d.robot.model, ArmModel::kElastic);
+  EXPECT_NE(d.robot.mjcf.find("models/ur5e_like.xml"), std::string::npos);
+  EXPECT_EQ(d.servo.controller, ServoController::kCascade);
+  EXPECT_EQ(d.servo.rate_hz, 2000);
+  EXPECT_EQ(d.servo.setpoint_rate_hz, 500);
+  EXPECT_EQ(d.servo.measurement_delay_ticks, 1);
+  EXPECT_EQ(d.servo.encoder_counts_per_turn, 1638400);
+  EXPECT_FALSE(d.servo.acceleration_feedforward.has_value());
+  EXPECT_DOUBLE_EQ(d.simulation.settle_tolerance, 0.03e-3);
+  EXPECT_DOUBLE_EQ(d.simulation.settle_speed_tolerance, 1e-3);
+  EXPECT_DOUBLE_EQ(d.simulation.settle_window, 0.2);
+
+  const Scenario s = parse(replaced(kValid, "units: mm\n",
+                                    "units: mm\nrobot: {model: rigid}\n"
+                                    "servo: {controller: pd, rate_hz: 4000, setpoint_rate_hz: 1000, measurement_delay_ticks: 2,"
+                                    " encoder_counts_per_turn: 0, acceleration_feedforward: false, gravity_compensation: false}\n"
+                                    "simulation: {settle_tolerance: 0.05, settle_speed_tolerance: 2, settle_window_s: 0.1,"
+                                    " settle_time_s: 0.4, vibration_window_s: 0.3, vibration_highpass_hz: 10, jerk_lowpass_hz: 40}\n"));
+  EXPECT_EQ(s.robot.model, ArmModel::kRigid);
+  EXPECT_NE(s.robot.mjcf.find("models/ur5e_like_rigid.xml"), std::string::npos);
+  EXPECT_EQ(s.robot.model_where.line, 3);
+  EXPECT_EQ(s.servo.controller, ServoController::kPd);
+  EXPECT_EQ(s.servo.rate_hz, 4000);
+  EXPECT_EQ(s.servo.setpoint_rate_hz, 1000);
+  EXPECT_EQ(s.servo.rate_where.line, 4);
+  EXPECT_EQ(s.servo.measurement_delay_ticks, 2);
+  EXPECT_EQ(s.servo.encoder_counts_per_turn, 0);
+  EXPECT_EQ(s.servo.acceleration_feedforward, std::optional<bool>(false));
+  EXPECT_EQ(s.servo.gravity_compensation, std::optional<bool>(false));
+  EXPECT_DOUBLE_EQ(s.simulation.settle_tolerance, 0.05e-3);
+  EXPECT_DOUBLE_EQ(s.simulation.settle_speed_tolerance, 2e-3);
+  EXPECT_DOUBLE_EQ(s.simulation.settle_window, 0.1);
+  EXPECT_DOUBLE_EQ(s.simulation.settle_time, 0.4);
+  EXPECT_DOUBLE_EQ(s.simulation.vibration_window, 0.3);
+  EXPECT_DOUBLE_EQ(s.simulation.vibration_highpass, 10);
+  EXPECT_DOUBLE_EQ(s.simulation.jerk_lowpass, 40);
+  // a servo rate alone that 500 Hz setpoints do not divide: the setpoints take its rate
+  EXPECT_EQ(parse(replaced(kValid, "units: mm\n", "units: mm\nservo: {rate_hz: 250}\n")).servo.setpoint_rate_hz, 250);
+
+  const std::string at = "units: mm\n";
+  expect_error(replaced(kValid, at, at + "servo: {rate_hz: 9000}\n"), 3, "servo.rate_hz", "between 125 and 8000 Hz");
+  expect_error(replaced(kValid, at, at + "servo: {setpoint_rate_hz: 3000}\n"), 3, "servo.setpoint_rate_hz",
+               "between 125 Hz and the servo rate");
+  expect_error(replaced(kValid, at, at + "servo: {encoder_counts_per_turn: 10.5}\n"), 3, "servo.encoder_counts_per_turn",
+               "whole number");
+  expect_error(replaced(kValid, at, at + "servo: {kp: [1, 2, 3, 4, 5, 6]}\n"), 3, "servo.kp", "unknown key 'kp'");
+  expect_error(replaced(kValid, at, at + "robot: {model: flexible}\n"), 3, "robot.model", "'rigid' or 'elastic'");
+  expect_error(replaced(kValid, at, at + "simulation: {settle_window_s: 2}\n"), 3, "simulation.settle_window_s",
+               "must be at least the settle window");
 }
 
 }  // namespace

@@ -1,9 +1,8 @@
 #pragma once
-// The whole pipeline for one scenario (DESIGN: data flow): per variant, blend -> time -> IK ->
+// The whole pipeline for one scenario: per variant, blend -> time -> IK ->
 // simulate -> metrics, then results on disk (summary.json, per-variant trace.csv, path.csv,
-// program.csv, corners.json, plots, video.mp4). Used by `blendbench run` and the end-to-end test.
-
-#include <nlohmann/json.hpp>
+// program.csv, corners.json, plots, video.mp4, and report.html). Used by `blendbench run` and
+// the end-to-end test.
 
 #include <filesystem>
 #include <functional>
@@ -11,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "blendbench/app/run_summary.hpp"
 #include "blendbench/io/scenario.hpp"
 
 namespace blendbench {
@@ -19,6 +19,7 @@ struct RunRequest {
   std::filesystem::path out_dir;      // created if missing; files in it are replaced atomically
   bool video = true;                  // render video.mp4 per variant (needs BLENDBENCH_RENDER)
   bool plots = true;                  // run the matplotlib script after the summary is written
+  bool variant_files = true;          // per variant trace.csv, path.csv, program.csv, corners.json (a sweep keeps only summary.json)
   std::vector<std::string> variants;  // names to run; empty = all
   std::optional<LimitsMode> limits;   // replaces the scenario's limits mode (`--limits`)
   std::optional<double> max_samples;  // replaces TimingOptions::max_samples (`--max-samples`)
@@ -27,14 +28,18 @@ struct RunRequest {
 };
 
 struct RunResult {
-  nlohmann::json summary;  // what summary.json holds
-  bool all_ok = true;      // every variant ran without divergence or planning failure
+  RunSummary summary;  // what summary.json holds (to_json)
+  bool all_ok = true;  // every variant's status is ok (clean tracking data)
+  std::optional<std::filesystem::path> report;  // report.html, when the plots were drawn
 };
 
 // Runs the scenario. Throws InputError for bad input found on the way (an unknown variant
 // name, a target the robot cannot reach: the error names the move's file, line and field), and
-// std::runtime_error when results cannot be written. A variant whose simulation diverges or
-// whose plan fails is recorded with its status and message and the others still run.
+// std::runtime_error when results cannot be written. A variant whose simulation diverges, whose
+// plan fails or whose data is not clean (saturated, outside the joint limits, not settled) is
+// recorded with its status and message and the others still run. Also InputError when
+// robot.model does not match the MJCF file, or the servo rate does not divide the model's
+// physics rate (located at the YAML key).
 RunResult run_scenario(const Scenario& scenario, const RunRequest& request);
 
 // Whether this build can render videos.
