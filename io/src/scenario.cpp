@@ -203,7 +203,7 @@ double unit_scale(const Reader& r, const Field& root) {
 }
 
 Transition read_transition(const Reader& r, const Field& f, double scale) {
-  r.check_keys(f, {"method", "parameter", "start_distance", "kappa_max", "velocity"});
+  r.check_keys(f, {"method", "parameter", "start_distance", "kappa_max", "velocity", "curvature_steps", "merge_tolerance"});
   Transition t;
   const Field method = r.require(f, "method");
   const auto m = method_from_string(r.text(method));
@@ -227,6 +227,14 @@ Transition read_transition(const Reader& r, const Field& f, double scale) {
   }
   if (const Field k = Reader::child(f, "kappa_max"); k.node.IsDefined()) t.kappa_max = r.non_negative(k) / scale;
   if (const Field v = Reader::child(f, "velocity"); v.node.IsDefined()) t.velocity = r.non_negative(v) * scale;
+  if (const Field merge = Reader::child(f, "merge_tolerance"); merge.node.IsDefined()) {
+    t.merge_tolerance = r.non_negative(merge) * scale;
+  }
+  if (const Field c = Reader::child(f, "curvature_steps"); c.node.IsDefined()) {
+    const auto steps = curvature_steps_from_string(r.text(c));
+    if (!steps) r.fail(c, "curvature_steps must be 'limit' or 'allow', got '" + r.text(c) + "'");
+    t.curvature_steps = *steps;
+  }
   return t;
 }
 
@@ -527,6 +535,31 @@ void read_settings(const Reader& r, const Field& root, double scale, Scenario& s
   }
 }
 
+// `limits` and `axis_limits` (lengths scaled to metres).
+void read_limits(const Reader& r, const Field& root, double scale, Scenario& sc) {
+  if (const Field f = Reader::child(root, "limits"); f.node.IsDefined()) {
+    const auto mode = limits_mode_from_string(r.text(f));
+    if (!mode) r.fail(f, "limits must be 'path' or 'cartesian', got '" + r.text(f) + "'");
+    sc.limits = *mode;
+  }
+  const Field axes = Reader::child(root, "axis_limits");
+  if (!axes.node.IsDefined()) return;
+  if (sc.limits != LimitsMode::kCartesian) {
+    r.fail(axes, "per-axis limits need 'limits: cartesian' (path mode bounds no vector)");
+  }
+  r.check_keys(axes, {"a", "j"});
+  AxisLimits out;
+  for (auto [key, target] : {std::pair{"a", &out.acceleration}, std::pair{"j", &out.jerk}}) {
+    const Field f = r.require(axes, key);
+    const auto v = r.numbers<3>(f);
+    for (std::size_t i = 0; i < 3; ++i) {
+      if (!(v[i] > 0)) r.fail({f.node[i], f.path + "[" + std::to_string(i) + "]"}, "must be positive");
+      (*target)[static_cast<int>(i)] = v[i] * scale;
+    }
+  }
+  sc.axis_limits = out;
+}
+
 void read_variants(const Reader& r, const Field& root, double scale, Scenario& sc) {
   const Field variants = r.require(root, "variants");
   if (!variants.node.IsSequence() || variants.node.size() == 0) r.fail(variants, "expected a non-empty list of variants");
@@ -587,7 +620,7 @@ Scenario parse_scenario(const std::string& text, const std::string& file, const 
   const Field root{doc, ""};
   if (!doc.IsMap()) r.fail(root, "a scenario must be a mapping with 'name', 'program' and 'variants'");
   r.check_keys(root, {"name", "description", "units", "robot", "servo", "simulation", "video", "frame", "defaults",
-                      "program", "variants"});
+                      "limits", "axis_limits", "program", "variants"});
   Scenario sc;
   sc.file = file;
   const Field name = r.require(root, "name");
@@ -604,6 +637,7 @@ Scenario parse_scenario(const std::string& text, const std::string& file, const 
   }
   read_robot(r, root, sc);
   read_settings(r, root, scale, sc);
+  read_limits(r, root, scale, sc);
   read_program(r, root, scale, sc);
   read_variants(r, root, scale, sc);
   // the planner's own checks (joins, limits) on the first variant's program
@@ -627,6 +661,16 @@ Program program_for(const Scenario& scenario, const Variant& variant) {
     if (variant.buffer && !scenario.explicit_buffer[k]) program.moves[k].buffer = *variant.buffer;
   }
   return program;
+}
+
+TimingOptions timing_options(const Scenario& scenario, const Variant& variant) {
+  TimingOptions options;
+  options.dt = 1.0 / scenario.servo.setpoint_rate_hz;
+  options.limits = scenario.limits;
+  options.axis_limits = scenario.axis_limits;
+  if (variant.baseline == "exact_stop") options.baseline = TimingOptions::Baseline::kExactStop;
+  if (variant.baseline == "junction_slowdown") options.baseline = TimingOptions::Baseline::kJunctionSlowdown;
+  return options;
 }
 
 const Variant& find_variant(const Scenario& scenario, const std::string& name) {
