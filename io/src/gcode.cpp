@@ -280,7 +280,11 @@ class Reader {
       transition_.method = options_.tolerance_method;
       transition_.parameter = p->value * scale();
     }
-    if (q) result_.ignored.push_back(note_of(*q, line) + ": G64 naive CAM tolerance Q ignored");
+    // Q: the naive CAM tolerance, collinear lines within it merged before blending
+    if (q) {
+      if (!(q->value >= 0)) fail(line, q->column, q->text, "the G64 naive CAM tolerance Q must be >= 0");
+      transition_.merge_tolerance = q->value * scale();
+    }
   }
 
   // The motion mode (G0-G3, G80) and the move of the line, if it has one; `p_users` counts the

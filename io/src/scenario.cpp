@@ -60,6 +60,8 @@ Transition read_transition(const Reader& r, const Field& f) {
   }
   t.kappa_max = r.number(r.value(f, "kappa_max"));
   t.velocity = r.number(r.value(f, "velocity"));
+  t.merge_tolerance = r.number(r.value(f, "merge_tolerance"));
+  t.curvature_steps = *curvature_steps_from_string(r.choice(r.value(f, "curvature_steps")));
   return t;
 }
 
@@ -320,6 +322,21 @@ void read_video(const Reader& r, const Field& root, Scenario& sc) {
   }
 }
 
+// `limits` and `axis_limits`.
+void read_limits(const Reader& r, const Field& root, Scenario& sc) {
+  sc.limits = *limits_mode_from_string(r.choice(r.value(root, "limits")));
+  const Field axes = r.child(root, "axis_limits");
+  if (!axes.node.defined()) return;
+  if (sc.limits != LimitsMode::kCartesian) {
+    r.fail(axes, "per-axis limits need 'limits: cartesian' (path mode bounds no vector)");
+  }
+  r.check_keys(axes);
+  AxisLimits out;
+  out.acceleration = r.vec3(r.require(axes, "a"));
+  out.jerk = r.vec3(r.require(axes, "j"));
+  sc.axis_limits = out;
+}
+
 void read_variants(const Reader& r, const Field& root, Scenario& sc) {
   const Field variants = r.require(root, "variants");
   if (!variants.node.is_sequence() || variants.node.size() == 0) {
@@ -394,6 +411,7 @@ Scenario parse_scenario(const std::string& text, const std::string& file, const 
   read_servo(r, root, sc);
   read_simulation(r, root, sc);
   read_video(r, root, sc);
+  read_limits(r, root, sc);
   read_program(r, root, sc);
   read_variants(r, root, sc);
   // the planner's own checks (joins, limits) on the first variant's program
@@ -414,6 +432,16 @@ Program program_for(const Scenario& scenario, const Variant& variant) {
     if (variant.buffer && !scenario.explicit_buffer[k]) program.moves[k].buffer = *variant.buffer;
   }
   return program;
+}
+
+TimingOptions timing_options(const Scenario& scenario, const Variant& variant) {
+  TimingOptions options;
+  options.dt = 1.0 / scenario.servo.setpoint_rate_hz;
+  options.limits = scenario.limits;
+  options.axis_limits = scenario.axis_limits;
+  if (variant.baseline == "exact_stop") options.baseline = TimingOptions::Baseline::kExactStop;
+  if (variant.baseline == "junction_slowdown") options.baseline = TimingOptions::Baseline::kJunctionSlowdown;
+  return options;
 }
 
 const Variant& find_variant(const Scenario& scenario, const std::string& name) {

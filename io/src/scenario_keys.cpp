@@ -32,9 +32,14 @@ constexpr std::array kKeys = {
     ScenarioKey{.map = "", .name = "servo", .type = K::kMap, .opens = "servo", .meaning = "the joint drives (the gains are tuned from the model at the start pose)"},
     ScenarioKey{.map = "", .name = "simulation", .type = K::kMap, .opens = "simulation", .meaning = "when the run counts as settled, and how vibration and jerk are measured"},
     ScenarioKey{.map = "", .name = "video", .type = K::kMap, .opens = "video", .meaning = "the rendered video"},
+    ScenarioKey{.map = "", .name = "limits", .type = K::kChoice, .fallback = "cartesian", .choices = "cartesian|path", .meaning = "what the limits bound: the TCP's speed, acceleration vector and jerk vector (cartesian), or the tangential values and the normal acceleration only, as seed 004 times a path (path; the paper reproductions)"},
+    ScenarioKey{.map = "", .name = "axis_limits", .type = K::kMap, .opens = "axis_limits", .meaning = "limits per Cartesian axis of the program frame, as CNC users set them, on top of the vector limits (needs limits: cartesian)"},
     ScenarioKey{.map = "", .name = "defaults", .type = K::kMap, .opens = "defaults", .required = true, .meaning = "the limits and buffer mode of every move that does not set its own"},
     ScenarioKey{.map = "", .name = "program", .type = K::kMap, .opens = "program", .required = true, .meaning = "the path: a list of moves, or a G-code file"},
     ScenarioKey{.map = "", .name = "variants", .type = K::kList, .opens = "variant", .required = true, .meaning = "the settings to compare, each run and reported (at least one)"},
+
+    ScenarioKey{.map = "axis_limits", .name = "a", .type = K::kNumbers, .count = 3, .unit = kAcceleration, .required = true, .range = kPositive, .meaning = "the acceleration limit of the x, y and z axes"},
+    ScenarioKey{.map = "axis_limits", .name = "j", .type = K::kNumbers, .count = 3, .unit = kJerk, .required = true, .range = kPositive, .meaning = "the jerk limit of the x, y and z axes"},
 
     ScenarioKey{.map = "frame", .name = "origin", .type = K::kNumbers, .count = 3, .unit = kLength, .required = true, .meaning = "the program's origin in the base frame"},
     ScenarioKey{.map = "frame", .name = "rpy_deg", .type = K::kNumbers, .count = 3, .unit = kDegrees, .fallback = "[0, 0, 0]", .meaning = "the program's orientation: roll, pitch, yaw about the fixed x, y, z axes (as in URDF)"},
@@ -101,6 +106,8 @@ constexpr std::array kKeys = {
     ScenarioKey{.map = "transition", .name = "start_distance", .type = K::kNumber, .unit = kLength, .range = kPositive, .meaning = "biclothoid only, instead of parameter: where the fillet starts before the corner (004 Algorithm 1)"},
     ScenarioKey{.map = "transition", .name = "kappa_max", .type = K::kNumber, .unit = kCurvature, .fallback = "0", .range = kNonNegative, .meaning = "a curvature cap (clothoid: clothoid-arc-clothoid); 0 = none"},
     ScenarioKey{.map = "transition", .name = "velocity", .type = K::kNumber, .unit = kVelocity, .fallback = "0", .range = kNonNegative, .meaning = "the speed through the transition; 0 = the junction speed of the buffer mode"},
+    ScenarioKey{.map = "transition", .name = "curvature_steps", .type = K::kChoice, .fallback = "limit", .choices = "limit|allow", .meaning = "arc only: hold the curvature step at the arc's ends to the jerk limit over one setpoint period (limit), or run the arc at seed 001's transition speed and report the jerk the step implies (allow, as controllers do)"},
+    ScenarioKey{.map = "transition", .name = "merge_tolerance", .type = K::kNumber, .unit = kLength, .fallback = "0", .range = kNonNegative, .meaning = "merge runs of lines whose inner points lie within this of their chord into one line before blending (G64 Q); 0 = no merging"},
 
     ScenarioKey{.map = "variant", .name = "name", .type = K::kText, .required = true, .meaning = "the variant's name, unique; it names its output folder (the rule of the scenario's name)"},
     ScenarioKey{.map = "variant", .name = "transition", .type = K::kMap, .opens = "transition", .meaning = "the transition of every move that sets none (default: none of its own, the moves' own)"},

@@ -149,13 +149,35 @@ nlohmann::json pieces_json(const Path& path, const Timing& timing) {
   return pieces;
 }
 
+void add_corner_step(nlohmann::json& corner, const CornerReport& report, const Timing::CornerStep& step) {
+  corner["curvature_steps"] = std::string(to_string(report.curvature_steps));
+  corner["curvature_step_per_mm"] = step.dk / kMm;
+  corner["curvature_step_velocity_mm_s"] = step.velocity * kMm;
+  corner["curvature_step_jerk_mm_s3"] = step.jerk * kMm;
+}
+
+void add_plan_figures(nlohmann::json& out, LimitsMode limits, int moves_merged, double merge_tolerance,
+                      double cycle_time, double bound_cycle_time) {
+  out["limits"] = std::string(to_string(limits));
+  out["moves_merged"] = moves_merged;
+  out["merge_tolerance_mm"] = merge_tolerance * kMm;
+  out["bound_cycle_time_s"] = bound_cycle_time;
+  out["planned_to_bound_ratio"] = finite_or_null(bound_cycle_time > 0 ? cycle_time / bound_cycle_time : 1.0);
+}
+
 nlohmann::json plan_summary_json(const Path& path, const Timing& timing, const Program& program) {
-  return {{"cycle_time_s", timing.cycle_time},
-          {"path_length_mm", path.length() * kMm},
-          {"feed_share", timing.feed_share},
-          {"servo_period_s", timing.dt},
-          {"corners", corners_json(path, program)},
-          {"pieces", pieces_json(path, timing)}};
+  nlohmann::json corners = corners_json(path, program);
+  for (std::size_t k = 0; k < corners.size() && k < path.corners.size(); ++k) {
+    add_corner_step(corners[k], path.corners[k], k < timing.corner_steps.size() ? timing.corner_steps[k] : Timing::CornerStep{});
+  }
+  nlohmann::json out = {{"cycle_time_s", timing.cycle_time},
+                        {"path_length_mm", path.length() * kMm},
+                        {"feed_share", timing.feed_share},
+                        {"servo_period_s", timing.dt},
+                        {"corners", corners},
+                        {"pieces", pieces_json(path, timing)}};
+  add_plan_figures(out, timing.limits, path.moves_merged, path.merge_tolerance, timing.cycle_time, timing.bound_cycle_time);
+  return out;
 }
 
 }  // namespace blendbench

@@ -377,7 +377,9 @@ TEST(Gcode, PathControlModes) {
   EXPECT_EQ(m[5].transition.method, Method::kNone);
   EXPECT_EQ(m[6].transition.method, Method::kBezier);
   EXPECT_NEAR(m[7].transition.parameter, 0.1 * kInch, 1e-15);
-  EXPECT_TRUE(has_note(r, "Q0.02 (line 8): G64 naive CAM tolerance Q ignored")) << notes(r);
+  // Q: the naive CAM tolerance, in the units in force (inch here), on the moves that follow
+  EXPECT_NEAR(m[7].transition.merge_tolerance, 0.02 * kInch, 1e-15);
+  EXPECT_EQ(m[6].transition.merge_tolerance, 0.0);
   // the arc mapping: G64 P is the corner distance
   opt.tolerance_method = Method::kArc;
   const GcodeResult a = parse("G64 P0.2 G1 X1\nY1", opt);
@@ -385,6 +387,7 @@ TEST(Gcode, PathControlModes) {
   EXPECT_NEAR(a.program.moves[0].transition.parameter, 0.2 * kMm, 1e-15);
   expect_error("G64 P-1", 1, 5, "P-1");
   expect_error("G1 X1 Q1", 1, 7, "Q1");
+  expect_error("G64 P0.1 Q-1", 1, 10, "Q-1");
 }
 
 TEST(Gcode, DwellPauseAndToolChangeStopTheMoveBefore) {

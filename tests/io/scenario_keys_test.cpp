@@ -64,6 +64,7 @@ Yaml base() {
             {"servo", M({})},
             {"simulation", M({})},
             {"video", M({})},
+            {"axis_limits", M({{"a", S("[1000, 1000, 1000]")}, {"j", S("[10000, 10000, 10000]")}})},
             {"defaults", M({{"velocity", S("100")}, {"acceleration", S("1000")}, {"jerk", S("10000")}})},
             {"program", M({{"moves", L({M({{"arc", M({{"end", S("[20, 0, 0]")}, {"center", S("[10, 0, 0]")}, {"direction", S("ccw")}})},
                                            {"transition", M({{"method", S("arc")}, {"parameter", S("1")}})}}),

@@ -90,6 +90,38 @@ TEST(Scenario, BadInputNamesFileLineAndField) {
   expect_error(replaced(kValid, "velocity: 50", "velocity: [50]"), 10, "program.moves[1].velocity", "expected a number");
 }
 
+// `limits`, `axis_limits` and `curvature_steps`: read in the scenario's units, and every misuse
+// refused at its line and key.
+TEST(Scenario, LimitsModeAxisLimitsAndCurvatureSteps) {
+  const Scenario plain = parse(kValid);
+  EXPECT_EQ(plain.limits, LimitsMode::kCartesian);
+  EXPECT_FALSE(plain.axis_limits);
+  EXPECT_EQ(plain.program.moves[1].transition.curvature_steps, CurvatureSteps::kLimit);
+  const std::string text = replaced(replaced(kValid, "units: mm\n", "units: mm\nlimits: cartesian\naxis_limits: {a: [500, 600, 700], j: [5000, 6000, 7000]}\n"),
+                                    "transition: {method: arc, parameter: 5}",
+                                    "transition: {method: arc, parameter: 5, curvature_steps: allow, merge_tolerance: 0.01}");
+  const Scenario sc = parse(text);
+  ASSERT_TRUE(sc.axis_limits);
+  EXPECT_TRUE(sc.axis_limits->acceleration.isApprox(Vec3(0.5, 0.6, 0.7), 1e-15));
+  EXPECT_TRUE(sc.axis_limits->jerk.isApprox(Vec3(5, 6, 7), 1e-15));
+  EXPECT_EQ(sc.program.moves[1].transition.curvature_steps, CurvatureSteps::kAllow);
+  EXPECT_NEAR(sc.program.moves[1].transition.merge_tolerance, 1e-5, 1e-18);
+  const TimingOptions options = timing_options(sc, sc.variants[0]);
+  EXPECT_EQ(options.limits, LimitsMode::kCartesian);
+  EXPECT_DOUBLE_EQ(options.dt, 1.0 / sc.servo.setpoint_rate_hz);
+  ASSERT_TRUE(options.axis_limits);
+  EXPECT_EQ(parse(replaced(kValid, "units: mm\n", "units: mm\nlimits: path\n")).limits, LimitsMode::kPath);
+  expect_error(replaced(kValid, "units: mm\n", "units: mm\nlimits: tcp\n"), 3, "limits", "unknown value 'tcp' (one of: cartesian, path)");
+  expect_error(replaced(kValid, "units: mm\n", "units: mm\nlimits: path\naxis_limits: {a: [1, 1, 1], j: [1, 1, 1]}\n"), 4,
+               "axis_limits", "need 'limits: cartesian'");
+  expect_error(replaced(kValid, "units: mm\n", "units: mm\naxis_limits: {a: [1, 0, 1], j: [1, 1, 1]}\n"), 3,
+               "axis_limits.a[1]", "must be > 0 mm/s^2, got 0");
+  expect_error(replaced(kValid, "units: mm\n", "units: mm\naxis_limits: {a: [1, 1, 1]}\n"), 3, "axis_limits.j",
+               "missing required field");
+  expect_error(replaced(kValid, "transition: {method: arc, parameter: 5}", "transition: {method: arc, parameter: 5, curvature_steps: yes}"),
+               11, "program.moves[1].transition.curvature_steps", "unknown value 'yes' (one of: limit, allow)");
+}
+
 TEST(Scenario, BiclothoidTakesAStartDistanceInsteadOfADeviation) {
   const Scenario sc = parse(replaced(kValid, "method: arc, parameter: 5", "method: biclothoid, start_distance: 3"));
   const Transition& t = sc.program.moves[1].transition;

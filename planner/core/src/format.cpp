@@ -1,5 +1,8 @@
 #include "blendbench/core/format.hpp"
 
+#include <algorithm>
+#include <array>
+#include <charconv>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -13,12 +16,14 @@ std::string with_unit(double value, const char* unit) { return format_value(valu
 }  // namespace
 
 std::string format_value(double value, int digits) {
-  std::ostringstream out;
-  out.precision(digits);
-  if (std::isnan(value)) value = std::numeric_limits<double>::quiet_NaN();  // never "-nan"
-  if (value == 0) value = 0;                                                 // never "-0"
-  out << value;
-  return out.str();
+  if (std::isnan(value)) return "nan";  // never "-nan"
+  if (value == 0) value = 0;            // never "-0"
+  // %g with `digits` significant digits, as a stream prints it, without building a stream (the
+  // corner fits format their notes on the hot path)
+  std::array<char, 64> text{};
+  const auto [end, error] = std::to_chars(text.data(), text.data() + text.size(), value, std::chars_format::general,
+                                          std::clamp(digits, 1, 40));
+  return error == std::errc() ? std::string(text.data(), end) : std::string("?");
 }
 
 std::string printable(std::string_view text) {

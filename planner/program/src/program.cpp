@@ -67,6 +67,14 @@ double junction_velocity(BufferMode mode, double v_prev, double v_next) {
   return std::min(v_prev, v_next);
 }
 
+std::string_view to_string(CurvatureSteps steps) { return steps == CurvatureSteps::kAllow ? "allow" : "limit"; }
+
+std::optional<CurvatureSteps> curvature_steps_from_string(std::string_view name) {
+  if (name == "limit") return CurvatureSteps::kLimit;
+  if (name == "allow") return CurvatureSteps::kAllow;
+  return std::nullopt;
+}
+
 std::optional<BufferMode> buffer_mode_from_string(std::string_view name) {
   const std::string key = lower(name);
   for (const auto& [m, n] : kBufferNames) {
@@ -177,6 +185,10 @@ void validate(const Program& program) {
     }
     if (!std::isfinite(move.transition.kappa_max) || move.transition.kappa_max < 0) {
       fail_at(move.where, "transition.kappa_max", who + ": the curvature cap must be >= 0, got " + format_per_mm(move.transition.kappa_max));
+    }
+    if (!std::isfinite(move.transition.merge_tolerance) || move.transition.merge_tolerance < 0) {
+      fail_at(move.where, "transition.merge_tolerance",
+              who + ": the merge tolerance must be >= 0, got " + format_mm(move.transition.merge_tolerance));
     }
     if (!std::isfinite(move.transition.velocity) || move.transition.velocity < 0) {
       fail_at(move.where, "transition.velocity", who + ": the transition velocity must be >= 0, got " + format_mm_per_s(move.transition.velocity));

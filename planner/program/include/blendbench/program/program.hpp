@@ -26,12 +26,20 @@ double junction_velocity(BufferMode mode, double v_prev, double v_next);
 // The transition curve inserted at the corner at the end of a move.
 enum class Method { kNone, kArc, kBezier, kClothoid, kBiclothoid };
 
+// What the velocity planner does where a transition leaves a curvature step (a circular blend
+// meeting a line or an arc of another radius): kLimit keeps the step of the normal acceleration
+// within j dt per servo period (a junction velocity bound, timing.hpp); kAllow lets it step,
+// as a controller running a G1 blend does, and reports the jerk the step implies.
+enum class CurvatureSteps { kLimit, kAllow };
+
 std::string_view to_string(BufferMode mode);
 std::string_view to_string(Method method);
+std::string_view to_string(CurvatureSteps steps);  // "limit", "allow"
 // Parse the names used in files ("Buffered", "BlendingLow", ...; "none", "arc", ...);
 // case-insensitive; nullopt when unknown.
 std::optional<BufferMode> buffer_mode_from_string(std::string_view name);
 std::optional<Method> method_from_string(std::string_view name);
+std::optional<CurvatureSteps> curvature_steps_from_string(std::string_view name);
 
 // The transition mode and its parameter, on the move that ends at the corner.
 struct Transition {
@@ -48,6 +56,13 @@ struct Transition {
   // parameter); 0 = the junction velocity of the move's buffer mode (junction_velocity; with
   // BlendingLow the slower of the two moves).
   double velocity = 0;
+  // The curvature steps this transition leaves at its ends (an arc's, or the corner's own when
+  // it is left tangent): limited by the junction rule, or allowed and reported.
+  CurvatureSteps curvature_steps = CurvatureSteps::kLimit;
+  // m: LinuxCNC's G64 Q ("naive CAM detector"): a run of lines whose corners all set this (and
+  // share limits and buffer mode) is merged into one line before blending where every inner
+  // vertex lies within it of that line, in order along it (blend.hpp); 0 = off.
+  double merge_tolerance = 0;
 };
 
 // Kinematic limits of one move along the path (PLCopen Velocity, Acceleration, Deceleration, Jerk).
