@@ -11,6 +11,7 @@
 #include <iostream>
 #include <optional>
 
+#include "blendbench/core/format.hpp"
 #include "blendbench/corner/blend.hpp"
 #include "blendbench/timing/timing.hpp"
 #include "blendbench/report/check.hpp"
@@ -22,6 +23,7 @@
 #include "blendbench/app/runner.hpp"
 #include "blendbench/app/sweep.hpp"
 #include "blendbench/io/scenario.hpp"
+#include "blendbench/io/scenario_keys.hpp"
 
 namespace bb = blendbench;
 
@@ -197,6 +199,13 @@ int cmd_path(const std::string& input, const ProgramFlags& flags, const std::str
   if (!(ds_mm > 0)) throw bb::InputError("", 0, 0, "--ds", "the sample spacing must be positive");
   const LoadedProgram loaded = load_program(input, flags);
   const bb::Path path = bb::blend(loaded.program);
+  // the rows are counted before any is sampled: a tiny spacing is refused, not an overflow
+  if (const double rows = bb::path_sample_count(path, ds_mm * 1e-3); rows > bb::kMaxPathSamples) {
+    throw bb::InputError("", 0, 0, "--ds",
+                         "sampling the " + bb::format_number(path.length() * 1e3, 6) + " mm path every " +
+                             bb::format_number(ds_mm, 6) + " mm would write " + bb::format_number(rows, 3) +
+                             " rows; the limit is " + bb::format_number(bb::kMaxPathSamples, 3) + " (raise --ds)");
+  }
   bb::write_file_atomic(csv, bb::path_csv(path, ds_mm * 1e-3));
   if (!report.empty()) bb::write_file_atomic(report, bb::corners_json(path, loaded.program).dump(2) + "\n");
   std::cout << "path: " << bb::format_number(path.length() * 1e3, 6) << " mm, " << path.pieces().size() << " pieces, "
@@ -233,6 +242,47 @@ int cmd_plan(const std::string& input, const ProgramFlags& flags, const TimingFl
             << csv << ", " << summary << std::endl;
   for (const std::string& line : loaded.ignored) std::cout << "  ignored: " << line << std::endl;
   return kExitOk;
+}
+
+// Checks one input without running it: loaded (a scenario, or G-code with the path/plan
+// defaults), checked by the planner and blended, every variant of a scenario, so geometric
+// refusals show. Returns what was checked; throws InputError.
+std::string validate_input(const std::string& input) {
+  const auto blend_checked = [](const bb::Program& program) {
+    bb::validate(program);
+    return bb::blend(program).corners.size();
+  };
+  if (bb::is_gcode_file(input)) {
+    const LoadedProgram loaded = load_program(input, ProgramFlags{});
+    const std::size_t corners = blend_checked(loaded.program);
+    return "G-code, " + std::to_string(loaded.program.moves.size()) + " moves, " + std::to_string(corners) +
+           " corners blended, " + std::to_string(loaded.ignored.size()) + " notes";
+  }
+  const bb::Scenario scenario = bb::load_scenario(input);
+  for (const bb::Variant& v : scenario.variants) (void)blend_checked(bb::program_for(scenario, v));
+  return "scenario '" + scenario.name + "', " + std::to_string(scenario.program.moves.size()) + " moves, " +
+         std::to_string(scenario.variants.size()) + " variants blended";
+}
+
+// `validate FILE...`: one line per file, "FILE: ok (...)" or the refusal; exit 2 if any is bad.
+int cmd_validate(const std::vector<std::string>& files, bool schema) {
+  if (schema) {
+    std::cout << bb::scenario_format_markdown();
+    return kExitOk;
+  }
+  if (files.empty()) throw bb::InputError("", 0, 0, "FILE", "name at least one file to check (or --schema)");
+  bool all_ok = true;
+  for (const std::string& file : files) {
+    try {
+      const std::string checked = validate_input(file);
+      std::cout << file << ": ok (" << checked << ")" << std::endl;
+    } catch (const bb::InputError& e) {
+      // the error names its file, except for a refusal that came from no file
+      std::cout << (e.file().empty() ? bb::printable(file) + ": " : std::string()) << e.what() << std::endl;
+      all_ok = false;
+    }
+  }
+  return all_ok ? kExitOk : kExitBadInput;
 }
 
 nlohmann::json read_json(const std::string& path, const std::string& what) {
@@ -337,6 +387,13 @@ int main(int argc, char** argv) {
   check->add_option("--baseline", baseline, "Baseline JSON (default: results/baselines/<scenario>.json)");
   check->add_flag("--update", update, "Write the baseline from this run instead of checking");
 
+  std::vector<std::string> validate_files;
+  bool schema = false;
+  CLI::App* validate = app.add_subcommand(
+      "validate", "Check scenario and G-code files without running them: load, the planner's checks, blend every variant");
+  validate->add_option("files", validate_files, "Scenario YAML or G-code files");
+  validate->add_flag("--schema", schema, "Print the scenario format (every key with unit, default and range) as Markdown");
+
   std::string paper;
   std::string papers_out = "results/papers";
   bool no_paper_plots = false;
@@ -374,6 +431,7 @@ int main(int argc, char** argv) {
     if (*path) return cmd_path(input, flags, csv, report, ds_mm);
     if (*plan) return cmd_plan(input, flags, timing_flags, csv, summary);
     if (*check) return cmd_check(run_dir, baseline, update);
+    if (*validate) return cmd_validate(validate_files, schema);
     if (*reproduce) return bb::reproduce(paper, papers_out, !no_paper_plots, std::cout);
     if (*sweep) {
       sweep_args.plots = !sweep_no_plots;
@@ -383,7 +441,7 @@ int main(int argc, char** argv) {
     std::cerr << "blendbench: error: " << e.what() << std::endl;
     return kExitBadInput;
   } catch (const std::exception& e) {
-    std::cerr << "blendbench: failed: " << e.what() << std::endl;
+    std::cerr << "blendbench: failed: " << bb::printable(e.what()) << std::endl;
     return kExitCheckFailed;
   }
   return kExitOk;

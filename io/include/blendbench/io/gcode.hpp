@@ -6,7 +6,8 @@
 //
 // Path words (read and turned into moves):
 //   G0 G1 G2 G3 (G2/G3 by I/J/K centre or by R, helical when the axis normal to the plane moves,
-//   full circles by I/J/K with no end point or end = start, P = number of turns), G17 G18 G19,
+//   full circles by I/J/K with no end point or end = start, P = number of turns, at most
+//   kMaxArcTurns = 100), G17 G18 G19,
 //   G20 G21, G90 G91, G90.1 G91.1, G80 (cancels the motion mode), F (units per minute),
 //   G61 G61.1 (exact stop), G64 [P tol] [Q tol], G4 P (dwell), X Y Z, N, M2 M30,
 //   comments ( ) and ;, '/' block delete, '%' tape markers. Words are case-insensitive; spaces
@@ -61,6 +62,8 @@
 //   position still becomes the programmed end (so G91 stays exact); the next move starts where
 //   the last kept move ended, so the path has no gap.
 // - M2/M30 or a closing '%' ends the program; later lines are not read and are noted.
+// - Work is bounded before it is done: at most kMaxMoves (10^6) moves, refused at the move past
+//   it; the text is read line by line.
 
 #include <string>
 #include <string_view>

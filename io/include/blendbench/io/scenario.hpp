@@ -96,8 +96,13 @@ struct Scenario {
   VideoSettings video;
 };
 
-// Reads and validates a scenario file. Relative paths inside it (models, G-code) are resolved
-// against the file's directory first, then against the repository root. Throws InputError.
+// The most variants one scenario may have: each is planned, simulated and rendered.
+inline constexpr std::size_t kMaxVariants = 1000;
+
+// Reads and validates a scenario file (read_input_file: a regular file of at most
+// kMaxInputBytes). The format, every key with its unit, default and range, is the table in
+// scenario_keys.hpp (docs/scenario_format.md). Relative paths inside it (models, G-code) are resolved
+// against the file's directory first, then against the data root. Throws InputError.
 Scenario load_scenario(const std::string& path);
 
 // The same from text; `file` names it in errors, `base_dir` resolves relative paths.

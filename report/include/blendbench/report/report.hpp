@@ -13,12 +13,19 @@
 
 namespace blendbench {
 
+// The most rows of a sampled path or program (path_csv, program_csv): 10^7, about 1 GB of CSV.
+inline constexpr double kMaxPathSamples = 1e7;
+
+// The rows path_csv writes for spacing `ds` (m > 0), as a double: it may exceed any integer.
+double path_sample_count(const Path& path, double ds);
+
 // The path sampled uniformly in s every `ds` m at most (both ends included), with the header
 // `s,x,y,z,tx,ty,tz,kappa` in mm, unit tangent and 1/mm. Pieces are sampled separately so every
-// junction appears exactly once.
+// junction appears exactly once. Throws InputError (field "ds") when that would be more than
+// kMaxPathSamples rows, before any is written.
 std::string path_csv(const Path& path, double ds);
 
-// The programmed moves sampled every `ds` m at most, header `s,x,y,z` (mm).
+// The programmed moves sampled every `ds` m at most, header `s,x,y,z` (mm); the same limit.
 std::string program_csv(const Program& program, double ds);
 
 // One corner report as JSON: index, method, case, fallback, note, parameter_mm, length_mm,

@@ -86,7 +86,12 @@ struct Program {
   std::vector<Move> moves;
 };
 
-// Checks what the blender assumes: at least one move; finite coordinates; arcs of positive
+// The most moves a program may have: 10^6, ten times the largest program the loaders are
+// benchmarked on; it bounds the work of blending and planning before any is done. Readers refuse
+// the move past it where it is written.
+inline constexpr std::size_t kMaxMoves = 1'000'000;
+
+// Checks what the blender assumes: at least one move and at most kMaxMoves; finite coordinates; arcs of positive
 // radius and sweep; no zero-length move; consecutive moves joined (end of move k equals start
 // of move k+1 within 1e-9 of the program size); positive finite limits; finite non-negative
 // transition values, a start distance only on a biclothoid and not with a parameter. Throws
