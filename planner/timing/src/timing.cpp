@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <tuple>
 
 #include "blendbench/corner/blend.hpp"
@@ -232,6 +233,15 @@ std::vector<double> piece_times(const Path& path, const std::vector<Span>& spans
 // raise.
 [[noreturn]] void refuse_work(const PathPiece& piece, const std::string& binding, double cycle_time,
                               const TimingOptions& options) {
+  if (binding == "rotation" && piece.orientation) {
+    const std::string at = piece.move >= 0 ? " on move " + std::to_string(piece.move + 1) : " on corner " + std::to_string(piece.corner + 1);
+    throw InputError(piece.where.file, piece.where.line, piece.where.column, "angular_velocity",
+                     "the plan would take " + format_value(cycle_time, 3) + " s = " +
+                         format_value(cycle_time / options.dt, 3) + " samples; limit " +
+                         format_value(options.max_samples, 3) + " samples; the tool's rotation binds" + at +
+                         ": raise `angular_velocity`, `angular_acceleration` or `angular_jerk` (" +
+                         format_value(piece.orientation->limits.velocity * 180 / std::numbers::pi, 3) + " deg/s)");
+  }
   const bool feed = binding == "feed" || binding == "stop";
   const bool jerk = binding == "sharpness" || binding == "jerk";
   const char* field = feed ? "velocity" : jerk ? "jerk" : "acceleration";
