@@ -6,46 +6,14 @@
 
 #include "blendbench/corner/blend.hpp"
 #include "support/property.hpp"
-#include "support/random_geometry.hpp"
+#include "support/oriented_program.hpp"
 
 namespace blendbench {
 namespace {
 
-constexpr double kJoin = 1e-9;  // rad, and relative for rates
+using test::random_program;
 
-// A random program of 2 to 7 lines and arcs with random turns, every method, and a random
-// orientation target on most moves (within 120 degrees of the previous one).
-Program random_program(std::mt19937_64& rng) {
-  const Method methods[] = {Method::kNone, Method::kArc, Method::kBezier, Method::kClothoid, Method::kBiclothoid};
-  Program program;
-  program.start_orientation = Quat(Eigen::AngleAxisd(std::numbers::pi, Vec3::UnitX()));
-  Vec3 p = Vec3::Zero();
-  Quat q = program.start_orientation;
-  const int n = 2 + static_cast<int>(test::uniform(rng, 0, 6));
-  for (int k = 0; k < n; ++k) {
-    Move move;
-    const Vec3 dir = test::random_unit(rng);
-    const double len = test::log_uniform(rng, 0.02, 0.2);
-    if (test::uniform(rng, 0, 1) < 0.25) {
-      const Vec3 perp = test::random_perpendicular(rng, dir);
-      const double r = test::uniform(rng, 0.5, 2) * len;
-      move.geometry = Arc{p - r * perp, perp, dir, r, test::uniform(rng, 0.3, 2.5), 0.0};
-    } else {
-      move.geometry = Line{p, p + len * dir};
-    }
-    p = point(move.geometry, length(move.geometry));
-    move.limits = {0.2, 2.0, 2.0, 20.0};
-    move.transition.method = methods[static_cast<int>(test::uniform(rng, 0, 5))];
-    move.transition.parameter = move.transition.method == Method::kNone ? 0.0 : test::log_uniform(rng, 1e-3, 0.01);
-    if (k == 0 || test::uniform(rng, 0, 1) < 0.8) {
-      q = Quat(Eigen::AngleAxisd(test::uniform(rng, 0, 2.1), test::random_unit(rng))) * q;
-      move.orientation = q;
-    }
-    move.name = "move " + std::to_string(k + 1);
-    program.moves.push_back(move);
-  }
-  return program;
-}
+constexpr double kJoin = 1e-9;  // rad, and relative for rates
 
 // The target at the end of move k (the last one set before it, or the start).
 Quat target_of(const Program& program, int k) {
