@@ -60,6 +60,35 @@ TEST(Scenario, ConvertsToSiAndPlacesTheProgramInTheFrame) {
   EXPECT_EQ(sc.program.moves[1].where.line, 9);
 }
 
+// Orientation targets in the program frame: rpy as robot.tool_rpy_deg reads it, or a
+// quaternion [w, x, y, z] (normalised); the frame's rotation applies; the first move starts at
+// the robot's tool orientation; angular limits in degrees, defaults from `defaults`.
+TEST(Scenario, OrientationTargetsAndAngularLimits) {
+  std::string text = replaced(kValid, "    - line: [100, 0, 0]\n",
+                              "    - line: [100, 0, 0]\n      orientation: {rpy_deg: [180, 0, 0]}\n      angular_velocity: 90\n");
+  text = replaced(text, "    - line: [0, 100, 0]\n", "    - line: [0, 100, 0]\n      orientation: {quaternion: [0, 0, 0, 2]}\n");
+  text = replaced(text, "buffer: Buffered}", "buffer: Buffered, angular_acceleration: 360}");
+  const Scenario sc = parse(text);
+  const double deg = std::numbers::pi / 180;
+  // frame yaw 90 degrees: R_base = Rz(90) Rx(180)
+  const Quat first(Eigen::AngleAxisd(std::numbers::pi / 2, Vec3::UnitZ()) * Eigen::AngleAxisd(std::numbers::pi, Vec3::UnitX()));
+  ASSERT_TRUE(sc.program.moves[0].orientation.has_value());
+  EXPECT_LE(rotation_angle(*sc.program.moves[0].orientation, first), 1e-12);
+  EXPECT_FALSE(sc.program.moves[1].orientation.has_value());
+  // 180 degrees about program z is 180 degrees about base z
+  EXPECT_LE(rotation_angle(*sc.program.moves[2].orientation, Quat(Eigen::AngleAxisd(std::numbers::pi, Vec3::UnitZ()))), 1e-12);
+  EXPECT_NEAR(sc.program.moves[0].angular.velocity, 90 * deg, 1e-15);
+  EXPECT_NEAR(sc.program.moves[1].angular.velocity, 180 * deg, 1e-15);
+  EXPECT_NEAR(sc.program.moves[1].angular.acceleration, 360 * deg, 1e-15);
+  EXPECT_NEAR(sc.program.moves[1].angular.jerk, 7200 * deg, 1e-12);
+  EXPECT_LE(rotation_angle(sc.program.start_orientation, Quat(Eigen::AngleAxisd(std::numbers::pi, Vec3::UnitX()))), 1e-12);
+  // bad input names the line and the field
+  expect_error(replaced(text, "{rpy_deg: [180, 0, 0]}", "{rpy_deg: [180, 0, 0], quaternion: [1, 0, 0, 0]}"), 7,
+               "program.moves[0].orientation", "exactly one of 'rpy_deg' or 'quaternion'");
+  expect_error(replaced(text, "[0, 0, 0, 2]", "[0, 0, 0, 0]"), 13, "program.moves[2].orientation.quaternion", "must not be zero");
+  expect_error(replaced(text, "angular_velocity: 90", "angular_velocity: -1"), 8, "program.moves[0].angular_velocity", "");
+}
+
 TEST(Scenario, VariantTransitionAppliesOnlyWhereTheMoveSetsNone) {
   const Scenario sc = parse(kValid);
   const Program p = program_for(sc, find_variant(sc, "arc5"));
