@@ -83,7 +83,7 @@ std::string csv_row(std::initializer_list<double> values) {
   std::string row;
   for (const double v : values) {
     if (!row.empty()) row += ',';
-    row += format_number(v, 7);
+    row += format_value(v, 7);
   }
   row += '\n';
   return row;
@@ -135,9 +135,9 @@ std::string table2_fillets_csv(const Paper004& r) {
       const double len = length(piece.segment);
       for (int i = 0; i <= kSamples; ++i) {
         const double s = len * i / kSamples;
-        out += std::string(name) + "," + format_number((offset + s) / kMm, 7) + "," +
-               format_number(curvature_vector(piece.segment, s).norm() * kMm, 7) + "," +
-               format_number(sharpness(piece.segment, s) * kMm * kMm, 7) + "\n";
+        out += std::string(name) + "," + format_value((offset + s) / kMm, 7) + "," +
+               format_value(curvature_vector(piece.segment, s).norm() * kMm, 7) + "," +
+               format_value(sharpness(piece.segment, s) * kMm * kMm, 7) + "\n";
       }
       offset += len;
     }

@@ -13,7 +13,7 @@
 #include "intervals.hpp"
 #include "spans.hpp"
 
-// The method (issue 4), and where it is conservative:
+// The method (every limit held on the sampled profile), and where it is conservative:
 //
 // 1. The path is cut into intervals at every piece junction, at the ends of hand-over zones
 //    (below) and, on pieces whose curvature varies along s (clothoids with non-zero sharpness,
@@ -177,10 +177,10 @@ std::vector<PieceTiming> piece_reports(const Path& path, const std::vector<Inter
                                        const std::vector<Span>& spans) {
   const auto& pieces = path.pieces();
   std::vector<PieceTiming> reports(pieces.size());
-  for (std::size_t k = 0; k < pieces.size(); ++k) reports[k] = {k, 0.0, "stop"};
+  for (std::size_t k = 0; k < pieces.size(); ++k) reports[k] = {k, 0.0, Binding::kStop};
   struct Seen {
     bool any = false, at_cap = false, holds_peak = false, acceleration = false;
-    const char* cap_binding = "feed";
+    Binding cap_binding = Binding::kFeed;
   };
   std::vector<Seen> seen(pieces.size());
   for (const Span& sp : spans) {
@@ -209,7 +209,10 @@ std::vector<PieceTiming> piece_reports(const Path& path, const std::vector<Inter
   for (std::size_t k = 0; k < pieces.size(); ++k) {
     const Seen& s = seen[k];
     if (!s.any) continue;
-    reports[k].binding = s.at_cap ? s.cap_binding : s.holds_peak ? "length" : s.acceleration ? "acceleration" : "jerk";
+    reports[k].binding = s.at_cap        ? s.cap_binding
+                         : s.holds_peak  ? Binding::kLength
+                         : s.acceleration ? Binding::kAcceleration
+                                          : Binding::kJerk;
   }
   return reports;
 }
@@ -230,10 +233,9 @@ std::vector<double> piece_times(const Path& path, const std::vector<Span>& spans
 // Refuses a plan of `cycle_time` (s) as too long for options.max_samples (timing.hpp): an
 // InputError at the move of `piece`, naming the limit its binding constraint makes the one to
 // raise.
-[[noreturn]] void refuse_work(const PathPiece& piece, const std::string& binding, double cycle_time,
-                              const TimingOptions& options) {
-  const bool feed = binding == "feed" || binding == "stop";
-  const bool jerk = binding == "sharpness" || binding == "jerk";
+[[noreturn]] void refuse_work(const PathPiece& piece, Binding binding, double cycle_time, const TimingOptions& options) {
+  const bool feed = binding == Binding::kFeed || binding == Binding::kStop;
+  const bool jerk = binding == Binding::kSharpness || binding == Binding::kJerk;
   const char* field = feed ? "velocity" : jerk ? "jerk" : "acceleration";
   const double value = feed ? piece.limits.velocity : jerk ? piece.limits.jerk : piece.limits.acceleration;
   const char* unit = feed ? " mm/s" : jerk ? " mm/s^3" : " mm/s^2";
@@ -309,6 +311,36 @@ double time_optimal_bound(const Path& path, const TimingOptions& options) {
   return timing_detail::time_optimal_bound(path, options, models, joints, intervals);
 }
 
+std::string_view baseline_name(TimingOptions::Baseline baseline) {
+  switch (baseline) {
+    case TimingOptions::Baseline::kNone: return "none";
+    case TimingOptions::Baseline::kExactStop: return "exact_stop";
+    case TimingOptions::Baseline::kJunctionSlowdown: return "junction_slowdown";
+  }
+  return "none";
+}
+
+std::optional<TimingOptions::Baseline> baseline_from_string(std::string_view name) {
+  for (auto b : {TimingOptions::Baseline::kNone, TimingOptions::Baseline::kExactStop,
+                 TimingOptions::Baseline::kJunctionSlowdown}) {
+    if (baseline_name(b) == name) return b;
+  }
+  return std::nullopt;
+}
+
+std::string_view binding_name(Binding binding) {
+  switch (binding) {
+    case Binding::kFeed: return "feed";
+    case Binding::kCurvature: return "curvature";
+    case Binding::kSharpness: return "sharpness";
+    case Binding::kLength: return "length";
+    case Binding::kAcceleration: return "acceleration";
+    case Binding::kJerk: return "jerk";
+    case Binding::kStop: return "stop";
+  }
+  return "stop";
+}
+
 Timing plan_timing(const Path& path, const TimingOptions& options) {
   validate(path, options);
   Timing timing;
@@ -325,7 +357,7 @@ Timing plan_timing(const Path& path, const TimingOptions& options) {
   merge_intervals(path, intervals, knot_cap);
   if (intervals.empty()) {
     timing.samples.push_back({0, path.length(), 0, 0, 0});
-    for (std::size_t k = 0; k < path.pieces().size(); ++k) timing.pieces.push_back({k, 0.0, "stop"});
+    for (std::size_t k = 0; k < path.pieces().size(); ++k) timing.pieces.push_back({k, 0.0, Binding::kStop});
     return timing;
   }
 
