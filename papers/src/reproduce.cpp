@@ -14,6 +14,7 @@
 #include "blendbench/core/input_error.hpp"
 #include "blendbench/io/data_root.hpp"
 #include "blendbench/papers/paper_002.hpp"
+#include "blendbench/report/json.hpp"
 #include "blendbench/report/output.hpp"
 #include "blendbench/report/process.hpp"
 #include "blendbench/report/report.hpp"
@@ -25,8 +26,6 @@ namespace {
 
 // Runs with more corners than this list a summary instead of every corner report.
 constexpr std::size_t kCornersListed = 12;
-
-nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
 
 nlohmann::json table_json(const FigureTable& t) {
   nlohmann::json rows = nlohmann::json::array();
