@@ -290,6 +290,24 @@ std::vector<Timing::CornerStep> corner_steps(const Path& path, const std::vector
   return out;
 }
 
+// Steps 1 and 2 of the method on a validated path: each piece's model with its budgets, the
+// junctions and the capped intervals (before merging), shared by the plan and the bound.
+struct Prepared {
+  std::vector<PieceModel> models;
+  std::vector<Junction> joints;
+  std::vector<Interval> intervals;
+  std::vector<double> knot_cap;
+};
+
+Prepared prepare(const Path& path, const TimingOptions& options) {
+  Prepared p;
+  p.models = piece_models(path, options);
+  p.joints = junctions(path, options, p.models);
+  share_budgets(path, options, p.joints, p.models);
+  build_intervals(path, options, p.models, p.joints, all_zones(path, p.joints, p.models), p.intervals, p.knot_cap);
+  return p;
+}
+
 }  // namespace
 
 std::vector<HandoverZone> handover_zones(const Path& path, const TimingOptions& options) {
@@ -302,13 +320,8 @@ std::vector<HandoverZone> handover_zones(const Path& path, const TimingOptions& 
 
 double time_optimal_bound(const Path& path, const TimingOptions& options) {
   validate(path, options);
-  std::vector<PieceModel> models = piece_models(path, options);
-  const std::vector<Junction> joints = junctions(path, options, models);
-  share_budgets(path, options, joints, models);
-  std::vector<Interval> intervals;
-  std::vector<double> knot_cap;
-  build_intervals(path, options, models, joints, all_zones(path, joints, models), intervals, knot_cap);
-  return timing_detail::time_optimal_bound(path, options, models, joints, intervals);
+  const Prepared p = prepare(path, options);
+  return timing_detail::time_optimal_bound(path, options, p.models, p.joints, p.intervals);
 }
 
 std::string_view baseline_name(TimingOptions::Baseline baseline) {
@@ -347,12 +360,11 @@ Timing plan_timing(const Path& path, const TimingOptions& options) {
   timing.dt = options.dt;
   timing.limits = options.limits;
   timing.corner_steps.resize(path.corners.size());
-  std::vector<PieceModel> models = piece_models(path, options);
-  const std::vector<Junction> joints = junctions(path, options, models);
-  share_budgets(path, options, joints, models);
-  std::vector<Interval> intervals;
-  std::vector<double> knot_cap;
-  build_intervals(path, options, models, joints, all_zones(path, joints, models), intervals, knot_cap);
+  Prepared prepared = prepare(path, options);
+  const std::vector<PieceModel>& models = prepared.models;
+  const std::vector<Junction>& joints = prepared.joints;
+  std::vector<Interval>& intervals = prepared.intervals;
+  std::vector<double>& knot_cap = prepared.knot_cap;
   timing.bound_cycle_time = timing_detail::time_optimal_bound(path, options, models, joints, intervals);
   merge_intervals(path, intervals, knot_cap);
   if (intervals.empty()) {
