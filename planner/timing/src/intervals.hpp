@@ -44,8 +44,8 @@ struct CapTerms {
   double sharpness = kInf;
   double rotation = kInf;
   [[nodiscard]] double min() const { return std::min({feed, curvature, sharpness, rotation}); }
-  [[nodiscard]] const char* binding() const {
-    return feed <= min() ? "feed" : curvature <= min() ? "curvature" : sharpness <= min() ? "sharpness" : "rotation";
+  [[nodiscard]] Binding binding() const {
+    return feed <= min() ? Binding::kFeed : curvature <= min() ? Binding::kCurvature : sharpness <= min() ? Binding::kSharpness : Binding::kRotation;
   }
 };
 

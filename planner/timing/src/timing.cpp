@@ -3,18 +3,18 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 #include <tuple>
 
 #include "blendbench/corner/blend.hpp"
 #include "blendbench/core/format.hpp"
+#include "blendbench/core/units.hpp"
 #include "blendbench/core/input_error.hpp"
 #include "blendbench/timing/scurve.hpp"
 #include "blendbench/timing/time_optimal.hpp"
 #include "intervals.hpp"
 #include "spans.hpp"
 
-// The method (issue 4), and where it is conservative:
+// The method (every limit held on the sampled profile), and where it is conservative:
 //
 // 1. The path is cut into intervals at every piece junction, at the ends of hand-over zones
 //    (below) and, on pieces whose curvature varies along s (clothoids with non-zero sharpness,
@@ -178,10 +178,10 @@ std::vector<PieceTiming> piece_reports(const Path& path, const std::vector<Inter
                                        const std::vector<Span>& spans) {
   const auto& pieces = path.pieces();
   std::vector<PieceTiming> reports(pieces.size());
-  for (std::size_t k = 0; k < pieces.size(); ++k) reports[k] = {k, 0.0, "stop"};
+  for (std::size_t k = 0; k < pieces.size(); ++k) reports[k] = {k, 0.0, Binding::kStop};
   struct Seen {
     bool any = false, at_cap = false, holds_peak = false, acceleration = false;
-    const char* cap_binding = "feed";
+    Binding cap_binding = Binding::kFeed;
   };
   std::vector<Seen> seen(pieces.size());
   for (const Span& sp : spans) {
@@ -210,7 +210,10 @@ std::vector<PieceTiming> piece_reports(const Path& path, const std::vector<Inter
   for (std::size_t k = 0; k < pieces.size(); ++k) {
     const Seen& s = seen[k];
     if (!s.any) continue;
-    reports[k].binding = s.at_cap ? s.cap_binding : s.holds_peak ? "length" : s.acceleration ? "acceleration" : "jerk";
+    reports[k].binding = s.at_cap        ? s.cap_binding
+                         : s.holds_peak  ? Binding::kLength
+                         : s.acceleration ? Binding::kAcceleration
+                                          : Binding::kJerk;
   }
   return reports;
 }
@@ -231,19 +234,18 @@ std::vector<double> piece_times(const Path& path, const std::vector<Span>& spans
 // Refuses a plan of `cycle_time` (s) as too long for options.max_samples (timing.hpp): an
 // InputError at the move of `piece`, naming the limit its binding constraint makes the one to
 // raise.
-[[noreturn]] void refuse_work(const PathPiece& piece, const std::string& binding, double cycle_time,
-                              const TimingOptions& options) {
-  if (binding == "rotation" && piece.orientation) {
+[[noreturn]] void refuse_work(const PathPiece& piece, Binding binding, double cycle_time, const TimingOptions& options) {
+  if (binding == Binding::kRotation && piece.orientation) {
     const std::string at = piece.move >= 0 ? " on move " + std::to_string(piece.move + 1) : " on corner " + std::to_string(piece.corner + 1);
     throw InputError(piece.where.file, piece.where.line, piece.where.column, "angular_velocity",
                      "the plan would take " + format_value(cycle_time, 3) + " s = " +
                          format_value(cycle_time / options.dt, 3) + " samples; limit " +
                          format_value(options.max_samples, 3) + " samples; the tool's rotation binds" + at +
                          ": raise `angular_velocity`, `angular_acceleration` or `angular_jerk` (" +
-                         format_value(piece.orientation->limits.velocity * 180 / std::numbers::pi, 3) + " deg/s)");
+                         format_value(piece.orientation->limits.velocity / kDeg, 3) + " deg/s)");
   }
-  const bool feed = binding == "feed" || binding == "stop";
-  const bool jerk = binding == "sharpness" || binding == "jerk";
+  const bool feed = binding == Binding::kFeed || binding == Binding::kStop;
+  const bool jerk = binding == Binding::kSharpness || binding == Binding::kJerk;
   const char* field = feed ? "velocity" : jerk ? "jerk" : "acceleration";
   const double value = feed ? piece.limits.velocity : jerk ? piece.limits.jerk : piece.limits.acceleration;
   const char* unit = feed ? " mm/s" : jerk ? " mm/s^3" : " mm/s^2";
@@ -298,6 +300,24 @@ std::vector<Timing::CornerStep> corner_steps(const Path& path, const std::vector
   return out;
 }
 
+// Steps 1 and 2 of the method on a validated path: each piece's model with its budgets, the
+// junctions and the capped intervals (before merging), shared by the plan and the bound.
+struct Prepared {
+  std::vector<PieceModel> models;
+  std::vector<Junction> joints;
+  std::vector<Interval> intervals;
+  std::vector<double> knot_cap;
+};
+
+Prepared prepare(const Path& path, const TimingOptions& options) {
+  Prepared p;
+  p.models = piece_models(path, options);
+  p.joints = junctions(path, options, p.models);
+  share_budgets(path, options, p.joints, p.models);
+  build_intervals(path, options, p.models, p.joints, all_zones(path, p.joints, p.models), p.intervals, p.knot_cap);
+  return p;
+}
+
 }  // namespace
 
 std::vector<HandoverZone> handover_zones(const Path& path, const TimingOptions& options) {
@@ -310,13 +330,39 @@ std::vector<HandoverZone> handover_zones(const Path& path, const TimingOptions& 
 
 double time_optimal_bound(const Path& path, const TimingOptions& options) {
   validate(path, options);
-  std::vector<PieceModel> models = piece_models(path, options);
-  const std::vector<Junction> joints = junctions(path, options, models);
-  share_budgets(path, options, joints, models);
-  std::vector<Interval> intervals;
-  std::vector<double> knot_cap;
-  build_intervals(path, options, models, joints, all_zones(path, joints, models), intervals, knot_cap);
-  return timing_detail::time_optimal_bound(path, options, models, joints, intervals);
+  const Prepared p = prepare(path, options);
+  return timing_detail::time_optimal_bound(path, options, p.models, p.joints, p.intervals);
+}
+
+std::string_view baseline_name(TimingOptions::Baseline baseline) {
+  switch (baseline) {
+    case TimingOptions::Baseline::kNone: return "none";
+    case TimingOptions::Baseline::kExactStop: return "exact_stop";
+    case TimingOptions::Baseline::kJunctionSlowdown: return "junction_slowdown";
+  }
+  return "none";
+}
+
+std::optional<TimingOptions::Baseline> baseline_from_string(std::string_view name) {
+  for (auto b : {TimingOptions::Baseline::kNone, TimingOptions::Baseline::kExactStop,
+                 TimingOptions::Baseline::kJunctionSlowdown}) {
+    if (baseline_name(b) == name) return b;
+  }
+  return std::nullopt;
+}
+
+std::string_view binding_name(Binding binding) {
+  switch (binding) {
+    case Binding::kFeed: return "feed";
+    case Binding::kCurvature: return "curvature";
+    case Binding::kSharpness: return "sharpness";
+    case Binding::kLength: return "length";
+    case Binding::kAcceleration: return "acceleration";
+    case Binding::kJerk: return "jerk";
+    case Binding::kStop: return "stop";
+    case Binding::kRotation: return "rotation";
+  }
+  return "stop";
 }
 
 Timing plan_timing(const Path& path, const TimingOptions& options) {
@@ -325,17 +371,16 @@ Timing plan_timing(const Path& path, const TimingOptions& options) {
   timing.dt = options.dt;
   timing.limits = options.limits;
   timing.corner_steps.resize(path.corners.size());
-  std::vector<PieceModel> models = piece_models(path, options);
-  const std::vector<Junction> joints = junctions(path, options, models);
-  share_budgets(path, options, joints, models);
-  std::vector<Interval> intervals;
-  std::vector<double> knot_cap;
-  build_intervals(path, options, models, joints, all_zones(path, joints, models), intervals, knot_cap);
+  Prepared prepared = prepare(path, options);
+  const std::vector<PieceModel>& models = prepared.models;
+  const std::vector<Junction>& joints = prepared.joints;
+  std::vector<Interval>& intervals = prepared.intervals;
+  std::vector<double>& knot_cap = prepared.knot_cap;
   timing.bound_cycle_time = timing_detail::time_optimal_bound(path, options, models, joints, intervals);
   merge_intervals(path, intervals, knot_cap);
   if (intervals.empty()) {
     timing.samples.push_back({0, path.length(), 0, 0, 0});
-    for (std::size_t k = 0; k < path.pieces().size(); ++k) timing.pieces.push_back({k, 0.0, "stop"});
+    for (std::size_t k = 0; k < path.pieces().size(); ++k) timing.pieces.push_back({k, 0.0, Binding::kStop});
     return timing;
   }
 

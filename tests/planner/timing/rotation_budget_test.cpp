@@ -112,8 +112,8 @@ TEST(RotationBudget, RotationBindsWhereItIsTheTighterLimit) {
   const Path path = blend(program);
   const Timing turned = plan_timing(path);
   ASSERT_EQ(turned.pieces.size(), 1u);
-  EXPECT_EQ(turned.pieces[0].binding, "rotation");
-  EXPECT_EQ(plain.pieces[0].binding, "feed");
+  EXPECT_EQ(turned.pieces[0].binding, Binding::kRotation);
+  EXPECT_EQ(plain.pieces[0].binding, Binding::kFeed);
   const double rho = std::numbers::pi / 2 / 0.1;
   EXPECT_NEAR(turned.pieces[0].v_peak, move.angular.velocity / rho, 1e-9);
   const Ratios r = angular_ratios(path, turned);
