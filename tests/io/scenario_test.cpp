@@ -75,18 +75,18 @@ TEST(Scenario, OrientationTargetsAndAngularLimits) {
   ASSERT_TRUE(sc.program.moves[0].orientation.has_value());
   EXPECT_LE(rotation_angle(*sc.program.moves[0].orientation, first), 1e-12);
   EXPECT_FALSE(sc.program.moves[1].orientation.has_value());
-  // 180 degrees about program z is 180 degrees about base z
-  EXPECT_LE(rotation_angle(*sc.program.moves[2].orientation, Quat(Eigen::AngleAxisd(std::numbers::pi, Vec3::UnitZ()))), 1e-12);
+  // 180 degrees about program z, in a frame turned 90 degrees about z: 270 degrees about base z
+  EXPECT_LE(rotation_angle(*sc.program.moves[2].orientation, Quat(Eigen::AngleAxisd(-std::numbers::pi / 2, Vec3::UnitZ()))), 1e-12);
   EXPECT_NEAR(sc.program.moves[0].angular.velocity, 90 * deg, 1e-15);
   EXPECT_NEAR(sc.program.moves[1].angular.velocity, 180 * deg, 1e-15);
   EXPECT_NEAR(sc.program.moves[1].angular.acceleration, 360 * deg, 1e-15);
   EXPECT_NEAR(sc.program.moves[1].angular.jerk, 7200 * deg, 1e-12);
   EXPECT_LE(rotation_angle(sc.program.start_orientation, Quat(Eigen::AngleAxisd(std::numbers::pi, Vec3::UnitX()))), 1e-12);
   // bad input names the line and the field
-  expect_error(replaced(text, "{rpy_deg: [180, 0, 0]}", "{rpy_deg: [180, 0, 0], quaternion: [1, 0, 0, 0]}"), 7,
+  expect_error(replaced(text, "{rpy_deg: [180, 0, 0]}", "{rpy_deg: [180, 0, 0], quaternion: [1, 0, 0, 0]}"), 9,
                "program.moves[0].orientation", "exactly one of 'rpy_deg' or 'quaternion'");
-  expect_error(replaced(text, "[0, 0, 0, 2]", "[0, 0, 0, 0]"), 13, "program.moves[2].orientation.quaternion", "must not be zero");
-  expect_error(replaced(text, "angular_velocity: 90", "angular_velocity: -1"), 8, "program.moves[0].angular_velocity", "");
+  expect_error(replaced(text, "[0, 0, 0, 2]", "[0, 0, 0, 0]"), 15, "program.moves[2].orientation.quaternion", "must not be zero");
+  expect_error(replaced(text, "angular_velocity: 90", "angular_velocity: -1"), 10, "program.moves[0].angular_velocity", "");
 }
 
 TEST(Scenario, VariantTransitionAppliesOnlyWhereTheMoveSetsNone) {
