@@ -5,6 +5,7 @@
 #include <benchmark/benchmark.h>
 
 #include <cmath>
+#include <string>
 
 #include "blendbench/corner/blend.hpp"
 #include "blendbench/timing/timing.hpp"
@@ -12,10 +13,11 @@
 namespace blendbench {
 namespace {
 
-// A zig-zag of `n` lines of 20 mm turning by 60 degrees, Bezier transitions of 5 mm, 0.25 m/s;
+// A zig-zag of `n` lines of 20 mm turning by 60 degrees, Bezier (or arc) transitions of 5 mm,
+// 0.25 m/s;
 // `oriented`: every move turns the tool by 10 degrees about an axis that alternates between
 // the base z and a tilted one (so consecutive rates are not parallel), under 180 deg/s limits.
-Program zigzag(int n, bool oriented) {
+Program zigzag(int n, bool oriented, Method method) {
   Program program;
   program.start_orientation = Quat(Eigen::AngleAxisd(M_PI, Vec3::UnitX()));
   Quat q = program.start_orientation;
@@ -26,7 +28,7 @@ Program zigzag(int n, bool oriented) {
     Move move;
     move.geometry = Line{p, next};
     move.limits = {0.25, 2.5, 2.5, 50.0};
-    move.transition = {Method::kBezier, 0.005};
+    move.transition = {method, 0.005};
     move.angular = {M_PI, 4 * M_PI, 40 * M_PI};
     if (oriented) {
       const Vec3 axis = k % 2 == 0 ? Vec3::UnitZ() : Vec3(0.3, 0, 1).normalized();
@@ -40,15 +42,21 @@ Program zigzag(int n, bool oriented) {
 }
 
 void BM_PlanOrientation(benchmark::State& state) {
-  const Program program = zigzag(static_cast<int>(state.range(0)), state.range(1) != 0);
+  const Method method = state.range(2) == 0 ? Method::kBezier : Method::kArc;
+  const Program program = zigzag(static_cast<int>(state.range(0)), state.range(1) != 0, method);
   for (auto _ : state) {
     const Path path = blend(program);
     const Timing timing = plan_timing(path);
     benchmark::DoNotOptimize(timing.cycle_time);
   }
-  state.SetLabel(state.range(1) != 0 ? "with orientation" : "without orientation");
+  state.SetLabel(std::string(to_string(method)) + (state.range(1) != 0 ? ", with orientation" : ", without orientation"));
 }
-BENCHMARK(BM_PlanOrientation)->Args({1000, 0})->Args({1000, 1})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PlanOrientation)
+    ->Args({1000, 0, 0})
+    ->Args({1000, 1, 0})
+    ->Args({1000, 0, 1})
+    ->Args({1000, 1, 1})
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace blendbench

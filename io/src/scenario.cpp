@@ -137,16 +137,16 @@ Quat read_orientation(const Reader& r, const Field& f, const Scenario& sc) {
   r.check_keys(f);
   const Field rpy = r.child(f, "rpy_deg");
   const Field quaternion = r.child(f, "quaternion");
-  if (rpy.node.defined() == quaternion.node.defined()) r.fail(f, "an orientation needs exactly one of 'rpy_deg' or 'quaternion'");
-  Eigen::Matrix3d program;
-  if (rpy.node.defined()) {
-    program = rpy_deg(radians(r.numbers(rpy)));
-  } else {
+  // each value checked where it stands first, then that exactly one is given
+  Eigen::Matrix3d program = Eigen::Matrix3d::Identity();
+  if (rpy.node.defined()) program = rpy_deg(radians(r.numbers(rpy)));
+  if (quaternion.node.defined()) {
     const std::vector<double> q = r.numbers(quaternion);
     const Quat given(q[0], q[1], q[2], q[3]);
     if (!(given.norm() > 1e-9)) r.fail(quaternion, "a quaternion must not be zero");
     program = given.normalized().toRotationMatrix();
   }
+  if (rpy.node.defined() == quaternion.node.defined()) r.fail(f, "an orientation needs exactly one of 'rpy_deg' or 'quaternion'");
   return Quat(sc.frame.linear() * program).normalized();
 }
 

@@ -364,6 +364,43 @@ TEST(Scenario, EveryShippedScenarioLoadsAndBlends) {
   EXPECT_GT(count, 10);
 }
 
+// The two orientation scenarios do what their headers say, for every variant: on the seam's
+// arc the torch keeps its angle to the tangent (its axis, projected on the seam's plane, turns
+// with the tangent; its tilt stays 30 degrees), and the pick-and-place gripper has turned by 150
+// degrees where the traverse ends and back where the return ends.
+TEST(Scenario, OrientationScenariosHoldTheTorchAngleAndTurnTheGripper) {
+  const Scenario seam = load_scenario(test::source_path("scenarios/torch_seam.yaml"));
+  for (const Variant& v : seam.variants) {
+    const Path path = blend(program_for(seam, v));
+    ASSERT_TRUE(path.oriented()) << v.name;
+    for (std::size_t k = 0; k < path.pieces().size(); ++k) {
+      const PathPiece& piece = path.pieces()[k];
+      if (piece.move != 1) continue;  // the arc
+      for (int i = 0; i <= 20; ++i) {
+        const double s = length(piece.segment) * i / 20;
+        const Vec3 axis = orientation_at(*piece.orientation, s).toRotationMatrix().col(2);
+        const Vec3 t = tangent(piece.segment, s);
+        const Vec3 flat(axis.x(), axis.y(), 0);
+        // the torch's lean lies along the tangent (pitch about the seam's normal) at 30 degrees
+        EXPECT_NEAR(std::abs(flat.normalized().dot(t)), 1.0, 1e-9) << v.name << " s = " << s;
+        EXPECT_NEAR(std::atan2(flat.norm(), -axis.z()), 30 * std::numbers::pi / 180, 1e-9) << v.name << " s = " << s;
+      }
+    }
+  }
+  const Scenario pick = load_scenario(test::source_path("scenarios/reorient_pick_place.yaml"));
+  const Quat down(Eigen::AngleAxisd(std::numbers::pi, Vec3::UnitX()));
+  const Quat turned = Quat(Eigen::AngleAxisd(150 * std::numbers::pi / 180, Vec3::UnitZ())) * down;
+  for (const Variant& v : pick.variants) {
+    const Path path = blend(program_for(pick, v));
+    // the place descent (move 3) and the final descent (move 6) run at the targets
+    for (const PathPiece& piece : path.pieces()) {
+      if (piece.move != 2 && piece.move != 5) continue;
+      const Quat expected = piece.move == 2 ? turned : down;
+      EXPECT_LE(rotation_angle(orientation_at(*piece.orientation, 0.5 * length(piece.segment)), expected), 1e-9) << v.name;
+    }
+  }
+}
+
 // The execution settings: defaults as documented (elastic arm, cascade at 2 kHz under 500 Hz
 // setpoints, one tick of delay, a 2^14-count motor encoder through ratio 100; settled within
 // 0.03 mm and 1 mm/s for 0.2 s), every key read and converted, bad values refused at the key.
