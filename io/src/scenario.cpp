@@ -2,6 +2,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -509,22 +510,64 @@ void read_simulation(const Reader& r, const Field& sim, double scale, Scenario& 
   }
 }
 
+// `video`: size, rate and camera (its keys depend on the camera's mode).
+void read_video(const Reader& r, const Field& video, double scale, Scenario& sc) {
+  r.check_keys(video, {"fps", "width", "height", "camera"});
+  if (const Field f = Reader::child(video, "fps"); f.node.IsDefined()) {
+    sc.video.fps = r.positive(f);
+    if (sc.video.fps < 24 || sc.video.fps > 120) r.fail(f, "fps must be between 24 and 120");
+  }
+  for (auto [key, target] : {std::pair{"width", &sc.video.width}, std::pair{"height", &sc.video.height}}) {
+    const Field f = Reader::child(video, key);
+    if (!f.node.IsDefined()) continue;
+    *target = r.integer(f);
+    if (*target < 64 || *target > 1920 || *target % 2 != 0) r.fail(f, "must be an even number of pixels in [64, 1920]");
+  }
+  const Field camera = Reader::child(video, "camera");
+  if (!camera.node.IsDefined()) return;
+  if (!camera.node.IsMap()) r.fail(camera, "expected a mapping (key: value pairs)");
+  VideoCamera& c = sc.video.camera;
+  if (const Field mode = Reader::child(camera, "mode"); mode.node.IsDefined()) {
+    c.mode = r.choice<CameraMode>(mode, "camera mode", {{"part", CameraMode::kPart}, {"fixed", CameraMode::kFixed}, {"tcp", CameraMode::kTcp}});
+  }
+  // each mode has its own keys; one of another mode is named as such
+  const char* mode_name = c.mode == CameraMode::kPart ? "part" : c.mode == CameraMode::kFixed ? "fixed" : "tcp";
+  const std::vector<std::string> keys = c.mode == CameraMode::kPart    ? std::vector<std::string>{"mode", "fill", "azimuth_deg", "elevation_deg"}
+                                        : c.mode == CameraMode::kFixed ? std::vector<std::string>{"mode", "position", "look_at", "fovy_deg"}
+                                                                       : std::vector<std::string>{"mode", "distance", "azimuth_deg", "elevation_deg", "fovy_deg"};
+  r.check_keys(camera, {"mode", "fill", "azimuth_deg", "elevation_deg", "position", "look_at", "distance", "fovy_deg"});
+  for (const auto& item : camera.node) {
+    const std::string key = item.first.as<std::string>();
+    if (std::find(keys.begin(), keys.end(), key) == keys.end()) {
+      std::string list;
+      for (const std::string& k : keys) list += (list.empty() ? "" : ", ") + k;
+      r.fail({item.first, Reader::join(camera.path, key)}, "not used with camera mode " + std::string(mode_name) + " (its keys: " + list + ")");
+    }
+  }
+  const auto in_range = [&](const char* key, double lo, double hi, const std::string& rule) -> std::optional<double> {
+    const Field f = Reader::child(camera, key);
+    if (!f.node.IsDefined()) return std::nullopt;
+    const double value = r.number(f);
+    if (value < lo || value > hi) r.fail(f, rule + ", got " + f.node.Scalar());
+    return value;
+  };
+  if (const auto v = in_range("fill", 0.1, 1, "the share of the frame the path fills must be in [0.1, 1]")) c.fill = *v;
+  c.azimuth_deg = in_range("azimuth_deg", -360, 360, "must be in [-360, 360] degrees");
+  c.elevation_deg = in_range("elevation_deg", -89, 89, "must be in [-89, 89] degrees (positive: above, looking down)");
+  if (const auto v = in_range("fovy_deg", 5, 120, "the vertical field of view must be in [5, 120] degrees")) c.fovy_deg = *v;
+  if (const Field f = Reader::child(camera, "distance"); f.node.IsDefined()) c.distance = r.positive(f) * scale;
+  if (c.mode == CameraMode::kFixed) {
+    c.position = r.vec3(r.require(camera, "position")) * scale;
+    const Field look = r.require(camera, "look_at");
+    c.look_at = r.vec3(look) * scale;
+    if ((c.look_at - c.position).norm() < 1e-6) r.fail(look, "the camera must look at a point other than its position");
+  }
+}
+
 void read_settings(const Reader& r, const Field& root, double scale, Scenario& sc) {
   if (const Field servo = Reader::child(root, "servo"); servo.node.IsDefined()) read_servo(r, servo, sc);
   if (const Field sim = Reader::child(root, "simulation"); sim.node.IsDefined()) read_simulation(r, sim, scale, sc);
-  if (const Field video = Reader::child(root, "video"); video.node.IsDefined()) {
-    r.check_keys(video, {"fps", "width", "height"});
-    if (const Field f = Reader::child(video, "fps"); f.node.IsDefined()) {
-      sc.video.fps = r.positive(f);
-      if (sc.video.fps < 24 || sc.video.fps > 120) r.fail(f, "fps must be between 24 and 120");
-    }
-    for (auto [key, target] : {std::pair{"width", &sc.video.width}, std::pair{"height", &sc.video.height}}) {
-      const Field f = Reader::child(video, key);
-      if (!f.node.IsDefined()) continue;
-      *target = r.integer(f);
-      if (*target < 64 || *target > 1920 || *target % 2 != 0) r.fail(f, "must be an even number of pixels in [64, 1920]");
-    }
-  }
+  if (const Field video = Reader::child(root, "video"); video.node.IsDefined()) read_video(r, video, scale, sc);
 }
 
 void read_variants(const Reader& r, const Field& root, double scale, Scenario& sc) {
