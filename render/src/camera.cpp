@@ -5,12 +5,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
+
+#include "blendbench/core/units.hpp"
 
 namespace blendbench {
 namespace {
 
-constexpr double kRad = std::numbers::pi / 180;
 // The elevation is kept below the pole, where azimuth and image-up lose their meaning.
 constexpr double kMaxElevationDeg = 89.9;
 // A best-fit plane is a line when its second spread is below this share of the first.
@@ -49,17 +49,17 @@ ImageBox image_box(const CameraPose& c, const std::vector<Vec3>& points) {
 Projection project(const CameraPose& camera, const Vec3& p, int width, int height) {
   const Vec3 d = p - camera.eye;
   const double z = d.dot(camera.forward);
-  const double f = 0.5 * height / std::tan(0.5 * camera.fovy_deg * kRad);
+  const double f = 0.5 * height / std::tan(0.5 * camera.fovy_deg * kDeg);
   return {0.5 * width + f * d.dot(camera.right()) / z, 0.5 * height - f * d.dot(camera.up) / z, z};
 }
 
 double pixel_size(const CameraPose& camera, double depth, int height) {
-  return depth * 2 * std::tan(0.5 * camera.fovy_deg * kRad) / height;
+  return depth * 2 * std::tan(0.5 * camera.fovy_deg * kDeg) / height;
 }
 
 CameraPose orbit_camera(const Vec3& target, double azimuth_deg, double elevation_deg, double distance, double fovy_deg) {
-  const double az = azimuth_deg * kRad;
-  const double el = std::clamp(elevation_deg, -kMaxElevationDeg, kMaxElevationDeg) * kRad;
+  const double az = azimuth_deg * kDeg;
+  const double el = std::clamp(elevation_deg, -kMaxElevationDeg, kMaxElevationDeg) * kDeg;
   const Vec3 towards_eye(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
   CameraPose c;
   c.eye = target + distance * towards_eye;
@@ -122,10 +122,10 @@ ViewAngles default_view(const std::vector<Vec3>& points, const Vec3& base) {
   // in the plane: away from the base and up, turned about the normal
   Vec3 h0 = (away + z) - (away + z).dot(n) * n;
   h0 = h0.norm() > 1e-9 ? Vec3(h0.normalized()) : any_perpendicular(n);
-  const double turn = kViewTurnDeg * kRad, tilt = kViewFromNormalDeg * kRad;
+  const double turn = kViewTurnDeg * kDeg, tilt = kViewFromNormalDeg * kDeg;
   const Vec3 h = std::cos(turn) * h0 + std::sin(turn) * n.cross(h0);
   const Vec3 towards_eye = std::cos(tilt) * n + std::sin(tilt) * h;
-  return {std::atan2(towards_eye.y(), towards_eye.x()) / kRad, std::asin(std::clamp(towards_eye.z(), -1.0, 1.0)) / kRad};
+  return {std::atan2(towards_eye.y(), towards_eye.x()) / kDeg, std::asin(std::clamp(towards_eye.z(), -1.0, 1.0)) / kDeg};
 }
 
 CameraPose frame_part(const std::vector<Vec3>& points, const Vec3& base, double aspect, const PartFraming& framing) {
@@ -161,11 +161,11 @@ CameraPose frame_part(const std::vector<Vec3>& points, const Vec3& base, double 
     // share = f / H * max(box width / aspect, box height) in normalised units
     const double spread = std::max((box.x1 - box.x0) / aspect, box.y1 - box.y0);
     const double tan_half = 0.5 * spread / framing.fill;
-    camera.fovy_deg = 2 * std::atan(tan_half) / kRad;
+    camera.fovy_deg = 2 * std::atan(tan_half) / kDeg;
     // outside the usable range: the distance changes (extents scale about as 1 / distance)
     const double limit = camera.fovy_deg < kMinFovyDeg ? kMinFovyDeg : camera.fovy_deg > kMaxFovyDeg ? kMaxFovyDeg : 0;
     if (limit == 0 || !(spread > 0)) break;
-    const double scaled = distance * tan_half / std::tan(0.5 * limit * kRad);
+    const double scaled = distance * tan_half / std::tan(0.5 * limit * kDeg);
     // never so close that part of the path comes to lie behind the eye
     if (scaled < 0.75 * diagonal || attempt + 1 == kDistanceIterations) {
       camera.fovy_deg = std::clamp(camera.fovy_deg, kMinFovyDeg, kMaxFovyDeg);

@@ -4,17 +4,15 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
-#include <numbers>
 #include <stdexcept>
 
+#include "blendbench/core/units.hpp"
 #include "blendbench/render/video.hpp"
 
 namespace blendbench {
 namespace {
 
-constexpr double kRad = std::numbers::pi / 180;
-constexpr double kMm = 1e3;
-constexpr double kUm = 1e6;  // the overlay writes micrometres "um" (the font is ASCII)
+constexpr double kUm = 1e-6;  // m; the overlay writes micrometres "um" (the font is ASCII)
 // Lines at a view 480 pixels tall (scaled with the view's height): drawn in this order, each
 // narrower than the one before, so that where they coincide all three show.
 constexpr double kReferenceHeight = 480;
@@ -229,8 +227,8 @@ const std::vector<std::uint8_t>& VariantVideo::frame(int k) {
   r.renderer.draw_panel(all, Corner::kTopLeft,
                         {{"time", fixed(t, 2) + " s"},
                          {"variant", r.film.name},
-                         {"path speed", fixed(value_at(r.film.speed, i) * kMm, 1) + " mm/s"},
-                         {"tracking error", fixed(value_at(r.film.tracking_error, i) * kUm, 1) + " um"}});
+                         {"path speed", fixed(value_at(r.film.speed, i) / kMm, 1) + " mm/s"},
+                         {"tracking error", fixed(value_at(r.film.tracking_error, i) / kUm, 1) + " um"}});
   r.renderer.draw_legend(all, Corner::kBottomLeft, legend());
   if (const std::string done = done_text(r.film, t); !done.empty()) {
     bottom_label(r.renderer, {all.width / 3, 0, all.width - all.width / 3, all.height}, done,
@@ -326,7 +324,7 @@ struct CompareVideo::Impl {
     if (!(depth > 0)) depth = kMinPartDistance;
     zoom_camera = base_camera;
     zoom_camera.eye = corner.point - depth * base_camera.forward;
-    zoom_camera.fovy_deg = 2 * std::atan(half / depth) / kRad;
+    zoom_camera.fovy_deg = 2 * std::atan(half / depth) / kDeg;
     const double zoom_tolerance = tolerance_for(zoom_camera, corner.point, layout.cell_height);
     for (const VariantFilm& film : films) {
       zoom_lines.push_back(view_lines(settings.programmed, film, zoom_tolerance));
@@ -399,8 +397,8 @@ struct CompareVideo::Impl {
                 lines[static_cast<std::size_t>(i)], film, t, nq, {});
       renderer.draw_panel(cell, Corner::kTopLeft,
                           {{"variant", film.name},
-                           {"path speed", fixed(value_at(film.speed, s) * kMm, 1) + " mm/s"},
-                           {"tracking error", fixed(value_at(film.tracking_error, s) * kUm, 1) + " um"}});
+                           {"path speed", fixed(value_at(film.speed, s) / kMm, 1) + " mm/s"},
+                           {"tracking error", fixed(value_at(film.tracking_error, s) / kUm, 1) + " um"}});
       if (std::string done = done_text(film, t); !done.empty()) {
         if (film.done_time) done += " (" + ordinal(ranks[static_cast<std::size_t>(i)]) + ")";
         bottom_label(renderer, cell, done, film.done_time ? kDoneColour : kNotSettledColour);
@@ -411,10 +409,10 @@ struct CompareVideo::Impl {
 
   const std::vector<std::uint8_t>& zoomed(int j) {
     const double tau = -zoom_half_window + j / (settings.fps * kSlowMotion);
-    const Vec3 p = corner.point * kMm;
+    const Vec3 p = corner.point / kMm;
     char where[96];
     std::snprintf(where, sizeof where, "(%.0f, %.0f, %.0f) mm", p.x(), p.y(), p.z());
-    const std::string error = fixed(corner.contour_error * kMm, 3) + " mm";
+    const std::string error = fixed(corner.contour_error / kMm, 3) + " mm";
     draw_header({"worst corner " + std::to_string(corner.index + 1) + " at " + std::string(where) + ": contour error up to " + error +
                      "   slow motion 1/" + std::to_string(kSlowMotion) + ", each variant at its own passage",
                  "worst corner " + std::to_string(corner.index + 1) + ": up to " + error + ", slow motion 1/" +
@@ -438,8 +436,8 @@ struct CompareVideo::Impl {
       renderer.draw_panel(cell, Corner::kTopLeft,
                           {{"variant", film.name},
                            {"time", fixed(t, 3) + " s"},
-                           {"contour error", fixed(value_at(film.contour_error, s) * kMm, 3) + " mm"},
-                           {"max at this corner", fixed(corner_error[u] * kMm, 3) + " mm"}});
+                           {"contour error", fixed(value_at(film.contour_error, s) / kMm, 3) + " mm"},
+                           {"max at this corner", fixed(corner_error[u] / kMm, 3) + " mm"}});
     }
     return renderer.read();
   }
