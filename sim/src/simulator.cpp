@@ -12,6 +12,7 @@
 
 #include "blendbench/core/format.hpp"
 #include "blendbench/core/input_error.hpp"
+#include "blendbench/core/interrupt.hpp"
 
 namespace blendbench {
 namespace {
@@ -247,6 +248,8 @@ Trace Simulator::run(const JointReference& reference, const ServoConfig& servo, 
 
   for (long step = 0; step <= last_step; ++step) {
     const double t_step = static_cast<double>(step) * h;
+    // a stop request (SIGINT/SIGTERM) unwinds from here, every ~1 s of simulated time at 1 ms
+    if (step % 1024 == 0) throw_if_stop_requested();
 
     // position and velocity stages: poses and bias forces now describe the state at t_step
     mj_step1(&m, d.get());

@@ -99,7 +99,8 @@ class Simulator {
   // qpos0). Each physics step is mj_step1, the servo tick when one falls due, mj_step2 — MuJoCo's
   // split for control between stages; it integrates with Euler or implicit as the model says
   // (an RK4 model is integrated with Euler). Throws InputError (field "reference.*" or "servo.*") for a malformed reference or
-  // servo; a physically unstable run is not an error but a Trace with diverged = true.
+  // servo; a physically unstable run is not an error but a Trace with diverged = true. Throws
+  // Interrupted (core/interrupt.hpp) within ~1024 steps of a stop request (SIGINT/SIGTERM).
   [[nodiscard]] Trace run(const JointReference& reference, const ServoConfig& servo,
                           const RunOptions& options) const;
 
