@@ -1,5 +1,7 @@
 #include "blendbench/report/output.hpp"
 
+#include "blendbench/core/input_error.hpp"
+
 #include <gtest/gtest.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
@@ -95,6 +97,84 @@ TEST_F(OutputTest, FailsWhenTheTargetIsADirectory) {
   int entries = 0;
   for (const auto& e : fs::directory_iterator(dir_)) entries += e.is_regular_file() ? 1 : 0;
   EXPECT_EQ(entries, 0) << "the temporary file must be removed";
+}
+
+// A symbolic link, a FIFO or a device given as an output is never replaced by a regular file,
+// and a symbolic link planted at the temporary name is not followed.
+TEST_F(OutputTest, NonRegularTargetsAreRefusedAndKept) {
+  fs::create_directories(dir_);
+  const fs::path elsewhere = dir_ / "elsewhere.txt";
+  std::ofstream(elsewhere) << "keep";
+  fs::create_symlink(elsewhere, dir_ / "link.csv");
+  ASSERT_EQ(::mkfifo((dir_ / "fifo.csv").c_str(), 0644), 0);
+  for (const char* name : {"link.csv", "fifo.csv"}) {
+    SCOPED_TRACE(name);
+    try {
+      write_file_atomic(dir_ / name, "x");
+      ADD_FAILURE() << "expected a refusal";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("refusing to replace"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_TRUE(fs::is_symlink(dir_ / "link.csv"));
+  EXPECT_EQ(fs::symlink_status(dir_ / "fifo.csv").type(), fs::file_type::fifo);
+  EXPECT_EQ(slurp(elsewhere), "keep");
+  EXPECT_THROW(write_file_atomic("/dev/null", "x"), std::runtime_error);
+
+  // a link at the temporary name (a stale one, or planted) is replaced, not written through
+  const fs::path target = dir_ / "out.csv";
+  fs::create_symlink(elsewhere, temporary_path_for(target));
+  write_file_atomic(target, "new");
+  EXPECT_EQ(slurp(target), "new");
+  EXPECT_EQ(slurp(elsewhere), "keep");
+  EXPECT_FALSE(fs::exists(fs::symlink_status(temporary_path_for(target))));
+}
+
+// Two outputs naming one file, however spelled, are refused before any work; distinct files
+// and options not given pass.
+TEST_F(OutputTest, OutputsNamingTheSameFileAreRefused) {
+  fs::create_directories(dir_ / "sub");
+  fs::create_directory_symlink(dir_ / "sub", dir_ / "alias");
+  std::ofstream(dir_ / "sub" / "a.csv") << "x";
+  ASSERT_EQ(::link((dir_ / "sub" / "a.csv").c_str(), (dir_ / "hard.csv").c_str()), 0);
+  const fs::path a = dir_ / "sub" / "a.csv";
+  const fs::path spellings[] = {dir_ / "sub" / "." / "a.csv", dir_ / "sub" / ".." / "sub" / "a.csv",
+                                dir_ / "alias" / "a.csv", dir_ / "hard.csv"};
+  for (const fs::path& other : spellings) {
+    SCOPED_TRACE(other.string());
+    try {
+      check_output_files({{"--csv", a}, {"--summary", other}});
+      ADD_FAILURE() << "expected a refusal";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.field(), "--summary");
+      EXPECT_NE(std::string(e.what()).find("names the same file as --csv"), std::string::npos) << e.what();
+    }
+  }
+  // the same for files that do not exist yet
+  EXPECT_THROW(check_output_files({{"--csv", dir_ / "new.csv"}, {"--summary", dir_ / "alias" / ".." / "new.csv"}}),
+               InputError);
+  EXPECT_NO_THROW(check_output_files({{"--csv", a}, {"--summary", dir_ / "sub" / "b.json"}, {"--report", ""}}));
+}
+
+TEST_F(OutputTest, NonRegularOutputsAreRefusedBeforeAnyWork) {
+  fs::create_directories(dir_ / "folder");
+  ASSERT_EQ(::mkfifo((dir_ / "fifo").c_str(), 0644), 0);
+  fs::create_symlink(dir_ / "nowhere", dir_ / "dangling");
+  const std::pair<fs::path, std::string> cases[] = {{dir_ / "folder", "a directory"},
+                                                    {dir_ / "fifo", "a FIFO"},
+                                                    {dir_ / "dangling", "a symbolic link"},
+                                                    {"/dev/null", "a device"}};
+  for (const auto& [path, kind] : cases) {
+    SCOPED_TRACE(path.string());
+    try {
+      check_output_files({{"--csv", path}});
+      ADD_FAILURE() << "expected a refusal";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.field(), "--csv");
+      EXPECT_NE(std::string(e.what()).find("exists and is " + kind + ", not a regular file"), std::string::npos)
+          << e.what();
+    }
+  }
 }
 
 TEST(FormatNumber, ShortestFormAndNonFinite) {
