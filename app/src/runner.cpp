@@ -9,6 +9,7 @@
 #include <optional>
 #include <sstream>
 
+#include "blendbench/core/interrupt.hpp"
 #include "blendbench/corner/blend.hpp"
 #include "blendbench/robot/ik.hpp"
 #include "blendbench/robot/joint_mapping.hpp"
@@ -18,6 +19,7 @@
 #include "blendbench/report/process.hpp"
 #include "blendbench/report/report.hpp"
 #include "blendbench/sim/simulator.hpp"
+#include "blendbench/sim/workspace.hpp"
 #include "blendbench/io/data_root.hpp"
 #include "blendbench/io/urdf_chain.hpp"
 #ifdef BLENDBENCH_HAS_RENDER
@@ -77,10 +79,16 @@ std::size_t move_at(const Path& path, double s) {
   return static_cast<std::size_t>(std::max(piece.corner, 0));
 }
 
-[[noreturn]] void fail_unreachable(const Scenario& sc, const Program& program, std::size_t move, const std::string& what) {
+// The error of move `move` of the program, positioned where it was written.
+InputError move_error(const Scenario& sc, const Program& program, std::size_t move, const std::string& what) {
   const SourceRef& where = program.moves[move].where;
-  throw InputError(where.file.empty() ? sc.file : where.file, where.line, where.column,
-                   "program.moves[" + std::to_string(move) + "]", what);
+  return {where.file.empty() ? sc.file : where.file, where.line, where.column,
+          "program.moves[" + std::to_string(move) + "]", what};
+}
+
+// The same as a message: "file:line:column: 'program.moves[i]': what".
+std::string at_move(const Scenario& sc, const Program& program, std::size_t move, const std::string& what) {
+  return move_error(sc, program, move, what).what();
 }
 
 // The scenario's servo: gains it gives, else the simulator's defaults for the start pose
@@ -100,7 +108,22 @@ struct Robot {
   KinematicChain chain;
   std::unique_ptr<IkSolver> ik;
   std::unique_ptr<Simulator> sim;
+  KeepOut keep_out;  // the floor and the base, which the model does not collide with
 };
+
+// The keep-out report of a variant (sim/workspace.hpp), mm and s; null where none applies.
+nlohmann::json workspace_json(const WorkspaceReport& w, const KeepOut& zones) {
+  return {{"floor_z_mm", finite_or_null(zones.floor_z * kMm)},
+          {"floor_clearance_mm", zones.floor_clearance * kMm},
+          {"tcp_z_min_mm", finite_or_null(w.tcp_z_min * kMm)},
+          {"below_floor", w.below_floor},
+          {"below_floor_t_s", finite_or_null(w.below_floor_t)},
+          {"base_radius_mm", zones.base_radius * kMm},
+          {"base_top_mm", zones.base_top * kMm},
+          {"base_distance_min_mm", finite_or_null(w.base_distance_min * kMm)},
+          {"into_base", w.into_base},
+          {"into_base_t_s", finite_or_null(w.into_base_t)}};
+}
 
 // trace.csv: planned profile, commanded/actual TCP, errors and joints at every servo tick.
 std::string trace_csv(const Trace& trace, const Timing& timing, const Metrics& m) {
@@ -195,16 +218,17 @@ class VariantRun {
     std::vector<Eigen::Isometry3d> poses;
     poses.reserve(timing.samples.size());
     for (const TimedSample& s : timing.samples) poses.push_back(tool_pose(path.point(s.s), sc_.robot.tool_rotation));
+    // a variant whose path leaves the reach fails alone (the start was checked for all)
     const IkSolver::Result q0 = robot_.ik->solve(poses.front(), sc_.robot.q_seed);
     if (!q0.outcome.ok()) {
-      fail_unreachable(sc_, program, 0, "the start point " + pose_text(poses.front().translation()) +
-                                            " cannot be reached: " + q0.outcome.message);
+      return failed(out, at_move(sc_, program, 0, "the start point " + pose_text(poses.front().translation()) +
+                                                      " cannot be reached: " + q0.outcome.message));
     }
     const JointTrajectory joints = map_to_joints(*robot_.ik, poses, topt.dt, q0.q);
     if (!joints.outcome.ok()) {
       const double s = timing.samples[joints.failed_index].s;
-      fail_unreachable(sc_, program, move_at(path, s),
-                       "the path leaves the robot's reach or limits at " + joints.outcome.message);
+      return failed(out, at_move(sc_, program, move_at(path, s),
+                                 "the path leaves the robot's reach or limits at " + joints.outcome.message));
     }
     say("inverse kinematics for " + std::to_string(poses.size()) + " poses (" + format_fixed(seconds_since(start) * 1e3, 1) +
         " ms)");
@@ -273,6 +297,17 @@ class VariantRun {
     mopt.torque_limits = robot_.sim->torque_limits();
     const Metrics m = compute_metrics(trace, program, path, mopt);
     out.update(metrics_json(m, timing));
+    // the model has no contacts: say where the TCP goes through the floor or into the base
+    const WorkspaceReport workspace = check_workspace(trace, robot_.keep_out);
+    out["workspace"] = workspace_json(workspace, robot_.keep_out);
+    if (workspace.below_floor) {
+      say("warning: the TCP goes below the floor (z " + format_fixed(workspace.tcp_z_min * kMm, 1) + " mm, from t = " +
+          format_fixed(workspace.below_floor_t, 3) + " s); the model has no contacts");
+    }
+    if (workspace.into_base) {
+      say("warning: the TCP enters the robot's base (" + format_fixed(workspace.base_distance_min * kMm, 1) +
+          " mm from its axis, from t = " + format_fixed(workspace.into_base_t, 3) + " s); the model has no contacts");
+    }
     out["diverged"] = false;
     out["status"] = "ok";
     if (!trace.warning.empty()) out["warning"] = trace.warning;
@@ -305,6 +340,45 @@ class VariantRun {
   std::filesystem::path dir_;
 };
 
+// The program's start point is every variant's first pose: when the robot cannot reach it, the
+// scenario itself is bad input (InputError at the first move), found before any variant runs.
+void check_start_reachable(const Scenario& sc, const Robot& robot) {
+  if (sc.program.moves.empty()) return;
+  const IkSolver::Result q0 = robot.ik->solve(tool_pose(sc.start, sc.robot.tool_rotation), sc.robot.q_seed);
+  if (!q0.outcome.ok()) {
+    throw move_error(sc, sc.program, 0, "the start point " + pose_text(sc.start) + " cannot be reached: " + q0.outcome.message);
+  }
+}
+
+// One variant, failing alone: an exception other than bad input (a file or video that cannot be
+// written, an internal error) becomes its status; a stop request (Interrupted, or ffmpeg ended by
+// the same Ctrl-C) marks it interrupted and removes its unfinished folder. InputError (a
+// variant's bad parameter is bad input of the scenario) propagates.
+nlohmann::json run_variant(const Scenario& sc, const Robot& robot, const RunRequest& request, const Variant& variant,
+                           int& interrupted_by) {
+  const std::filesystem::path dir = request.out_dir / variant.name;
+  const auto discard = [&] {
+    std::error_code ec;
+    std::filesystem::remove_all(dir, ec);
+  };
+  try {
+    return VariantRun(sc, robot, request, variant).run();
+  } catch (const Interrupted& stop) {
+    interrupted_by = stop.signal;
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    if (stop_signal() == 0) {
+      discard();
+      if (request.progress) request.progress("  " + variant.name + ": failed: " + e.what());
+      return {{"name", variant.name}, {"status", "failed"}, {"message", e.what()}};
+    }
+    interrupted_by = stop_signal();
+  }
+  discard();
+  return {{"name", variant.name}, {"status", "interrupted"}};
+}
+
 }  // namespace
 
 bool video_supported() {
@@ -335,6 +409,7 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
   robot.chain = load_urdf_chain(scenario.robot.urdf, scenario.robot.base_link, scenario.robot.tip_link);
   robot.ik = std::make_unique<IkSolver>(robot.chain);
   robot.sim = std::make_unique<Simulator>(scenario.robot.mjcf);
+  robot.keep_out = keep_out_of(robot.sim->model());
 
   RunResult result;
   result.summary = {{"scenario", scenario.name},
@@ -342,14 +417,20 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
                     {"description", scenario.description},
                     {"servo_rate_hz", scenario.servo.rate_hz},
                     {"variants", nlohmann::json::array()}};
+  check_start_reachable(scenario, robot);
   std::size_t index = 0;
   for (const Variant* variant : selected) {
     ++index;
+    if (result.interrupted_by == 0) result.interrupted_by = stop_signal();
+    if (result.interrupted_by != 0) {
+      result.summary["variants"].push_back({{"name", variant->name}, {"status", "interrupted"}});
+      continue;
+    }
     if (request.progress) {
       request.progress(std::string("[") + std::to_string(index) + "/" + std::to_string(selected.size()) + "] " +
                        variant->name);
     }
-    nlohmann::json v = VariantRun(scenario, robot, request, *variant).run();
+    nlohmann::json v = run_variant(scenario, robot, request, *variant, result.interrupted_by);
     result.all_ok = result.all_ok && v["status"] == "ok";
     result.summary["variants"].push_back(std::move(v));
   }
@@ -374,7 +455,7 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
   }
   write_file_atomic(request.out_dir / "summary.json", result.summary.dump(2) + "\n");
 
-  if (request.plots) {
+  if (request.plots && result.interrupted_by == 0) {
     const auto start = Clock::now();
     // an argument vector, no shell: the output folder is data, whatever characters it holds
     const ProcessResult plotted =

@@ -121,7 +121,7 @@ TEST_F(Cli, BadScenarioExitsTwoNamingFileLineAndField) {
       {"jerk: 20000", "jerky: 20000", "bad.yaml:5:47: 'defaults.jerky': unknown key"},
       {"defaults: {velocity: 200, acceleration: 2000, jerk: 20000}", "defaults: {velocity: 200, acceleration: 2000}",
        "bad.yaml:5:11: 'defaults.jerk': missing required field"},
-      {"line: [60, 60, 0]", "line: [60, 900, 0]", "bad.yaml:12:7: 'program.moves[1]'"},
+      {"origin: [400, -50, 250]", "origin: [1400, -50, 250]", "bad.yaml:11:7: 'program.moves[0]': the start point"},
   };
   for (const Case& c : cases) {
     const std::string file = scenario_with(c.from, c.to);

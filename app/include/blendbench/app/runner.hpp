@@ -26,12 +26,17 @@ struct RunRequest {
 struct RunResult {
   nlohmann::json summary;  // what summary.json holds
   bool all_ok = true;      // every variant ran without divergence or planning failure
+  int interrupted_by = 0;  // the signal that stopped the run (core/interrupt.hpp), 0 when none
 };
 
-// Runs the scenario. Throws InputError for bad input found on the way (an unknown variant
-// name, a target the robot cannot reach: the error names the move's file, line and field), and
-// std::runtime_error when results cannot be written. A variant whose simulation diverges or
-// whose plan fails is recorded with its status and message and the others still run.
+// Runs the scenario. Throws InputError for bad input of the whole scenario (an unknown variant
+// name, a start point the robot cannot reach, a variant's invalid transition: the error names
+// the file, line and field), and std::runtime_error when summary.json cannot be written. A
+// variant that cannot be planned, whose path leaves the robot's reach or limits, whose
+// simulation diverges or whose files cannot be written is recorded with status "failed" and a
+// message (naming the move where it applies) and the others still run. A stop request
+// (SIGINT/SIGTERM) ends the variant in progress (its folder removed), marks it and the rest
+// "interrupted", writes summary.json without plots and returns with interrupted_by set.
 RunResult run_scenario(const Scenario& scenario, const RunRequest& request);
 
 // Whether this build can render videos.
