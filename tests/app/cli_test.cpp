@@ -242,6 +242,25 @@ TEST_F(Cli, PlanAndPathOfAGcodeProgramKeepTheirContract) {
   EXPECT_NEAR(path.columns.at("s").back(), summary["path_length_mm"].get<double>(), 1e-6);
 }
 
+// A corner from rest to rest: the velocity planner's span over the whole path has zero velocity
+// at both ends, which once reached plan_scurve with a zero peak velocity (an assertion in a build
+// with assertions on, as the sanitizer build of the test command is). The plan stops at both ends
+// and holds the feed between.
+TEST_F(Cli, ACornerFromRestToRestIsPlannedWithAssertionsOn) {
+  const fs::path part = dir_ / "corner.ngc";
+  std::ofstream(part) << "G21 G90 G64 P1\nG1 F600 X0 Y0\nX10\nY10\nM2\n";
+  const Result r = run("plan " + part.string() + " --amax 1000 --jmax 10000 --csv " + (dir_ / "t.csv").string() +
+                       " --summary " + (dir_ / "s.json").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const blendbench::test::Csv profile = blendbench::test::read_csv(dir_ / "t.csv");
+  const std::vector<double>& v = profile.columns.at("v");
+  ASSERT_GT(v.size(), 10u);
+  EXPECT_EQ(v.front(), 0.0);
+  EXPECT_EQ(v.back(), 0.0);
+  EXPECT_LE(*std::max_element(v.begin(), v.end()), 600.0 / 60 * (1 + 1e-9));
+  EXPECT_GT(*std::max_element(v.begin(), v.end()), 0.0);
+}
+
 // --start-distance sizes every biclothoid by where it starts; misuse is bad input, naming the flag.
 TEST_F(Cli, StartDistanceSizesBiclothoidsAndIsRefusedElsewhere) {
   const fs::path part = dir_ / "rect.ngc";
