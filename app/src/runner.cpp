@@ -350,6 +350,14 @@ void check_start_reachable(const Scenario& sc, const Robot& robot) {
   }
 }
 
+// The summary entry of a variant that did not finish: what identifies it, and `status`.
+nlohmann::json unfinished(const Scenario& sc, const Variant& variant, const std::string& status) {
+  return {{"name", variant.name},
+          {"method", std::string(to_string(variant_method(sc.program, variant)))},
+          {"baseline", variant.baseline},
+          {"status", status}};
+}
+
 // One variant, failing alone: an exception other than bad input (a file or video that cannot be
 // written, an internal error) becomes its status; a stop request (Interrupted, or ffmpeg ended by
 // the same Ctrl-C) marks it interrupted and removes its unfinished folder. InputError (a
@@ -371,12 +379,14 @@ nlohmann::json run_variant(const Scenario& sc, const Robot& robot, const RunRequ
     if (stop_signal() == 0) {
       discard();
       if (request.progress) request.progress("  " + variant.name + ": failed: " + e.what());
-      return {{"name", variant.name}, {"status", "failed"}, {"message", e.what()}};
+      nlohmann::json out = unfinished(sc, variant, "failed");
+      out["message"] = e.what();
+      return out;
     }
     interrupted_by = stop_signal();
   }
   discard();
-  return {{"name", variant.name}, {"status", "interrupted"}};
+  return unfinished(sc, variant, "interrupted");
 }
 
 }  // namespace
@@ -423,7 +433,7 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
     ++index;
     if (result.interrupted_by == 0) result.interrupted_by = stop_signal();
     if (result.interrupted_by != 0) {
-      result.summary["variants"].push_back({{"name", variant->name}, {"status", "interrupted"}});
+      result.summary["variants"].push_back(unfinished(scenario, *variant, "interrupted"));
       continue;
     }
     if (request.progress) {
