@@ -5,6 +5,11 @@
 #
 #   bash tools/bootstrap.sh run [extra arguments for `blendbench run`]
 #   bash tools/bootstrap.sh test
+#
+# "test" runs, in order: the GCC Release build (build/) and its suite; a clang build of the whole
+# project with assertions on, AddressSanitizer and UndefinedBehaviorSanitizer (build-clang/,
+# Debug at -O1) and the same suite there; then each libFuzzer harness for
+# BLENDBENCH_FUZZ_SECONDS (default 60) s. It prints how long each step took.
 set -euo pipefail
 
 mode=${1:-}
@@ -23,6 +28,10 @@ packages=(
   libcli11-dev nlohmann-json3-dev googletest libgtest-dev libbenchmark-dev
   ffmpeg python3 python3-matplotlib python3-numpy python3-pil python3-yaml
 )
+# the sanitizer and fuzzing build of the test command: clang with its sanitizer run-times
+if [ "$mode" = test ]; then
+  packages+=(clang libclang-rt-14-dev)
+fi
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -45,11 +54,32 @@ if [ ${#missing[@]} -gt 0 ]; then
 fi
 
 jobs=$(nproc 2>/dev/null || echo 2)
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
-cmake --build build -j "$jobs"
+# how long each step took, printed at the end of "test"
+times=()
+step() {
+  local name=$1 start=$SECONDS
+  shift
+  "$@"
+  times+=("$name $((SECONDS - start)) s")
+}
+
+# configure (once) and build: build_in DIR CMAKE_ARGUMENTS...
+build_in() {
+  local dir=$1
+  shift
+  cmake -S . -B "$dir" -G Ninja "$@"
+  cmake --build "$dir" -j "$jobs"
+}
+
+step "gcc build" build_in build -DCMAKE_BUILD_TYPE=Release
 
 if [ "$mode" = run ]; then
   exec build/blendbench run "$@"
-else
-  exec ctest --test-dir build --output-on-failure -j "$jobs" "$@"
 fi
+
+step "gcc ctest" ctest --test-dir build --output-on-failure -j "$jobs" "$@"
+# clang, assertions on, ASan + UBSan, libFuzzer's coverage (cmake/BlendbenchSanitize.cmake)
+step "clang build" build_in build-clang -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Debug -DBLENDBENCH_FUZZ=ON
+step "clang ctest" ctest --test-dir build-clang --output-on-failure -j "$jobs" "$@"
+step "fuzzing" bash tests/fuzz/run_fuzzers.sh build-clang "${BLENDBENCH_FUZZ_SECONDS:-60}"
+echo "bootstrap: test steps: $(IFS=';'; echo "${times[*]}" | sed 's/;/; /g')"
