@@ -28,9 +28,10 @@ packages=(
   libcli11-dev nlohmann-json3-dev googletest libgtest-dev libbenchmark-dev
   ffmpeg python3 python3-matplotlib python3-numpy python3-pil python3-yaml
 )
-# the sanitizer and fuzzing build of the test command: clang with its sanitizer run-times
+# the test suite also brings up a one-machine Slurm for the sweep's job-array test, and the
+# sanitizer and fuzzing build needs clang with its sanitizer run-times
 if [ "$mode" = test ]; then
-  packages+=(clang libclang-rt-14-dev)
+  packages+=(slurm-wlm munge clang libclang-rt-14-dev)
 fi
 missing=()
 for p in "${packages[@]}"; do

@@ -23,6 +23,7 @@
 #include "blendbench/core/interrupt.hpp"
 #include "blendbench/papers/reproduce.hpp"
 #include "blendbench/app/runner.hpp"
+#include "blendbench/app/sweep.hpp"
 #include "blendbench/io/scenario.hpp"
 
 namespace bb = blendbench;
@@ -327,6 +328,23 @@ int main(int argc, char** argv) {
   reproduce->add_option("--out", papers_out, "Parent folder; each paper goes to DIR/<paper>/ (default: results/papers)");
   reproduce->add_flag("--no-plots", no_paper_plots, "Do not draw the figures");
 
+  bb::SweepCommand sweep_args;
+  bool sweep_no_plots = false;
+  CLI::App* sweep = app.add_subcommand("sweep", "Run a scenario over the product of axes, locally or as a Slurm array; tables and a Pareto front");
+  sweep->add_option("file", sweep_args.file, "Sweep YAML file (scenario, variants, axes, metrics, constraints, pareto)");
+  sweep->add_option("--out", sweep_args.out_dir, "Output folder (default: results/runs/sweeps/<file name>)");
+  sweep->add_option("--jobs", sweep_args.jobs, "Runs at a time (default: every core)");
+  sweep->add_flag("--resume", sweep_args.resume, "Skip points whose run finished (same expanded scenario)");
+  sweep->add_flag("--no-plots", sweep_no_plots, "Do not draw pareto.png");
+  sweep->add_flag("--slurm", sweep_args.slurm, "Write DIR/sweep.sbatch (a job array of shards) and submit it with sbatch");
+  sweep->add_option("--array-size", sweep_args.array_size, "Slurm array tasks (default: one per point, at most 100)");
+  sweep->add_option("--partition", sweep_args.partition, "Slurm partition");
+  sweep->add_option("--time", sweep_args.time, "Slurm time limit per task");
+  sweep->add_flag("--dry-run", sweep_args.dry_run, "With --slurm: write the script only");
+  sweep->add_option("--shard", sweep_args.shard, "Run shard I of K (I/K, from 0), as a Slurm task does");
+  sweep->add_option("--collect", sweep_args.collect, "Merge a sweep folder's results into sweep.csv, best.csv, pareto.png");
+  sweep->add_option("--run-point", sweep_args.run_point, "")->group("");  // the child that runs one point
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -340,9 +358,14 @@ int main(int argc, char** argv) {
     if (*plan) return cmd_plan(input, flags, csv, summary);
     if (*check) return cmd_check(run_dir, baseline, update);
     if (*reproduce) return bb::reproduce(paper, papers_out, !no_paper_plots, std::cout);
+    if (*sweep) {
+      sweep_args.plots = !sweep_no_plots;
+      return bb::sweep_command(sweep_args, std::cout);
+    }
   } catch (const bb::Interrupted& stop) {
-    // unwound: temporary files and the staging folder are gone, previous outputs untouched
-    std::cerr << "blendbench: interrupted by " << signal_name(stop.signal) << ": nothing written" << std::endl;
+    // unwound: temporary files and a staging folder are gone, previous outputs untouched (a
+    // sweep keeps the points it finished, for --resume)
+    std::cerr << "blendbench: interrupted by " << signal_name(stop.signal) << "; no output file was replaced" << std::endl;
     return kExitSignalBase + stop.signal;
   } catch (const bb::InputError& e) {
     std::cerr << "blendbench: error: " << e.what() << std::endl;

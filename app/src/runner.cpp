@@ -311,10 +311,12 @@ class VariantRun {
     out["diverged"] = false;
     out["status"] = "ok";
     if (!trace.warning.empty()) out["warning"] = trace.warning;
-    write_file_atomic(dir_ / "trace.csv", trace_csv(trace, timing, m));
-    write_file_atomic(dir_ / "path.csv", path_csv(path, kCsvStep));
-    write_file_atomic(dir_ / "program.csv", program_csv(program, kCsvStep));
-    write_file_atomic(dir_ / "corners.json", out["corners"].dump(2) + "\n");
+    if (request_.variant_files) {
+      write_file_atomic(dir_ / "trace.csv", trace_csv(trace, timing, m));
+      write_file_atomic(dir_ / "path.csv", path_csv(path, kCsvStep));
+      write_file_atomic(dir_ / "program.csv", program_csv(program, kCsvStep));
+      write_file_atomic(dir_ / "corners.json", out["corners"].dump(2) + "\n");
+    }
     std::string cycle = m.cycle_time ? format_fixed(*m.cycle_time, 3) + " s" : std::string("not settled");
     say("cycle " + cycle + ", tracking error max " + format_fixed(m.tracking_error_max * kMm, 3) + " mm, contour error max " +
         format_fixed(m.contour_error_max * kMm, 3) + " mm");

@@ -12,7 +12,7 @@ extern char** environ;
 
 namespace blendbench {
 
-ProcessResult run_process(const std::vector<std::string>& argv) {
+ProcessResult run_process(const std::vector<std::string>& argv, const ProcessOptions& options) {
   ProcessResult result;
   if (argv.empty()) {
     result.message = "no program to run";
@@ -26,6 +26,12 @@ ProcessResult run_process(const std::vector<std::string>& argv) {
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+  if (!options.output_file.empty()) {
+    // opened in the child only: the caller holds no descriptor that other children could inherit
+    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, options.output_file.c_str(),
+                                     O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  }
   pid_t pid = -1;
   const int rc = posix_spawnp(&pid, pointers[0], &actions, nullptr, pointers.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
@@ -40,6 +46,8 @@ ProcessResult run_process(const std::vector<std::string>& argv) {
       return result;
     }
   }
+  if (WIFEXITED(status)) result.exit_status = WEXITSTATUS(status);
+  if (WIFSIGNALED(status)) result.signal = WTERMSIG(status);
   if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
     result.ok = true;
   } else if (WIFEXITED(status)) {

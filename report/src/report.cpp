@@ -74,8 +74,8 @@ nlohmann::json corners_json(const Path& path) {
     out.push_back({
         {"index", c.index},
         {"method", std::string(to_string(c.method))},
-        {"case", c.case_name},
-        {"fallback", c.fallback},
+        {"case", std::string(to_string(c.corner_case))},
+        {"fallback", std::string(to_string(c.fallback))},
         {"note", c.note},
         {"parameter_mm", c.parameter * kMm},
         {"length_mm", c.length * kMm},

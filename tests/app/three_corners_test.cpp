@@ -102,8 +102,8 @@ TEST_P(ThreeCorners, ReportsNameTheCaseOfEveryCorner) {
     const CornerReport& r = p.path.corners[k];
     EXPECT_EQ(r.index, k);
     EXPECT_EQ(r.method, e.method) << "corner " << k;
-    EXPECT_EQ(r.case_name, e.cases[k]) << "corner " << k;
-    EXPECT_EQ(r.fallback, e.fallbacks[k]) << "corner " << k;
+    EXPECT_EQ(to_string(r.corner_case), e.cases[k]) << "corner " << k;
+    EXPECT_EQ(to_string(r.fallback), e.fallbacks[k]) << "corner " << k;
     EXPECT_TRUE(r.note.empty()) << "corner " << k << ": " << r.note;
     EXPECT_EQ(r.stop, e.method == Method::kNone) << "corner " << k;
   }
@@ -126,7 +126,7 @@ TEST_P(ThreeCorners, TangentContinuousExceptReportedKinks) {
     const bool bare = pieces[k - 1].move >= 0 && pieces[k].move == pieces[k - 1].move + 1;
     if (bare) {
       const CornerReport& r = p.path.corners[pieces[k - 1].move];
-      EXPECT_TRUE(r.method == Method::kNone || r.fallback == "exact_stop") << "junction " << k;
+      EXPECT_TRUE(r.method == Method::kNone || r.fallback == Fallback::kExactStop) << "junction " << k;
       EXPECT_TRUE(r.stop && pieces[k].stop_before) << "junction " << k;
       EXPECT_NEAR(pieces[k].kink_angle, turn, kKinkAngle) << "junction " << k;
       kinks.push_back(turn);

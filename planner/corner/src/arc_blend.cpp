@@ -117,7 +117,7 @@ struct Candidate {
   double trim_in = 0;
   double trim_out = 0;
   std::vector<Segment> transition;
-  std::string case_name = "regular";
+  CornerCase corner_case = CornerCase::kRegular;
   bool kink = false;  // zero-length transition at a tangent discontinuity
   std::string why;    // why the candidate was rejected
 };
@@ -312,7 +312,7 @@ Candidate solve_planar(const Corner& k, const Plane& pl, bool fixed_in, double d
   cand.trim_out = fixed_in ? s2c : d;
   if (zero_length) {
     cand.verdict = Verdict::kValid;
-    cand.case_name = "intersection";
+    cand.corner_case = CornerCase::kIntersection;
     cand.kink = true;
     return cand;
   }
@@ -352,7 +352,7 @@ Candidate solve_planar(const Corner& k, const Plane& pl, bool fixed_in, double d
 
   const Vec3 m = tau >= 0 ? n.cross(ts) : Vec3(-n.cross(ts));
   cand.transition.push_back(circular_piece(ps, ts, m.normalized(), std::abs(tau), len, ps + chord_se));
-  cand.case_name = std::abs(tau) <= kLineTurn ? "line_segment" : "regular";
+  cand.corner_case = std::abs(tau) <= kLineTurn ? CornerCase::kLineSegment : CornerCase::kRegular;
   cand.verdict = Verdict::kValid;
   return cand;
 }
@@ -371,9 +371,9 @@ Segment tangent_arc(const Vec3& p, const Vec3& t, const Vec3& t_end, double a) {
   return circular_piece(p, t, m, phi, len, end);
 }
 
-CornerFit kink_fit(const Corner& k, const std::string& case_name, double trim_in, double trim_out) {
+CornerFit kink_fit(const Corner& k, CornerCase corner_case, double trim_in, double trim_out) {
   CornerFit fit;
-  fit.case_name = case_name;
+  fit.corner_case = corner_case;
   fit.trim_in = trim_in;
   fit.trim_out = trim_out;
   fit.parameter_used = std::max(trim_in, trim_out);
@@ -399,19 +399,19 @@ CornerFit fit_line_line(const Corner& k, double d_req) {
 
   // 0 degrees (001 fig. 7-4): path unchanged, a linear transition move of length 2d
   if (k.theta <= kStraightAngle) {
-    fit.case_name = "collinear";
+    fit.corner_case = CornerCase::kCollinear;
     if (d > 0) fit.transition.push_back(Line{p1, p2});
     return fit;
   }
   // 180 degrees (001 fig. 7-3): both shortened by d, meeting at the same point; the kink stays
   if (k.theta >= kPi - kStraightAngle) {
-    CornerFit kink = kink_fit(k, "reversal", d, d);
+    CornerFit kink = kink_fit(k, CornerCase::kReversal, d, d);
     kink.note = note;
     return kink;
   }
   // zero distance (001 fig. 7-5): nothing inserted, only blending is affected
   if (d <= 0) {
-    CornerFit kink = kink_fit(k, "zero_distance", 0, 0);
+    CornerFit kink = kink_fit(k, CornerCase::kZeroDistance, 0, 0);
     kink.note = note;
     return kink;
   }
@@ -432,8 +432,8 @@ CornerFit fit_line_line(const Corner& k, double d_req) {
 CornerFit fit_biarc(const Corner& k, double d_req) {
   const double d = std::min({d_req, k.avail_in, k.avail_out});
   CornerFit fit;
-  fit.case_name = "non_planar";
-  fit.fallback = "biarc";
+  fit.corner_case = CornerCase::kNonPlanar;
+  fit.fallback = Fallback::kBiarc;
   fit.trim_in = d;
   fit.trim_out = d;
   fit.parameter_used = d;
@@ -469,12 +469,12 @@ CornerFit fit_same_circle(const Corner& k, const Arc& a_in, bool same_direction,
   const double d = std::min({d_req, k.avail_in, k.avail_out});
   const std::string note = d < d_req ? shrink_note(d_req, d, "a move is short") : "";
   if (!same_direction) {
-    CornerFit fit = kink_fit(k, "same_circle_opposite_direction", d, d);
+    CornerFit fit = kink_fit(k, CornerCase::kSameCircleOppositeDirection, d, d);
     fit.note = note;
     return fit;
   }
   CornerFit fit;
-  fit.case_name = "same_circle_same_direction";
+  fit.corner_case = CornerCase::kSameCircleSameDirection;
   fit.trim_in = d;
   fit.trim_out = d;
   fit.parameter_used = d;
@@ -492,7 +492,7 @@ CornerFit fit_tangent(const Corner& k, bool larger_in, bool opposite, double d_r
   const double avail = larger_in ? k.avail_in : k.avail_out;
   const double d = std::min(d_req, avail);
   CornerFit fit;
-  fit.case_name = opposite ? "tangent_opposite" : "tangent";
+  fit.corner_case = opposite ? CornerCase::kTangentOpposite : CornerCase::kTangent;
   fit.parameter_used = d;
   if (d < d_req) fit.note = shrink_note(d_req, d, "the larger-radius move is short");
   if (d <= 0) return fit;
@@ -511,7 +511,7 @@ CornerFit from_candidate(const Corner& k, const Candidate& cand, double d) {
   fit.trim_in = cand.trim_in;
   fit.trim_out = cand.trim_out;
   fit.transition = cand.transition;
-  fit.case_name = cand.case_name;
+  fit.corner_case = cand.corner_case;
   fit.parameter_used = d;
   fit.stop = cand.kink && k.buffered;
   return fit;
@@ -524,7 +524,7 @@ CornerFit fit_planar(const Corner& k, const Plane& pl, bool larger_in, double d_
   const bool reversal = k.theta >= kPi - kStraightAngle;
   const auto finish = [&](CornerFit fit) {
     if (reversal && !fit.transition.empty()) {
-      fit.case_name = "reversal";
+      fit.corner_case = CornerCase::kReversal;
       const std::string u_turn = "the moves part at the reversal: a U-turn arc joins them";
       fit.note = fit.note.empty() ? u_turn : u_turn + "; " + fit.note;
     }
@@ -544,7 +544,7 @@ CornerFit fit_planar(const Corner& k, const Plane& pl, bool larger_in, double d_
       const Candidate swapped = solve_planar(k, pl, !larger_in, d_swap);
       if (swapped.verdict == Verdict::kValid) {
         CornerFit fit = from_candidate(k, swapped, d_swap);
-        fit.fallback = "smaller_radius_shortened";
+        fit.fallback = Fallback::kSmallerRadiusShortened;
         fit.note = "no transition arc with the larger-radius move shortened by " + format_mm(d) + " (" + cand.why +
                    "); the smaller-radius move is shortened instead";
         if (d_swap < d_req) fit.note += "; " + shrink_note(d_req, d_swap, "the smaller-radius move is short");
@@ -653,7 +653,7 @@ CornerFit fit_arc_corner(const CornerInput& corner) {
   // zero distance (003): nothing inserted, only blending is affected
   const double avail_larger = larger_in ? k.avail_in : k.avail_out;
   if (std::min(d_req, avail_larger) <= 0) {
-    CornerFit fit = kink_fit(k, "zero_distance", 0, 0);
+    CornerFit fit = kink_fit(k, CornerCase::kZeroDistance, 0, 0);
     if (d_req > 0) fit.note = shrink_note(d_req, 0, "the larger-radius move has no length left");
     return fit;
   }

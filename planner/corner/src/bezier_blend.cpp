@@ -104,7 +104,8 @@ double min_energy_arm(const Vec3& p0, const Vec3& d, const Vec3& p2, const Vec3&
 // The result of one case: control points, or why there are none.
 struct Curve {
   std::vector<Vec3> points;
-  std::string fallback;
+  Fallback fallback = Fallback::kNone;
+  std::string fallback_why;  // why the fallback was needed, for the report's note
   bool non_planar = false;
 };
 
@@ -172,7 +173,8 @@ Curve line_to_circle(const End& a, const Vec3& b, const End& c, double l) {
       out.points = std::move(*cubic);
       return out;
     }
-    out.fallback = "quartic (000 eq. 14-17): the coplanar cubic of eq. 10-13 is not usable here: " + why;
+    out.fallback = Fallback::kQuartic;
+    out.fallback_why = "quartic (000 eq. 14-17): the coplanar cubic of eq. 10-13 is not usable here: " + why;
   }
   // 000 eq. 14-17: P2 = B, P3 from eq. 15, P1 on the line by minimum bending energy
   const Vec3 p3 = c.p - quartic_arm(c) * c.t;
@@ -234,7 +236,7 @@ CornerFit fit_bezier_corner(const CornerInput& corner) {
 
   // helices are outside 000 (lines and circles only): B is not in the osculating plane at P4
   if (is_helix(corner.in) || is_helix(corner.out)) {
-    fit.case_name = "non_planar";
+    fit.corner_case = CornerCase::kNonPlanar;
     fit.outcome = {Status::kInfeasible, "the bezier method (000) joins lines and circles only, not helices"};
     return fit;
   }
@@ -270,7 +272,7 @@ CornerFit fit_bezier_corner(const CornerInput& corner) {
   // reversal (180 degrees): no Bezier joins opposite tangents; the path must stop at the cusp
   // in every buffer mode (001 stops in Buffered; a cusp cannot be passed at speed in any)
   if (angle >= std::numbers::pi - kReversalAngle) {
-    fit.case_name = "reversal";
+    fit.corner_case = CornerCase::kReversal;
     fit.stop = true;
     fit.parameter_used = 0;
     fit.note.clear();
@@ -279,7 +281,7 @@ CornerFit fit_bezier_corner(const CornerInput& corner) {
   // already G2: collinear lines, or the same circle continued in the same direction
   if (angle <= kTangentAngle) {
     if (in_line && out_line) {
-      fit.case_name = "collinear";
+      fit.corner_case = CornerCase::kCollinear;
       fit.parameter_used = 0;
       fit.note.clear();
       return fit;
@@ -287,7 +289,7 @@ CornerFit fit_bezier_corner(const CornerInput& corner) {
     const Vec3 k_in = curvature_vector(corner.in, len_in);
     const Vec3 k_out = curvature_vector(corner.out, 0.0);
     if (!in_line && !out_line && (k_in - k_out).norm() <= 1e-9 * k_in.norm()) {
-      fit.case_name = "same_circle_same_direction";
+      fit.corner_case = CornerCase::kSameCircleSameDirection;
       fit.parameter_used = 0;
       fit.note.clear();
       return fit;
@@ -296,7 +298,7 @@ CornerFit fit_bezier_corner(const CornerInput& corner) {
   // zero distance (TP = 0, or nothing left of a move): a kink; the blender stops there in
   // Buffered mode (001: a zero-length transition that only affects blending)
   if (l <= kMinLength) {
-    fit.case_name = "zero_distance";
+    fit.corner_case = CornerCase::kZeroDistance;
     fit.parameter_used = 0;
     return fit;
   }
@@ -334,8 +336,9 @@ CornerFit fit_bezier_corner(const CornerInput& corner) {
     fit.outcome = {Status::kInfeasible, bad};
     return fit;
   }
-  fit.case_name = angle <= kTangentAngle ? "tangent" : curve.non_planar ? "non_planar" : "regular";
+  fit.corner_case = angle <= kTangentAngle ? CornerCase::kTangent : curve.non_planar ? CornerCase::kNonPlanar : CornerCase::kRegular;
   fit.fallback = curve.fallback;
+  if (!curve.fallback_why.empty()) fit.note = fit.note.empty() ? curve.fallback_why : fit.note + "; " + curve.fallback_why;
   fit.trim_in = l;
   fit.trim_out = l;
   fit.transition.emplace_back(std::move(bezier));

@@ -39,7 +39,7 @@ CornerFit fit_biclothoid_corner(const CornerInput& corner) {
   const double tolerance = corner.spec.parameter;
   const double start_distance = corner.spec.start_distance;  // > 0: sized by it, not by tolerance
   CornerFit fit;
-  fit.case_name = geometry.angle <= kTangentAngle ? "tangent" : "regular";
+  fit.corner_case = geometry.angle <= kTangentAngle ? CornerCase::kTangent : CornerCase::kRegular;
 
   // two lines: the symmetric fillet in closed form (004 section 7.1, 002 eq. 9), shrunk to
   // the shorter available length
@@ -68,8 +68,8 @@ CornerFit fit_biclothoid_corner(const CornerInput& corner) {
   // that distance of the corner deviates less than it)
   if (!geometry.planar) {
     CornerFit bezier = fit_bezier_corner(corner);
-    bezier.case_name = "non_planar";
-    bezier.fallback = "bezier";
+    bezier.corner_case = CornerCase::kNonPlanar;
+    bezier.fallback = Fallback::kBezier;
     if (!bezier.outcome.ok()) {
       bezier.outcome.message = "non-planar corner, Bezier fallback failed: " + bezier.outcome.message;
     }

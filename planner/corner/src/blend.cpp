@@ -23,7 +23,7 @@ CornerFit fit_corner(const CornerInput& corner) {
     case Method::kNone: {
       CornerFit fit;
       fit.stop = true;
-      fit.case_name = "exact_stop";
+      fit.corner_case = CornerCase::kExactStop;
       return fit;
     }
     case Method::kArc: return fit_arc_corner(corner);
@@ -138,8 +138,8 @@ Path blend(const Program& program) {
       // documented fallback: leave the corner as programmed and stop there
       CornerFit kink;
       kink.stop = true;
-      kink.case_name = fit.case_name;
-      kink.fallback = "exact_stop";
+      kink.corner_case = fit.corner_case;
+      kink.fallback = Fallback::kExactStop;
       kink.note = corner.name + ": " + fit.outcome.message;
       fit = kink;
     }
@@ -184,7 +184,7 @@ Path blend(const Program& program) {
     CornerReport report;
     report.index = static_cast<int>(k);
     report.method = move.transition.method;
-    report.case_name = fit.case_name;
+    report.corner_case = fit.corner_case;
     report.fallback = fit.fallback;
     report.note = fit.note;
     report.parameter = fit.parameter_used;

@@ -143,13 +143,14 @@ CornerFit fit_clothoid_corner(const CornerInput& corner) {
   // symmetric pair again where both moves are lines
   if (!geometry.lines) {
     CornerFit fit = fit_biclothoid_corner(corner);
-    fit.fallback = fit.fallback.empty() ? "biclothoid" : "biclothoid, " + fit.fallback;
+    // a non-planar corner makes the biclothoid fall back to a Bezier in turn
+    fit.fallback = fit.fallback == Fallback::kBezier ? Fallback::kBiclothoidBezier : Fallback::kBiclothoid;
     const double cap = corner.spec.kappa_max;
     if (fit.outcome.ok() && cap > 0) {
       double peak = 0;
       for (const Segment& seg : fit.transition) peak = std::max(peak, max_curvature(seg, 0, length(seg)));
       if (peak > cap * (1 + 1e-9)) {
-        if (fit.case_name == "regular") fit.case_name = "curvature_cap_unmet";
+        if (fit.corner_case == CornerCase::kRegular) fit.corner_case = CornerCase::kCurvatureCapUnmet;
         fit.note += std::string(fit.note.empty() ? "" : "; ") +
                     "the biclothoid fallback does not cap curvature: peak " + format_per_mm(peak) + " > kappa_max " +
                     format_per_mm(cap);
@@ -191,7 +192,7 @@ CornerFit fit_clothoid_corner(const CornerInput& corner) {
   // limits iff the plain arc does; then take the longest clothoids that keep both.
   const ClothoidArcClothoid arc_only = clothoid_arc_clothoid(alpha, cap, 0.0);
   if (arc_only.deviation > tolerance || arc_only.tangent_length > available) {
-    fit.case_name = "curvature_cap_unmet";
+    fit.corner_case = CornerCase::kCurvatureCapUnmet;
     const std::string why = arc_only.deviation > tolerance
                                 ? "an arc of that curvature deviates " + format_mm(arc_only.deviation) + " > " + format_mm(tolerance)
                                 : "an arc of that curvature needs " + format_mm(arc_only.tangent_length) + " of the " +
@@ -205,7 +206,7 @@ CornerFit fit_clothoid_corner(const CornerInput& corner) {
       cac_length_for(alpha, cap, tolerance, [](const ClothoidArcClothoid& c) { return c.deviation; }),
       cac_length_for(alpha, cap, available, [](const ClothoidArcClothoid& c) { return c.tangent_length; }));
   const ClothoidArcClothoid cac = clothoid_arc_clothoid(alpha, cap, lc);
-  fit.case_name = "clothoid_arc_clothoid";
+  fit.corner_case = CornerCase::kClothoidArcClothoid;
   fit.transition = cac_segments(cac, geometry.plane);
   fit.trim_in = cac.tangent_length;
   fit.trim_out = cac.tangent_length;

@@ -95,7 +95,7 @@ std::optional<CornerFit> clothoid_special_case(const CornerInput& corner, const 
   fit.parameter_used = 0;
   // a reversal has no fillet: a kink that stops the path when Buffered (001, 003)
   if (geometry.angle >= kPi - kReversalAngle) {
-    fit.case_name = geometry.same_circle ? "same_circle_opposite_direction" : "reversal";
+    fit.corner_case = geometry.same_circle ? CornerCase::kSameCircleOppositeDirection : CornerCase::kReversal;
     fit.stop = corner.buffer == BufferMode::kBuffered;
     fit.note = "the path reverses at the corner: no curvature-continuous transition exists, the corner stays a kink";
     return fit;
@@ -103,7 +103,7 @@ std::optional<CornerFit> clothoid_special_case(const CornerInput& corner, const 
   const bool tangent = geometry.angle <= kTangentAngle;
   // already G2: nothing to smooth
   if (tangent && geometry.same_curvature) {
-    fit.case_name = geometry.same_circle ? "same_circle_same_direction" : "collinear";
+    fit.corner_case = geometry.same_circle ? CornerCase::kSameCircleSameDirection : CornerCase::kCollinear;
     return fit;
   }
   // no length left on a move (consumed by the neighbouring corner): the corner stays as it is
@@ -120,7 +120,7 @@ std::optional<CornerFit> clothoid_special_case(const CornerInput& corner, const 
                   " transition with maximum deviation 0 is impossible at a tangent discontinuity of " +
                   format_deg(geometry.angle) + "; give a positive deviation or use method none");
     }
-    fit.case_name = "tangent";
+    fit.corner_case = CornerCase::kTangent;
     fit.note = "maximum deviation 0: the curvature jump is left as programmed";
     return fit;
   }

@@ -29,7 +29,8 @@ constexpr double kPosRel = 1e-9;
 constexpr double kG1 = 1e-9;
 
 // Cases that leave a tangent kink at the corner (a zero-length transition).
-const std::set<std::string> kKinkCases = {"zero_distance", "intersection", "reversal", "same_circle_opposite_direction"};
+const std::set<CornerCase> kKinkCases = {CornerCase::kZeroDistance, CornerCase::kIntersection, CornerCase::kReversal,
+                                         CornerCase::kSameCircleOppositeDirection};
 
 // A circular arc starting at `start` around `center`, counter-clockwise about `axis`.
 Arc arc_from(const Vec3& center, const Vec3& start, const Vec3& axis, double sweep) {
@@ -91,7 +92,7 @@ TEST(ArcBlendLineLine, RightAngleFilletHasRadiusEqualToTheCornerDistance) {
   // theta = 90 deg: r = d / tan(45 deg) = d, centre at (0.09, 0.01), sweep pi/2, both trims d
   const CornerFit fit = fit_arc_corner(make_corner(Line{{0, 0, 0}, {0.1, 0, 0}}, Line{{0.1, 0, 0}, {0.1, 0.1, 0}}, 0.01));
   ASSERT_TRUE(fit.outcome.ok());
-  EXPECT_EQ(fit.case_name, "regular");
+  EXPECT_EQ(fit.corner_case, CornerCase::kRegular);
   EXPECT_DOUBLE_EQ(fit.trim_in, 0.01);
   EXPECT_DOUBLE_EQ(fit.trim_out, 0.01);
   EXPECT_DOUBLE_EQ(fit.parameter_used, 0.01);
@@ -119,7 +120,7 @@ TEST(ArcBlendLineLine, CollinearInsertsALinearTransitionOfTwiceTheCornerDistance
   // 001 fig. 7-4: path unchanged, a line from 0.09 to 0.11 inserted
   const CornerFit fit = fit_arc_corner(make_corner(Line{{0, 0, 0}, {0.1, 0, 0}}, Line{{0.1, 0, 0}, {0.3, 0, 0}}, 0.01));
   ASSERT_TRUE(fit.outcome.ok());
-  EXPECT_EQ(fit.case_name, "collinear");
+  EXPECT_EQ(fit.corner_case, CornerCase::kCollinear);
   EXPECT_DOUBLE_EQ(fit.trim_in, 0.01);
   EXPECT_DOUBLE_EQ(fit.trim_out, 0.01);
   EXPECT_FALSE(fit.stop);
@@ -132,7 +133,7 @@ TEST(ArcBlendLineLine, CollinearInsertsALinearTransitionOfTwiceTheCornerDistance
 TEST(ArcBlendLineLine, CollinearWithZeroDistanceInsertsNothing) {
   const CornerFit fit = fit_arc_corner(
       make_corner(Line{{0, 0, 0}, {0.1, 0, 0}}, Line{{0.1, 0, 0}, {0.3, 0, 0}}, 0.0, BufferMode::kBuffered));
-  EXPECT_EQ(fit.case_name, "collinear");
+  EXPECT_EQ(fit.corner_case, CornerCase::kCollinear);
   EXPECT_TRUE(fit.transition.empty());
   EXPECT_EQ(fit.trim_in, 0.0);
   EXPECT_EQ(fit.trim_out, 0.0);
@@ -145,7 +146,7 @@ TEST(ArcBlendLineLine, ReversalShortensBothMovesToTheSamePointAndStopsWhenBuffer
   const Line out{{0.1, 0, 0}, {0.05, 0, 0}};
   const CornerFit buffered = fit_arc_corner(make_corner(in, out, 0.01, BufferMode::kBuffered));
   ASSERT_TRUE(buffered.outcome.ok());
-  EXPECT_EQ(buffered.case_name, "reversal");
+  EXPECT_EQ(buffered.corner_case, CornerCase::kReversal);
   EXPECT_DOUBLE_EQ(buffered.trim_in, 0.01);
   EXPECT_DOUBLE_EQ(buffered.trim_out, 0.01);
   EXPECT_TRUE(buffered.transition.empty());
@@ -153,7 +154,7 @@ TEST(ArcBlendLineLine, ReversalShortensBothMovesToTheSamePointAndStopsWhenBuffer
   EXPECT_TRUE(point(Primitive(in), 0.09).isApprox(point(Primitive(out), 0.01), 1e-15));
 
   const CornerFit blending = fit_arc_corner(make_corner(in, out, 0.01, BufferMode::kBlendingLow));
-  EXPECT_EQ(blending.case_name, "reversal");
+  EXPECT_EQ(blending.corner_case, CornerCase::kReversal);
   EXPECT_FALSE(blending.stop);
 }
 
@@ -162,13 +163,13 @@ TEST(ArcBlendLineLine, ZeroDistanceInsertsNothingAndStopsOnlyWhenBuffered) {
   const Line in{{0, 0, 0}, {0.1, 0, 0}};
   const Line out{{0.1, 0, 0}, {0.1, 0.1, 0}};
   const CornerFit buffered = fit_arc_corner(make_corner(in, out, 0.0, BufferMode::kBuffered));
-  EXPECT_EQ(buffered.case_name, "zero_distance");
+  EXPECT_EQ(buffered.corner_case, CornerCase::kZeroDistance);
   EXPECT_TRUE(buffered.transition.empty());
   EXPECT_EQ(buffered.trim_in, 0.0);
   EXPECT_EQ(buffered.trim_out, 0.0);
   EXPECT_TRUE(buffered.stop);
   const CornerFit blending = fit_arc_corner(make_corner(in, out, 0.0, BufferMode::kBlendingNext));
-  EXPECT_EQ(blending.case_name, "zero_distance");
+  EXPECT_EQ(blending.corner_case, CornerCase::kZeroDistance);
   EXPECT_FALSE(blending.stop);
 }
 
@@ -196,7 +197,7 @@ TEST(ArcBlendLineArc, LineIsShortenedByDAndTheTransitionIsTangentToTheArc) {
   const Arc out = arc_from({-0.02, 0, 0}, {0, 0, 0}, Vec3::UnitZ(), kPi / 2);
   const CornerFit fit = fit_arc_corner(make_corner(in, out, 0.01));
   ASSERT_TRUE(fit.outcome.ok()) << fit.outcome.message;
-  EXPECT_EQ(fit.case_name, "regular");
+  EXPECT_EQ(fit.corner_case, CornerCase::kRegular);
   EXPECT_TRUE(fit.note.empty()) << fit.note;
   EXPECT_NEAR(fit.trim_in, 0.01, kExact);
   EXPECT_NEAR(fit.trim_out, 0.02 * std::atan2(3.0, 4.0), kExact);
@@ -214,7 +215,7 @@ TEST(ArcBlendLineArc, ArcIntoLineMirrorsTheConstruction) {
   const Line out{{0, 0, 0}, {-0.05, 0, 0}};
   const CornerFit fit = fit_arc_corner(make_corner(in, out, 0.01));
   ASSERT_TRUE(fit.outcome.ok()) << fit.outcome.message;
-  EXPECT_EQ(fit.case_name, "regular");
+  EXPECT_EQ(fit.corner_case, CornerCase::kRegular);
   EXPECT_NEAR(fit.trim_in, 0.02 * std::atan2(3.0, 4.0), kExact);
   EXPECT_NEAR(fit.trim_out, 0.01, kExact);
   const Arc& arc = as_arc(fit.transition[0]);
@@ -250,7 +251,7 @@ TEST(ArcBlendLineArc, TangentLineIntoArcIsLeftUnchanged) {
   const Arc out = arc_from({0, 0.02, 0}, {0, 0, 0}, Vec3::UnitZ(), kPi / 2);
   const CornerFit fit = fit_arc_corner(make_corner(in, out, 0.01, BufferMode::kBuffered));
   ASSERT_TRUE(fit.outcome.ok());
-  EXPECT_EQ(fit.case_name, "tangent");
+  EXPECT_EQ(fit.corner_case, CornerCase::kTangent);
   EXPECT_DOUBLE_EQ(fit.trim_in, 0.01);
   EXPECT_EQ(fit.trim_out, 0.0);
   EXPECT_FALSE(fit.stop);
@@ -270,7 +271,7 @@ TEST(ArcBlendLineArc, NearTangentCornerWithoutA003CircleShortensTheArcInstead) {
   const CornerInput corner = make_corner(in, out, 0.01);
   const CornerFit fit = fit_arc_corner(corner);
   ASSERT_TRUE(fit.outcome.ok()) << fit.outcome.message;
-  EXPECT_EQ(fit.fallback, "smaller_radius_shortened");
+  EXPECT_EQ(fit.fallback, Fallback::kSmallerRadiusShortened);
   EXPECT_DOUBLE_EQ(fit.trim_out, 0.01);
   EXPECT_DOUBLE_EQ(fit.parameter_used, 0.01);
   EXPECT_LT(fit.trim_in, 0.01);
@@ -288,8 +289,8 @@ TEST(ArcBlendLineArc, NonPlanarCornerIsJoinedByABiarc) {
   const CornerInput corner = make_corner(in, out, 0.005, BufferMode::kBuffered);
   const CornerFit fit = fit_arc_corner(corner);
   ASSERT_TRUE(fit.outcome.ok()) << fit.outcome.message;
-  EXPECT_EQ(fit.case_name, "non_planar");
-  EXPECT_EQ(fit.fallback, "biarc");
+  EXPECT_EQ(fit.corner_case, CornerCase::kNonPlanar);
+  EXPECT_EQ(fit.fallback, Fallback::kBiarc);
   EXPECT_DOUBLE_EQ(fit.trim_in, 0.005);
   EXPECT_DOUBLE_EQ(fit.trim_out, 0.005);
   EXPECT_FALSE(fit.stop);
@@ -313,8 +314,8 @@ TEST(ArcBlendLineArc, HelixIsTreatedAsNonPlanar) {
   const CornerInput corner = make_corner(in, helix, 0.005);
   const CornerFit fit = fit_arc_corner(corner);
   ASSERT_TRUE(fit.outcome.ok()) << fit.outcome.message;
-  EXPECT_EQ(fit.case_name, "non_planar");
-  EXPECT_EQ(fit.fallback, "biarc");
+  EXPECT_EQ(fit.corner_case, CornerCase::kNonPlanar);
+  EXPECT_EQ(fit.fallback, Fallback::kBiarc);
   const Joins joins = measure_joins(corner, fit);
   EXPECT_LE(joins.gap, kPosRel * joins.size);
   EXPECT_LE(joins.angle, kG1);
@@ -334,7 +335,7 @@ TEST(ArcBlendArcArc, LargerArcIsShortenedByDAndTheSmallerTrimmedToTheTangency) {
   const double d = 0.05 * (std::atan2(4.0, 3.0) - std::atan2(3.0, 4.0));
   const CornerFit fit = fit_arc_corner(make_corner(in, out, d));
   ASSERT_TRUE(fit.outcome.ok()) << fit.outcome.message;
-  EXPECT_EQ(fit.case_name, "regular");
+  EXPECT_EQ(fit.corner_case, CornerCase::kRegular);
   EXPECT_NEAR(fit.trim_in, d, kExact);
   EXPECT_NEAR(fit.trim_out, 0.03 * std::atan2(3.0, 4.0), kExact);
   const Arc& arc = as_arc(fit.transition[0]);
@@ -348,7 +349,7 @@ TEST(ArcBlendArcArc, ZeroDistanceLeavesTheCornerAndStopsWhenBuffered) {
   const Arc in = arc_from({0, 0, 0}, {0.05, 0, 0}, Vec3::UnitZ(), std::atan2(4.0, 3.0));
   const Arc out = arc_from({0.03, 0.01, 0}, {0.03, 0.04, 0}, Vec3::UnitZ(), kPi / 2);
   const CornerFit fit = fit_arc_corner(make_corner(in, out, 0.0, BufferMode::kBuffered));
-  EXPECT_EQ(fit.case_name, "zero_distance");
+  EXPECT_EQ(fit.corner_case, CornerCase::kZeroDistance);
   EXPECT_TRUE(fit.transition.empty());
   EXPECT_EQ(fit.trim_in, 0.0);
   EXPECT_EQ(fit.trim_out, 0.0);
@@ -365,7 +366,7 @@ TEST(ArcBlendArcArc, IntersectionDistanceGivesAZeroLengthTransitionAtTheOtherInt
   const CornerInput corner = make_corner(in, out, d, BufferMode::kBuffered);
   const CornerFit fit = fit_arc_corner(corner);
   ASSERT_TRUE(fit.outcome.ok()) << fit.outcome.message;
-  EXPECT_EQ(fit.case_name, "intersection");
+  EXPECT_EQ(fit.corner_case, CornerCase::kIntersection);
   EXPECT_TRUE(fit.transition.empty());
   EXPECT_NEAR(fit.trim_in, d, kExact);
   EXPECT_NEAR(fit.trim_out, 0.01 * (kPi - std::atan2(4.0, 3.0)), 1e-13);
@@ -406,7 +407,7 @@ TEST(ArcBlendArcArc, TangentArcsInOppositeDirectionsReplaceDOfTheLargerArc) {
   const Arc out = arc_from({0, -0.01, 0}, {0, 0, 0}, -Vec3::UnitZ(), kPi / 2);
   const CornerFit fit = fit_arc_corner(make_corner(in, out, 0.005, BufferMode::kBuffered));
   ASSERT_TRUE(fit.outcome.ok());
-  EXPECT_EQ(fit.case_name, "tangent_opposite");
+  EXPECT_EQ(fit.corner_case, CornerCase::kTangentOpposite);
   EXPECT_DOUBLE_EQ(fit.trim_in, 0.005);
   EXPECT_EQ(fit.trim_out, 0.0);
   EXPECT_FALSE(fit.stop);
@@ -420,14 +421,14 @@ TEST(ArcBlendArcArc, TangentArcsInOppositeDirectionsReplaceDOfTheLargerArc) {
   const Arc small_in = arc_from({0, 0.01, 0}, {-0.01, 0.01, 0}, Vec3::UnitZ(), kPi / 2);
   const Arc large_out = arc_from({0, -0.02, 0}, {0, 0, 0}, -Vec3::UnitZ(), kPi / 2);
   const CornerFit swapped = fit_arc_corner(make_corner(small_in, large_out, 0.005));
-  EXPECT_EQ(swapped.case_name, "tangent_opposite");
+  EXPECT_EQ(swapped.corner_case, CornerCase::kTangentOpposite);
   EXPECT_EQ(swapped.trim_in, 0.0);
   EXPECT_DOUBLE_EQ(swapped.trim_out, 0.005);
 
   // equal radii: 003 says the incoming arc counts as the larger one
   const Arc equal_out = arc_from({0, -0.02, 0}, {0, 0, 0}, -Vec3::UnitZ(), kPi / 2);
   const CornerFit equal = fit_arc_corner(make_corner(in, equal_out, 0.005));
-  EXPECT_EQ(equal.case_name, "tangent_opposite");
+  EXPECT_EQ(equal.corner_case, CornerCase::kTangentOpposite);
   EXPECT_DOUBLE_EQ(equal.trim_in, 0.005);
   EXPECT_EQ(equal.trim_out, 0.0);
 }
@@ -444,7 +445,7 @@ TEST(ArcBlendArcArc, LineSegmentWhenTheTransitionRadiusIsInfinite) {
   const CornerInput corner = make_corner(in, out, d, BufferMode::kBuffered);
   const CornerFit fit = fit_arc_corner(corner);
   ASSERT_TRUE(fit.outcome.ok()) << fit.outcome.message;
-  EXPECT_EQ(fit.case_name, "line_segment");
+  EXPECT_EQ(fit.corner_case, CornerCase::kLineSegment);
   EXPECT_FALSE(fit.stop);  // G1 at both ends: nothing to stop for
   EXPECT_NEAR(fit.trim_in, d, kExact);
   EXPECT_NEAR(fit.trim_out, 0.01 * std::atan2(4.0, 3.0), 1e-13);
@@ -461,7 +462,7 @@ TEST(ArcBlendArcArc, SameCircleSameDirectionInsertsAnArcOfTwiceD) {
   const Arc out = arc_from({0, 0, 0}, {0.02, 0, 0}, Vec3::UnitZ(), kPi / 2);
   const CornerFit fit = fit_arc_corner(make_corner(in, out, 0.004, BufferMode::kBuffered));
   ASSERT_TRUE(fit.outcome.ok());
-  EXPECT_EQ(fit.case_name, "same_circle_same_direction");
+  EXPECT_EQ(fit.corner_case, CornerCase::kSameCircleSameDirection);
   EXPECT_DOUBLE_EQ(fit.trim_in, 0.004);
   EXPECT_DOUBLE_EQ(fit.trim_out, 0.004);
   EXPECT_FALSE(fit.stop);
@@ -477,7 +478,7 @@ TEST(ArcBlendArcArc, SameCircleOppositeDirectionShortensBothAndStopsWhenBuffered
   const Arc out = arc_from({0, 0, 0}, {0.02, 0, 0}, -Vec3::UnitZ(), kPi / 4);
   const CornerFit fit = fit_arc_corner(make_corner(in, out, 0.004, BufferMode::kBuffered));
   ASSERT_TRUE(fit.outcome.ok());
-  EXPECT_EQ(fit.case_name, "same_circle_opposite_direction");
+  EXPECT_EQ(fit.corner_case, CornerCase::kSameCircleOppositeDirection);
   EXPECT_DOUBLE_EQ(fit.trim_in, 0.004);
   EXPECT_DOUBLE_EQ(fit.trim_out, 0.004);
   EXPECT_TRUE(fit.transition.empty());
@@ -496,7 +497,7 @@ TEST(ArcBlendArcArc, CuspBetweenArcsThatPartIsJoinedByAUTurn) {
   const CornerInput corner = make_corner(in, out, 0.005, BufferMode::kBuffered);
   const CornerFit fit = fit_arc_corner(corner);
   ASSERT_TRUE(fit.outcome.ok()) << fit.outcome.message;
-  EXPECT_EQ(fit.case_name, "reversal");
+  EXPECT_EQ(fit.corner_case, CornerCase::kReversal);
   EXPECT_FALSE(fit.stop);
   EXPECT_DOUBLE_EQ(fit.trim_in, 0.005);
   ASSERT_EQ(fit.transition.size(), 1u);
@@ -514,7 +515,7 @@ TEST(ArcBlendLineArc, LineReversalIntoAnArcIsAUTurnOfRadiusDSquaredOver4R) {
   const CornerFit fit = fit_arc_corner(
       make_corner(Line{{-0.05, 0, 0}, {0, 0, 0}}, arc_from({0, r, 0}, {0, 0, 0}, -Vec3::UnitZ(), kPi / 2), d));
   ASSERT_TRUE(fit.outcome.ok());
-  EXPECT_EQ(fit.case_name, "reversal");
+  EXPECT_EQ(fit.corner_case, CornerCase::kReversal);
   EXPECT_NEAR(as_arc(fit.transition[0]).radius, d * d / (4 * r), kExact);
   EXPECT_TRUE(as_arc(fit.transition[0]).center.isApprox(Vec3(-d, d * d / (4 * r), 0), 1e-13));
 }
@@ -538,7 +539,7 @@ TEST(ArcBlendLineArc, ArcShorterThanTheCornerDistanceIsReplacedWhole) {
   const CornerInput corner = make_corner(in, out, 0.001);
   const CornerFit fit = fit_arc_corner(corner);
   ASSERT_TRUE(fit.outcome.ok());
-  EXPECT_EQ(fit.fallback, "smaller_radius_shortened");
+  EXPECT_EQ(fit.fallback, Fallback::kSmallerRadiusShortened);
   EXPECT_DOUBLE_EQ(fit.trim_out, length(out));
   EXPECT_NE(fit.note.find("shrunk from 1 mm to 0.0005 mm"), std::string::npos) << fit.note;
   const Joins joins = measure_joins(corner, fit);
@@ -657,6 +658,13 @@ bool is_circle(const Segment& seg) {
 }
 
 // The invariants every fit must satisfy.
+// "case" or "case/fallback", for the tally of what the random corners hit.
+std::string case_key(CornerCase corner_case, Fallback fallback) {
+  std::string key(to_string(corner_case));
+  if (fallback != Fallback::kNone) key += "/" + std::string(to_string(fallback));
+  return key;
+}
+
 void check_fit(const CornerInput& corner, const CornerFit& fit, const std::string& seed, Worst& worst) {
   ++worst.cases;
   if (!fit.outcome.ok()) {
@@ -665,7 +673,7 @@ void check_fit(const CornerInput& corner, const CornerFit& fit, const std::strin
     EXPECT_FALSE(fit.outcome.message.empty()) << seed;
     return;
   }
-  ++worst.by_case[fit.case_name + (fit.fallback.empty() ? "" : "/" + fit.fallback)];
+  ++worst.by_case[case_key(fit.corner_case, fit.fallback)];
   const double d = corner.spec.parameter;
   ASSERT_TRUE(std::isfinite(fit.trim_in) && std::isfinite(fit.trim_out) && std::isfinite(fit.parameter_used)) << seed;
   EXPECT_GE(fit.trim_in, 0.0) << seed;
@@ -675,29 +683,29 @@ void check_fit(const CornerInput& corner, const CornerFit& fit, const std::strin
   EXPECT_LE(fit.parameter_used, d * (1 + 1e-12)) << seed;
   for (const Segment& seg : fit.transition) {
     ASSERT_TRUE(std::isfinite(length(seg)) && start_point(seg).allFinite() && end_point(seg).allFinite()) << seed;
-    EXPECT_TRUE(is_circle(seg)) << seed << " " << fit.case_name;
+    EXPECT_TRUE(is_circle(seg)) << seed << " " << fit.corner_case;
   }
 
   // continuity: positions always, tangents unless the case leaves a kink
   const Joins joins = measure_joins(corner, fit);
   ASSERT_TRUE(std::isfinite(joins.gap) && std::isfinite(joins.angle)) << seed;
-  EXPECT_LE(joins.gap, kPosRel * joins.size + kGapFloor) << seed << " " << fit.case_name << " size " << joins.size;
+  EXPECT_LE(joins.gap, kPosRel * joins.size + kGapFloor) << seed << " " << fit.corner_case << " size " << joins.size;
   if (joins.size > 0) worst.gap_rel = std::max(worst.gap_rel, joins.gap / joins.size);
-  const bool kink = fit.transition.empty() && kKinkCases.count(fit.case_name) > 0;
+  const bool kink = fit.transition.empty() && kKinkCases.count(fit.corner_case) > 0;
   if (kink) {
-    EXPECT_EQ(fit.stop, corner.buffer == BufferMode::kBuffered) << seed << " " << fit.case_name;
+    EXPECT_EQ(fit.stop, corner.buffer == BufferMode::kBuffered) << seed << " " << fit.corner_case;
   } else {
     EXPECT_FALSE(fit.stop) << seed;
-    EXPECT_LE(joins.angle, kG1) << seed << " " << fit.case_name << " " << fit.fallback;
+    EXPECT_LE(joins.angle, kG1) << seed << " " << fit.corner_case << " " << fit.fallback;
     worst.angle = std::max(worst.angle, joins.angle);
   }
 
   // the corner distance: the larger-radius move (a line, the incoming on a tie) loses exactly d
-  if (fit.note.empty() && fit.fallback.empty() && fit.case_name != "zero_distance") {
+  if (fit.note.empty() && (fit.fallback == Fallback::kNone) && fit.corner_case != CornerCase::kZeroDistance) {
     const Arc* a_in = std::get_if<Arc>(&corner.in);
     const Arc* a_out = std::get_if<Arc>(&corner.out);
     const bool larger_in = a_in == nullptr || (a_out != nullptr && a_in->radius >= a_out->radius * (1 - 1e-12));
-    EXPECT_NEAR(larger_in ? fit.trim_in : fit.trim_out, d, 1e-12 * d) << seed << " " << fit.case_name;
+    EXPECT_NEAR(larger_in ? fit.trim_in : fit.trim_out, d, 1e-12 * d) << seed << " " << fit.corner_case;
     if (a_in == nullptr && a_out == nullptr) {
       EXPECT_NEAR(fit.trim_out, d, 1e-12 * d) << seed;
     }
@@ -855,18 +863,18 @@ TEST(ArcBlendProperty, BlendedPathsAreContinuousWithKinksOnlyWhereACaseLeavesOne
       const CornerReport& report = path.corners[static_cast<std::size_t>(c)];
       const double size = std::max({report.trim_in, report.trim_out, report.length});
       const double gap = (end_point(prev.segment) - start_point(next.segment)).norm();
-      EXPECT_LE(gap, kPosRel * size + kGapFloor) << where << " corner " << c << " " << report.case_name;
+      EXPECT_LE(gap, kPosRel * size + kGapFloor) << where << " corner " << c << " " << report.corner_case;
       if (size > 0) worst.gap_rel = std::max(worst.gap_rel, gap / size);
       if (next.kink_angle > kG1) {
-        EXPECT_TRUE(kKinkCases.count(report.case_name) > 0 || report.fallback == "exact_stop")
-            << where << " corner " << c << " " << report.case_name << " kink " << next.kink_angle;
+        EXPECT_TRUE(kKinkCases.count(report.corner_case) > 0 || report.fallback == Fallback::kExactStop)
+            << where << " corner " << c << " " << report.corner_case << " kink " << next.kink_angle;
       } else {
         worst.angle = std::max(worst.angle, next.kink_angle);
       }
     }
     ++worst.cases;
     for (const CornerReport& report : path.corners) {
-      ++worst.by_case[report.case_name + (report.fallback.empty() ? "" : "/" + report.fallback)];
+      ++worst.by_case[case_key(report.corner_case, report.fallback)];
       EXPECT_TRUE(std::isfinite(report.deviation) && std::isfinite(report.kappa_max)) << where;
     }
     if (HasFatalFailure()) return;

@@ -173,7 +173,7 @@ TEST(Biclothoid, LineLineFilletIsSymmetricAndDeviatesExactlyTheTolerance) {
     const CornerFit fit = fit_biclothoid_corner(c);
     ASSERT_TRUE(fit.outcome.ok()) << deg;
     ASSERT_EQ(fit.transition.size(), 2u) << deg;
-    EXPECT_EQ(fit.case_name, "regular");
+    EXPECT_EQ(fit.corner_case, CornerCase::kRegular);
     EXPECT_DOUBLE_EQ(fit.trim_in, fit.trim_out);
     EXPECT_NEAR(fit.parameter_used, 0.1 * kMm, 1e-12 * kMm) << deg;
     const test::FitCheck check = test::check_fit(c, fit);
@@ -230,14 +230,15 @@ TEST(Biclothoid, Table1FilletsOfListing1At01Millimetre) {
     double c;
     double kappa;
     double feed;
-    const char* case_name;
+    CornerCase corner_case;
   };
-  for (const Expected& e : {Expected{0, 0.016, 0.124, 12486, "tangent"}, Expected{1, 0.016, 0.124, 12486, "tangent"},
-                            Expected{2, 0.009, 0.116, 13871, "regular"}}) {
+  for (const Expected& e : {Expected{0, 0.016, 0.124, 12486, CornerCase::kTangent},
+                            Expected{1, 0.016, 0.124, 12486, CornerCase::kTangent},
+                            Expected{2, 0.009, 0.116, 13871, CornerCase::kRegular}}) {
     CornerInput c = corner_between(moves[e.corner], moves[e.corner + 1], 0.1 * kMm);
     const CornerFit fit = fit_biclothoid_corner(c);
     ASSERT_TRUE(fit.outcome.ok()) << e.corner;
-    EXPECT_EQ(fit.case_name, e.case_name);
+    EXPECT_EQ(fit.corner_case, e.corner_case);
     EXPECT_TRUE(fit.note.empty()) << fit.note;
     EXPECT_NEAR(test::peak_sharpness(fit) * kMm * kMm, e.c, 1.1e-4) << "corner " << e.corner;
     EXPECT_NEAR(test::peak_curvature(fit) * kMm, e.kappa, 4e-4) << "corner " << e.corner;
@@ -328,14 +329,14 @@ TEST(Biclothoid, SpecialCorners) {
   rev.buffer = BufferMode::kBuffered;
   CornerFit fit = fit_biclothoid_corner(rev);
   EXPECT_TRUE(fit.outcome.ok());
-  EXPECT_EQ(fit.case_name, "reversal");
+  EXPECT_EQ(fit.corner_case, CornerCase::kReversal);
   EXPECT_TRUE(fit.stop);
   EXPECT_TRUE(fit.transition.empty());
   rev.buffer = BufferMode::kBlendingLow;
   EXPECT_FALSE(fit_biclothoid_corner(rev).stop);
   // collinear: nothing to do
   fit = fit_biclothoid_corner(corner_between(in, Line{Vec3(0, 0, 0), Vec3(2, 0, 0)}, 0.1 * kMm));
-  EXPECT_EQ(fit.case_name, "collinear");
+  EXPECT_EQ(fit.corner_case, CornerCase::kCollinear);
   EXPECT_TRUE(fit.transition.empty());
   EXPECT_FALSE(fit.stop);
   // one circle, same direction: G2 already
@@ -343,12 +344,12 @@ TEST(Biclothoid, SpecialCorners) {
   const Arc first = sub_segment(whole, 0, 1.0);
   const Arc second = sub_segment(whole, 1.0, length(whole));
   fit = fit_biclothoid_corner(corner_between(first, second, 0.1 * kMm));
-  EXPECT_EQ(fit.case_name, "same_circle_same_direction");
+  EXPECT_EQ(fit.corner_case, CornerCase::kSameCircleSameDirection);
   EXPECT_TRUE(fit.transition.empty());
   // one circle, opposite direction: a reversal
   const Arc back = xy_arc(point(first, 1.0), Vec3(1, 0, 0), Vec3(0, 0, 0), true);
   fit = fit_biclothoid_corner(corner_between(first, back, 0.1 * kMm));
-  EXPECT_EQ(fit.case_name, "same_circle_opposite_direction");
+  EXPECT_EQ(fit.corner_case, CornerCase::kSameCircleOppositeDirection);
   // nothing left of a move: infeasible, with a message
   CornerInput none = corner_between(in, Line{Vec3(0, 0, 0), Vec3(0, 1, 0)}, 0.1 * kMm);
   none.in_available = 0;
@@ -360,7 +361,7 @@ TEST(Biclothoid, SpecialCorners) {
   // tolerance 0 at a curvature jump only: left as programmed
   const std::vector<Primitive> moves = listing1();
   fit = fit_biclothoid_corner(corner_between(moves[0], moves[1], 0.0));
-  EXPECT_EQ(fit.case_name, "tangent");
+  EXPECT_EQ(fit.corner_case, CornerCase::kTangent);
   EXPECT_TRUE(fit.transition.empty());
   EXPECT_FALSE(fit.stop);
 }
@@ -386,8 +387,8 @@ TEST(Biclothoid, NonPlanarCornersFallBackToBezier) {
   const CornerInput up = corner_between(arc, Line{end, end + Vec3(0.3, 0.0, 0.5)}, 0.1 * kMm);
   EXPECT_FALSE(planar_corner(up.in, up.out).planar);
   CornerFit fit = fit_biclothoid_corner(up);
-  EXPECT_EQ(fit.fallback, "bezier");
-  EXPECT_EQ(fit.case_name, "non_planar");
+  EXPECT_EQ(fit.fallback, Fallback::kBezier);
+  EXPECT_EQ(fit.corner_case, CornerCase::kNonPlanar);
   if (!fit.outcome.ok()) {
     EXPECT_NE(fit.outcome.message.find("Bezier fallback"), std::string::npos);
   }
@@ -396,7 +397,7 @@ TEST(Biclothoid, NonPlanarCornersFallBackToBezier) {
   const Vec3 helix_end = point(helix, length(helix));
   const CornerInput h = corner_between(helix, Line{helix_end, helix_end + Vec3(-1, 0, 0)}, 0.1 * kMm);
   EXPECT_FALSE(planar_corner(h.in, h.out).planar);
-  EXPECT_EQ(fit_biclothoid_corner(h).fallback, "bezier");
+  EXPECT_EQ(fit_biclothoid_corner(h).fallback, Fallback::kBezier);
   // a line in the arc's plane is planar
   EXPECT_TRUE(planar_corner(arc, Line{end, end + Vec3(-0.3, 0.5, 0.0)}).planar);
 }
@@ -415,7 +416,7 @@ TEST(Biclothoid, RandomCornersAreG2AndWithinTolerance) {
     const test::CornerCase cc = test::random_corner(rng, kind, Method::kBiclothoid);
     const CornerFit fit = fit_biclothoid_corner(cc.input);
     ASSERT_TRUE(fit.outcome.ok()) << test::seed_text(seed) << ": " << fit.outcome.message;
-    ASSERT_FALSE(fit.transition.empty()) << test::seed_text(seed) << " " << fit.case_name;
+    ASSERT_FALSE(fit.transition.empty()) << test::seed_text(seed) << " " << fit.corner_case;
     ++fitted;
     const test::FitCheck check = test::check_fit(cc.input, fit);
     const double tol = cc.input.spec.parameter;
@@ -516,7 +517,7 @@ TEST(BiclothoidStartDistance, RandomCornersStartWhereAskedOrSayWhyNot) {
     ASSERT_TRUE(fit.outcome.ok()) << test::seed_text(seed) << ": " << fit.outcome.message;
     if (fit.transition.empty()) {
       // collinear or reversing corners keep no fillet
-      EXPECT_TRUE(fit.case_name == "collinear" || fit.case_name == "reversal") << test::seed_text(seed);
+      EXPECT_TRUE(fit.corner_case == CornerCase::kCollinear || fit.corner_case == CornerCase::kReversal) << test::seed_text(seed);
       continue;
     }
     const test::FitCheck check = test::check_fit(c, fit);
@@ -555,7 +556,7 @@ TEST(Biclothoid, Listing1ThroughTheBlenderIsG2Everywhere) {
   ASSERT_EQ(path.corners.size(), 3u);
   EXPECT_EQ(path.pieces().size(), 4u + 6u);  // four trimmed moves and three two-piece fillets
   for (const CornerReport& report : path.corners) {
-    EXPECT_TRUE(report.fallback.empty()) << report.note;
+    EXPECT_TRUE((report.fallback == Fallback::kNone)) << report.note;
     EXPECT_FALSE(report.stop);
     EXPECT_LE(report.deviation, 0.1 * kMm * (1 + kDeviationSlack));
     EXPECT_GT(report.deviation, 0.09 * kMm);  // the blender samples; it sees nearly all of it
@@ -609,7 +610,7 @@ TEST(Biclothoid, RandomProgramsThroughTheBlender) {
     }
     const Path path = blend(program);
     for (const CornerReport& report : path.corners) {
-      EXPECT_TRUE(report.fallback.empty())
+      EXPECT_TRUE((report.fallback == Fallback::kNone))
           << test::seed_text(seed) << " corner " << report.index << ": " << report.note;
       EXPECT_LE(report.deviation, program.moves[static_cast<std::size_t>(report.index)].transition.parameter *
                                       (1 + kDeviationSlack))

@@ -28,7 +28,7 @@ TEST(Blend, ExactStopKeepsTheProgrammedPathAndStopsAtEveryCorner) {
   EXPECT_TRUE(path.pieces()[1].stop_before);
   EXPECT_TRUE(path.pieces()[2].stop_before);
   EXPECT_NEAR(path.pieces()[1].kink_angle, M_PI / 2, 1e-12);
-  EXPECT_EQ(path.corners[0].case_name, "exact_stop");
+  EXPECT_EQ(path.corners[0].corner_case, CornerCase::kExactStop);
   EXPECT_EQ(path.corners[0].length, 0.0);
   EXPECT_TRUE(path.point(0.15).isApprox(Vec3(0.1, 0.05, 0), 1e-14));
 }
@@ -106,7 +106,7 @@ TEST(Blend, ZeroLengthTransitionReportsTheSkippedPathAsDeviation) {
   program.moves = {line_move({0, 0, 0}, {0.1, 0, 0}, Method::kArc, 0.005), line_move({0.1, 0, 0}, {0.03, 0, 0})};
   const Path path = blend(program);
   ASSERT_EQ(path.corners.size(), 1u);
-  EXPECT_EQ(path.corners[0].case_name, "reversal");
+  EXPECT_EQ(path.corners[0].corner_case, CornerCase::kReversal);
   EXPECT_EQ(path.corners[0].length, 0.0);
   EXPECT_NEAR(path.corners[0].deviation, 0.005, 1e-9);
 }

@@ -90,7 +90,7 @@ TEST(ClothoidPair, LineLineDeviationEqualsTheTolerance) {
     const CornerInput c = line_corner(deg * kPi / 180, 0.2 * kMm, 0, 1e4);
     const CornerFit fit = fit_clothoid_corner(c);
     ASSERT_TRUE(fit.outcome.ok());
-    EXPECT_EQ(fit.case_name, "regular");
+    EXPECT_EQ(fit.corner_case, CornerCase::kRegular);
     EXPECT_DOUBLE_EQ(fit.parameter_used, 0.2 * kMm);
     EXPECT_NEAR(test::check_fit(c, fit).deviation, 0.2 * kMm, 1e-7 * kMm) << deg;
     EXPECT_TRUE(test::is_g2(test::check_fit(c, fit))) << std::to_string(deg);
@@ -130,7 +130,7 @@ TEST(ClothoidArcClothoid, CurvatureCapInsertsAnArc) {
   c.spec.kappa_max = 0.8 * pair_peak;
   const CornerFit fit = fit_clothoid_corner(c);
   ASSERT_TRUE(fit.outcome.ok());
-  EXPECT_EQ(fit.case_name, "clothoid_arc_clothoid");
+  EXPECT_EQ(fit.corner_case, CornerCase::kClothoidArcClothoid);
   ASSERT_EQ(fit.transition.size(), 3u);
   EXPECT_TRUE(std::holds_alternative<Arc>(fit.transition[1]));
   EXPECT_NEAR(test::peak_curvature(fit), c.spec.kappa_max, 1e-9 * c.spec.kappa_max);
@@ -140,7 +140,7 @@ TEST(ClothoidArcClothoid, CurvatureCapInsertsAnArc) {
   EXPECT_TRUE(test::is_g2(test::check_fit(c, fit))) << "clothoid-arc-clothoid";
   // a cap above the pair's peak changes nothing
   c.spec.kappa_max = 1.01 * pair_peak;
-  EXPECT_EQ(fit_clothoid_corner(c).case_name, "regular");
+  EXPECT_EQ(fit_clothoid_corner(c).corner_case, CornerCase::kRegular);
 }
 
 TEST(ClothoidArcClothoid, UnreachableCapKeepsThePairAndSaysWhy) {
@@ -149,7 +149,7 @@ TEST(ClothoidArcClothoid, UnreachableCapKeepsThePairAndSaysWhy) {
   CornerInput c = line_corner(kPi / 2, 1 * kMm, 10.0, 0.5);
   const CornerFit fit = fit_clothoid_corner(c);
   ASSERT_TRUE(fit.outcome.ok());
-  EXPECT_EQ(fit.case_name, "curvature_cap_unmet");
+  EXPECT_EQ(fit.corner_case, CornerCase::kCurvatureCapUnmet);
   EXPECT_EQ(fit.transition.size(), 2u);
   EXPECT_NE(fit.note.find("exceeds kappa_max"), std::string::npos) << fit.note;
   EXPECT_NE(fit.note.find("deviates"), std::string::npos) << fit.note;
@@ -158,7 +158,7 @@ TEST(ClothoidArcClothoid, UnreachableCapKeepsThePairAndSaysWhy) {
   c = line_corner(kPi / 2, 1 * kMm, 500.0, 0.01);
   c.out_available = 1 * kMm;
   const CornerFit short_fit = fit_clothoid_corner(c);
-  EXPECT_EQ(short_fit.case_name, "curvature_cap_unmet");
+  EXPECT_EQ(short_fit.corner_case, CornerCase::kCurvatureCapUnmet);
   EXPECT_NE(short_fit.note.find("outgoing"), std::string::npos) << short_fit.note;
   EXPECT_LE(short_fit.trim_out, 1 * kMm);
 }
@@ -177,12 +177,12 @@ TEST(ClothoidPair, ShortMovesShrinkTheDeviation) {
 
 TEST(ClothoidPair, SpecialCorners) {
   CornerInput collinear = line_corner(0.0, 1 * kMm);
-  EXPECT_EQ(fit_clothoid_corner(collinear).case_name, "collinear");
+  EXPECT_EQ(fit_clothoid_corner(collinear).corner_case, CornerCase::kCollinear);
   EXPECT_TRUE(fit_clothoid_corner(collinear).transition.empty());
   CornerInput reversal = line_corner(kPi, 1 * kMm);
   reversal.buffer = BufferMode::kBuffered;
   const CornerFit rev = fit_clothoid_corner(reversal);
-  EXPECT_EQ(rev.case_name, "reversal");
+  EXPECT_EQ(rev.corner_case, CornerCase::kReversal);
   EXPECT_TRUE(rev.stop);
   EXPECT_TRUE(rev.transition.empty());
   // parameter 0 with a tangent discontinuity: an impossible request
@@ -196,7 +196,7 @@ TEST(ClothoidPair, SpecialCorners) {
     EXPECT_NE(std::string(e.what()).find("corner 1 (move 1 -> move 2)"), std::string::npos) << e.what();
   }
   // parameter 0 on a collinear corner is fine
-  EXPECT_EQ(fit_clothoid_corner(line_corner(0.0, 0.0)).case_name, "collinear");
+  EXPECT_EQ(fit_clothoid_corner(line_corner(0.0, 0.0)).corner_case, CornerCase::kCollinear);
 }
 
 TEST(ClothoidPair, CornersWithArcsFallBackToBiclothoids) {
@@ -207,9 +207,9 @@ TEST(ClothoidPair, CornersWithArcsFallBackToBiclothoids) {
   c.spec.kappa_max = 10.0;  // 0.01 1/mm: below the arc's own curvature
   const CornerFit fit = fit_clothoid_corner(c);
   ASSERT_TRUE(fit.outcome.ok());
-  EXPECT_EQ(fit.fallback, "biclothoid");
+  EXPECT_EQ(fit.fallback, Fallback::kBiclothoid);
   EXPECT_NE(fit.note.find("does not cap curvature"), std::string::npos) << fit.note;
-  EXPECT_EQ(fit.case_name, "curvature_cap_unmet");
+  EXPECT_EQ(fit.corner_case, CornerCase::kCurvatureCapUnmet);
   EXPECT_TRUE(test::is_g2(test::check_fit(c, fit))) << "line-arc";
   EXPECT_LE(test::check_fit(c, fit).deviation, 0.1 * kMm * (1 + kDeviationSlack));
 }
@@ -237,10 +237,10 @@ TEST(ClothoidPair, RandomCornersAreG2WithinToleranceAndCap) {
     for (const Segment& seg : fit.transition) transition_length += length(seg);
     EXPECT_LE(check.deviation, cc.input.spec.parameter * (1 + kDeviationSlack) + 1e-10 * transition_length)
         << test::seed_text(seed);
-    if (fit.case_name == "clothoid_arc_clothoid") {
+    if (fit.corner_case == CornerCase::kClothoidArcClothoid) {
       ++capped;
       EXPECT_LE(test::peak_curvature(fit), cc.input.spec.kappa_max * (1 + 1e-9)) << test::seed_text(seed);
-    } else if (fit.case_name == "curvature_cap_unmet") {
+    } else if (fit.corner_case == CornerCase::kCurvatureCapUnmet) {
       ++unmet;
       // even the plain arc of the cap's radius breaks the tolerance or the available length
       const ClothoidArcClothoid arc = clothoid_arc_clothoid(cc.angle, cc.input.spec.kappa_max, 0.0);
@@ -268,7 +268,7 @@ TEST(ClothoidPair, SquareThroughTheBlender) {
   }
   const Path path = blend(program);
   ASSERT_EQ(path.corners.size(), 3u);
-  EXPECT_EQ(path.corners[1].case_name, "clothoid_arc_clothoid");
+  EXPECT_EQ(path.corners[1].corner_case, CornerCase::kClothoidArcClothoid);
   EXPECT_NEAR(path.corners[1].kappa_max, 250.0, 1e-6);
   for (const CornerReport& report : path.corners) {
     EXPECT_LE(report.deviation, 2 * kMm * (1 + kDeviationSlack));

@@ -18,6 +18,7 @@ struct RunRequest {
   std::filesystem::path out_dir;      // created if missing; files in it are replaced atomically
   bool video = true;                  // render video.mp4 per variant (needs BLENDBENCH_RENDER)
   bool plots = true;                  // run the matplotlib script after the summary is written
+  bool variant_files = true;          // per variant trace.csv, path.csv, program.csv, corners.json (a sweep keeps only summary.json)
   std::vector<std::string> variants;  // names to run; empty = all
   // receives one line of progress at a time (variant started, stage timings, warnings)
   std::function<void(const std::string&)> progress;

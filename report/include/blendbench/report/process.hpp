@@ -8,12 +8,20 @@
 namespace blendbench {
 
 struct ProcessResult {
-  bool ok = false;      // started and exited with status 0
-  std::string message;  // why not: "cannot start X: ...", "X exited with status N", "X killed by signal N"
+  bool ok = false;       // started and exited with status 0
+  int exit_status = -1;  // the status it exited with; -1 when it did not start or was killed
+  int signal = 0;        // the signal that ended it; 0 when it exited
+  std::string message;   // why not ok: "cannot start X: ...", "X exited with status N", "X killed by signal N"
+};
+
+struct ProcessOptions {
+  // When set, the child's standard output and error go to this file (created or truncated);
+  // otherwise they are the caller's.
+  std::string output_file;
 };
 
 // Runs argv[0] (looked up on PATH when it has no slash) with the arguments argv[1..] and waits
-// for it. Standard input is /dev/null; standard output and error are the caller's.
-ProcessResult run_process(const std::vector<std::string>& argv);
+// for it. Standard input is /dev/null. Safe to call from several threads at once.
+ProcessResult run_process(const std::vector<std::string>& argv, const ProcessOptions& options = {});
 
 }  // namespace blendbench

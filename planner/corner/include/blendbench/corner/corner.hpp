@@ -1,15 +1,11 @@
 #pragma once
-// The interface every transition method implements: fit one corner between two moves.
-//
-// Special-case names used in CornerReport::case_name (001, 003):
-//   "regular", "collinear" (0 degree), "reversal" (180 degree), "zero_distance",
-//   "intersection", "tangent_opposite", "line_segment", "same_circle_same_direction",
-//   "same_circle_opposite_direction", "tangent" (G1 already, curvature jump only),
-//   "clothoid_arc_clothoid", "curvature_cap_unmet", "non_planar".
+// The interface every transition method implements: fit one corner between two moves. The
+// special cases and fallbacks a fit reports are the enums of program/corner_case.hpp.
 
 #include <string>
 #include <vector>
 
+#include "blendbench/program/corner_case.hpp"
 #include "blendbench/program/program.hpp"
 #include "blendbench/geometry/segment.hpp"
 #include "blendbench/core/status.hpp"
@@ -39,8 +35,8 @@ struct CornerFit {
   double trim_in = 0;
   double trim_out = 0;
   std::vector<Segment> transition;
-  std::string case_name = "regular";
-  std::string fallback;  // documented fallback used, empty when none
+  CornerCase corner_case = CornerCase::kRegular;
+  Fallback fallback = Fallback::kNone;  // documented fallback used
   std::string note;      // e.g. the parameter was shrunk because a move is short
   double parameter_used = 0;
   bool stop = false;  // velocity must go to zero here (Buffered at a remaining kink)

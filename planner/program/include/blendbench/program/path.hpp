@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "blendbench/program/corner_case.hpp"
 #include "blendbench/program/program.hpp"
 #include "blendbench/geometry/segment.hpp"
 
@@ -15,8 +16,8 @@ namespace blendbench {
 struct CornerReport {
   int index = 0;
   Method method = Method::kNone;
-  std::string case_name = "regular";  // "regular" or the special case hit (see corner.hpp)
-  std::string fallback;               // the documented fallback used, empty when none
+  CornerCase corner_case = CornerCase::kRegular;
+  Fallback fallback = Fallback::kNone;
   std::string note;                   // e.g. "parameter shrunk from 5 mm to 2.1 mm: move 3 is short"
   double parameter = 0;               // m: the transition parameter actually used (a biclothoid
                                       // sized by start distance: the start distance used)

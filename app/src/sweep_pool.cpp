@@ -1,0 +1,290 @@
+#include "sweep_pool.hpp"
+
+#include <sched.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <chrono>
+#include <condition_variable>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <mutex>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include "blendbench/app/runner.hpp"
+#include "blendbench/io/scenario.hpp"
+#include "blendbench/report/output.hpp"
+#include "blendbench/report/process.hpp"
+
+namespace blendbench::sweep_detail {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+nlohmann::json read_json_or_null(const fs::path& path) {
+  const std::optional<std::string> text = read_text(path);
+  if (!text) return nullptr;
+  return nlohmann::json::parse(*text, nullptr, false);  // discarded (null-like) when malformed
+}
+
+// The last line the child printed that says something: why a run stopped.
+std::string last_line(const fs::path& log) {
+  const std::string text = read_text(log).value_or("");
+  std::string last;
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);) {
+    if (line.find_first_not_of(" \t\r") != std::string::npos) last = line;
+  }
+  return last;
+}
+
+std::string format_duration(double seconds) {
+  const long s = std::lround(std::max(0.0, seconds));
+  char buffer[32];
+  if (s >= 3600) {
+    std::snprintf(buffer, sizeof buffer, "%ldh%02ldm", s / 3600, (s / 60) % 60);
+  } else {
+    std::snprintf(buffer, sizeof buffer, "%ldm%02lds", s / 60, s % 60);
+  }
+  return buffer;
+}
+
+// Runs one point in its folder and records how it ended in status.json.
+PointOutcome run_one(const SweepPlan& plan, const SweepPoint& point, const fs::path& dir, const std::string& self,
+                     std::set<std::string>& known) {
+  write_file_atomic(dir / "point.json", nlohmann::json({{"base_dir", plan.base_dir}, {"variants", point.variants}}).dump(2) + "\n");
+  if (read_text(dir / "scenario.yaml") != point.scenario_text) write_file_atomic(dir / "scenario.yaml", point.scenario_text);
+  // nothing of an earlier run may stand for this one
+  std::error_code ec;
+  fs::remove(dir / "status.json", ec);
+  fs::remove(dir / "summary.json", ec);
+
+  const auto start = Clock::now();
+  ProcessOptions options;
+  options.output_file = (dir / "log.txt").string();
+  const ProcessResult result = run_process({self, "sweep", "--run-point", dir.string()}, options);
+  PointOutcome outcome;
+  outcome.wall_time_s = std::chrono::duration<double>(Clock::now() - start).count();
+  const nlohmann::json summary = read_json_or_null(dir / "summary.json");
+  outcome.has_summary = summary.is_object();
+  outcome.variants = variant_results(summary, named_metrics(plan.spec), &known);
+  if (result.ok) {
+    outcome.status = "ok";
+  } else if (result.signal != 0) {
+    outcome.status = "crashed";
+    outcome.message = result.message;
+  } else if (result.exit_status == 1 && outcome.has_summary) {
+    outcome.status = "failed";
+    outcome.message = "a variant failed";
+  } else {
+    outcome.status = "error";
+    const std::string line = last_line(dir / "log.txt");
+    outcome.message = line.empty() ? result.message : line;
+  }
+  nlohmann::json status = {{"status", outcome.status},
+                           {"exit_status", result.exit_status},
+                           {"signal", result.signal},
+                           {"wall_time_s", outcome.wall_time_s}};
+  if (!outcome.message.empty()) status["message"] = outcome.message;
+  write_file_atomic(dir / "status.json", status.dump(2) + "\n");
+  return outcome;
+}
+
+// The progress bar: drawn in place on a terminal, silent otherwise.
+class Progress {
+ public:
+  Progress(std::size_t total, std::size_t resumed)
+      : total_(total), resumed_(resumed), tty_(::isatty(STDERR_FILENO) == 1), start_(Clock::now()) {}
+
+  void draw(std::size_t ran, std::size_t not_ok, std::size_t running) const {
+    if (!tty_) return;
+    constexpr int kWidth = 30;
+    const std::size_t done = ran + resumed_;
+    const int filled = total_ == 0 ? kWidth : static_cast<int>(kWidth * done / total_);
+    const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();
+    const std::size_t left = total_ - done;
+    const std::string eta = ran == 0 ? "--" : format_duration(elapsed / static_cast<double>(ran) * static_cast<double>(left));
+    std::fprintf(stderr, "\r[%s%s] %zu/%zu points, %zu running, %zu not ok, ETA %s   ", std::string(filled, '#').c_str(),
+                 std::string(kWidth - filled, '.').c_str(), done, total_, running, not_ok, eta.c_str());
+    std::fflush(stderr);
+  }
+
+  // A line above the bar (a failed point).
+  void say(const std::string& line) const {
+    if (tty_) std::fprintf(stderr, "\r%*s\r", 100, "");
+    std::fprintf(stderr, "%s\n", line.c_str());
+  }
+
+  void finish() const {
+    if (tty_) std::fprintf(stderr, "\n");
+  }
+
+ private:
+  std::size_t total_;
+  std::size_t resumed_;
+  bool tty_;
+  Clock::time_point start_;
+};
+
+}  // namespace
+
+fs::path point_dir(const fs::path& out_dir, const SweepPoint& point) { return out_dir / "points" / point.hash; }
+
+std::optional<std::string> read_text(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  return buffer.str();
+}
+
+std::optional<PointOutcome> read_outcome(const fs::path& dir, const std::set<std::string>& named, std::set<std::string>* known) {
+  const nlohmann::json status = read_json_or_null(dir / "status.json");
+  if (!status.is_object() || !status.contains("status") || !status["status"].is_string()) return std::nullopt;
+  PointOutcome outcome;
+  outcome.status = status["status"].get<std::string>();
+  outcome.message = status.value("message", "");
+  outcome.wall_time_s = status.value("wall_time_s", 0.0);
+  const nlohmann::json summary = read_json_or_null(dir / "summary.json");
+  outcome.has_summary = summary.is_object();
+  outcome.variants = variant_results(summary, named, known);
+  return outcome;
+}
+
+int available_cores() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (::sched_getaffinity(0, sizeof set, &set) == 0) return std::max(1, CPU_COUNT(&set));
+  return std::max(1U, std::thread::hardware_concurrency());
+}
+
+PoolStats run_pool(const SweepPlan& plan, const std::vector<std::size_t>& runs, const fs::path& out_dir, int jobs,
+                   bool resume) {
+  PoolStats stats;
+  stats.runs = runs.size();
+  const auto start = Clock::now();
+
+  // finished points are skipped on --resume: same scenario text, a status other than crashed
+  std::vector<std::size_t> todo;
+  for (const std::size_t i : runs) {
+    const SweepPoint& point = plan.points[i];
+    const fs::path dir = point_dir(out_dir, point);
+    if (resume) {
+      const std::optional<PointOutcome> done = read_outcome(dir, {}, nullptr);
+      if (done && done->status != "crashed" && read_text(dir / "scenario.yaml") == point.scenario_text) {
+        ++stats.resumed;
+        stats.not_ok += done->status == "ok" ? 0 : 1;
+        continue;
+      }
+    }
+    todo.push_back(i);
+  }
+
+  const std::string self = fs::read_symlink("/proc/self/exe").string();
+  const std::set<std::string> no_names;
+  std::mutex mutex;
+  std::condition_variable changed;
+  std::atomic<std::size_t> next{0};
+  std::atomic<bool> stop{false};
+  std::size_t finished = 0;
+  std::size_t running = 0;
+  bool names_checked = plan.spec.named_metrics.empty();
+  std::optional<InputError> names_error;
+  std::exception_ptr failure;
+  const Progress progress(runs.size(), stats.resumed);
+
+  // each worker takes the next point, runs it as a child process and reports the outcome
+  const auto worker = [&]() {
+    for (;;) {
+      if (stop) return;
+      const std::size_t k = next++;
+      if (k >= todo.size()) return;
+      const SweepPoint& point = plan.points[todo[k]];
+      {
+        const std::lock_guard<std::mutex> lock(mutex);
+        ++running;
+      }
+      PointOutcome outcome;
+      std::set<std::string> known;
+      try {
+        outcome = run_one(plan, point, point_dir(out_dir, point), self, known);
+      } catch (...) {
+        const std::lock_guard<std::mutex> lock(mutex);
+        if (!failure) failure = std::current_exception();
+        stop = true;
+        --running;
+        changed.notify_all();
+        return;
+      }
+      const std::lock_guard<std::mutex> lock(mutex);
+      --running;
+      ++finished;
+      if (outcome.status != "ok") {
+        ++stats.not_ok;
+        progress.say("point " + std::to_string(point.index) + " (" + point_values_text(plan.spec, point) + "): " +
+                     outcome.status + (outcome.message.empty() ? "" : ": " + outcome.message) + " [" +
+                     (point_dir(out_dir, point) / "log.txt").string() + "]");
+      }
+      // the metric names of the sweep file, against the first summary that has ok variants
+      if (!names_checked) {
+        if (!known.empty()) {
+          names_checked = true;
+          try {
+            check_metric_names(plan.spec, known);
+          } catch (const InputError& e) {
+            names_error = e;
+            stop = true;
+          }
+        }
+      }
+      changed.notify_all();
+    }
+  };
+
+  const int workers = std::max(1, std::min<int>(jobs, static_cast<int>(todo.size())));
+  std::vector<std::thread> threads;
+  for (int w = 0; w < workers && !todo.empty(); ++w) threads.emplace_back(worker);
+  {
+    std::unique_lock<std::mutex> lock(mutex);
+    while (finished < todo.size() && !stop) {
+      progress.draw(finished, stats.not_ok, running);
+      changed.wait_for(lock, std::chrono::milliseconds(500));
+    }
+    progress.draw(finished, stats.not_ok, running);
+  }
+  for (std::thread& t : threads) t.join();
+  progress.finish();
+  if (failure) std::rethrow_exception(failure);
+  if (names_error) throw *names_error;
+  stats.ran = finished;
+  stats.wall_s = std::chrono::duration<double>(Clock::now() - start).count();
+  return stats;
+}
+
+int run_point_folder(const fs::path& dir) {
+  const std::optional<std::string> text = read_text(dir / "scenario.yaml");
+  if (!text) throw InputError((dir / "scenario.yaml").string(), 0, 0, "--run-point", "no scenario.yaml in the point folder");
+  const nlohmann::json point = read_json_or_null(dir / "point.json");
+  if (!point.is_object() || !point["base_dir"].is_string() || !point["variants"].is_array()) {
+    throw InputError((dir / "point.json").string(), 0, 0, "--run-point", "not a sweep point's point.json");
+  }
+  const Scenario scenario = parse_scenario(*text, (dir / "scenario.yaml").string(), point["base_dir"].get<std::string>());
+  RunRequest request;
+  request.out_dir = dir;
+  request.video = false;
+  request.plots = false;
+  request.variant_files = false;
+  request.variants = point["variants"].get<std::vector<std::string>>();
+  request.progress = [](const std::string& line) { std::cout << line << '\n'; };
+  const RunResult result = run_scenario(scenario, request);
+  std::cout.flush();
+  return result.all_ok ? 0 : 1;
+}
+
+}  // namespace blendbench::sweep_detail
