@@ -465,6 +465,7 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
       }
     }
   }
+  if (result.interrupted_by != 0) result.all_ok = false;
   write_file_atomic(request.out_dir / "summary.json", result.summary.dump(2) + "\n");
 
   if (request.plots && result.interrupted_by == 0) {

@@ -26,7 +26,7 @@ struct RunRequest {
 
 struct RunResult {
   nlohmann::json summary;  // what summary.json holds
-  bool all_ok = true;      // every variant ran without divergence or planning failure
+  bool all_ok = true;      // every variant ran without divergence or planning failure (false when interrupted)
   int interrupted_by = 0;  // the signal that stopped the run (core/interrupt.hpp), 0 when none
 };
 
