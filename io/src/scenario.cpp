@@ -41,6 +41,8 @@ class Reader {
     if (!f.node.IsMap()) fail(f, "expected a mapping (key: value pairs)");
     const std::set<std::string> keys(allowed.begin(), allowed.end());
     for (const auto& item : f.node) {
+      // a key is a name: a list or mapping as a key (YAML's "? [a, b]") is refused where it stands
+      if (!item.first.IsScalar()) fail({item.first, f.path}, "a key must be a name, not a list or mapping");
       const std::string key = item.first.as<std::string>();
       if (keys.count(key) == 0) {
         std::string list;
