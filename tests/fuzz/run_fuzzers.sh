@@ -18,7 +18,7 @@ export LSAN_OPTIONS="suppressions=$root/tests/sanitizers/lsan.supp:print_suppres
 export UBSAN_OPTIONS="suppressions=$root/tests/sanitizers/ubsan.supp:print_stacktrace=1:halt_on_error=1"
 
 status=0
-for harness in fuzz_scenario fuzz_gcode; do
+for harness in fuzz_scenario fuzz_gcode fuzz_sweep; do
   binary="$build/tests/fuzz/$harness"
   [ -x "$binary" ] || { echo "run_fuzzers: $binary is missing (configure with -DBLENDBENCH_FUZZ=ON)" >&2; exit 2; }
   work="$scratch/$harness"
