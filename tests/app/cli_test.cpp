@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "support/csv.hpp"
+#include "support/program.hpp"
 #include "support/property.hpp"
 
 namespace {
@@ -44,32 +45,10 @@ Result run(const std::string& args) { return run_shell(std::string(BLENDBENCH_BI
 
 // Runs the program with an argument vector (no shell between) in the working directory `cwd`.
 Result run_in(const fs::path& cwd, const std::vector<std::string>& args) {
+  blendbench::test::Child child(BLENDBENCH_BINARY, args, cwd);
   Result r;
-  int fds[2];
-  if (::pipe(fds) != 0) return r;
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    ::dup2(fds[1], STDOUT_FILENO);
-    ::dup2(fds[1], STDERR_FILENO);
-    ::close(fds[0]);
-    ::close(fds[1]);
-    if (::chdir(cwd.c_str()) != 0) ::_exit(127);
-    std::vector<std::string> all = {BLENDBENCH_BINARY};
-    all.insert(all.end(), args.begin(), args.end());
-    std::vector<char*> argv;
-    for (std::string& a : all) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    ::execv(argv[0], argv.data());
-    ::_exit(127);
-  }
-  ::close(fds[1]);
-  std::array<char, 4096> buffer{};
-  ssize_t n = 0;
-  while ((n = ::read(fds[0], buffer.data(), buffer.size())) > 0) r.output.append(buffer.data(), static_cast<std::size_t>(n));
-  ::close(fds[0]);
-  int status = 0;
-  ::waitpid(pid, &status, 0);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.exit_code = child.wait();
+  r.output = child.output();
   return r;
 }
 

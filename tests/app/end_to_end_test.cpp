@@ -110,31 +110,17 @@ TEST_F(EndToEnd, UnreachableMoveFailsTheVariantNamingTheMove) {
   EXPECT_TRUE(fs::is_regular_file(dir_ / "summary.json"));
 }
 
-// Of two variants of one program, the exact stop reaches a corner beyond the arm's reach (891 mm
-// from the base axis at this height, measured) while the biclothoid, 40 mm inside the corner,
-// stays within it: the first fails alone and the second runs to the end.
+// Of two variants of one program (tests/data/reach.yaml), the exact stop reaches a corner
+// beyond the arm's reach while the biclothoid, 40 mm inside the corner, stays within it: the
+// first fails alone and the second runs to the end.
 TEST_F(EndToEnd, OneVariantOutOfReachFailsAloneTheOthersRun) {
-  const char* const text = R"(name: reach
-units: mm
-frame: {origin: [0, 0, 300], rpy_deg: [0, 0, 0]}
-defaults: {velocity: 200, acceleration: 2000, jerk: 20000}
-simulation: {settle_tolerance: 0.2, settle_time_s: 0.3}
-program:
-  start: [600, -150, 0]
-  moves:
-    - line: [910, 0, 0]
-    - line: [600, 150, 0]
-variants:
-  - {name: exact, transition: {method: none}}
-  - {name: biclothoid_40, transition: {method: biclothoid, parameter: 40}}
-)";
-  const Scenario sc = parse_scenario(text, "reach.yaml", test::source_path("scenarios"));
+  const Scenario sc = load_scenario(test::source_path("tests/data/reach.yaml"));
   const RunResult result = run_scenario(sc, request_into(dir_));
   EXPECT_FALSE(result.all_ok);
   const auto& variants = result.summary["variants"];
   ASSERT_EQ(variants.size(), 2u);
   EXPECT_EQ(variants[0]["status"], "failed");
-  EXPECT_NE(variants[0]["message"].get<std::string>().find("reach.yaml:9:7: 'program.moves[0]'"), std::string::npos)
+  EXPECT_NE(variants[0]["message"].get<std::string>().find("reach.yaml:12:7: 'program.moves[0]'"), std::string::npos)
       << variants[0]["message"];
   EXPECT_EQ(variants[1]["status"], "ok") << variants[1].dump(2);
   EXPECT_TRUE(variants[1]["cycle_time_s"].is_number());
@@ -200,7 +186,9 @@ TEST_F(EndToEnd, APathBelowTheFloorIsReported) {
     const double z_min = w["tcp_z_min_mm"].get<double>();
     EXPECT_LT(z_min, -10.0) << w.dump();
     EXPECT_GT(z_min, -20.0 - kTrackingBoundMm) << w.dump();
-    if (v["name"] == "exact") EXPECT_NEAR(z_min, -20.0, kTrackingBoundMm) << w.dump();
+    if (v["name"] == "exact") {
+      EXPECT_NEAR(z_min, -20.0, kTrackingBoundMm) << w.dump();
+    }
     EXPECT_GT(w["below_floor_t_s"].get<double>(), 0.0);
     EXPECT_FALSE(w["into_base"].get<bool>());
   }

@@ -1,7 +1,5 @@
 #include "blendbench/report/output.hpp"
 
-#include "blendbench/core/input_error.hpp"
-
 #include <gtest/gtest.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
@@ -10,19 +8,16 @@
 
 #include <cmath>
 #include <fstream>
-#include <sstream>
+
+#include "blendbench/core/input_error.hpp"
+#include "support/files.hpp"
 
 namespace blendbench {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using test::read_file;
 
 class OutputTest : public ::testing::Test {
  protected:
@@ -40,9 +35,9 @@ class OutputTest : public ::testing::Test {
 TEST_F(OutputTest, WritesAndReplacesAtomically) {
   const fs::path file = dir_ / "sub" / "summary.json";
   write_file_atomic(file, "first");
-  EXPECT_EQ(slurp(file), "first");
+  EXPECT_EQ(read_file(file), "first");
   write_file_atomic(file, "second, longer");
-  EXPECT_EQ(slurp(file), "second, longer");
+  EXPECT_EQ(read_file(file), "second, longer");
   // no temporary file is left behind
   int entries = 0;
   for (const auto& e : fs::directory_iterator(file.parent_path())) entries += e.is_regular_file() ? 1 : 0;
@@ -61,7 +56,7 @@ TEST_F(OutputTest, FailureKeepsTheOldFileAndSaysWhere) {
     EXPECT_NE(std::string(e.what()).find(dir_.string()), std::string::npos) << e.what();
   }
   ::chmod(dir_.c_str(), 0755);
-  EXPECT_EQ(slurp(file), "old");
+  EXPECT_EQ(read_file(file), "old");
 }
 
 TEST_F(OutputTest, AWriteCutShortKeepsTheOldFileAndLeavesNoTemporary) {
@@ -83,7 +78,7 @@ TEST_F(OutputTest, AWriteCutShortKeepsTheOldFileAndLeavesNoTemporary) {
   ::setrlimit(RLIMIT_FSIZE, &saved);
   std::signal(SIGXFSZ, old_handler);
   EXPECT_NE(error.find(file.string()), std::string::npos) << "expected a failure naming the file, got '" << error << "'";
-  EXPECT_EQ(slurp(file), "old");
+  EXPECT_EQ(read_file(file), "old");
   int entries = 0;
   for (const auto& e : fs::directory_iterator(dir_)) entries += e.is_regular_file() ? 1 : 0;
   EXPECT_EQ(entries, 1) << "the temporary file must be removed";
@@ -118,15 +113,15 @@ TEST_F(OutputTest, NonRegularTargetsAreRefusedAndKept) {
   }
   EXPECT_TRUE(fs::is_symlink(dir_ / "link.csv"));
   EXPECT_EQ(fs::symlink_status(dir_ / "fifo.csv").type(), fs::file_type::fifo);
-  EXPECT_EQ(slurp(elsewhere), "keep");
+  EXPECT_EQ(read_file(elsewhere), "keep");
   EXPECT_THROW(write_file_atomic("/dev/null", "x"), std::runtime_error);
 
   // a link at the temporary name (a stale one, or planted) is replaced, not written through
   const fs::path target = dir_ / "out.csv";
   fs::create_symlink(elsewhere, temporary_path_for(target));
   write_file_atomic(target, "new");
-  EXPECT_EQ(slurp(target), "new");
-  EXPECT_EQ(slurp(elsewhere), "keep");
+  EXPECT_EQ(read_file(target), "new");
+  EXPECT_EQ(read_file(elsewhere), "keep");
   EXPECT_FALSE(fs::exists(fs::symlink_status(temporary_path_for(target))));
 }
 

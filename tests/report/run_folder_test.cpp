@@ -7,23 +7,18 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
 #include "blendbench/core/input_error.hpp"
+#include "support/files.hpp"
 
 namespace blendbench {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using test::read_file;
 
 // Every entry below `dir` (relative, sorted), hidden ones included.
 std::vector<std::string> entries(const fs::path& dir) {
@@ -67,7 +62,7 @@ TEST_F(RunFolderTest, StagesBesideTheTargetAndPublishesOnCommit) {
     folder.commit();
     EXPECT_FALSE(fs::exists(folder.staging()));
   }
-  EXPECT_EQ(slurp(out_ / "summary.json"), "new");
+  EXPECT_EQ(read_file(out_ / "summary.json"), "new");
   // the lock is gone with the folder object, and nothing else is left beside the run
   EXPECT_EQ(entries(dir_), (std::vector<std::string>{"run", "run/summary.json"}));
 }
@@ -83,7 +78,7 @@ TEST_F(RunFolderTest, ACommitReplacesThePreviousRunAsAWhole) {
   }
   // no folder of the earlier run survives beside the new summary
   EXPECT_EQ(entries(dir_), (std::vector<std::string>{"run", "run/new_variant", "run/summary.json"}));
-  EXPECT_EQ(slurp(out_ / "summary.json"), "new");
+  EXPECT_EQ(read_file(out_ / "summary.json"), "new");
 }
 
 TEST_F(RunFolderTest, WithoutACommitThePreviousRunStaysIntact) {
@@ -94,7 +89,7 @@ TEST_F(RunFolderTest, WithoutACommitThePreviousRunStaysIntact) {
   }
   EXPECT_EQ(entries(dir_), (std::vector<std::string>{"run", "run/old_variant", "run/old_variant/trace.csv",
                                                      "run/summary.json"}));
-  EXPECT_EQ(slurp(out_ / "summary.json"), "old");
+  EXPECT_EQ(read_file(out_ / "summary.json"), "old");
 }
 
 TEST_F(RunFolderTest, ASecondRunIntoTheSameFolderIsRefusedAtOnce) {
@@ -153,8 +148,8 @@ TEST_F(RunFolderTest, ATargetThatIsNotARunFolderIsRefusedAndKept) {
   fs::create_directories(dir_ / "documents");
   std::ofstream(dir_ / "documents" / "thesis.tex") << "precious";
   refused(dir_ / "documents", "neither empty nor a run");
-  EXPECT_EQ(slurp(dir_ / "documents" / "thesis.tex"), "precious");
-  EXPECT_EQ(slurp(dir_ / "file"), "data");
+  EXPECT_EQ(read_file(dir_ / "documents" / "thesis.tex"), "precious");
+  EXPECT_EQ(read_file(dir_ / "file"), "data");
   refused("/", "does not name a folder");
 }
 
@@ -163,7 +158,7 @@ TEST_F(RunFolderTest, AnEmptyFolderIsAcceptedAsTheTarget) {
   RunFolder folder(out_);
   std::ofstream(folder.staging() / "summary.json") << "new";
   folder.commit();
-  EXPECT_EQ(slurp(out_ / "summary.json"), "new");
+  EXPECT_EQ(read_file(out_ / "summary.json"), "new");
 }
 
 TEST_F(RunFolderTest, CommitToASiblingKeepsThePreviousRun) {
@@ -174,8 +169,8 @@ TEST_F(RunFolderTest, CommitToASiblingKeepsThePreviousRun) {
     std::ofstream(folder.staging() / "summary.json") << "partial";
     folder.commit_to(kept);
   }
-  EXPECT_EQ(slurp(out_ / "summary.json"), "old");
-  EXPECT_EQ(slurp(kept / "summary.json"), "partial");
+  EXPECT_EQ(read_file(out_ / "summary.json"), "old");
+  EXPECT_EQ(read_file(kept / "summary.json"), "partial");
   // a second interrupted run replaces the first one's partial results as a whole
   {
     RunFolder folder(out_);
