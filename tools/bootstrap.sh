@@ -55,13 +55,24 @@ if [ ${#missing[@]} -gt 0 ]; then
 fi
 
 jobs=$(nproc 2>/dev/null || echo 2)
-# how long each step took, printed at the end of "test"
-times=()
+# how long each step took (wall clock, and the CPU time of the processes it ran), printed at
+# the end of "test"
+step_times=()
+cpu_file=$(mktemp)
+trap 'rm -f "$cpu_file"' EXIT
+cpu_seconds=0
+update_cpu() {  # user + system seconds of this shell's finished children (`times` runs here, not in a subshell)
+  times >"$cpu_file"
+  cpu_seconds=$(awk 'NR == 2 { n = 0; for (i = 1; i <= 2; ++i) { split($i, t, /[ms]/); n += t[1] * 60 + t[2] } printf "%d", n }' "$cpu_file")
+}
 step() {
-  local name=$1 start=$SECONDS
+  local name=$1 start=$SECONDS before
   shift
+  update_cpu
+  before=$cpu_seconds
   "$@"
-  times+=("$name $((SECONDS - start)) s")
+  update_cpu
+  step_times+=("$name $((SECONDS - start)) s (CPU $((cpu_seconds - before)) s)")
 }
 
 # configure (once) and build: build_in DIR CMAKE_ARGUMENTS...
@@ -83,4 +94,4 @@ step "gcc ctest" ctest --test-dir build --output-on-failure -j "$jobs" "$@"
 step "clang build" build_in build-clang -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Debug -DBLENDBENCH_FUZZ=ON
 step "clang ctest" ctest --test-dir build-clang --output-on-failure -j "$jobs" "$@"
 step "fuzzing" bash tests/fuzz/run_fuzzers.sh build-clang "${BLENDBENCH_FUZZ_SECONDS:-60}"
-echo "bootstrap: test steps: $(IFS=';'; echo "${times[*]}" | sed 's/;/; /g')"
+echo "bootstrap: test steps: $(IFS=';'; echo "${step_times[*]}" | sed 's/;/; /g')"
