@@ -101,6 +101,25 @@ TEST_F(Outputs, SigintDuringAReRunKeepsThePreviousRunIntact) {
   EXPECT_EQ(temporaries_below(dir_), std::vector<std::string>{});
 }
 
+// SIGKILL cannot be handled: the killed re-run leaves its staging folder, but the previous run is
+// intact, and the next run into the folder removes the leftover and replaces the run as a whole.
+TEST_F(Outputs, SigkillDuringAReRunLeavesThePreviousRunAndTheNextRunCleansUp) {
+  std::string output;
+  ASSERT_EQ(run({"run", scenario_, "--out", out_.string(), "--no-video", "--no-plots"}, &output), 0) << output;
+  const auto before = contents(out_);
+  {
+    Child rerun(BLENDBENCH_BINARY, {"run", scenario_, "--out", out_.string(), "--no-plots"});
+    ASSERT_TRUE(rerun.wait_for_line("  exact: inverse kinematics")) << rerun.output();
+    rerun.signal(SIGKILL);
+    EXPECT_EQ(rerun.wait(), -1);
+  }
+  EXPECT_EQ(contents(out_), before) << "the previous run must be intact";
+  ASSERT_EQ(run({"run", scenario_, "--out", out_.string(), "--no-video", "--no-plots", "--variant", "arc"}, &output), 0)
+      << output;
+  EXPECT_EQ(names_in(dir_ / "runs"), std::vector<std::string>{"long"}) << "the killed run's staging folder is removed";
+  EXPECT_EQ(names_in(out_), (std::vector<std::string>{"arc", "summary.json"})) << "no folder of the earlier run survives";
+}
+
 TEST_F(Outputs, SigtermDuringTheSecondVariantKeepsTheFirst) {
   Child first(BLENDBENCH_BINARY, {"run", scenario_, "--out", out_.string(), "--no-plots"});
   ASSERT_TRUE(first.wait_for_line("[2/2] arc")) << first.output();
