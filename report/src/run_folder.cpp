@@ -159,8 +159,10 @@ void RunFolder::prepare(const fs::path& out, const fs::path& parent, const std::
     // the pid is only for the message of a second run; the lock holds without it
   }
 
-  // the destination may be replaced as a whole
-  had_previous_ = check_destination(target_, [&](const std::string& why) { refuse(out, why); });
+  // the destination may be replaced as a whole; it holds a run when it has a summary
+  std::error_code summary_ec;
+  had_previous_ = check_destination(target_, [&](const std::string& why) { refuse(out, why); }) &&
+                  fs::symlink_status(target_ / "summary.json", summary_ec).type() == fs::file_type::regular;
 
   // staging folders of killed runs: nobody else can own them while we hold the lock
   const std::string stale_prefix = hidden_sibling(parent, name, ".staging-").filename().string();

@@ -156,6 +156,7 @@ TEST_F(RunFolderTest, ATargetThatIsNotARunFolderIsRefusedAndKept) {
 TEST_F(RunFolderTest, AnEmptyFolderIsAcceptedAsTheTarget) {
   fs::create_directories(out_);
   RunFolder folder(out_);
+  EXPECT_FALSE(folder.had_previous_run()) << "an empty folder holds no run";
   std::ofstream(folder.staging() / "summary.json") << "new";
   folder.commit();
   EXPECT_EQ(read_file(out_ / "summary.json"), "new");

@@ -42,7 +42,7 @@ class RunFolder {
   [[nodiscard]] const std::filesystem::path& staging() const { return staging_; }
   // The folder the run is for (`out` made absolute).
   [[nodiscard]] const std::filesystem::path& target() const { return target_; }
-  // Whether target() held a run when the lock was taken.
+  // Whether target() held a run (a summary.json) when the lock was taken.
   [[nodiscard]] bool had_previous_run() const { return had_previous_; }
 
   // Publishes the staging folder as target(), replacing what it held as a whole (see above).
