@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "support/property.hpp"
@@ -227,7 +228,7 @@ TEST_F(SimulatorTest, TrackingErrorIsBoundedAndFallsAsKpRises) {
   const JointReference reference = cosine_reference(q0_, 0.2, M_PI, 2.0, 0.001);
   RunOptions options;
   options.settle_time = 0.5;
-  double previous = INFINITY;
+  double previous = std::numeric_limits<double>::infinity();
   for (const double scale : {0.25, 1.0, 4.0}) {
     const Trace trace = sim_.run(reference, default_servo(sim_, q0_, 1000, scale * default_kp()), options);
     ASSERT_FALSE(trace.diverged) << trace.warning;
@@ -366,7 +367,7 @@ TEST_F(SimulatorTest, MalformedReferenceOrServoIsAnInputError) {
   reference.qd.pop_back();
   EXPECT_EQ(field_of(reference, servo), "reference.qd");
   reference.qd.clear();
-  reference.q[3][2] = NAN;
+  reference.q[3][2] = std::numeric_limits<double>::quiet_NaN();
   EXPECT_EQ(field_of(reference, servo), "reference.q");
   reference.q[3][2] = 0;
   ServoConfig slow = servo;
