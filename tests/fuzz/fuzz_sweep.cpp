@@ -11,6 +11,7 @@
 
 #include "blendbench/core/input_error.hpp"
 #include "blendbench/io/sweep_spec.hpp"
+#include "fuzz_setup.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
