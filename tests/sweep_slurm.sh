@@ -115,7 +115,7 @@ scenario: $scenario
 axes:
   variants[1].transition.parameter: [2, 5]
   defaults.velocity: [150, 200]
-constraints: ["contour_error_max_mm <= 1.0"]
+constraints: ["metrics.contour_error_programmed_max_mm <= 1.0"]
 EOF
 fi
 "$binary" sweep "$sweep" --out "$work/local" --jobs 2 --no-plots >"$work/local.log" 2>&1 ||

@@ -27,9 +27,12 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 mkdir -p "$out/cases"
 
-# variant names of a scenario, one a line
+# variant names of a scenario, one a line; its name and description
 variants() {
   "$python" -c 'import sys, yaml; print("\n".join(v["name"] for v in yaml.safe_load(open(sys.argv[1]))["variants"]))' "$1"
+}
+field() {
+  "$python" -c 'import sys, yaml; print(yaml.safe_load(open(sys.argv[1])).get(sys.argv[2], ""))' "$1" "$2"
 }
 
 # figure SCENARIO PNG LINK: every variant through `path`, then the figure and its index section
@@ -49,7 +52,8 @@ figure() {
     fi
     args+=(--run "$v" "$dir/$v.csv" "$dir/$v.json")
   done < <(variants "$scenario")
-  "$python" "$script" --scenario "$scenario" --out "$png" --link "$link" --markdown "$work/$name.md" "${args[@]}"
+  "$python" "$script" --name "$(field "$scenario" name)" --description "$(field "$scenario" description)" \
+    --out "$png" --link "$link" --markdown "$work/$name.md" "${args[@]}"
   local bytes
   bytes=$(stat -c %s "$png")
   echo "$png: $((bytes / 1024)) KB"

@@ -3,25 +3,21 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <memory>
 #include <numbers>
 #include <optional>
-#include <sstream>
 
 #include "blendbench/core/interrupt.hpp"
 #include "blendbench/corner/blend.hpp"
-#include "blendbench/robot/ik.hpp"
-#include "blendbench/robot/joint_mapping.hpp"
-#include "blendbench/timing/timing.hpp"
-#include "blendbench/sim/metrics.hpp"
+#include "blendbench/io/urdf_chain.hpp"
+#include "blendbench/report/csv.hpp"
 #include "blendbench/report/output.hpp"
 #include "blendbench/report/process.hpp"
-#include "blendbench/report/report.hpp"
-#include "blendbench/sim/simulator.hpp"
-#include "blendbench/sim/workspace.hpp"
 #include "blendbench/io/data_root.hpp"
-#include "blendbench/io/urdf_chain.hpp"
+#include "blendbench/robot/ik.hpp"
+#include "blendbench/sim/execution.hpp"
+#include "blendbench/sim/workspace.hpp"
+#include "blendbench/timing/timing.hpp"
 #ifdef BLENDBENCH_HAS_RENDER
 #include "blendbench/render/render.hpp"
 #include "blendbench/render/video.hpp"
@@ -32,25 +28,12 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 constexpr double kMm = 1e3;
+constexpr double kDeg = 180 / std::numbers::pi;
 // Path sampling for path.csv / program.csv (m): fine enough for plots, small enough for files.
 constexpr double kCsvStep = 0.5e-3;
 
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
-}
-
-nlohmann::json finite_or_null(double value) { return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(); }
-
-nlohmann::json to_json(const JointVector& v) {
-  nlohmann::json out = nlohmann::json::array();
-  for (int i = 0; i < 6; ++i) out.push_back(v[i]);
-  return out;
-}
-
-TimingOptions::Baseline baseline_of(const Variant& variant) {
-  if (variant.baseline == "exact_stop") return TimingOptions::Baseline::kExactStop;
-  if (variant.baseline == "junction_slowdown") return TimingOptions::Baseline::kJunctionSlowdown;
-  return TimingOptions::Baseline::kNone;
 }
 
 // The method a variant mostly uses: its own transition, else the first move's.
@@ -91,96 +74,138 @@ std::string at_move(const Scenario& sc, const Program& program, std::size_t move
   return move_error(sc, program, move, what).what();
 }
 
-// The scenario's servo: gains it gives, else the simulator's defaults for the start pose
-// (stable at the servo rate, critically damped).
-ServoConfig servo_config(const Scenario& sc, const Simulator& sim, const JointVector& q0) {
-  const JointVector kp = sc.servo.kp ? JointVector(Eigen::Map<const JointVector>(sc.servo.kp->data())) : default_kp();
-  ServoConfig servo = default_servo(sim, q0, sc.servo.rate_hz, kp);
-  if (sc.servo.kp) servo.kp = kp;
-  if (sc.servo.kd) servo.kd = Eigen::Map<const JointVector>(sc.servo.kd->data());
-  servo.gravity_compensation = sc.servo.gravity_compensation;
-  servo.feedforward = sc.servo.feedforward;
-  return servo;
+[[noreturn]] void fail_at(const Scenario& sc, const SourceRef& where, const std::string& field, const std::string& what) {
+  throw InputError(where.file.empty() ? sc.file : where.file, where.line, where.column, field, what);
 }
 
-// Everything shared by the variants of one scenario: robot models and solvers.
+// Everything shared by the variants of one scenario: robot models, solvers and the servo.
 struct Robot {
   KinematicChain chain;
   std::unique_ptr<IkSolver> ik;
   std::unique_ptr<Simulator> sim;
+  JointVector q0 = JointVector::Zero();  // link angles at the program's start
+  ServoConfig servo;
   KeepOut keep_out;  // the floor and the base, which the model does not collide with
 };
 
-// The keep-out report of a variant (sim/workspace.hpp), mm and s; null where none applies.
-nlohmann::json workspace_json(const WorkspaceReport& w, const KeepOut& zones) {
-  return {{"floor_z_mm", finite_or_null(zones.floor_z * kMm)},
-          {"floor_clearance_mm", zones.floor_clearance * kMm},
-          {"tcp_z_min_mm", finite_or_null(w.tcp_z_min * kMm)},
-          {"below_floor", w.below_floor},
-          {"below_floor_t_s", finite_or_null(w.below_floor_t)},
-          {"base_radius_mm", zones.base_radius * kMm},
-          {"base_top_mm", zones.base_top * kMm},
-          {"base_distance_min_mm", finite_or_null(w.base_distance_min * kMm)},
-          {"into_base", w.into_base},
-          {"into_base_t_s", finite_or_null(w.into_base_t)}};
+// The scenario's servo, tuned from the model at the start pose, with its switches.
+ServoConfig servo_of(const Scenario& sc, const Simulator& sim, const JointVector& q0) {
+  ServoTuning tuning;
+  tuning.rate_hz = sc.servo.rate_hz;
+  tuning.setpoint_rate_hz = sc.servo.setpoint_rate_hz;
+  tuning.measurement_delay_ticks = sc.servo.measurement_delay_ticks;
+  tuning.encoder_counts_per_turn = sc.servo.encoder_counts_per_turn;
+  ServoConfig servo = tune_servo(sim, q0, tuning);
+  servo = with_controller(servo, sc.servo.controller == ServoController::kPd ? Controller::kPd : Controller::kCascade);
+  if (sc.servo.velocity_feedforward) servo.velocity_feedforward = *sc.servo.velocity_feedforward;
+  if (sc.servo.acceleration_feedforward) servo.acceleration_feedforward = *sc.servo.acceleration_feedforward;
+  if (sc.servo.gravity_compensation) servo.gravity_compensation = *sc.servo.gravity_compensation;
+  if (sc.servo.deflection_compensation) servo.deflection_compensation = *sc.servo.deflection_compensation;
+  return servo;
 }
 
 // trace.csv: planned profile, commanded/actual TCP, errors and joints at every servo tick.
 std::string trace_csv(const Trace& trace, const Timing& timing, const Metrics& m) {
-  std::string out = "t,s_mm,v_mm_s,a_mm_s2,j_mm_s3,cmd_x,cmd_y,cmd_z,act_x,act_y,act_z,tracking_error_mm,contour_error_mm";
-  const char* groups[] = {"q_cmd_", "q_", "qd_cmd_", "qd_", "tau_"};
+  std::vector<std::string> columns = {"t",
+                                      "s_mm",
+                                      "v_mm_s",
+                                      "a_mm_s2",
+                                      "j_mm_s3",
+                                      "cmd_x",
+                                      "cmd_y",
+                                      "cmd_z",
+                                      "act_x",
+                                      "act_y",
+                                      "act_z",
+                                      "tracking_error_mm",
+                                      "orientation_error_deg",
+                                      "contour_error_programmed_mm",
+                                      "contour_error_planned_mm",
+                                      "tcp_speed_mm_s",
+                                      "jerk_actual_mm_s3",
+                                      "vibration_x_mm",
+                                      "vibration_y_mm",
+                                      "vibration_z_mm"};
+  const char* groups[] = {"q_cmd_", "q_", "qd_cmd_", "qd_", "q_motor_", "following_error_mrad_", "tau_"};
   for (const char* g : groups) {
-    for (int i = 1; i <= 6; ++i) {
-      out += ',';
-      out += g;
-      out += std::to_string(i);
-    }
+    for (int i = 1; i <= 6; ++i) columns.push_back(g + std::to_string(i));
   }
-  out += '\n';
+  CsvWriter out(columns);
+  out.reserve(trace.samples.size());
+  std::vector<double> row(columns.size());
   const TimedSample rest_end = timing.samples.back();
   for (std::size_t k = 0; k < trace.samples.size(); ++k) {
     const TraceSample& s = trace.samples[k];
     // after the planned motion the reference holds the end point at rest
-    const TimedSample& p = k < timing.samples.size() ? timing.samples[k] : rest_end;
-    const double row[] = {s.t, p.s * kMm, (k < timing.samples.size() ? p.v : 0.0) * kMm,
-                          (k < timing.samples.size() ? p.a : 0.0) * kMm, (k < timing.samples.size() ? p.j : 0.0) * kMm,
-                          s.tcp_cmd.x() * kMm, s.tcp_cmd.y() * kMm, s.tcp_cmd.z() * kMm, s.tcp.x() * kMm,
-                          s.tcp.y() * kMm, s.tcp.z() * kMm, m.tracking_error[k] * kMm, m.contour_error[k] * kMm};
-    bool first = true;
-    for (const double v : row) {
-      if (!first) out += ',';
-      out += format_number(v, 10);
-      first = false;
+    const bool moving = k < timing.samples.size();
+    const TimedSample& p = moving ? timing.samples[k] : rest_end;
+    const double head[] = {s.t,
+                           p.s * kMm,
+                           (moving ? p.v : 0.0) * kMm,
+                           (moving ? p.a : 0.0) * kMm,
+                           (moving ? p.j : 0.0) * kMm,
+                           s.tcp_cmd.x() * kMm,
+                           s.tcp_cmd.y() * kMm,
+                           s.tcp_cmd.z() * kMm,
+                           s.tcp.x() * kMm,
+                           s.tcp.y() * kMm,
+                           s.tcp.z() * kMm,
+                           m.tracking_error[k] * kMm,
+                           m.orientation_error[k] * kDeg,
+                           m.contour_error_programmed[k] * kMm,
+                           m.contour_error_planned[k] * kMm,
+                           m.tcp_speed[k] * kMm,
+                           m.jerk_actual[k] * kMm,
+                           m.vibration[k].x() * kMm,
+                           m.vibration[k].y() * kMm,
+                           m.vibration[k].z() * kMm};
+    std::size_t c = 0;
+    for (const double v : head) row[c++] = v;
+    const JointVector following = s.following_error * 1e3;
+    for (const JointVector* v : {&s.q_cmd, &s.q, &s.qd_cmd, &s.qd, &s.q_motor, &following, &s.tau}) {
+      for (int i = 0; i < 6; ++i) row[c++] = (*v)[i];
     }
-    for (const JointVector* v : {&s.q_cmd, &s.q, &s.qd_cmd, &s.qd, &s.tau}) {
-      for (int i = 0; i < 6; ++i) {
-        out += ',';
-        out += format_number((*v)[i], 10);
-      }
-    }
-    out += '\n';
+    out.row(row);
   }
-  return out;
+  return out.text();
 }
 
-nlohmann::json metrics_json(const Metrics& m, const Timing& timing) {
-  return {
-      {"cycle_time_s", m.cycle_time ? nlohmann::json(*m.cycle_time) : nlohmann::json()},
-      {"planned_cycle_time_s", timing.cycle_time},
-      {"feed_share", timing.feed_share},
-      {"tracking_error_max_mm", m.tracking_error_max * kMm},
-      {"tracking_error_rms_mm", m.tracking_error_rms * kMm},
-      {"contour_error_max_mm", m.contour_error_max * kMm},
-      {"path_deviation_max_mm", m.path_deviation_max * kMm},
-      {"cartesian_jerk_peak_mm_s3", m.cartesian_jerk_peak * kMm},
-      {"joint_jerk_peak_rad_s3", m.joint_jerk_peak},
-      {"joint_velocity_peak_rad_s", to_json(m.joint_velocity_peak)},
-      {"joint_acceleration_peak_rad_s2", to_json(m.joint_acceleration_peak)},
-      {"torque_peak_nm", to_json(m.torque_peak)},
-      {"joint_velocity_limit_exceeded", m.joint_velocity_limit_exceeded},
-      {"torque_limit_reached", m.torque_limit_reached},
-      {"settled", m.cycle_time.has_value()},
-  };
+// The status of a run that did not diverge: saturation first, then limits, then settling.
+VariantStatus status_of(const Metrics& m, const Health& h) {
+  if (h.saturated) return VariantStatus::kSaturated;
+  if (h.limits_exceeded()) return VariantStatus::kLimitExceeded;
+  if (!m.cycle_time) return VariantStatus::kNotSettled;
+  return VariantStatus::kOk;
+}
+
+std::string status_message(const Metrics& m, const Health& h) {
+  const auto joint = [](int j) { return "joint " + std::to_string(j + 1); };
+  if (h.saturated) {
+    std::string out = "torque saturated:";
+    for (std::size_t i = 0; i < 6; ++i) {
+      if (h.saturated_ticks[i] > 0) {
+        out += ' ';
+        out += joint(static_cast<int>(i));
+        out += ' ';
+        out += std::to_string(h.saturated_ticks[i]);
+        out += " ticks (";
+        out += format_fixed(100 * h.saturated_share[static_cast<Eigen::Index>(i)], 1);
+        out += " %)";
+      }
+    }
+    return out + "; not clean tracking data";
+  }
+  for (const auto& [check, what] : {std::pair{&h.reference_velocity, "reference velocity"},
+                                    std::pair{&h.reference_acceleration, "reference acceleration"},
+                                    std::pair{&h.actual_velocity, "actual velocity"},
+                                    std::pair{&h.actual_acceleration, "actual acceleration"}}) {
+    if (check->exceeded) {
+      return std::string(what) + " beyond the limit of " + joint(check->joint) + " at t = " + format_fixed(check->t, 3) +
+             " s (" + format_number(check->value, 4) + " > " + format_number(check->limit, 4) + ")";
+    }
+  }
+  if (!m.cycle_time) return "did not settle within the simulated time";
+  return {};
 }
 
 class VariantRun {
@@ -188,59 +213,56 @@ class VariantRun {
   VariantRun(const Scenario& sc, const Robot& robot, const RunRequest& request, const Variant& variant)
       : sc_(sc), robot_(robot), request_(request), variant_(variant), dir_(request.out_dir / variant.name) {}
 
-  nlohmann::json run() {
+  VariantSummary run() {
     const Program program = program_for(sc_, variant_);
-    nlohmann::json out = {{"name", variant_.name},
-                          {"method", std::string(to_string(variant_method(program, variant_)))},
-                          {"parameter_mm", variant_.transition ? variant_.transition->parameter * kMm : 0.0},
-                          {"baseline", variant_.baseline}};
+    VariantSummary out;
+    out.name = variant_.name;
+    out.method = variant_method(program, variant_);
+    out.parameter = variant_.transition ? variant_.transition->parameter : 0.0;
+    out.baseline = timing_options(sc_, variant_).baseline;
 
     // plan: blend and time
     auto start = Clock::now();
     const Path path = blend(program);
-    TimingOptions topt;
-    topt.dt = 1.0 / sc_.servo.rate_hz;
-    topt.baseline = baseline_of(variant_);
+    // the scenario's limits mode and axis limits, or the command line's; the setpoint period
+    TimingOptions topt = timing_options(sc_, variant_);
+    topt.dt = 1.0 / robot_.servo.setpoint_rate_hz;
+    if (request_.limits) {
+      topt.limits = *request_.limits;
+      if (topt.limits == LimitsMode::kPath) topt.axis_limits.reset();
+    }
+    if (request_.max_samples) topt.max_samples = *request_.max_samples;
     const Timing timing = plan_timing(path, topt);
-    {
-      // the plan's own figures: length, corners, binding constraint per piece (issue 4)
-      nlohmann::json plan = plan_summary_json(path, timing);
-      out["path_length_mm"] = plan["path_length_mm"];
-      out["corners"] = std::move(plan["corners"]);
-      out["pieces"] = std::move(plan["pieces"]);
-    }
-    if (!timing.outcome.ok()) return failed(out, "planning failed: " + timing.outcome.message);
+    out.timings.planning = seconds_since(start);
+    PlanFigures& plan = out.plan;
+    plan.path_length = path.length();
+    plan.planned_cycle_time = timing.cycle_time;
+    plan.feed_share = timing.feed_share;
+    plan.corners = path.corners;
+    for (const CornerReport& c : path.corners) plan.path_deviation_max = std::max(plan.path_deviation_max, c.deviation);
+    plan.placements = corner_placements(path, program);
+    plan.pieces = pieces_json(path, timing);
+    plan.limits = timing.limits;
+    plan.bound_cycle_time = timing.bound_cycle_time;
+    plan.moves_merged = path.moves_merged;
+    plan.merge_tolerance = path.merge_tolerance;
+    plan.corner_steps = timing.corner_steps;
+    if (!timing.outcome.ok()) return failed(std::move(out), VariantStatus::kPlanningFailed, "planning failed: " + timing.outcome.message);
     say("planned " + format_fixed(path.length() * kMm, 1) + " mm in " + format_fixed(timing.cycle_time, 3) + " s (" +
-        format_fixed(seconds_since(start) * 1e3, 1) + " ms)");
+        format_fixed(out.timings.planning * 1e3, 1) + " ms)");
 
-    // IK along the timed path
-    start = Clock::now();
-    std::vector<Eigen::Isometry3d> poses;
-    poses.reserve(timing.samples.size());
-    for (const TimedSample& s : timing.samples) poses.push_back(tool_pose(path.point(s.s), sc_.robot.tool_rotation));
-    // a variant whose path leaves the reach fails alone (the start was checked for all)
-    const IkSolver::Result q0 = robot_.ik->solve(poses.front(), sc_.robot.q_seed);
-    if (!q0.outcome.ok()) {
-      return failed(out, at_move(sc_, program, 0, "the start point " + pose_text(poses.front().translation()) +
-                                                      " cannot be reached: " + q0.outcome.message));
-    }
-    const JointTrajectory joints = map_to_joints(*robot_.ik, poses, topt.dt, q0.q);
-    if (!joints.outcome.ok()) {
-      const double s = timing.samples[joints.failed_index].s;
-      return failed(out, at_move(sc_, program, move_at(path, s),
-                                 "the path leaves the robot's reach or limits at " + joints.outcome.message));
-    }
-    say("inverse kinematics for " + std::to_string(poses.size()) + " poses (" + format_fixed(seconds_since(start) * 1e3, 1) +
-        " ms)");
-
-    // simulate, rendering frames on the way
-    JointReference reference;
-    reference.dt = joints.dt;
-    reference.q = joints.q;
-    reference.qd = joints.qd;
-    reference.qdd = joints.qdd;
-    RunOptions options;
-    options.settle_time = sc_.simulation.settle_time;
+    // execute: IK, the simulation (rendering frames on the way), metrics and health
+    ExecutionOptions options;
+    options.tool_rotation = sc_.robot.tool_rotation;
+    options.q0 = robot_.q0;
+    options.servo = robot_.servo;
+    options.run.settle_time = sc_.simulation.settle_time;
+    options.metrics.settle_tolerance = sc_.simulation.settle_tolerance;
+    options.metrics.settle_speed_tolerance = sc_.simulation.settle_speed_tolerance;
+    options.metrics.settle_window = sc_.simulation.settle_window;
+    options.metrics.vibration_window = sc_.simulation.vibration_window;
+    options.metrics.vibration_highpass = sc_.simulation.vibration_highpass;
+    options.metrics.jerk_lowpass = sc_.simulation.jerk_lowpass;
     double video_seconds = 0;
 #ifdef BLENDBENCH_HAS_RENDER
     std::unique_ptr<OffscreenRenderer> renderer;
@@ -258,48 +280,51 @@ class VariantRun {
       renderer = std::make_unique<OffscreenRenderer>(robot_.sim->model(), ropt);
       std::filesystem::create_directories(dir_);
       video = std::make_unique<VideoWriter>((dir_ / "video.mp4").string(), ropt.width, ropt.height, sc_.video.fps);
-      options.frame_rate = sc_.video.fps;
-      options.on_frame = [&](const mjModel&, const mjData& d, double) {
+      options.run.frame_rate = sc_.video.fps;
+      options.run.on_frame = [&](const mjModel&, const mjData& d, double) {
         const auto frame_start = Clock::now();
         video->write(renderer->render(d));
         video_seconds += seconds_since(frame_start);
       };
     }
 #endif
-    start = Clock::now();
-    const Trace trace = robot_.sim->run(reference, servo_config(sc_, *robot_.sim, q0.q), options);
-    const double wall = seconds_since(start);
-    const double simulated = trace.samples.empty() ? 0.0 : trace.samples.back().t;
-    out["simulated_time_s"] = simulated;
-    out["sim_wall_time_s"] = wall - video_seconds;
-    out["video_wall_time_s"] = video_seconds;
-    out["real_time_factor"] = wall - video_seconds > 0 ? simulated / (wall - video_seconds) : 0.0;
-    out["real_time_factor_with_video"] = wall > 0 ? simulated / wall : 0.0;
-    if (trace.diverged) {
-      out["diverged"] = true;
-      return failed(out, "the simulation diverged: " + trace.warning);
+    const Execution run = execute(*robot_.sim, *robot_.ik, program, path, timing, options);
+    // a variant whose path leaves the reach fails alone (the start was checked for all)
+    if (!run.joints.outcome.ok()) {
+      const double s = timing.samples[run.joints.failed_index].s;
+      return failed(std::move(out), VariantStatus::kFailed,
+                    at_move(sc_, program, move_at(path, s),
+                            "the path leaves the robot's reach or limits at " + run.joints.outcome.message));
     }
+    const Trace& trace = run.trace;
+    plan.corner_times = run.corners;
+    out.timings.inverse_kinematics = run.ik_seconds;
+    out.timings.simulated = trace.samples.empty() ? 0.0 : trace.samples.back().t;
+    out.timings.video = video_seconds;
+    out.timings.simulation = run.simulation_seconds - video_seconds;
+    out.warning = trace.warning;
+    say("inverse kinematics for " + std::to_string(timing.samples.size()) + " poses (" +
+        format_fixed(out.timings.inverse_kinematics * 1e3, 1) + " ms)");
+    if (trace.diverged) return failed(std::move(out), VariantStatus::kDiverged, "the simulation diverged: " + trace.warning);
 #ifdef BLENDBENCH_HAS_RENDER
     if (video) video->finish();
 #endif
-    const double sim_wall = wall - video_seconds;
-    say("simulated " + format_fixed(simulated, 2) + " s in " + format_fixed(sim_wall, 2) + " s wall (" +
-        format_fixed(simulated / std::max(sim_wall, 1e-9), 0) + "x real time)" +
+    say("simulated " + format_fixed(out.timings.simulated, 2) + " s in " + format_fixed(out.timings.simulation, 2) +
+        " s wall (" + format_fixed(out.timings.real_time_factor(), 1) + "x real time)" +
         (request_.video ? "; video " + format_fixed(video_seconds, 2) + " s (" +
-                              format_fixed(simulated * sc_.video.fps / std::max(video_seconds, 1e-9), 0) + " frames/s)"
+                              format_fixed(out.timings.real_time_factor_with_video(), 1) + "x real time with it)"
                         : std::string()));
 
-    // metrics and files
-    MetricsOptions mopt;
-    mopt.end_point = point(program.moves.back().geometry, length(program.moves.back().geometry));
-    mopt.settle_tolerance = sc_.simulation.settle_tolerance;
-    for (int i = 0; i < 6; ++i) mopt.velocity_limits[i] = robot_.chain.joints[static_cast<std::size_t>(i)].velocity_limit;
-    mopt.torque_limits = robot_.sim->torque_limits();
-    const Metrics m = compute_metrics(trace, program, path, mopt);
-    out.update(metrics_json(m, timing));
+    // status and files (a sweep keeps only summary.json)
+    const Metrics& m = run.metrics.value();
+    const Health& health = run.health.value();
+    out.status = status_of(m, health);
+    out.message = status_message(m, health);
+    out.metrics = m;
+    out.health = health;
     // the model has no contacts: say where the TCP goes through the floor or into the base
-    const WorkspaceReport workspace = check_workspace(trace, robot_.keep_out);
-    out["workspace"] = workspace_json(workspace, robot_.keep_out);
+    const WorkspaceReport& workspace = out.workspace.emplace(
+        WorkspaceFigures{robot_.keep_out, check_workspace(trace, robot_.keep_out)}).report;
     if (workspace.below_floor) {
       say("warning: the TCP goes below the floor (z " + format_fixed(workspace.tcp_z_min * kMm, 1) + " mm, from t = " +
           format_fixed(workspace.below_floor_t, 3) + " s); the model has no contacts");
@@ -308,18 +333,17 @@ class VariantRun {
       say("warning: the TCP enters the robot's base (" + format_fixed(workspace.base_distance_min * kMm, 1) +
           " mm from its axis, from t = " + format_fixed(workspace.into_base_t, 3) + " s); the model has no contacts");
     }
-    out["diverged"] = false;
-    out["status"] = "ok";
-    if (!trace.warning.empty()) out["warning"] = trace.warning;
     if (request_.variant_files) {
       write_file_atomic(dir_ / "trace.csv", trace_csv(trace, timing, m));
       write_file_atomic(dir_ / "path.csv", path_csv(path, kCsvStep));
       write_file_atomic(dir_ / "program.csv", program_csv(program, kCsvStep));
-      write_file_atomic(dir_ / "corners.json", out["corners"].dump(2) + "\n");
+      write_file_atomic(dir_ / "corners.json", corners_json(plan).dump(2) + "\n");
     }
-    std::string cycle = m.cycle_time ? format_fixed(*m.cycle_time, 3) + " s" : std::string("not settled");
-    say("cycle " + cycle + ", tracking error max " + format_fixed(m.tracking_error_max * kMm, 3) + " mm, contour error max " +
-        format_fixed(m.contour_error_max * kMm, 3) + " mm");
+    const std::string cycle = m.cycle_time ? format_fixed(*m.cycle_time, 3) + " s" : std::string("not settled");
+    say("cycle " + cycle + ", tracking error max " + format_fixed(m.tracking_error_max * kMm, 3) +
+        " mm, contour error (planned path) max " + format_fixed(m.contour_error_planned_max * kMm, 3) +
+        " mm, residual vibration " + format_fixed(m.vibration_final.peak_to_peak * kMm * 1e3, 1) + " um");
+    if (out.status != VariantStatus::kOk) say(std::string(to_string(out.status)) + ": " + out.message);
     return out;
   }
 
@@ -328,9 +352,9 @@ class VariantRun {
     if (request_.progress) request_.progress("  " + variant_.name + ": " + line);
   }
 
-  nlohmann::json failed(nlohmann::json out, const std::string& message) const {
-    out["status"] = "failed";
-    out["message"] = message;
+  VariantSummary failed(VariantSummary out, VariantStatus status, const std::string& message) const {
+    out.status = status;
+    out.message = message;
     say(message);
     return out;
   }
@@ -342,29 +366,23 @@ class VariantRun {
   std::filesystem::path dir_;
 };
 
-// The program's start point is every variant's first pose: when the robot cannot reach it, the
-// scenario itself is bad input (InputError at the first move), found before any variant runs.
-void check_start_reachable(const Scenario& sc, const Robot& robot) {
-  if (sc.program.moves.empty()) return;
-  const IkSolver::Result q0 = robot.ik->solve(tool_pose(sc.start, sc.robot.tool_rotation), sc.robot.q_seed);
-  if (!q0.outcome.ok()) {
-    throw move_error(sc, sc.program, 0, "the start point " + pose_text(sc.start) + " cannot be reached: " + q0.outcome.message);
-  }
-}
-
-// The summary entry of a variant that did not finish: what identifies it, and `status`.
-nlohmann::json unfinished(const Scenario& sc, const Variant& variant, const std::string& status) {
-  return {{"name", variant.name},
-          {"method", std::string(to_string(variant_method(sc.program, variant)))},
-          {"baseline", variant.baseline},
-          {"status", status}};
+// The summary entry of a variant that did not finish: what identifies it, and its status.
+VariantSummary unfinished(const Scenario& sc, const Variant& variant, VariantStatus status, std::string message = {}) {
+  VariantSummary out;
+  out.name = variant.name;
+  out.method = variant_method(sc.program, variant);
+  out.parameter = variant.transition ? variant.transition->parameter : 0.0;
+  out.baseline = timing_options(sc, variant).baseline;
+  out.status = status;
+  out.message = std::move(message);
+  return out;
 }
 
 // One variant, failing alone: an exception other than bad input (a file or video that cannot be
 // written, an internal error) becomes its status; a stop request (Interrupted, or ffmpeg ended by
 // the same Ctrl-C) marks it interrupted and removes its unfinished folder. InputError (a
 // variant's bad parameter is bad input of the scenario) propagates.
-nlohmann::json run_variant(const Scenario& sc, const Robot& robot, const RunRequest& request, const Variant& variant,
+VariantSummary run_variant(const Scenario& sc, const Robot& robot, const RunRequest& request, const Variant& variant,
                            int& interrupted_by) {
   const std::filesystem::path dir = request.out_dir / variant.name;
   const auto discard = [&] {
@@ -381,14 +399,12 @@ nlohmann::json run_variant(const Scenario& sc, const Robot& robot, const RunRequ
     if (stop_signal() == 0) {
       discard();
       if (request.progress) request.progress("  " + variant.name + ": failed: " + e.what());
-      nlohmann::json out = unfinished(sc, variant, "failed");
-      out["message"] = e.what();
-      return out;
+      return unfinished(sc, variant, VariantStatus::kFailed, e.what());
     }
     interrupted_by = stop_signal();
   }
   discard();
-  return unfinished(sc, variant, "interrupted");
+  return unfinished(sc, variant, VariantStatus::kInterrupted);
 }
 
 }  // namespace
@@ -417,64 +433,80 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
     }
   }
 
+  // the robot: kinematics, dynamics (checked against robot.model), the start pose, the servo
   Robot robot;
   robot.chain = load_urdf_chain(scenario.robot.urdf, scenario.robot.base_link, scenario.robot.tip_link);
   robot.ik = std::make_unique<IkSolver>(robot.chain);
   robot.sim = std::make_unique<Simulator>(scenario.robot.mjcf);
+  const bool want_elastic = scenario.robot.model == ArmModel::kElastic;
+  if (robot.sim->elastic() != want_elastic) {
+    fail_at(scenario, scenario.robot.model_where, "robot.model",
+            std::string("robot.model is ") + (want_elastic ? "elastic" : "rigid") + " but " + scenario.robot.mjcf +
+                " has " + (robot.sim->elastic() ? "elastic" : "rigid") + " joints");
+  }
+  const double steps = 1 / (scenario.servo.rate_hz * robot.sim->timestep());
+  if (std::abs(steps - std::round(steps)) > 1e-9 * steps || std::round(steps) < 1) {
+    fail_at(scenario, scenario.servo.rate_where, "servo.rate_hz",
+            "the servo period 1/" + format_number(scenario.servo.rate_hz, 6) + " s is not a multiple of the model's timestep " +
+                format_number(robot.sim->timestep(), 6) + " s (" + format_number(1 / robot.sim->timestep(), 6) +
+                " Hz physics: use a rate that divides it)");
+  }
+  // the program's start point is every variant's first pose: out of reach, the scenario itself
+  // is bad input (at the first move), found before any variant runs
+  const Program first = program_for(scenario, *selected.front());
+  const IkSolver::Result start = robot.ik->solve(tool_pose(scenario.start, scenario.robot.tool_rotation), scenario.robot.q_seed);
+  if (!start.outcome.ok()) {
+    throw move_error(scenario, first, 0,
+                     "the start point " + pose_text(scenario.start) + " cannot be reached: " + start.outcome.message);
+  }
+  robot.q0 = start.q;
+  robot.servo = servo_of(scenario, *robot.sim, robot.q0);
   robot.keep_out = keep_out_of(robot.sim->model());
 
   RunResult result;
-  result.summary = {{"scenario", scenario.name},
-                    {"file", scenario.file},
-                    {"description", scenario.description},
-                    {"servo_rate_hz", scenario.servo.rate_hz},
-                    {"variants", nlohmann::json::array()}};
-  check_start_reachable(scenario, robot);
+  RunSummary& summary = result.summary;
+  summary.scenario = scenario.name;
+  summary.file = scenario.file;
+  summary.description = scenario.description;
+  summary.robot.model = scenario.robot.model;
+  summary.robot.mjcf = scenario.robot.mjcf;
+  summary.robot.timestep = robot.sim->timestep();
+  summary.robot.start_q = robot.q0;
+  summary.robot.limits = robot.sim->limits();
+  const NaturalFrequencies frequencies = robot.sim->natural_frequencies(robot.q0);
+  summary.robot.natural_frequency_per_joint = frequencies.per_joint;
+  summary.robot.natural_frequency_arm = frequencies.arm;
+  summary.controller = scenario.servo.controller;
+  summary.servo = robot.servo;
+  summary.simulation = scenario.simulation;
   std::size_t index = 0;
   for (const Variant* variant : selected) {
     ++index;
+    // after a stop request the rest are not started
     if (result.interrupted_by == 0) result.interrupted_by = stop_signal();
     if (result.interrupted_by != 0) {
-      result.summary["variants"].push_back(unfinished(scenario, *variant, "interrupted"));
+      summary.variants.push_back(unfinished(scenario, *variant, VariantStatus::kInterrupted));
       continue;
     }
     if (request.progress) {
       request.progress(std::string("[") + std::to_string(index) + "/" + std::to_string(selected.size()) + "] " +
                        variant->name);
     }
-    nlohmann::json v = run_variant(scenario, robot, request, *variant, result.interrupted_by);
-    result.all_ok = result.all_ok && v["status"] == "ok";
-    result.summary["variants"].push_back(std::move(v));
-  }
-
-  // relative figures against the first exact-stop variant, when there is one
-  const nlohmann::json* reference = nullptr;
-  for (const auto& v : result.summary["variants"]) {
-    if (v["method"] == "none" && v["status"] == "ok" && v["cycle_time_s"].is_number()) {
-      reference = &v;
-      break;
-    }
-  }
-  if (reference != nullptr) {
-    const double t_ref = (*reference)["cycle_time_s"].get<double>();
-    const std::string ref_name = (*reference)["name"];
-    for (auto& v : result.summary["variants"]) {
-      if (v["status"] == "ok" && v["cycle_time_s"].is_number()) {
-        v["cycle_time_vs_reference"] = finite_or_null(v["cycle_time_s"].get<double>() / t_ref);
-        v["reference_variant"] = ref_name;
-      }
-    }
+    summary.variants.push_back(run_variant(scenario, robot, request, *variant, result.interrupted_by));
+    result.all_ok = result.all_ok && summary.variants.back().status == VariantStatus::kOk;
   }
   if (result.interrupted_by != 0) result.all_ok = false;
-  write_file_atomic(request.out_dir / "summary.json", result.summary.dump(2) + "\n");
+  compare_with_exact_stop(summary);
+  write_file_atomic(request.out_dir / "summary.json", nlohmann::json(summary).dump(2) + "\n");
 
   if (request.plots && result.interrupted_by == 0) {
-    const auto start = Clock::now();
+    const auto plot_start = Clock::now();
     // an argument vector, no shell: the output folder is data, whatever characters it holds
     const ProcessResult plotted =
         run_process({"/usr/bin/python3", data_file("report/scripts/plot_run.py"), request.out_dir.string()});
+    if (plotted.ok) result.report = request.out_dir / "report.html";
     if (request.progress) {
-      request.progress(plotted.ok ? "plots written (" + format_fixed(seconds_since(start), 1) + " s)"
+      request.progress(plotted.ok ? "plots and report written (" + format_fixed(seconds_since(plot_start), 1) + " s)"
                                   : "warning: the plot script failed (" + plotted.message + ")");
     }
   }

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Figures for a paper reproduction folder written by `blendbench reproduce`.
 
-usage: /usr/bin/python3 plot_papers.py DIR PAPER     (PAPER: 004 or 000)
+usage: /usr/bin/python3 plot_papers.py DIR PAPER     (PAPER: 004, 000 or 002)
 
 004: reads DIR/profile_<run>.csv, DIR/path_<run>.csv, DIR/listing1.csv and DIR/table2_fillets.csv
 and writes velocity.png (path speed over time, cf. the paper's figs. 4, 12, 20), curvature.png
@@ -9,9 +9,13 @@ and writes velocity.png (path speed over time, cf. the paper's figs. 4, 12, 20),
 fillets of table 2, cf. fig. 17) and path.png (Listing 1 with the fillets, cf. figs. 9, 18).
 000: reads DIR/profile_<run>.csv and writes velocity.png (speed and tangential acceleration over
 time, cf. figs. 16, 17) and path.png (the program in 3D, cf. fig. 15).
+002: reads DIR/results.json and DIR/trace_<curve>.csv and writes following_error.png (each joint's
+drive following error around the corner per curve, cf. fig. 18) and path.png (the TCP near the
+corner and its tracking error along the path, cf. fig. 17).
 Every image is written to a temporary file and renamed, so a failure never leaves half a picture.
 """
 
+import json
 import os
 import sys
 
@@ -132,15 +136,64 @@ def plot_000(d):
     save_png(fig, os.path.join(d, "path.png"), DPI, tight=True)
 
 
+CURVES_002 = [("large_circle", "tab:blue"), ("small_circle", "tab:red"), ("clothoid", "tab:green")]
+
+
+def plot_002(d):
+    with open(os.path.join(d, "results.json")) as f:
+        results = json.load(f)
+    curves = {c["name"]: c for c in results["curves"]}
+    traces = {name: read_csv(os.path.join(d, f"trace_{name}.csv")) for name, _ in CURVES_002}
+
+    # the error pulses: per curve, every joint's following error around the corner
+    fig, axes = plt.subplots(len(CURVES_002), 1, figsize=(9, 8), sharex=True, sharey=True)
+    for ax, (name, _) in zip(axes, CURVES_002):
+        c, t = curves[name], traces[name]
+        zero = c["t_start_s"]
+        ax.axvspan(0, c["t_end_s"] - zero, color="0.88", lw=0)
+        for i in range(1, 7):
+            ax.plot(t["t"] - zero, t[f"following_error_mrad_{i}"], lw=0.9, label=f"joint {i}")
+        ax.set_title(f'{c["label"]}: peak {c["following_error_peak_mrad"]:.3f} mrad, residual vibration '
+                     f'{c["residual_vibration_um"]:.1f} µm', fontsize=9)
+        ax.set_ylabel("following error [mrad]")
+        ax.grid(alpha=0.3)
+    axes[0].legend(ncol=6, fontsize=7, loc="upper left")
+    axes[-1].set_xlabel("time from the start of the curve [s] (shaded: the curve)")
+    axes[-1].set_xlim(-0.15, 0.35)
+    fig.suptitle("Drive following errors at 400 mm/s (cf. the paper's fig. 18)", fontsize=11)
+    save_png(fig, os.path.join(d, "following_error.png"), DPI, tight=True)
+
+    # the path near the corner and the tracking error along it
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 5))
+    ax1.plot([-45, 0, 0], [0, 0, 35], color="0.6", lw=3, label="programmed")
+    for name, color in CURVES_002:
+        t = traces[name]
+        ax1.plot(t["u_cmd"], t["w_cmd"], color=color, lw=1.2, label=curves[name]["label"])
+        ax1.plot(t["u"], t["w"], color=color, lw=0.8, ls="--")
+        near = (t["t"] > curves[name]["t_start_s"] - 0.1) & (t["t"] < curves[name]["t_end_s"] + 0.2)
+        ax2.plot(t["t"][near] - curves[name]["t_start_s"], t["tracking_error_um"][near], color=color, lw=1,
+                 label=curves[name]["label"])
+    ax1.set_xlim(-45, 10)
+    ax1.set_ylim(-10, 35)
+    ax1.set_aspect("equal")
+    ax1.set_xlabel("along the leading line, from the corner [mm]")
+    ax1.set_ylabel("towards the turn [mm]")
+    ax1.set_title("TCP near the corner: planned (solid), actual (dashed)", fontsize=10)
+    ax1.legend(fontsize=7, loc="upper left")
+    ax1.grid(alpha=0.3)
+    ax2.set_xlabel("time from the start of the curve [s]")
+    ax2.set_ylabel("tracking error [µm]")
+    ax2.set_title("Tracking error through the corner (cf. fig. 17)", fontsize=10)
+    ax2.grid(alpha=0.3)
+    save_png(fig, os.path.join(d, "path.png"), DPI, tight=True)
+
+
 def main():
-    if len(sys.argv) != 3 or sys.argv[2] not in ("004", "000"):
+    if len(sys.argv) != 3 or sys.argv[2] not in ("004", "000", "002"):
         print(__doc__)
         return 2
     d, paper = sys.argv[1], sys.argv[2]
-    if paper == "004":
-        plot_004(d)
-    else:
-        plot_000(d)
+    {"004": plot_004, "000": plot_000, "002": plot_002}[paper](d)
     return 0
 
 

@@ -13,6 +13,7 @@
 
 #include "blendbench/core/input_error.hpp"
 #include "blendbench/io/data_root.hpp"
+#include "blendbench/papers/paper_002.hpp"
 #include "blendbench/report/output.hpp"
 #include "blendbench/report/process.hpp"
 #include "blendbench/report/report.hpp"
@@ -156,8 +157,8 @@ bool plot(const std::filesystem::path& dir, const std::string& paper, std::ostre
 }  // namespace
 
 int reproduce(const std::string& name, const std::filesystem::path& out_dir, bool plots, std::ostream& log) {
-  if (name != "004" && name != "000" && name != "all") {
-    throw InputError("", 0, 0, "name", "unknown reproduction '" + name + "' (004, 000 or all)");
+  if (name != "004" && name != "000" && name != "002" && name != "all") {
+    throw InputError("", 0, 0, "name", "unknown reproduction '" + name + "' (004, 000, 002 or all)");
   }
   bool plots_ok = true;
   if (name == "004" || name == "all") {
@@ -197,6 +198,12 @@ int reproduce(const std::string& name, const std::filesystem::path& out_dir, boo
     write_file_atomic(dir / "README.md", markdown_000(r));
     log << "reproduce 000 -> " << dir.string() << std::endl;
     if (plots) plots_ok = plot(dir, "000", log) && plots_ok;
+  }
+  if (name == "002" || name == "all") {
+    const std::filesystem::path dir = out_dir / "002";
+    write_002(reproduce_002(), dir);
+    log << "reproduce 002 -> " << dir.string() << std::endl;
+    if (plots) plots_ok = plot(dir, "002", log) && plots_ok;
   }
   return plots_ok ? 0 : 1;
 }

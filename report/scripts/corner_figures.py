@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Corner figures: every method on the same corners, path and curvature side by side.
 
-usage: /usr/bin/python3 corner_figures.py --scenario SCENARIO.yaml --out FIGURE.png
+usage: /usr/bin/python3 corner_figures.py --name NAME [--description TEXT] --out FIGURE.png
            [--markdown SECTION.md [--link PATH]] [--title TEXT] --run NAME PATH.csv REPORT.json [--run ...]
 
 Each --run is one variant of the same program as written by
@@ -11,9 +11,10 @@ corner reports). At least one run must be an exact stop (every corner of method 
 first one's path is the programmed path, drawn grey, and gives the arc length of each corner;
 further exact-stop runs (e.g. velocity baselines) have the same path and are not drawn.
 
-The corner points are the end points of program.moves in the scenario file, placed by its
-frame (origin, rpy_deg = roll about x, then pitch about y, then yaw about z, as the loader does)
-and scaled to mm; G-code programs are not supported here.
+The corner points, their arc lengths along the programmed path and each transition's span on
+its run's path come from the corner reports, as blendbench writes them (point_mm,
+s_programmed_mm, s_start_mm, s_end_mm): nothing is re-derived from the scenario, so G-code
+programs work as well. --name and --description title the figure and its index section.
 
 The figure has an overview row (the whole program in its plane, corners labelled C0, C1, ...)
 and one row per corner: the path near the corner in the corner's plane (equal aspect,
@@ -21,8 +22,8 @@ programmed path grey, every run overlaid, open circles where each transition sta
 a closer view of the corner tip, the unsigned curvature kappa(s) around the corner for every
 run, and the corner reports (case, length, deviation, kappa_max, feed_max, notes). Arc length
 on the kappa axis is aligned between runs: 0 is the programmed corner, and run r's arc length is
-shifted by what its earlier transitions saved, sum over j < k of (trim_in + trim_out - length),
-so each transition starts at -trim_in.
+shifted so that its point opposite the programmed corner (its transition's start plus trim_in)
+is 0: each transition starts at -trim_in.
 
 --markdown writes a Markdown section (title, one line of what the figure shows, a table of the
 corner reports) for the figures index; --link is how the index refers to the figure. Every
@@ -42,7 +43,6 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-import yaml  # noqa: E402
 from PIL import Image  # noqa: E402
 
 import plotio  # noqa: E402
@@ -61,9 +61,6 @@ PROGRAMMED_COLOUR = "0.55"
 # Line widths run from the first to the last blended run, so a later run drawn over an equal
 # earlier one leaves the earlier one's colour visible at its edges.
 WIDEST, THINNEST = 3.2, 1.2
-# A sample of the exact-stop path lies on the corner when it is this close (mm); the CSV
-# carries 12 significant digits and every piece contributes its start point.
-CORNER_MATCH_MM = 1e-4
 # The corner view covers every run's trimmed part with this margin ...
 WINDOW_MARGIN = 1.25
 # ... and is at least this share of the program size (zero-length transitions).
@@ -103,38 +100,6 @@ def read_path_csv(path):
     return cols
 
 
-def rpy_matrix(rpy_deg):
-    """Rz(yaw) Ry(pitch) Rx(roll), angles in degrees."""
-    r, p, y = (math.radians(a) for a in rpy_deg)
-    rx = np.array([[1, 0, 0], [0, math.cos(r), -math.sin(r)], [0, math.sin(r), math.cos(r)]])
-    ry = np.array([[math.cos(p), 0, math.sin(p)], [0, 1, 0], [-math.sin(p), 0, math.cos(p)]])
-    rz = np.array([[math.cos(y), -math.sin(y), 0], [math.sin(y), math.cos(y), 0], [0, 0, 1]])
-    return rz @ ry @ rx
-
-
-def scenario_corners(path):
-    """(name, description, corner points in the base frame in mm: one per move but the last)."""
-    with open(path) as f:
-        doc = yaml.safe_load(f)
-    program = doc.get("program", {})
-    if "moves" not in program:
-        fail(f"{path}: no program.moves (G-code programs are not supported)")
-    scale = {"mm": 1.0, "m": 1000.0}[doc.get("units", "mm")]
-    frame = doc.get("frame", {})
-    origin = np.array(frame.get("origin", [0, 0, 0]), dtype=float)
-    rot = rpy_matrix(frame.get("rpy_deg", [0, 0, 0]))
-    ends = []
-    for k, move in enumerate(program["moves"]):
-        if "line" in move:
-            end = move["line"]
-        elif "arc" in move:
-            end = move["arc"]["end"]
-        else:
-            fail(f"{path}: move {k} is neither a line nor an arc")
-        ends.append(scale * (origin + rot @ np.array(end, dtype=float)))
-    return doc.get("name", os.path.basename(path)), doc.get("description", ""), ends[:-1]
-
-
 class Run:
     """One variant: sampled path (mm) and corner reports."""
 
@@ -150,34 +115,18 @@ class Run:
         self.exact_stop = methods <= {"none"}
         self.method = "none" if self.exact_stop else "+".join(sorted(methods - {"none"}))
 
-    def s_shift(self, k):
-        """Arc length saved by the transitions before corner k (mm)."""
-        return sum(r["trim_in_mm"] + r["trim_out_mm"] - r["length_mm"] for r in self.reports[:k])
+    def corner_zero(self, k):
+        """Arc length (mm, along this run) opposite the programmed corner k: where its transition
+        starts plus the length it trimmed from the incoming move."""
+        return self.reports[k]["s_start_mm"] + self.reports[k]["trim_in_mm"]
 
-    def transition_span(self, k, corner_s):
-        """Arc length (mm, along this run) where the transition at corner k starts and ends;
-        corner_s is the corner's arc length on the programmed path."""
-        report = self.reports[k]
-        start = corner_s - self.s_shift(k) - report["trim_in_mm"]
-        return start, start + report["length_mm"]
+    def transition_span(self, k):
+        """Arc length (mm, along this run) where the transition at corner k starts and ends."""
+        return self.reports[k]["s_start_mm"], self.reports[k]["s_end_mm"]
 
     def at(self, s):
         """Point (mm) at arc length s, interpolated between samples."""
         return np.array([np.interp(s, self.s, self.xyz[:, i]) for i in range(3)])
-
-
-def corner_arc_lengths(programmed, corners):
-    """Arc length of each corner along the exact-stop path, searched in order."""
-    out = []
-    start = 0
-    for k, c in enumerate(corners):
-        d = np.linalg.norm(programmed.xyz[start:] - c, axis=1)
-        hits = np.nonzero(d < CORNER_MATCH_MM)[0]
-        if hits.size == 0:
-            fail(f"corner {k} at {np.round(c, 3)} mm is not on the exact-stop path")
-        start += hits[0]
-        out.append(programmed.s[start])
-    return out
 
 
 class Plane:
@@ -289,7 +238,7 @@ def mark_corner(ax, plane, c, blended, style, k, corner_s):
     u, v = plane.uv(c)
     ax.plot(u, v, "k+", ms=12, mew=1.5)
     for run in blended:
-        ends = np.array([run.at(s) for s in run.transition_span(k, corner_s)])
+        ends = np.array([run.at(s) for s in run.transition_span(k)])
         u, v = plane.uv(ends)
         ax.plot(u, v, "o", mfc="none", mec=style[run.name]["color"], ms=7, mew=1.3)
 
@@ -348,7 +297,7 @@ def draw_corner(fig, cells, k, c, corner_s, programmed, blended, style, program_
     nearest = [c]
     for run, report in zip(blended, reports):
         if report["length_mm"] > 0:
-            a, b = run.transition_span(k, corner_s)
+            a, b = run.transition_span(k)
             on = (run.s >= a) & (run.s <= b)
             if on.any():
                 nearest.append(run.xyz[on][np.argmin(np.linalg.norm(run.xyz[on] - c, axis=1))])
@@ -368,11 +317,11 @@ def draw_corner(fig, cells, k, c, corner_s, programmed, blended, style, program_
     m = np.abs(rel) <= reach
     ax.plot(masked(rel, m), masked(programmed.kappa, m), color=PROGRAMMED_COLOUR, lw=5)
     for run in blended:
-        zero = corner_s - run.s_shift(k)
+        zero = run.corner_zero(k)
         rel = run.s - zero
         m = np.abs(rel) <= reach
         ax.plot(masked(rel, m), masked(run.kappa, m), **style[run.name])
-        ends = np.array(run.transition_span(k, corner_s)) - zero
+        ends = np.array(run.transition_span(k)) - zero
         ax.plot(ends, [0, 0], "|", color=style[run.name]["color"], ms=14, mew=2, clip_on=False)
     ax.axvline(0, color="k", lw=0.8, ls=":")
     ax.set_xlim(-reach, reach)
@@ -395,19 +344,23 @@ def draw_corner(fig, cells, k, c, corner_s, programmed, blended, style, program_
         y -= line * (text.count("\n") + 1.4)
 
 
-def draw(scenario, out, title, runs):
-    """Draws the figure; returns (name, description, blended runs) for the index."""
-    name, description, corners = scenario_corners(scenario)
+def draw(name, description, out, title, runs):
+    """Draws the figure; returns the blended runs for the index."""
     stops = [r for r in runs if r.exact_stop]
     if not stops:
         fail("no run is an exact stop (method none at every corner): one is needed as the programmed path")
     programmed = stops[0]
+    for r in programmed.reports:
+        for key in ("point_mm", "s_programmed_mm", "s_start_mm", "s_end_mm"):
+            if key not in r:
+                fail(f"run {programmed.name}: corner report {r.get('index')} has no {key} (write it with blendbench path --report)")
+    corners = [np.array(r["point_mm"], dtype=float) for r in programmed.reports]
+    corner_s = [r["s_programmed_mm"] for r in programmed.reports]
     blended = [r for r in runs if not r.exact_stop]
     for run in runs:
         if len(run.reports) != len(corners):
             fail(f"run {run.name}: {len(run.reports)} corner reports, the program has {len(corners)} corners")
     style = styles(blended)
-    corner_s = corner_arc_lengths(programmed, corners)
     extent = np.ptp(programmed.xyz, axis=0).max()
 
     rows = 1 + len(corners)
@@ -423,7 +376,7 @@ def draw(scenario, out, title, runs):
         draw_corner(fig, [grid[k + 1, i] for i in range(4)], k, c, corner_s[k], programmed, blended, style,
                     program_plane, extent)
     save_atomic(fig, out)
-    return name, description, blended
+    return blended
 
 
 def save_atomic(fig, path):
@@ -457,7 +410,8 @@ def markdown(link, name, description, blended):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--scenario", required=True)
+    parser.add_argument("--name", required=True)
+    parser.add_argument("--description", default="")
     parser.add_argument("--out", required=True)
     parser.add_argument("--markdown")
     parser.add_argument("--link", help="the figure's path as the Markdown index refers to it (default: its name)")
@@ -465,9 +419,10 @@ def main():
     parser.add_argument("--run", nargs=3, action="append", metavar=("NAME", "CSV", "REPORT"), required=True)
     args = parser.parse_args()
     runs = [Run(*r) for r in args.run]
-    name, description, blended = draw(args.scenario, args.out, args.title, runs)
+    blended = draw(args.name, args.description, args.out, args.title, runs)
     if args.markdown:
-        plotio.write_text(args.markdown, markdown(args.link or os.path.basename(args.out), name, description, blended))
+        plotio.write_text(args.markdown,
+                          markdown(args.link or os.path.basename(args.out), args.name, args.description, blended))
 
 
 if __name__ == "__main__":

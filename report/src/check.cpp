@@ -12,20 +12,38 @@ namespace {
 
 // Default tolerances: timing is deterministic to the servo period, tracking metrics depend on
 // floating-point details of the physics (few percent across compilers/CPUs), so they get
-// relative plus absolute slack.
+// relative plus absolute slack. A metric is named by its path in the variant's summary entry
+// ("metrics.cycle_time_s" is v["metrics"]["cycle_time_s"]).
 struct Tolerance {
   const char* metric;
   double relative;
   double absolute;
 };
 constexpr Tolerance kDefaults[] = {
-    {"cycle_time_s", 0.01, 0.005},
-    {"planned_cycle_time_s", 0.005, 0.002},
-    {"tracking_error_max_mm", 0.05, 0.01},
-    {"tracking_error_rms_mm", 0.05, 0.005},
-    {"contour_error_max_mm", 0.05, 0.01},
-    {"path_deviation_max_mm", 0.02, 0.001},
+    {"metrics.cycle_time_s", 0.01, 0.005},
+    {"plan.planned_cycle_time_s", 0.005, 0.002},
+    {"metrics.tracking_error_max_mm", 0.05, 0.002},
+    {"metrics.tracking_error_rms_mm", 0.05, 0.001},
+    {"metrics.contour_error_programmed_max_mm", 0.05, 0.01},
+    {"metrics.contour_error_planned_max_mm", 0.05, 0.002},
+    {"plan.path_deviation_max_mm", 0.02, 0.001},
+    {"metrics.residual_vibration_final_mm", 0.1, 0.0005},
+    {"metrics.residual_vibration_corner_max_mm", 0.1, 0.0005},
 };
+
+// The value at a dotted path of `v`, or nullptr when absent.
+const nlohmann::json* at_path(const nlohmann::json& v, const std::string& path) {
+  const nlohmann::json* node = &v;
+  std::size_t begin = 0;
+  while (true) {
+    const std::size_t dot = path.find('.', begin);
+    const std::string key = path.substr(begin, dot == std::string::npos ? std::string::npos : dot - begin);
+    if (!node->is_object() || !node->contains(key)) return nullptr;
+    node = &(*node)[key];
+    if (dot == std::string::npos) return node;
+    begin = dot + 1;
+  }
+}
 
 std::string line(const std::string& variant, const std::string& metric, double value, double base, double bound) {
   return variant + ": " + metric + " = " + format_number(value, 6) + " (baseline " + format_number(base, 6) +
@@ -41,7 +59,7 @@ nlohmann::json make_baseline(const nlohmann::json& summary) {
   for (const auto& v : summary.at("variants")) {
     nlohmann::json entry = {{"status", v.at("status")}};
     for (const Tolerance& t : kDefaults) {
-      if (v.contains(t.metric) && v[t.metric].is_number()) entry[t.metric] = v[t.metric];
+      if (const nlohmann::json* value = at_path(v, t.metric); value != nullptr && value->is_number()) entry[t.metric] = *value;
     }
     variants[v.at("name").get<std::string>()] = entry;
   }
@@ -80,11 +98,12 @@ CheckReport check_run(const nlohmann::json& summary, const nlohmann::json& basel
       }
       const double b = base[metric].get<double>();
       const double bound = b * (1 + tol["relative"].get<double>()) + tol["absolute"].get<double>();
-      if (!v.contains(metric) || !v[metric].is_number()) {
+      const nlohmann::json* found = at_path(v, metric);
+      if (found == nullptr || !found->is_number()) {
         report.regressions.push_back(name + ": " + metric + " is missing or not a number (e.g. the run did not settle)");
         continue;
       }
-      const double value = v[metric].get<double>();
+      const double value = found->get<double>();
       if (!(value <= bound)) {
         report.regressions.push_back(line(name, metric, value, b, bound));
       } else if (value < b * (1 - tol["relative"].get<double>()) - tol["absolute"].get<double>()) {

@@ -1,9 +1,9 @@
 #include "blendbench/sim/simulator.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cassert>
 #include <cmath>
-#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <mutex>
@@ -47,6 +47,13 @@ constexpr double kMaxJointSpeed = 1e3;  // rad/s
 // Relative tolerance for "dt is a multiple of the period".
 constexpr double kMultipleTolerance = 1e-9;
 
+// Servo rates a drive of this kind runs at (Hz).
+constexpr double kMinServoRate = 125;
+constexpr double kMaxServoRate = 8000;
+
+// Two hinges are on the same axis when their axes and anchors agree to this (unit vector, m).
+constexpr double kSameAxis = 1e-9;
+
 std::string object_name(const mjModel& m, int type, int id) {
   const char* name = mj_id2name(&m, type, id);
   std::string out = name != nullptr && name[0] != '\0' ? "'" : "#";
@@ -81,6 +88,10 @@ void check_finite(const std::vector<JointVector>& v, const std::string& field) {
     if (!v[k].allFinite()) bad_input(field, "sample " + std::to_string(k) + " is not finite");
 }
 
+void check_gains(const JointVector& g, const std::string& field) {
+  if (!g.allFinite() || (g.array() < 0).any()) bad_input(field, "must be finite and >= 0");
+}
+
 // The first unhealthy-state warning MuJoCo raised in d (it resets the state silently when it
 // raises one of these), as text; empty when the state is healthy.
 std::string unhealthy_state(const mjData& d) {
@@ -89,6 +100,28 @@ std::string unhealthy_state(const mjData& d) {
   }
   return {};
 }
+
+// Six values of the custom numeric `name`, or +inf each when the model has none; `fail` reports
+// a numeric of the wrong size.
+template <class Fail>
+JointVector custom_limits(const mjModel& m, const char* name, const Fail& fail) {
+  JointVector out = JointVector::Constant(std::numeric_limits<double>::infinity());
+  const int id = mj_name2id(&m, mjOBJ_NUMERIC, name);
+  if (id < 0) return out;
+  if (m.numeric_size[id] != 6) fail("custom", std::string("numeric '") + name + "' must have 6 values, one per joint");
+  for (int i = 0; i < 6; ++i) {
+    out[i] = m.numeric_data[m.numeric_adr[id] + i];
+    if (!(out[i] > 0)) fail("custom", std::string("numeric '") + name + "' must be positive");
+  }
+  return out;
+}
+
+// The torque the links need for the motion (q, qd, qdd) with the arm rigid, per joint (N*m),
+// and the gravity torque alone: mj_rne on `d` with every motor hinge at the link angle and every
+// gear at zero. Also leaves the kinematics (site poses) of that configuration in d.
+struct LinkTorques {
+  JointVector full, gravity;
+};
 
 }  // namespace
 
@@ -106,9 +139,20 @@ std::string take_mujoco_warnings() {
   return out;
 }
 
-Simulator::Simulator(const std::string& mjcf_path) : Simulator(nullptr, mjcf_path) {}
+ServoConfig with_controller(ServoConfig servo, Controller controller) {
+  if (controller == Controller::kPd) {
+    servo.ki.setZero();
+    servo.velocity_feedforward = true;  // the PD's damping term acts on the velocity error
+    servo.acceleration_feedforward = false;
+    servo.deflection_compensation = false;
+  }
+  return servo;
+}
 
-Simulator Simulator::from_xml_string(const std::string& xml) {
+Simulator::Simulator(const std::string& mjcf_path, const ModelChanges& changes)
+    : Simulator(nullptr, mjcf_path, changes) {}
+
+Simulator Simulator::from_xml_string(const std::string& xml, const ModelChanges& changes) {
   install_mujoco_handlers();
   // MuJoCo 2.2.2 loads text only through its virtual file system
   const auto vfs = std::make_unique<mjVFS>();
@@ -126,10 +170,10 @@ Simulator Simulator::from_xml_string(const std::string& xml) {
     const auto [message, line] = tidy_mujoco_message(error);
     throw InputError("<string>", line, 0, "mjcf", message);
   }
-  return Simulator(model, "<string>");
+  return Simulator(model, "<string>", changes);
 }
 
-Simulator::Simulator(mjModel* model, const std::string& source) {
+Simulator::Simulator(mjModel* model, const std::string& source, const ModelChanges& changes) {
   install_mujoco_handlers();
   // load from the file when not given a compiled model
   if (model == nullptr) {
@@ -140,8 +184,8 @@ Simulator::Simulator(mjModel* model, const std::string& source) {
       throw InputError(source, line, 0, "mjcf", message);
     }
   }
-  model_ = std::shared_ptr<const mjModel>(model, [](const mjModel* m) { mj_deleteModel(const_cast<mjModel*>(m)); });
-  const mjModel& m = *model_;
+  std::unique_ptr<mjModel, void (*)(mjModel*)> owned(model, mj_deleteModel);
+  mjModel& m = *model;
   const auto fail = [&](const std::string& field, const std::string& message) {
     throw InputError(source, 0, 0, field, message);
   };
@@ -166,11 +210,18 @@ Simulator::Simulator(mjModel* model, const std::string& source) {
     if (joint_actuator[i].first == joint_actuator[i - 1].first)
       fail("actuator", "joint " + object_name(m, mjOBJ_JOINT, joint_actuator[i].first) + " is driven twice");
 
-  // per arm joint: addresses, control scale and torque limit
+  // the gears' stiffness and the timestep as asked
+  if (!(changes.stiffness_scale > 0) || !std::isfinite(changes.stiffness_scale)) fail("mjcf", "stiffness scale must be positive");
+  if (changes.timestep < 0 || !std::isfinite(changes.timestep)) fail("mjcf", "timestep must be >= 0");
+  if (changes.timestep > 0) m.opt.timestep = changes.timestep;
+
+  // per arm joint: addresses, the gear hinge after the motor hinge (elastic), limits
+  int elastic_joints = 0;
   for (std::size_t i = 0; i < 6; ++i) {
+    const auto ii = static_cast<Eigen::Index>(i);
     const auto [j, a] = joint_actuator[i];
-    qpos_adr_[i] = m.jnt_qposadr[j];
-    dof_adr_[i] = m.jnt_dofadr[j];
+    motor_qpos_[i] = m.jnt_qposadr[j];
+    motor_dof_[i] = m.jnt_dofadr[j];
     actuator_[i] = a;
     const double gear = m.actuator_gear[6 * a];
     const double gain = m.actuator_gainprm[mjNGAIN * a];
@@ -180,39 +231,268 @@ Simulator::Simulator(mjModel* model, const std::string& source) {
       force = std::min(std::abs(m.actuator_ctrlrange[2 * a]), std::abs(m.actuator_ctrlrange[2 * a + 1])) * std::abs(gain);
     if (m.actuator_forcelimited[a])
       force = std::min({force, std::abs(m.actuator_forcerange[2 * a]), std::abs(m.actuator_forcerange[2 * a + 1])});
-    torque_limit_[static_cast<Eigen::Index>(i)] = std::abs(gear) * force;
+    limits_.torque[ii] = std::abs(gear) * force;
+    if (m.jnt_stiffness[j] != 0) fail("joint", "motor joint " + object_name(m, mjOBJ_JOINT, j) + " must have no stiffness");
+    motor_inertia_[ii] = m.dof_armature[motor_dof_[i]];
+    viscous_[ii] = m.dof_damping[motor_dof_[i]];
+    coulomb_[ii] = m.dof_frictionloss[motor_dof_[i]];
+
+    gear_qpos_[i] = gear_dof_[i] = -1;
+    stiffness_[ii] = std::numeric_limits<double>::infinity();
+    const int g = j + 1;
+    const bool same_body = g < m.njnt && m.jnt_bodyid[g] == m.jnt_bodyid[j] && m.jnt_type[g] == mjJNT_HINGE;
+    if (same_body && (Eigen::Map<const Vec3>(m.jnt_axis + 3 * g) - Eigen::Map<const Vec3>(m.jnt_axis + 3 * j)).norm() < kSameAxis &&
+        (Eigen::Map<const Vec3>(m.jnt_pos + 3 * g) - Eigen::Map<const Vec3>(m.jnt_pos + 3 * j)).norm() < kSameAxis) {
+      if (!(m.jnt_stiffness[g] > 0))
+        fail("joint", "gear joint " + object_name(m, mjOBJ_JOINT, g) + " (on the axis of motor joint " +
+                          object_name(m, mjOBJ_JOINT, j) + ") needs a positive stiffness");
+      m.jnt_stiffness[g] *= changes.stiffness_scale;
+      m.dof_damping[m.jnt_dofadr[g]] *= std::sqrt(changes.stiffness_scale);
+      gear_qpos_[i] = m.jnt_qposadr[g];
+      gear_dof_[i] = m.jnt_dofadr[g];
+      stiffness_[ii] = m.jnt_stiffness[g];
+      ++elastic_joints;
+    }
   }
+  if (elastic_joints != 0 && elastic_joints != 6)
+    fail("joint", "either every arm joint has a gear hinge (elastic) or none (rigid); found " +
+                      std::to_string(elastic_joints) + " of 6");
+  limits_.velocity = custom_limits(m, "velocity_limits", fail);
+  limits_.acceleration = custom_limits(m, "acceleration_limits", fail);
 
   // the tool centre point
   tcp_site_ = mj_name2id(&m, mjOBJ_SITE, "tcp");
   if (tcp_site_ < 0) fail("site", "the model has no site named 'tcp'");
+  model_ = std::shared_ptr<const mjModel>(owned.release(), [](const mjModel* p) { mj_deleteModel(const_cast<mjModel*>(p)); });
+
+  // the timestep must resolve the stiffest mode (motors free, at the model's qpos0)
+  if (elastic()) {
+    const DataPtr d = make_data(*model_);
+    mj_forward(model_.get(), d.get());
+    const int nv = model_->nv;
+    Eigen::MatrixXd mass(nv, nv);
+    std::vector<double> dense(static_cast<std::size_t>(nv * nv));
+    mj_fullM(model_.get(), dense.data(), d->qM);
+    for (int r = 0; r < nv; ++r)
+      for (int c = 0; c < nv; ++c) mass(r, c) = dense[static_cast<std::size_t>(r * nv + c)];
+    Eigen::MatrixXd k = Eigen::MatrixXd::Zero(nv, nv);
+    for (std::size_t i = 0; i < 6; ++i) k(gear_dof_[i], gear_dof_[i]) = stiffness_[static_cast<Eigen::Index>(i)];
+    const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> modes(k, mass, Eigen::EigenvaluesOnly);
+    const double omega_max = std::sqrt(std::max(0.0, modes.eigenvalues().maxCoeff()));
+    if (omega_max * timestep() > kMaxOmegaDt) {
+      fail("mjcf", "the timestep " + format_value(timestep()) + " s is too long for the model's stiffest mode (" +
+                       format_value(omega_max / (2 * std::numbers::pi)) + " Hz): omega dt = " +
+                       format_value(omega_max * timestep()) + " > " + format_value(kMaxOmegaDt) + "; use at most " +
+                       format_value(kMaxOmegaDt / omega_max) + " s");
+    }
+  }
 }
 
-JointVector Simulator::inertia_diagonal(const JointVector& q) const {
+namespace {
+
+// Evaluates configurations of the arm on a scratch mjData: every motor hinge at the link angle,
+// every gear at zero deflection.
+class LinkModel {
+ public:
+  LinkModel(const mjModel& m, const std::array<int, 6>& motor_qpos, const std::array<int, 6>& motor_dof)
+      : m_(m), d_(make_data(m)), motor_qpos_(motor_qpos), motor_dof_(motor_dof) {}
+
+  // Kinematics and the rigid-body torques of the motion (q, qd, qdd); `full` false: gravity only.
+  LinkTorques torques(const JointVector& q, const JointVector& qd, const JointVector& qdd, bool full) {
+    for (std::size_t i = 0; i < 6; ++i) {
+      const auto ii = static_cast<Eigen::Index>(i);
+      d_->qpos[motor_qpos_[i]] = q[ii];
+      d_->qvel[motor_dof_[i]] = qd[ii];
+      d_->qacc[motor_dof_[i]] = qdd[ii];
+    }
+    mj_kinematics(&m_, d_.get());
+    mj_comPos(&m_, d_.get());
+    LinkTorques out;
+    if (full) {
+      mj_comVel(&m_, d_.get());
+      mj_rne(&m_, d_.get(), 1, d_->qfrc_inverse);
+      for (std::size_t i = 0; i < 6; ++i) out.full[static_cast<Eigen::Index>(i)] = d_->qfrc_inverse[motor_dof_[i]];
+    }
+    // gravity alone: rne with the velocity terms zeroed
+    mju_zero(d_->cvel, 6 * m_.nbody);
+    mju_zero(d_->cdof_dot, 6 * m_.nv);
+    mj_rne(&m_, d_.get(), 0, d_->qfrc_inverse);
+    for (std::size_t i = 0; i < 6; ++i) out.gravity[static_cast<Eigen::Index>(i)] = d_->qfrc_inverse[motor_dof_[i]];
+    if (!full) out.full = out.gravity;
+    return out;
+  }
+
+  [[nodiscard]] const mjData& data() const { return *d_; }
+
+ private:
+  const mjModel& m_;
+  DataPtr d_;
+  std::array<int, 6> motor_qpos_, motor_dof_;
+};
+
+// The orientation of site `site` in d (mju_mat2Quat writes w, x, y, z).
+Eigen::Quaterniond site_rotation(const mjData& d, int site) {
+  double wxyz[4];
+  mju_mat2Quat(wxyz, d.site_xmat + 9 * site);
+  return {wxyz[0], wxyz[1], wxyz[2], wxyz[3]};
+}
+
+// The dense mass matrix of `d` (kinematics and composite inertias current).
+Eigen::MatrixXd mass_matrix(const mjModel& m, const mjData& d) {
+  std::vector<double> dense(static_cast<std::size_t>(m.nv * m.nv));
+  mj_fullM(&m, dense.data(), d.qM);
+  Eigen::MatrixXd out(m.nv, m.nv);
+  for (int r = 0; r < m.nv; ++r)
+    for (int c = 0; c < m.nv; ++c) out(r, c) = dense[static_cast<std::size_t>(r * m.nv + c)];
+  return out;
+}
+
+}  // namespace
+
+JointVector Simulator::link_inertia(const JointVector& q) const {
   const mjModel& m = *model_;
   const DataPtr d = make_data(m);
-  for (int i = 0; i < 6; ++i) d->qpos[qpos_adr_[static_cast<std::size_t>(i)]] = q[i];
+  for (std::size_t i = 0; i < 6; ++i) d->qpos[motor_qpos_[i]] = q[static_cast<Eigen::Index>(i)];
   mj_forward(&m, d.get());
-  JointVector diagonal;
-  for (int i = 0; i < 6; ++i) diagonal[i] = d->qM[m.dof_Madr[dof_adr_[static_cast<std::size_t>(i)]]];
-  return diagonal;
+  JointVector out;
+  for (std::size_t i = 0; i < 6; ++i) {
+    const int dof = motor_dof_[i];
+    out[static_cast<Eigen::Index>(i)] = d->qM[m.dof_Madr[dof]] - m.dof_armature[dof];
+  }
+  return out;
 }
 
-Trace Simulator::run(const JointReference& reference, const ServoConfig& servo, const RunOptions& options) const {
+JointVector Simulator::gravity_torque(const JointVector& q) const {
+  LinkModel links(*model_, motor_qpos_, motor_dof_);
+  return links.torques(q, JointVector::Zero(), JointVector::Zero(), false).gravity;
+}
+
+NaturalFrequencies Simulator::natural_frequencies(const JointVector& q) const {
+  NaturalFrequencies out;
+  if (!elastic()) return out;
+  const mjModel& m = *model_;
+  const DataPtr d = make_data(m);
+  for (std::size_t i = 0; i < 6; ++i) d->qpos[motor_qpos_[i]] = q[static_cast<Eigen::Index>(i)];
+  mj_forward(&m, d.get());
+  const Eigen::MatrixXd mass = mass_matrix(m, *d);
+  // the gear block of the mass matrix: the links' inertia with every motor held
+  Eigen::Matrix<double, 6, 6> links;
+  for (std::size_t r = 0; r < 6; ++r)
+    for (std::size_t c = 0; c < 6; ++c) {
+      links(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) = mass(gear_dof_[r], gear_dof_[c]);
+    }
+  for (std::size_t i = 0; i < 6; ++i) links(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(i)) -= m.dof_armature[gear_dof_[i]];
+  const double two_pi = 2 * std::numbers::pi;
+  for (int i = 0; i < 6; ++i) out.per_joint[i] = std::sqrt(stiffness_[i] / links(i, i)) / two_pi;
+  const Eigen::Matrix<double, 6, 6> k = stiffness_.asDiagonal();
+  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> modes(k, links);
+  for (int i = 0; i < 6; ++i) {
+    out.arm[i] = std::sqrt(std::max(0.0, modes.eigenvalues()[i])) / two_pi;
+    JointVector shape = modes.eigenvectors().col(i);
+    Eigen::Index largest = 0;
+    shape.cwiseAbs().maxCoeff(&largest);
+    out.arm_shapes[static_cast<std::size_t>(i)] = shape / shape[largest];
+  }
+  return out;
+}
+
+ServoConfig tune_servo(const Simulator& sim, const JointVector& q, const ServoTuning& tuning) {
+  if (!(tuning.rate_hz >= kMinServoRate && tuning.rate_hz <= kMaxServoRate)) {
+    bad_input("servo.rate_hz", "must be between " + format_value(kMinServoRate) + " and " + format_value(kMaxServoRate) +
+                                   " Hz, got " + format_value(tuning.rate_hz));
+  }
+  if (tuning.measurement_delay_ticks < 0) bad_input("servo.measurement_delay_ticks", "must be >= 0");
+  ServoConfig servo;
+  servo.rate_hz = tuning.rate_hz;
+  servo.setpoint_rate_hz = tuning.setpoint_rate_hz;
+  servo.measurement_delay_ticks = tuning.measurement_delay_ticks;
+  servo.encoder_counts_per_turn = tuning.encoder_counts_per_turn;
+  const double loop_delay = (tuning.measurement_delay_ticks + 1) / tuning.rate_hz;  // s
+  const JointVector link = sim.link_inertia(q);
+  const JointVector total = link + sim.motor_inertia();
+  for (int i = 0; i < 6; ++i) {
+    // velocity loop: delay-limited, and below the joint's antiresonance
+    double omega_v = tuning.delay_phase / loop_delay;
+    if (sim.elastic()) omega_v = std::min(omega_v, tuning.antiresonance_share * std::sqrt(sim.stiffness()[i] / link[i]));
+    servo.velocity_bandwidth[i] = omega_v;
+    servo.kv[i] = omega_v * total[i];
+    servo.ki[i] = servo.kv[i] * omega_v * tuning.integral_share;
+    servo.kp[i] = tuning.position_share * omega_v;
+    servo.position_bandwidth[i] = servo.kp[i];
+  }
+  return servo;
+}
+
+namespace {
+
+// What the controller prepared for one setpoint: its time, the motor reference (angle, speed)
+// and the feed-forward torque; the drive interpolates linearly between setpoints.
+struct Setpoint {
+  double t = 0;
+  JointVector motor = JointVector::Zero(), motor_speed = JointVector::Zero(), feedforward = JointVector::Zero();
+};
+
+// The last few setpoints, oldest first, and linear interpolation in time among them (clamped to
+// the oldest and newest).
+class SetpointHistory {
+ public:
+  explicit SetpointHistory(std::size_t capacity) : capacity_(capacity) {}
+  void push(const Setpoint& s) {
+    if (items_.size() == capacity_) items_.erase(items_.begin());
+    items_.push_back(s);
+  }
+  [[nodiscard]] const Setpoint& newest() const { return items_.back(); }
+  template <class Member>
+  [[nodiscard]] JointVector at(double t, Member member) const {
+    if (t <= items_.front().t) return items_.front().*member;
+    for (std::size_t k = 1; k < items_.size(); ++k) {
+      if (t <= items_[k].t) {
+        const double u = (t - items_[k - 1].t) / (items_[k].t - items_[k - 1].t);
+        return (1 - u) * (items_[k - 1].*member) + u * (items_[k].*member);
+      }
+    }
+    return items_.back().*member;
+  }
+
+ private:
+  std::size_t capacity_;
+  std::vector<Setpoint> items_;
+};
+
+}  // namespace
+
+Trace Simulator::run(const JointTrajectory& reference, const ServoConfig& servo, const RunOptions& options) const {
   const mjModel& m = *model_;
   const double h = m.opt.timestep;
 
-  // validate the servo: its period is a whole number of physics steps
-  if (!(servo.rate_hz > 0) || !std::isfinite(servo.rate_hz)) bad_input("servo.rate_hz", "must be positive");
+  // validate the servo: its period is a whole number of physics steps, the setpoint period a
+  // whole number of servo periods
+  const auto check_rate = [](double rate, const std::string& field) {
+    if (!(rate >= kMinServoRate && rate <= kMaxServoRate)) {
+      bad_input(field, "must be between " + format_value(kMinServoRate) + " and " + format_value(kMaxServoRate) +
+                           " Hz, got " + format_value(rate));
+    }
+  };
+  check_rate(servo.rate_hz, "servo.rate_hz");
+  check_rate(servo.setpoint_rate_hz, "servo.setpoint_rate_hz");
   const long steps_per_tick = multiple_of(1.0 / servo.rate_hz, h);
   if (steps_per_tick == 0)
     bad_input("servo.rate_hz", "the servo period 1/" + format_value(servo.rate_hz) +
                                    " s is not a multiple of the model timestep " + format_value(h) + " s");
   const double period = static_cast<double>(steps_per_tick) * h;
-  if (!servo.kp.allFinite() || (servo.kp.array() < 0).any()) bad_input("servo.kp", "must be finite and >= 0");
-  if (!servo.kd.allFinite() || (servo.kd.array() < 0).any()) bad_input("servo.kd", "must be finite and >= 0");
+  const long ticks_per_setpoint = multiple_of(1.0 / servo.setpoint_rate_hz, period);
+  if (ticks_per_setpoint == 0)
+    bad_input("servo.setpoint_rate_hz", "the setpoint period 1/" + format_value(servo.setpoint_rate_hz) +
+                                            " s is not a multiple of the servo period " + format_value(period) + " s");
+  const double setpoint_period = static_cast<double>(ticks_per_setpoint) * period;
+  check_gains(servo.kp, "servo.kp");
+  check_gains(servo.kv, "servo.kv");
+  check_gains(servo.ki, "servo.ki");
+  if (servo.measurement_delay_ticks < 0) bad_input("servo.measurement_delay_ticks", "must be >= 0");
+  if (!(servo.encoder_counts_per_turn >= 0) || !std::isfinite(servo.encoder_counts_per_turn))
+    bad_input("servo.encoder_counts_per_turn", "must be >= 0 (0: exact)");
 
-  // validate the reference
+  // validate the reference: sampled at a multiple of the setpoint period
   const std::size_t n = reference.q.size();
   if (n == 0) bad_input("reference.q", "is empty");
   if (!reference.qd.empty() && reference.qd.size() != n) bad_input("reference.qd", "must be empty or as long as q");
@@ -220,38 +500,124 @@ Trace Simulator::run(const JointReference& reference, const ServoConfig& servo, 
   check_finite(reference.q, "reference.q");
   check_finite(reference.qd, "reference.qd");
   check_finite(reference.qdd, "reference.qdd");
-  long ticks_per_sample = 1;
+  long setpoints_per_sample = 1;
   if (n > 1) {
-    ticks_per_sample = multiple_of(reference.dt, period);
-    if (ticks_per_sample == 0)
-      bad_input("reference.dt", format_value(reference.dt) + " s is not a positive multiple of the servo period " +
-                                    format_value(period) + " s");
+    setpoints_per_sample = multiple_of(reference.dt, setpoint_period);
+    if (setpoints_per_sample == 0)
+      bad_input("reference.dt", format_value(reference.dt) + " s is not a positive multiple of the setpoint period " +
+                                    format_value(setpoint_period) + " s");
   }
   if (!(options.settle_time >= 0) || !std::isfinite(options.settle_time)) bad_input("settle_time", "must be >= 0");
   if (!(options.frame_rate >= 0) || !std::isfinite(options.frame_rate)) bad_input("frame_rate", "must be >= 0");
 
-  const long last_reference_tick = static_cast<long>(n - 1) * ticks_per_sample;
-  const long last_tick = last_reference_tick + std::lround(options.settle_time / period);
-  const long last_step = last_tick * steps_per_tick;
+  const long last_reference_setpoint = static_cast<long>(n - 1) * setpoints_per_sample;
+  const long last_setpoint = last_reference_setpoint + std::lround(options.settle_time / setpoint_period);
+  const long last_step = last_setpoint * ticks_per_setpoint * steps_per_tick;
+  const bool elastic_arm = elastic();
+  const bool compensate = elastic_arm && servo.deflection_compensation;
+  const double quantum = servo.encoder_counts_per_turn > 0 ? 2 * std::numbers::pi / servo.encoder_counts_per_turn : 0.0;
+  const auto quantise = [quantum](double angle) { return quantum > 0 ? std::round(angle / quantum) * quantum : angle; };
 
-  // start at rest at q[0]; the scratch data evaluates the commanded joints
+  // the reference at a setpoint: linear between samples, then the last position at rest
+  const auto reference_at = [&](long setpoint, JointVector& q, JointVector& qd, JointVector& qdd) {
+    if (setpoint < last_reference_setpoint) {
+      const auto k = static_cast<std::size_t>(setpoint / setpoints_per_sample);
+      const double u = static_cast<double>(setpoint % setpoints_per_sample) / static_cast<double>(setpoints_per_sample);
+      const auto lerp = [&](const std::vector<JointVector>& v) -> JointVector {
+        return v.empty() ? JointVector::Zero() : JointVector((1 - u) * v[k] + u * v[k + 1]);
+      };
+      q = lerp(reference.q);
+      qd = lerp(reference.qd);
+      qdd = lerp(reference.qdd);
+    } else {
+      q = reference.q[n - 1];
+      const bool at_last = setpoint == last_reference_setpoint;
+      qd = at_last && !reference.qd.empty() ? reference.qd[n - 1] : JointVector::Zero();
+      qdd = at_last && !reference.qdd.empty() ? reference.qdd[n - 1] : JointVector::Zero();
+    }
+  };
+
+  // scratch models of the links: the reference (feed-forward, commanded TCP) and the measured
+  // angles (gravity compensation)
+  LinkModel ref_links(m, motor_qpos_, motor_dof_);
+  LinkModel measured_links(m, motor_qpos_, motor_dof_);
+  const JointVector stiffness = stiffness_;
+
+  // the controller's work for setpoint k: the motor reference (the link reference plus the gear
+  // deflection its torque causes) and the acceleration feed-forward; also the commanded TCP
+  struct Prepared {
+    JointVector q, qd, deflection;
+    Setpoint setpoint;
+    Vec3 tcp;
+    Eigen::Quaterniond rotation;
+  };
+  JointVector previous_deflection = JointVector::Zero();
+  const auto prepare = [&](long k) {
+    Prepared p;
+    JointVector qdd;
+    reference_at(k, p.q, p.qd, qdd);
+    const bool need_torques = compensate || servo.acceleration_feedforward;
+    const LinkTorques ref = ref_links.torques(p.q, p.qd, qdd, need_torques);
+    p.deflection = compensate ? JointVector(ref.full.cwiseQuotient(stiffness)) : JointVector::Zero();
+    p.setpoint.t = static_cast<double>(k) * setpoint_period;
+    p.setpoint.motor = p.q + p.deflection;
+    p.setpoint.motor_speed = p.qd + (k == 0 ? JointVector::Zero() : JointVector((p.deflection - previous_deflection) / setpoint_period));
+    previous_deflection = p.deflection;
+    if (servo.acceleration_feedforward) {
+      for (int i = 0; i < 6; ++i) {
+        p.setpoint.feedforward[i] = ref.full[i] - ref.gravity[i] + motor_inertia_[i] * qdd[i] + viscous_[i] * p.qd[i] +
+                                    coulomb_[i] * std::tanh(p.qd[i] / kCoulombSmoothing);
+      }
+    }
+    p.tcp = Vec3(ref_links.data().site_xpos + 3 * tcp_site_);
+    p.rotation = site_rotation(ref_links.data(), tcp_site_);
+    return p;
+  };
+
+  // start at rest in the equilibrium of the first command: the motors at their first reference,
+  // the gears deflected by the gravity load
   const DataPtr d = make_data(m);
-  const DataPtr scratch = make_data(m);
-  for (std::size_t i = 0; i < 6; ++i) d->qpos[qpos_adr_[i]] = reference.q[0][static_cast<Eigen::Index>(i)];
+  Prepared current = prepare(0);
+  const JointVector gravity0 = ref_links.torques(current.q, JointVector::Zero(), JointVector::Zero(), false).gravity;
+  for (std::size_t i = 0; i < 6; ++i) {
+    const auto ii = static_cast<Eigen::Index>(i);
+    d->qpos[motor_qpos_[i]] = current.setpoint.motor[ii];
+    if (elastic_arm) d->qpos[gear_qpos_[i]] = -gravity0[ii] / stiffness[ii];
+  }
   mj_forward(&m, d.get());
+  Prepared next = prepare(1);
+
+  // the drive's state: encoder history (true motor angles of the last ticks), speed estimate,
+  // integrators; the setpoints it interpolates (enough to reach back over the delay)
+  const auto delay = static_cast<std::size_t>(servo.measurement_delay_ticks);
+  std::vector<JointVector> history(delay + 1);
+  JointVector motor0;
+  for (std::size_t i = 0; i < 6; ++i) motor0[static_cast<Eigen::Index>(i)] = d->qpos[motor_qpos_[i]];
+  for (JointVector& past : history) past = motor0;
+  JointVector measured_previous = motor0.unaryExpr(quantise);
+  JointVector integral = JointVector::Zero();
+  SetpointHistory setpoints(static_cast<std::size_t>(std::ceil((static_cast<double>(delay) + 1) * period / setpoint_period)) + 3);
+  Setpoint before = current.setpoint;
+  before.t = -setpoint_period;
+  setpoints.push(before);
+  setpoints.push(current.setpoint);
+  setpoints.push(next.setpoint);
+  JointVector gravity = JointVector::Zero();
+  const JointVector& limit = limits_.torque;
 
   Trace trace;
-  trace.samples.reserve(static_cast<std::size_t>(last_tick + 1));
+  trace.period = setpoint_period;
+  trace.reference_end = static_cast<double>(last_reference_setpoint) * setpoint_period;
+  trace.samples.reserve(static_cast<std::size_t>(last_setpoint + 1));
   const bool frames = options.frame_rate > 0 && options.on_frame;
   long next_frame = 0;
-  JointVector tau = JointVector::Zero();
 
   for (long step = 0; step <= last_step; ++step) {
     const double t_step = static_cast<double>(step) * h;
-    // a stop request (SIGINT/SIGTERM) unwinds from here, every ~1 s of simulated time at 1 ms
+    // a stop request (SIGINT/SIGTERM) unwinds from here, every 1024 physics steps
     if (step % 1024 == 0) throw_if_stop_requested();
 
-    // position and velocity stages: poses and bias forces now describe the state at t_step
+    // position and velocity stages: poses now describe the state at t_step
     mj_step1(&m, d.get());
     if (std::string why = unhealthy_state(*d); !why.empty()) {
       trace.diverged = true;
@@ -262,62 +628,62 @@ Trace Simulator::run(const JointReference& reference, const ServoConfig& servo, 
     if (step % steps_per_tick == 0) {
       const long tick = step / steps_per_tick;
       const double t = static_cast<double>(tick) * period;
+      const bool at_setpoint = tick % ticks_per_setpoint == 0;
+      const long k = tick / ticks_per_setpoint;
 
-      // the reference at this tick: linear between samples, then the last position at rest
-      JointVector q_cmd, qd_cmd, qdd_cmd;
-      if (tick < last_reference_tick) {
-        const auto k = static_cast<std::size_t>(tick / ticks_per_sample);
-        const double u = static_cast<double>(tick % ticks_per_sample) / static_cast<double>(ticks_per_sample);
-        const auto lerp = [&](const std::vector<JointVector>& v) -> JointVector {
-          return v.empty() ? JointVector::Zero() : JointVector((1 - u) * v[k] + u * v[k + 1]);
-        };
-        q_cmd = lerp(reference.q);
-        qd_cmd = lerp(reference.qd);
-        qdd_cmd = lerp(reference.qdd);
-      } else {
-        q_cmd = reference.q[n - 1];
-        const bool at_last = tick == last_reference_tick;
-        qd_cmd = at_last && !reference.qd.empty() ? reference.qd[n - 1] : JointVector::Zero();
-        qdd_cmd = at_last && !reference.qdd.empty() ? reference.qdd[n - 1] : JointVector::Zero();
-      }
-
-      // the measured state
-      JointVector q, qd;
+      // the true state
+      JointVector motor, motor_speed, link, link_speed;
       for (std::size_t i = 0; i < 6; ++i) {
-        q[static_cast<Eigen::Index>(i)] = d->qpos[qpos_adr_[i]];
-        qd[static_cast<Eigen::Index>(i)] = d->qvel[dof_adr_[i]];
+        const auto ii = static_cast<Eigen::Index>(i);
+        motor[ii] = d->qpos[motor_qpos_[i]];
+        motor_speed[ii] = d->qvel[motor_dof_[i]];
+        link[ii] = motor[ii] + (elastic_arm ? d->qpos[gear_qpos_[i]] : 0.0);
+        link_speed[ii] = motor_speed[ii] + (elastic_arm ? d->qvel[gear_dof_[i]] : 0.0);
       }
-      if (!q.allFinite() || !qd.allFinite() || qd.cwiseAbs().maxCoeff() > kMaxJointSpeed) {
+      if (!link.allFinite() || !link_speed.allFinite() || link_speed.cwiseAbs().maxCoeff() > kMaxJointSpeed ||
+          motor_speed.cwiseAbs().maxCoeff() > kMaxJointSpeed) {
         trace.diverged = true;
         trace.warning = "joint speed beyond " + format_value(kMaxJointSpeed) +
                         " rad/s: the simulation is unstable (t = " + format_value(t) + " s)";
         break;
       }
 
-      // the commanded joints on the scratch data: TCP, and inverse dynamics when fed forward
-      for (std::size_t i = 0; i < 6; ++i) {
-        const auto ii = static_cast<Eigen::Index>(i);
-        scratch->qpos[qpos_adr_[i]] = q_cmd[ii];
-        scratch->qvel[dof_adr_[i]] = qd_cmd[ii];
-        scratch->qacc[dof_adr_[i]] = qdd_cmd[ii];
+      // the encoder: the motor angle `delay` ticks ago, quantised; the speed by difference
+      for (std::size_t j = delay; j > 0; --j) history[j] = history[j - 1];
+      history[0] = motor;
+      const JointVector measured = history[delay].unaryExpr(quantise);
+      const JointVector measured_speed = tick == 0 ? JointVector::Zero() : JointVector((measured - measured_previous) / period);
+      measured_previous = measured;
+
+      // the controller, once per setpoint: the next setpoint (the reference is known ahead), and
+      // the gravity torque at the measured angles
+      if (at_setpoint && k > 0) {
+        current = next;
+        next = prepare(k + 1);
+        setpoints.push(next.setpoint);
       }
-      if (servo.feedforward) {
-        mj_inverse(&m, scratch.get());
-      } else {
-        mj_kinematics(&m, scratch.get());
+      if (at_setpoint && servo.gravity_compensation) {
+        gravity = measured_links.torques(measured, JointVector::Zero(), JointVector::Zero(), false).gravity;
       }
 
-      // PD + model terms, then saturation
-      tau = servo.kp.cwiseProduct(q_cmd - q) + servo.kd.cwiseProduct(qd_cmd - qd);
+      // the drive: position P and velocity PI on the reference of the instant its measurements
+      // describe (the speed estimate is a backward difference: half a tick earlier still), the
+      // controller's torques, saturation
+      const JointVector motor_cmd_then = setpoints.at(t - static_cast<double>(delay) * period, &Setpoint::motor);
+      const JointVector motor_speed_then =
+          setpoints.at(t - (static_cast<double>(delay) + 0.5) * period, &Setpoint::motor_speed);
+      JointVector speed_cmd = servo.kp.cwiseProduct(motor_cmd_then - measured);
+      if (servo.velocity_feedforward) speed_cmd += motor_speed_then;
+      const JointVector speed_error = speed_cmd - measured_speed;
+      JointVector tau = servo.kv.cwiseProduct(speed_error) + integral + gravity + setpoints.at(t, &Setpoint::feedforward);
       for (std::size_t i = 0; i < 6; ++i) {
         const auto ii = static_cast<Eigen::Index>(i);
-        const int dof = dof_adr_[i];
-        if (servo.gravity_compensation) tau[ii] += d->qfrc_bias[dof];
-        if (servo.feedforward)
-          tau[ii] += scratch->qfrc_inverse[dof] - (servo.gravity_compensation ? scratch->qfrc_bias[dof] : 0.0);
-        if (std::abs(tau[ii]) > torque_limit_[ii]) {
-          trace.torque_saturated = true;
-          tau[ii] = std::clamp(tau[ii], -torque_limit_[ii], torque_limit_[ii]);
+        const bool saturated = std::abs(tau[ii]) > limit[ii];
+        // anti-windup: hold the integrator while the torque is clamped in the error's direction
+        if (!saturated || tau[ii] * speed_error[ii] < 0) integral[ii] += servo.ki[ii] * speed_error[ii] * period;
+        if (saturated) {
+          ++trace.saturated_ticks[i];
+          tau[ii] = std::clamp(tau[ii], -limit[ii], limit[ii]);
         }
         d->ctrl[actuator_[i]] = tau[ii] * ctrl_per_torque_[i];
       }
@@ -326,18 +692,26 @@ Trace Simulator::run(const JointReference& reference, const ServoConfig& servo, 
         trace.warning = "non-finite servo torque (t = " + format_value(t) + " s)";
         break;
       }
-      trace.peak_abs_tau = trace.peak_abs_tau.cwiseMax(tau.cwiseAbs());
 
-      // record the tick
-      TraceSample& sample = trace.samples.emplace_back();
-      sample.t = t;
-      sample.q_cmd = q_cmd;
-      sample.qd_cmd = qd_cmd;
-      sample.q = q;
-      sample.qd = qd;
-      sample.tau = tau;
-      sample.tcp = Eigen::Vector3d(d->site_xpos + 3 * tcp_site_);
-      sample.tcp_cmd = Eigen::Vector3d(scratch->site_xpos + 3 * tcp_site_);
+      // record the setpoint ticks
+      if (at_setpoint) {
+        TraceSample& sample = trace.samples.emplace_back();
+        sample.t = t;
+        sample.q_cmd = current.q;
+        sample.qd_cmd = current.qd;
+        sample.q_motor_cmd = current.setpoint.motor;
+        sample.q_measured = measured;
+        sample.following_error = motor_cmd_then - measured;
+        sample.q_motor = motor;
+        sample.qd_motor = motor_speed;
+        sample.q = link;
+        sample.qd = link_speed;
+        sample.tau = tau;
+        sample.tcp = Vec3(d->site_xpos + 3 * tcp_site_);
+        sample.tcp_cmd = current.tcp;
+        sample.rotation = site_rotation(*d, tcp_site_);
+        sample.rotation_cmd = current.rotation;
+      }
     }
 
     // frames at the requested rate of simulated time (at most one per physics step)
@@ -364,20 +738,6 @@ Trace Simulator::run(const JointReference& reference, const ServoConfig& servo, 
     }
   }
   return trace;
-}
-
-ServoConfig default_servo(const Simulator& sim, const JointVector& q, double rate_hz, const JointVector& kp,
-                          double zeta) {
-  assert(rate_hz > 0 && zeta >= 0);
-  const JointVector inertia = sim.inertia_diagonal(q);
-  const double omega_max = kMaxOmegaT * rate_hz;  // rad/s
-  ServoConfig servo;
-  servo.rate_hz = rate_hz;
-  for (int i = 0; i < 6; ++i) {
-    servo.kp[i] = std::min(kp[i], omega_max * omega_max * inertia[i]);
-    servo.kd[i] = 2 * zeta * std::sqrt(servo.kp[i] * inertia[i]);
-  }
-  return servo;
 }
 
 }  // namespace blendbench

@@ -67,7 +67,7 @@ class Sweep : public ::testing::Test {
     return sweep_file(R"(axes:
   variants[1].transition.parameter: [2, 5]
   defaults.velocity: [150, 200]
-constraints: ["contour_error_max_mm <= 1.0"]
+constraints: ["metrics.contour_error_programmed_max_mm <= 1.0"]
 )");
   }
 
@@ -98,8 +98,8 @@ TEST_F(Sweep, ResultsDoNotDependOnJobs) {
   std::string header;
   std::getline(lines, header);
   EXPECT_EQ(header.rfind("point,variant,method,variants[1].transition.parameter,defaults.velocity,status,", 0), 0U) << header;
-  EXPECT_TRUE(has(header, ",cycle_time_s,")) << header;
-  EXPECT_TRUE(has(header, ",contour_error_max_mm,")) << header;
+  EXPECT_TRUE(has(header, ",metrics.cycle_time_s,")) << header;
+  EXPECT_TRUE(has(header, ",metrics.contour_error_programmed_max_mm,")) << header;
   EXPECT_FALSE(has(header, "wall_time")) << header;
   int rows = 0;
   for (std::string line; std::getline(lines, line);) ++rows;
@@ -182,15 +182,16 @@ TEST_F(Sweep, ShardsCollectToTheLocalTable) {
 TEST_F(Sweep, AReportFieldCanBeNamed) {
   const std::string file = sweep_file(R"(axes:
   defaults.velocity: [200]
-metrics: [cycle_time_s]
-constraints: ["corners[0].deviation_mm <= 0.001"]
-pareto: {x: cycle_time_s, y: "corners[0].deviation_mm"}
+metrics: [metrics.cycle_time_s]
+constraints: ["plan.corners[0].deviation_mm <= 0.001"]
+pareto: {x: metrics.cycle_time_s, y: "plan.corners[0].deviation_mm"}
 )");
   const Result r = run({"sweep", file, "--out", (dir_ / "out").string(), "--no-plots"});
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const std::string csv = read(dir_ / "out" / "sweep.csv");
   EXPECT_EQ(csv.substr(0, csv.find('\n')),
-            "point,variant,method,defaults.velocity,status,meets_constraints,on_pareto_front,cycle_time_s,corners[0].deviation_mm");
+            "point,variant,method,defaults.velocity,status,meets_constraints,on_pareto_front,metrics.cycle_time_s,"
+            "plan.corners[0].deviation_mm");
   // the exact stop passes through the corner; the 5 mm arc blend does not
   const nlohmann::json sweep = nlohmann::json::parse(read(dir_ / "out" / "sweep.json"));
   EXPECT_EQ(sweep["rows"][0]["variant"], "exact");

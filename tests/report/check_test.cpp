@@ -10,7 +10,9 @@ namespace {
 nlohmann::json summary(double cycle, double tracking, const std::string& status = "ok") {
   return {{"scenario", "s"},
           {"variants",
-           {{{"name", "a"}, {"status", status}, {"cycle_time_s", cycle}, {"tracking_error_max_mm", tracking}}}}};
+           {{{"name", "a"},
+             {"status", status},
+             {"metrics", {{"cycle_time_s", cycle}, {"tracking_error_max_mm", tracking}}}}}}};
 }
 
 TEST(Check, SameRunPasses) {
@@ -24,7 +26,7 @@ TEST(Check, RegressionBeyondToleranceFailsAndNamesTheMetric) {
   EXPECT_TRUE(check_run(summary(2.0 * 1.01 + 0.004, 0.5), base, "b.json").passed());
   const CheckReport r = check_run(summary(2.1, 0.5), base, "b.json");
   ASSERT_EQ(r.regressions.size(), 1u);
-  EXPECT_NE(r.regressions[0].find("a: cycle_time_s = 2.1"), std::string::npos) << r.regressions[0];
+  EXPECT_NE(r.regressions[0].find("a: metrics.cycle_time_s = 2.1"), std::string::npos) << r.regressions[0];
   EXPECT_FALSE(check_run(summary(2.0, 0.6), base, "b.json").passed());
 }
 
@@ -45,7 +47,7 @@ TEST(Check, FailedOrMissingVariantRegresses) {
   EXPECT_FALSE(r.passed());
   EXPECT_EQ(r.notes.size(), 1u);  // b is new
   nlohmann::json unsettled = summary(2.0, 0.5);
-  unsettled["variants"][0]["cycle_time_s"] = nullptr;
+  unsettled["variants"][0]["metrics"]["cycle_time_s"] = nullptr;
   EXPECT_FALSE(check_run(unsettled, base, "b.json").passed());
 }
 

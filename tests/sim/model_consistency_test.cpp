@@ -1,6 +1,8 @@
-// models/ur5e_like.urdf (kinematic truth, read with urdfdom) and models/ur5e_like.xml (MuJoCo)
-// describe the same arm: same TCP pose at every configuration, same joint limits, torque limits
-// equal to the URDF efforts, same masses, inertias and damping.
+// models/ur5e_like.urdf (kinematic truth, read with urdfdom) and the two MuJoCo models,
+// models/ur5e_like.xml (elastic joints) and models/ur5e_like_rigid.xml (rigid), describe the same
+// arm: same TCP pose at every configuration (gears undeflected), same joint limits, torque limits
+// equal to the URDF efforts, velocity limits equal to the URDF's, same masses, inertias and
+// friction; and the two MJCF files agree on everything but the gears.
 
 #include <gtest/gtest.h>
 #include <mujoco/mujoco.h>
@@ -68,11 +70,14 @@ class ModelConsistency : public ::testing::Test {
   }
 };
 
+const char* const kModels[] = {"models/ur5e_like.xml", "models/ur5e_like_rigid.xml"};
+
 TEST_F(ModelConsistency, TcpPoseAgreesAtRandomConfigurations) {
   const KinematicChain chain = load_urdf_chain(test::source_path("models/ur5e_like.urdf"));
-  const ModelPtr m = load("models/ur5e_like.xml");
+  for (const char* file : kModels) {
+  SCOPED_TRACE(file);
+  const ModelPtr m = load(file);
   ASSERT_TRUE(m);
-  ASSERT_EQ(m->nq, 6);
   const DataPtr d(mj_makeData(m.get()));
   const int tcp = id(m.get(), mjOBJ_SITE, "tcp");
   std::array<int, 6> qpos_of{};
@@ -81,7 +86,7 @@ TEST_F(ModelConsistency, TcpPoseAgreesAtRandomConfigurations) {
   const std::uint64_t seed = 31;
   auto rng = test::make_rng(seed);
   for (int n = 0; n < test::property_cases(200); ++n) {
-    Vec6 q;
+    JointVector q;
     for (std::size_t i = 0; i < 6; ++i) {
       const auto k = static_cast<Eigen::Index>(i);
       q[k] = test::uniform(rng, chain.joints[i].lower, chain.joints[i].upper);
@@ -91,16 +96,21 @@ TEST_F(ModelConsistency, TcpPoseAgreesAtRandomConfigurations) {
     Eigen::Isometry3d sim = Eigen::Isometry3d::Identity();
     sim.translation() = Eigen::Map<const Vec3>(d->site_xpos + 3 * tcp);
     sim.linear() = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(d->site_xmat + 9 * tcp);
-    const Vec6 error = pose_error(forward_kinematics(chain, q), sim);
+    const Twist error = pose_error(forward_kinematics(chain, q), sim);
     ASSERT_LT(error.head<3>().norm(), kPoseTol) << test::seed_text(seed) << " case " << n << " q " << q.transpose();
     ASSERT_LT(error.tail<3>().norm(), kPoseTol) << test::seed_text(seed) << " case " << n << " q " << q.transpose();
+  }
   }
 }
 
 TEST_F(ModelConsistency, JointAndTorqueLimitsAgree) {
   const KinematicChain chain = load_urdf_chain(test::source_path("models/ur5e_like.urdf"));
-  const ModelPtr m = load("models/ur5e_like.xml");
+  for (const char* file : kModels) {
+  SCOPED_TRACE(file);
+  const ModelPtr m = load(file);
   ASSERT_TRUE(m);
+  const int velocity = id(m.get(), mjOBJ_NUMERIC, "velocity_limits");
+  ASSERT_EQ(m->numeric_size[velocity], 6);
   ASSERT_EQ(m->nu, 6);
   for (std::size_t i = 0; i < 6; ++i) {
     const JointSpec& joint = chain.joints[i];
@@ -117,73 +127,136 @@ TEST_F(ModelConsistency, JointAndTorqueLimitsAgree) {
     EXPECT_TRUE(m->actuator_ctrllimited[a]) << joint.name;
     EXPECT_NEAR(m->actuator_ctrlrange[2 * a], -joint.effort_limit, kValueTol) << joint.name;
     EXPECT_NEAR(m->actuator_ctrlrange[2 * a + 1], joint.effort_limit, kValueTol) << joint.name;
+    EXPECT_NEAR(m->numeric_data[m->numeric_adr[velocity] + static_cast<int>(i)], joint.velocity_limit, kValueTol) << joint.name;
+  }
   }
   // the UR5e's torque limits, read from the URDF
   const std::array<double, 6> effort = {150, 150, 150, 28, 28, 28};
   for (std::size_t i = 0; i < 6; ++i) EXPECT_EQ(chain.joints[i].effort_limit, effort[i]) << chain.joints[i].name;
 }
 
-TEST_F(ModelConsistency, MassesInertiasAndDampingAgree) {
+TEST_F(ModelConsistency, MassesInertiasAndFrictionAgree) {
   // MuJoCo reads URDF too: compare the bodies it builds from it with the MJCF's (the URDF's
-  // root link becomes MuJoCo's world body, so the fixed base is not compared)
+  // root link becomes MuJoCo's world body, so the fixed base is not compared); the URDF's joint
+  // damping and friction are the motor hinges' viscous and Coulomb friction
   const ModelPtr urdf = load("models/ur5e_like.urdf");
-  const ModelPtr mjcf = load("models/ur5e_like.xml");
-  ASSERT_TRUE(urdf && mjcf);
+  ASSERT_TRUE(urdf);
   const std::array<std::string, 6> links = {"shoulder_link", "upper_arm_link", "forearm_link",
                                             "wrist_1_link",  "wrist_2_link",   "wrist_3_link"};
-  for (const std::string& link : links) {
-    const int a = id(urdf.get(), mjOBJ_BODY, link);
-    const int b = id(mjcf.get(), mjOBJ_BODY, link);
-    EXPECT_NEAR(urdf->body_mass[a], mjcf->body_mass[b], kValueTol) << link;
-    for (int k = 0; k < 3; ++k) EXPECT_NEAR(urdf->body_ipos[3 * a + k], mjcf->body_ipos[3 * b + k], kValueTol) << link;
-    // MuJoCo stores principal moments and axes, possibly in another order: compare the tensors
-    EXPECT_LT((inertia_tensor(urdf.get(), a) - inertia_tensor(mjcf.get(), b)).norm(), kValueTol) << link;
+  for (const char* file : kModels) {
+    SCOPED_TRACE(file);
+    const ModelPtr mjcf = load(file);
+    ASSERT_TRUE(mjcf);
+    for (const std::string& link : links) {
+      const int a = id(urdf.get(), mjOBJ_BODY, link);
+      const int b = id(mjcf.get(), mjOBJ_BODY, link);
+      EXPECT_NEAR(urdf->body_mass[a], mjcf->body_mass[b], kValueTol) << link;
+      for (int k = 0; k < 3; ++k) EXPECT_NEAR(urdf->body_ipos[3 * a + k], mjcf->body_ipos[3 * b + k], kValueTol) << link;
+      // MuJoCo stores principal moments and axes, possibly in another order: compare the tensors
+      EXPECT_LT((inertia_tensor(urdf.get(), a) - inertia_tensor(mjcf.get(), b)).norm(), kValueTol) << link;
+    }
+    for (int j = 0; j < urdf->njnt; ++j) {
+      const std::string name = mj_id2name(urdf.get(), mjOBJ_JOINT, j);
+      const int dof_urdf = urdf->jnt_dofadr[j];
+      const int dof_mjcf = mjcf->jnt_dofadr[id(mjcf.get(), mjOBJ_JOINT, name)];
+      EXPECT_NEAR(urdf->dof_damping[dof_urdf], mjcf->dof_damping[dof_mjcf], kValueTol) << name;
+      EXPECT_NEAR(urdf->dof_frictionloss[dof_urdf], mjcf->dof_frictionloss[dof_mjcf], kValueTol) << name;
+      EXPECT_GT(mjcf->dof_frictionloss[dof_mjcf], 0) << name;
+    }
   }
-  for (int j = 0; j < 6; ++j) {
-    const std::string name = mj_id2name(mjcf.get(), mjOBJ_JOINT, j);
-    const int dof_urdf = urdf->jnt_dofadr[id(urdf.get(), mjOBJ_JOINT, name)];
-    EXPECT_NEAR(urdf->dof_damping[dof_urdf], mjcf->dof_damping[mjcf->jnt_dofadr[j]], kValueTol) << name;
+}
+
+TEST_F(ModelConsistency, ElasticAndRigidModelsDifferOnlyInTheGears) {
+  const ModelPtr elastic = load("models/ur5e_like.xml");
+  const ModelPtr rigid = load("models/ur5e_like_rigid.xml");
+  ASSERT_TRUE(elastic && rigid);
+  EXPECT_EQ(elastic->nq, 12);
+  EXPECT_EQ(rigid->nq, 6);
+  EXPECT_EQ(elastic->nbody, rigid->nbody);
+  EXPECT_EQ(elastic->opt.timestep, rigid->opt.timestep);
+  EXPECT_EQ(elastic->opt.integrator, rigid->opt.integrator);
+  for (int j = 0; j < rigid->njnt; ++j) {
+    const std::string name = mj_id2name(rigid.get(), mjOBJ_JOINT, j);
+    const int e = id(elastic.get(), mjOBJ_JOINT, name);
+    const int de = elastic->jnt_dofadr[e], dr = rigid->jnt_dofadr[j];
+    EXPECT_EQ(elastic->dof_armature[de], rigid->dof_armature[dr]) << name;
+    EXPECT_EQ(elastic->dof_damping[de], rigid->dof_damping[dr]) << name;
+    EXPECT_EQ(elastic->dof_frictionloss[de], rigid->dof_frictionloss[dr]) << name;
+    EXPECT_EQ(elastic->jnt_range[2 * e], rigid->jnt_range[2 * j]) << name;
+    EXPECT_EQ(elastic->jnt_range[2 * e + 1], rigid->jnt_range[2 * j + 1]) << name;
+    // the gear hinge follows the motor hinge in the same body, on the same axis
+    const int gear = id(elastic.get(), mjOBJ_JOINT, name.substr(0, name.size() - 6) + "_gear");
+    EXPECT_EQ(gear, e + 1) << name;
+    EXPECT_EQ(elastic->jnt_bodyid[gear], elastic->jnt_bodyid[e]) << name;
+    EXPECT_GT(elastic->jnt_stiffness[gear], 0) << name;
+    EXPECT_GT(elastic->dof_damping[elastic->jnt_dofadr[gear]], 0) << name;
+    EXPECT_EQ(elastic->jnt_limited[gear], 0) << name;
+  }
+  for (int b = 0; b < rigid->nbody; ++b) {
+    EXPECT_EQ(elastic->body_mass[b], rigid->body_mass[b]) << b;
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(elastic->body_inertia[3 * b + k], rigid->body_inertia[3 * b + k]) << b;
+  }
+  for (int a = 0; a < 6; ++a) {
+    EXPECT_EQ(elastic->actuator_ctrlrange[2 * a + 1], rigid->actuator_ctrlrange[2 * a + 1]) << a;
+  }
+  const int ve = id(elastic.get(), mjOBJ_NUMERIC, "acceleration_limits");
+  const int vr = id(rigid.get(), mjOBJ_NUMERIC, "acceleration_limits");
+  for (int i = 0; i < 6; ++i) {
+    EXPECT_EQ(elastic->numeric_data[elastic->numeric_adr[ve] + i], rigid->numeric_data[rigid->numeric_adr[vr] + i]) << i;
   }
 }
 
 TEST_F(ModelConsistency, SimulationSettingsAreThoseTheServoLoopExpects) {
-  const ModelPtr m = load("models/ur5e_like.xml");
-  ASSERT_TRUE(m);
-  EXPECT_EQ(m->opt.timestep, 0.001);
-  EXPECT_EQ(m->opt.integrator, mjINT_EULER);
-  EXPECT_GE(id(m.get(), mjOBJ_CAMERA, "overview"), 0);
-  EXPECT_EQ(m->vis.global.offwidth, 1280);
-  EXPECT_EQ(m->vis.global.offheight, 720);
-  // keyframe "ready": facing +x, elbow up, tool down
-  const int ready = id(m.get(), mjOBJ_KEY, "ready");
-  const std::array<double, 6> q_ready = {mjPI, -mjPI / 2, mjPI / 2, -mjPI / 2, -mjPI / 2, 0};
-  for (int i = 0; i < 6; ++i) EXPECT_NEAR(m->key_qpos[6 * ready + i], q_ready[static_cast<std::size_t>(i)], kValueTol);
-  for (int j = 0; j < m->nv; ++j) {
-    EXPECT_GT(m->dof_armature[j], 0) << "armature keeps stiff PD stable at the 1 ms step";
-    EXPECT_GT(m->dof_damping[j], 0);
-  }
-  // no arm geom takes part in contacts
-  for (int g = 0; g < m->ngeom; ++g) {
-    if (m->geom_bodyid[g] == 0) continue;
-    EXPECT_EQ(m->geom_contype[g], 0) << g;
-    EXPECT_EQ(m->geom_conaffinity[g], 0) << g;
+  for (const char* file : kModels) {
+    SCOPED_TRACE(file);
+    const ModelPtr m = load(file);
+    ASSERT_TRUE(m);
+    // 8 kHz physics: every servo rate from 125 Hz to 8 kHz that divides it falls on a step
+    EXPECT_EQ(m->opt.timestep, 1.0 / 8000);
+    EXPECT_EQ(m->opt.integrator, mjINT_EULER);
+    EXPECT_GE(id(m.get(), mjOBJ_CAMERA, "overview"), 0);
+    EXPECT_EQ(m->vis.global.offwidth, 1280);
+    EXPECT_EQ(m->vis.global.offheight, 720);
+    // keyframe "ready": facing +x, elbow up, tool down (the motor hinges; gears undeflected)
+    const int ready = id(m.get(), mjOBJ_KEY, "ready");
+    const std::array<double, 6> q_ready = {mjPI, -mjPI / 2, mjPI / 2, -mjPI / 2, -mjPI / 2, 0};
+    const std::array<std::string, 6> names = {"shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint",
+                                              "wrist_1_joint",      "wrist_2_joint",       "wrist_3_joint"};
+    for (std::size_t i = 0; i < 6; ++i) {
+      const int j = id(m.get(), mjOBJ_JOINT, names[i]);
+      EXPECT_NEAR(m->key_qpos[m->nq * ready + m->jnt_qposadr[j]], q_ready[i], kValueTol) << names[i];
+      // the reflected rotor inertia on the motor hinge
+      EXPECT_GT(m->dof_armature[m->jnt_dofadr[j]], 0) << names[i];
+    }
+    // no arm geom takes part in contacts
+    for (int g = 0; g < m->ngeom; ++g) {
+      if (m->geom_bodyid[g] == 0) continue;
+      EXPECT_EQ(m->geom_contype[g], 0) << g;
+      EXPECT_EQ(m->geom_conaffinity[g], 0) << g;
+    }
   }
 }
 
-TEST_F(ModelConsistency, ArmHoldsStillUnderGravityCompensationWithoutWarnings) {
-  // a short physics smoke test: ctrl = bias forces keeps the arm at rest for a second
-  const ModelPtr m = load("models/ur5e_like.xml");
+TEST_F(ModelConsistency, RigidArmHoldsStillUnderBiasCompensationWithoutWarnings) {
+  // a short physics smoke test: ctrl = bias forces keeps the rigid arm at rest for a second
+  // (friction holds the rest), and the elastic arm runs a second without warnings
+  const ModelPtr m = load("models/ur5e_like_rigid.xml");
   ASSERT_TRUE(m);
   const DataPtr d(mj_makeData(m.get()));
   const std::array<double, 6> q0 = {0.2, -1.4, 1.6, -1.8, -1.57, 0.3};
   for (int i = 0; i < 6; ++i) d->qpos[i] = q0[static_cast<std::size_t>(i)];
-  for (int step = 0; step < 1000; ++step) {
+  for (int step = 0; step < 8000; ++step) {
     mj_forward(m.get(), d.get());
     for (int i = 0; i < 6; ++i) d->ctrl[i] = d->qfrc_bias[i];
     mj_step(m.get(), d.get());
   }
   for (int i = 0; i < 6; ++i) EXPECT_NEAR(d->qpos[i], q0[static_cast<std::size_t>(i)], 1e-6) << i;
   for (int w = 0; w < mjNWARNING; ++w) EXPECT_EQ(d->warning[w].number, 0) << "warning " << w;
+  const ModelPtr elastic = load("models/ur5e_like.xml");
+  ASSERT_TRUE(elastic);
+  const DataPtr e(mj_makeData(elastic.get()));
+  for (int step = 0; step < 8000; ++step) mj_step(elastic.get(), e.get());
+  for (int w = 0; w < mjNWARNING; ++w) EXPECT_EQ(e->warning[w].number, 0) << "warning " << w;
 }
 
 }  // namespace

@@ -178,7 +178,7 @@ Eigen::Isometry3d dh_transform(double theta, double d, double a, double alpha) {
   return t;
 }
 
-Eigen::Isometry3d ur_forward_kinematics(const UrGeometry& g, const Vec6& theta) {
+Eigen::Isometry3d ur_forward_kinematics(const UrGeometry& g, const JointVector& theta) {
   const std::array<double, 6> d = {g.d1, 0, 0, g.d4, g.d5, g.d6};
   const std::array<double, 6> a = {0, g.a2, g.a3, 0, 0, 0};
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
@@ -207,9 +207,9 @@ Eigen::Isometry3d ur_forward_kinematics(const UrGeometry& g, const Vec6& theta) 
 //    two-link arm, cos t3 = (x^2 + y^2 - a2^2 - a3^2) / (2 a2 a3), t3 = +-acos (two elbow
 //    branches), t2 = atan2(y, x) - atan2(a3 s3, a2 + a3 c3). Its first column is
 //    (c234, s234, 0), so t4 = atan2(T14(1,0), T14(0,0)) - t2 - t3.
-std::vector<Vec6> ur_closed_form_ik(const UrGeometry& g, const Eigen::Isometry3d& flange_pose,
-                                    const Vec6& theta_near, double reach_slack) {
-  std::vector<Vec6> out;
+std::vector<JointVector> ur_closed_form_ik(const UrGeometry& g, const Eigen::Isometry3d& flange_pose,
+                                    const JointVector& theta_near, double reach_slack) {
+  std::vector<JointVector> out;
   if (!flange_pose.matrix().allFinite()) return out;
   const Mat3 r = flange_pose.linear();
   const Vec3 x6 = r.col(0);
@@ -271,7 +271,7 @@ std::vector<Vec6> ur_closed_form_ik(const UrGeometry& g, const Eigen::Isometry3d
         const double t2 =
             reach < kFreeJointEps ? theta_near[1] : std::atan2(py, px) - std::atan2(g.a3 * s3, g.a2 + g.a3 * c3);
         const double t4 = t234 - t2 - t3;
-        Vec6 theta;
+        JointVector theta;
         theta << wrap_pi(t1), wrap_pi(t2), wrap_pi(t3), wrap_pi(t4), wrap_pi(t5), wrap_pi(t6);
         out.push_back(theta);
       }
@@ -303,7 +303,7 @@ KinematicChain ur_chain(const UrGeometry& g) {
   return chain;
 }
 
-double branch_distance(const Vec6& a, const Vec6& b) {
+double branch_distance(const JointVector& a, const JointVector& b) {
   double sum = 0;
   for (std::size_t i = 0; i < 6; ++i) {
     const double d = a[static_cast<Eigen::Index>(i)] - b[static_cast<Eigen::Index>(i)];
@@ -386,10 +386,10 @@ IkSolver::IkSolver(KinematicChain chain) : chain_(std::move(chain)) {
   std::mt19937_64 rng(12345);
   std::uniform_real_distribution<double> angle(-kPi, kPi);
   for (int trial = 0; trial < 16; ++trial) {
-    Vec6 q;
+    JointVector q;
     for (Eigen::Index i = 0; i < 6; ++i) q[i] = angle(rng);
     const Eigen::Isometry3d model = base_ * ur_forward_kinematics(geometry_, sign_.cwiseProduct(q) + offset_) * tool_;
-    const Vec6 error = pose_error(forward_kinematics(chain_, q), model);
+    const Twist error = pose_error(forward_kinematics(chain_, q), model);
     deviation = std::max({deviation, error.head<3>().norm(), error.tail<3>().norm()});
     if (error.head<3>().norm() > kModelTol || error.tail<3>().norm() > kModelTol) {
       not_ur("its forward kinematics differ from the UR model found in it by " + format_value(error.head<3>().norm()) +
@@ -399,7 +399,7 @@ IkSolver::IkSolver(KinematicChain chain) : chain_(std::move(chain)) {
   reach_slack_ = std::max(kReachSlack, 10 * deviation);
 }
 
-bool IkSolver::within_limits(const Vec6& q) const {
+bool IkSolver::within_limits(const JointVector& q) const {
   for (std::size_t i = 0; i < 6; ++i) {
     const double v = q[static_cast<Eigen::Index>(i)];
     if (!(v >= chain_.joints[i].lower - kLimitSlack && v <= chain_.joints[i].upper + kLimitSlack)) return false;
@@ -407,8 +407,8 @@ bool IkSolver::within_limits(const Vec6& q) const {
   return true;
 }
 
-bool IkSolver::polish(const Eigen::Isometry3d& tcp_pose, Vec6& q) const {
-  Vec6 error = pose_error(tcp_pose, forward_kinematics(chain_, q));
+bool IkSolver::polish(const Eigen::Isometry3d& tcp_pose, JointVector& q) const {
+  Twist error = pose_error(tcp_pose, forward_kinematics(chain_, q));
   double damping = kPolishDampingMin;
   for (int iteration = 0; iteration < kPolishIterations; ++iteration) {
     if (error.head<3>().norm() < kPolishTarget && error.tail<3>().norm() < kPolishTarget) break;
@@ -416,8 +416,8 @@ bool IkSolver::polish(const Eigen::Isometry3d& tcp_pose, Vec6& q) const {
     // else damp more (near a singularity the undamped step overshoots)
     const Mat6 jac = jacobian(chain_, q);
     const Mat6 normal = jac.transpose() * jac + damping * Mat6::Identity();
-    const Vec6 trial = q + normal.ldlt().solve(jac.transpose() * error);
-    const Vec6 trial_error = pose_error(tcp_pose, forward_kinematics(chain_, trial));
+    const JointVector trial = q + normal.ldlt().solve(jac.transpose() * error);
+    const Twist trial_error = pose_error(tcp_pose, forward_kinematics(chain_, trial));
     if (trial.allFinite() && trial_error.norm() < error.norm()) {
       q = trial;
       error = trial_error;
@@ -430,30 +430,30 @@ bool IkSolver::polish(const Eigen::Isometry3d& tcp_pose, Vec6& q) const {
   return q.allFinite() && error.head<3>().norm() <= kIkPositionTol && error.tail<3>().norm() <= kIkAngleTol;
 }
 
-IkSolver::Branches IkSolver::branches(const Eigen::Isometry3d& tcp_pose, const Vec6& q_near) const {
+IkSolver::Branches IkSolver::branches(const Eigen::Isometry3d& tcp_pose, const JointVector& q_near) const {
   Branches out;
   // closed form on the DH geometry for DH frame 6, then back to chain joint angles
   const Eigen::Isometry3d flange = base_.inverse() * tcp_pose * tool_.inverse();
-  const Vec6 theta_near = sign_.cwiseProduct(q_near) + offset_;
-  const std::vector<Vec6> thetas = ur_closed_form_ik(geometry_, flange, theta_near, reach_slack_);
+  const JointVector theta_near = sign_.cwiseProduct(q_near) + offset_;
+  const std::vector<JointVector> thetas = ur_closed_form_ik(geometry_, flange, theta_near, reach_slack_);
   out.found = thetas.size();
-  for (const Vec6& theta : thetas) {
-    Vec6 q = sign_.cwiseProduct(theta - offset_);
+  for (const JointVector& theta : thetas) {
+    JointVector q = sign_.cwiseProduct(theta - offset_);
     for (Eigen::Index i = 0; i < 6; ++i) q[i] = q_near[i] + std::remainder(q[i] - q_near[i], kTwoPi);
     if (polish(tcp_pose, q)) out.q.push_back(q);
   }
-  std::stable_sort(out.q.begin(), out.q.end(), [&](const Vec6& a, const Vec6& b) {
+  std::stable_sort(out.q.begin(), out.q.end(), [&](const JointVector& a, const JointVector& b) {
     return branch_distance(a, q_near) < branch_distance(b, q_near);
   });
   return out;
 }
 
-std::vector<Vec6> IkSolver::solutions(const Eigen::Isometry3d& tcp_pose, const Vec6& q_near) const {
+std::vector<JointVector> IkSolver::solutions(const Eigen::Isometry3d& tcp_pose, const JointVector& q_near) const {
   if (!tcp_pose.matrix().allFinite() || !q_near.allFinite()) return {};
   return branches(tcp_pose, q_near).q;
 }
 
-IkSolver::Result IkSolver::solve(const Eigen::Isometry3d& tcp_pose, const Vec6& q_near) const {
+IkSolver::Result IkSolver::solve(const Eigen::Isometry3d& tcp_pose, const JointVector& q_near) const {
   Result result;
   result.q = q_near;
   if (!tcp_pose.matrix().allFinite() || !q_near.allFinite()) {
@@ -472,8 +472,8 @@ IkSolver::Result IkSolver::solve(const Eigen::Isometry3d& tcp_pose, const Vec6& 
 
   // the nearest branch whose joints all have a representative within their limits
   double best = std::numeric_limits<double>::infinity();
-  for (const Vec6& candidate : found.q) {
-    Vec6 q;
+  for (const JointVector& candidate : found.q) {
+    JointVector q;
     bool inside = true;
     for (std::size_t i = 0; i < 6 && inside; ++i) {
       const auto k = static_cast<Eigen::Index>(i);
@@ -489,7 +489,7 @@ IkSolver::Result IkSolver::solve(const Eigen::Isometry3d& tcp_pose, const Vec6& 
   if (std::isfinite(best)) return result;
 
   // name the joint that keeps the nearest branch outside its limits
-  const Vec6& nearest = found.q.front();
+  const JointVector& nearest = found.q.front();
   std::string which;
   for (std::size_t i = 0; i < 6 && which.empty(); ++i) {
     const JointSpec& joint = chain_.joints[i];

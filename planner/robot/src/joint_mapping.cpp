@@ -18,7 +18,7 @@ std::string time_text(std::size_t index, double dt) {
 }
 
 // The joint that moves most from `a` to `b`, and by how much (rad).
-std::pair<std::size_t, double> largest_step(const Vec6& a, const Vec6& b) {
+std::pair<std::size_t, double> largest_step(const JointVector& a, const JointVector& b) {
   Eigen::Index k = 0;
   const double step = (b - a).cwiseAbs().maxCoeff(&k);
   return {static_cast<std::size_t>(k), step};
@@ -26,11 +26,11 @@ std::pair<std::size_t, double> largest_step(const Vec6& a, const Vec6& b) {
 
 // Second-order finite differences of q (see map_to_joints).
 void differentiate(JointTrajectory& traj) {
-  const std::vector<Vec6>& q = traj.q;
+  const std::vector<JointVector>& q = traj.q;
   const std::size_t n = q.size();
   const double dt = traj.dt;
-  traj.qd.assign(n, Vec6::Zero());
-  traj.qdd.assign(n, Vec6::Zero());
+  traj.qd.assign(n, JointVector::Zero());
+  traj.qdd.assign(n, JointVector::Zero());
   if (n < 2) return;
   if (n == 2) {
     traj.qd[0] = traj.qd[1] = (q[1] - q[0]) / dt;
@@ -52,21 +52,22 @@ void differentiate(JointTrajectory& traj) {
 
 }  // namespace
 
-JointTrajectory map_to_joints(const IkSolver& ik, const std::vector<Eigen::Isometry3d>& tcp_poses, double dt,
-                              const Vec6& q_seed) {
+JointMapping map_to_joints(const IkSolver& ik, const std::vector<Eigen::Isometry3d>& tcp_poses, double dt,
+                           const JointVector& q_seed) {
   if (!(dt > 0) || !std::isfinite(dt)) {
     throw InputError("", 0, 0, "dt", "the servo period must be positive and finite, got " + format_value(dt) + " s");
   }
-  JointTrajectory traj;
+  JointMapping mapping;
+  JointTrajectory& traj = mapping.joints;
   traj.dt = dt;
   traj.q.reserve(tcp_poses.size());
   const auto fail = [&](std::size_t index, Status status, const std::string& what) {
-    traj.outcome = {status, time_text(index, dt) + ": " + what};
-    traj.failed_index = index;
-    return traj;
+    mapping.outcome = {status, time_text(index, dt) + ": " + what};
+    mapping.failed_index = index;
+    return mapping;
   };
 
-  Vec6 previous = q_seed;
+  JointVector previous = q_seed;
   for (std::size_t i = 0; i < tcp_poses.size(); ++i) {
     const Eigen::Isometry3d& pose = tcp_poses[i];
     const IkSolver::Result solved = ik.solve(pose, previous);
@@ -80,7 +81,7 @@ JointTrajectory map_to_joints(const IkSolver& ik, const std::vector<Eigen::Isome
       return fail(i, solved.outcome.status, solved.outcome.message);
     }
     // the continuous branch (limits ignored) tells a joint limit from a branch flip
-    const std::vector<Vec6> branches = ik.solutions(pose, previous);
+    const std::vector<JointVector> branches = ik.solutions(pose, previous);
     if (!branches.empty() && largest_step(previous, branches.front()).second <= kMaxJointStep &&
         !ik.within_limits(branches.front())) {
       for (std::size_t j = 0; j < 6; ++j) {
@@ -101,7 +102,7 @@ JointTrajectory map_to_joints(const IkSolver& ik, const std::vector<Eigen::Isome
                     "; the path crosses a singularity or leaves the reachable branch");
   }
   differentiate(traj);
-  return traj;
+  return mapping;
 }
 
 }  // namespace blendbench

@@ -7,7 +7,7 @@
 
 namespace blendbench {
 
-Eigen::Isometry3d forward_kinematics(const KinematicChain& chain, const Vec6& q) {
+Eigen::Isometry3d forward_kinematics(const KinematicChain& chain, const JointVector& q) {
   assert(chain.joints.size() == 6);
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   for (std::size_t i = 0; i < 6; ++i) {
@@ -17,7 +17,7 @@ Eigen::Isometry3d forward_kinematics(const KinematicChain& chain, const Vec6& q)
   return pose * chain.tcp;
 }
 
-Mat6 jacobian(const KinematicChain& chain, const Vec6& q) {
+Mat6 jacobian(const KinematicChain& chain, const JointVector& q) {
   assert(chain.joints.size() == 6);
   Vec3 origins[6];
   Vec3 axes[6];
@@ -41,8 +41,8 @@ Mat6 jacobian(const KinematicChain& chain, const Vec6& q) {
   return jac;
 }
 
-Vec6 pose_error(const Eigen::Isometry3d& target, const Eigen::Isometry3d& actual) {
-  Vec6 error;
+Twist pose_error(const Eigen::Isometry3d& target, const Eigen::Isometry3d& actual) {
+  Twist error;
   error.head<3>() = target.translation() - actual.translation();
   // the quaternion route stays accurate for tiny angles, where acos of the trace does not
   const Eigen::AngleAxisd delta(Mat3(target.linear() * actual.linear().transpose()));

@@ -7,6 +7,7 @@
 #include <iostream>
 #include <numbers>
 
+#include "support/input_error.hpp"
 #include "support/property.hpp"
 #include "blendbench/core/input_error.hpp"
 #include "blendbench/io/urdf_chain.hpp"
@@ -21,12 +22,12 @@ constexpr double kSameQ = 1e-6;           // rad, IK returns the configuration t
 constexpr double kPathStep = 0.01;        // rad per sample on a 1 mm-spaced path, away from singularities
 constexpr UrGeometry kUr5e{0.1625, -0.425, -0.3922, 0.1333, 0.0997, 0.0996};
 // The model's ready configuration: facing +x, elbow up, tool down (models/ur5e_like.urdf).
-const Vec6 kReady = (Vec6() << kPi, -kPi / 2, kPi / 2, -kPi / 2, -kPi / 2, 0).finished();
+const JointVector kReady = (JointVector() << kPi, -kPi / 2, kPi / 2, -kPi / 2, -kPi / 2, 0).finished();
 
 KinematicChain model_chain() { return load_urdf_chain(test::source_path("models/ur5e_like.urdf")); }
 
-Vec6 random_q_within(const KinematicChain& chain, std::mt19937_64& rng) {
-  Vec6 q;
+JointVector random_q_within(const KinematicChain& chain, std::mt19937_64& rng) {
+  JointVector q;
   for (Eigen::Index i = 0; i < 6; ++i) {
     const JointSpec& joint = chain.joints[static_cast<std::size_t>(i)];
     q[i] = test::uniform(rng, joint.lower, joint.upper);
@@ -34,8 +35,8 @@ Vec6 random_q_within(const KinematicChain& chain, std::mt19937_64& rng) {
   return q;
 }
 
-Vec6 perturbed(const Vec6& q, std::mt19937_64& rng, double size) {
-  Vec6 out = q;
+JointVector perturbed(const JointVector& q, std::mt19937_64& rng, double size) {
+  JointVector out = q;
   for (Eigen::Index i = 0; i < 6; ++i) out[i] += test::uniform(rng, -size, size);
   return out;
 }
@@ -48,12 +49,12 @@ Eigen::Isometry3d tool_down_at(const Vec3& p) {
 }
 
 // Smallest singular value of the Jacobian: how far q is from every singularity.
-double conditioning(const KinematicChain& chain, const Vec6& q) {
+double conditioning(const KinematicChain& chain, const JointVector& q) {
   return Eigen::JacobiSVD<Mat6>(jacobian(chain, q)).singularValues()[5];
 }
 
-Vec6 wrapped_difference(const Vec6& a, const Vec6& b) {
-  Vec6 d;
+JointVector wrapped_difference(const JointVector& a, const JointVector& b) {
+  JointVector d;
   for (Eigen::Index i = 0; i < 6; ++i) d[i] = std::remainder(a[i] - b[i], 2 * kPi);
   return d;
 }
@@ -74,17 +75,17 @@ TEST(Ik, EveryClosedFormBranchSatisfiesForwardKinematics) {
   int eight = 0;
   const int cases = test::property_cases(500);
   for (int n = 0; n < cases; ++n) {
-    Vec6 theta;
+    JointVector theta;
     for (Eigen::Index i = 0; i < 6; ++i) theta[i] = test::uniform(rng, -kPi, kPi);
     const Eigen::Isometry3d flange = ur_forward_kinematics(kUr5e, theta);
-    const std::vector<Vec6> branches = ur_closed_form_ik(kUr5e, flange, theta);
+    const std::vector<JointVector> branches = ur_closed_form_ik(kUr5e, flange, theta);
     ASSERT_FALSE(branches.empty()) << test::seed_text(seed) << " case " << n;
     ASSERT_LE(branches.size(), 8u);
     eight += branches.size() == 8 ? 1 : 0;
     bool found_original = false;
-    for (const Vec6& branch : branches) {
+    for (const JointVector& branch : branches) {
       ASSERT_TRUE(branch.allFinite());
-      const Vec6 error = pose_error(flange, ur_forward_kinematics(kUr5e, branch));
+      const Twist error = pose_error(flange, ur_forward_kinematics(kUr5e, branch));
       ASSERT_LT(error.head<3>().norm(), kRoundTripPos) << test::seed_text(seed) << " case " << n;
       ASSERT_LT(error.tail<3>().norm(), kRoundTripAngle) << test::seed_text(seed) << " case " << n;
       found_original = found_original || wrapped_difference(branch, theta).norm() < kSameQ;
@@ -96,8 +97,8 @@ TEST(Ik, EveryClosedFormBranchSatisfiesForwardKinematics) {
 }
 
 TEST(Ik, HandPickedPoseHasEightDistinctBranches) {
-  const Vec6 theta = (Vec6() << 0.3, -1.2, 1.5, -1.9, -1.4, 0.6).finished();
-  const std::vector<Vec6> branches = ur_closed_form_ik(kUr5e, ur_forward_kinematics(kUr5e, theta));
+  const JointVector theta = (JointVector() << 0.3, -1.2, 1.5, -1.9, -1.4, 0.6).finished();
+  const std::vector<JointVector> branches = ur_closed_form_ik(kUr5e, ur_forward_kinematics(kUr5e, theta));
   ASSERT_EQ(branches.size(), 8u);
   for (std::size_t i = 0; i < 8; ++i) {
     for (std::size_t j = i + 1; j < 8; ++j) {
@@ -114,12 +115,12 @@ TEST(Ik, RoundTripAtRandomReachablePoses) {
   double max_pos = 0;
   double max_angle = 0;
   for (int n = 0; n < test::property_cases(2000); ++n) {
-    const Vec6 q = random_q_within(chain, rng);
-    const Vec6 q_near = perturbed(q, rng, 0.05);
+    const JointVector q = random_q_within(chain, rng);
+    const JointVector q_near = perturbed(q, rng, 0.05);
     const Eigen::Isometry3d pose = forward_kinematics(chain, q);
     const IkSolver::Result result = ik.solve(pose, q_near);
     ASSERT_TRUE(result.outcome.ok()) << test::seed_text(seed) << " case " << n << ": " << result.outcome.message;
-    const Vec6 error = pose_error(pose, forward_kinematics(chain, result.q));
+    const Twist error = pose_error(pose, forward_kinematics(chain, result.q));
     max_pos = std::max(max_pos, error.head<3>().norm());
     max_angle = std::max(max_angle, error.tail<3>().norm());
     ASSERT_LT(error.head<3>().norm(), kRoundTripPos) << test::seed_text(seed) << " case " << n;
@@ -144,14 +145,14 @@ TEST(Ik, WrapsEachJointToTheRepresentativeNearestTheSeedWithinLimits) {
   chain.joints[4].lower = -kPi;
   chain.joints[4].upper = 0.0;
   const IkSolver ik(chain);
-  const Vec6 q = (Vec6() << 0.3, -1.2, 1.5, -1.9, -1.4, -1.0).finished();
+  const JointVector q = (JointVector() << 0.3, -1.2, 1.5, -1.9, -1.4, -1.0).finished();
   // seed one turn up on wrist 3: -1 + 2 pi lies within +-2 pi and is nearest
-  Vec6 near = q;
+  JointVector near = q;
   near[5] += 2 * kPi;
   EXPECT_NEAR(ik.solve(forward_kinematics(chain, q), near).q[5], -1.0 + 2 * kPi, kSameQ);
   // seed almost one turn up from +1: 1 + 2 pi is outside the limit, so 1 is the nearest
   // admissible value
-  Vec6 q2 = q;
+  JointVector q2 = q;
   q2[5] = 1.0;
   near = q2;
   near[5] += 2 * kPi - 0.1;
@@ -160,7 +161,7 @@ TEST(Ik, WrapsEachJointToTheRepresentativeNearestTheSeedWithinLimits) {
 
 TEST(Ik, PosesBeyondReachAreUnreachableNotNan) {
   const IkSolver ik(model_chain());
-  const Vec6 near = (Vec6() << 0, -1.5, 1.5, -1.5, -1.5, 0).finished();
+  const JointVector near = (JointVector() << 0, -1.5, 1.5, -1.5, -1.5, 0).finished();
   // far beyond the stretched arm (about 0.95 m)
   for (const Vec3& p : {Vec3(2, 0, 0.5), Vec3(0.7, 0.7, 0.4), Vec3(0, 0, 1.2)}) {
     const IkSolver::Result result = ik.solve(tool_down_at(p), near);
@@ -182,8 +183,8 @@ TEST(Ik, WristSingularPoseKeepsWrist3AtItsPreviousValue) {
   const IkSolver ik(chain);
   // q5 = 0: axes 2, 3, 4 and 6 are parallel and only q2, q3, q4, q6 together are determined;
   // in the middle of the workspace the elbow reaches with the seed's q6, which is kept
-  const Vec6 q = (Vec6() << 0.3, -1.2, 1.5, -1.9, 0.0, 0.6).finished();
-  Vec6 near = q;
+  const JointVector q = (JointVector() << 0.3, -1.2, 1.5, -1.9, 0.0, 0.6).finished();
+  JointVector near = q;
   near[5] += 0.3;
   const IkSolver::Result result = ik.solve(forward_kinematics(chain, q), near);
   ASSERT_TRUE(result.outcome.ok()) << result.outcome.message;
@@ -199,14 +200,14 @@ TEST(Ik, WristSingularPosesHaveFiniteSolutionsEverywhere) {
   int singular_branch = 0;
   const int cases = test::property_cases(300);
   for (int n = 0; n < cases; ++n) {
-    Vec6 q = random_q_within(chain, rng);
+    JointVector q = random_q_within(chain, rng);
     q[4] = n % 2 == 0 ? 0.0 : kPi;  // z6 parallel or antiparallel to axis 2
     const Eigen::Isometry3d pose = forward_kinematics(chain, q);
-    const Vec6 near = perturbed(q, rng, 0.05);
+    const JointVector near = perturbed(q, rng, 0.05);
     const IkSolver::Result result = ik.solve(pose, near);
     ASSERT_TRUE(result.outcome.ok()) << test::seed_text(seed) << " case " << n << ": " << result.outcome.message;
     ASSERT_TRUE(result.q.allFinite());
-    const Vec6 error = pose_error(pose, forward_kinematics(chain, result.q));
+    const Twist error = pose_error(pose, forward_kinematics(chain, result.q));
     ASSERT_LT(error.head<3>().norm(), kRoundTripPos) << test::seed_text(seed) << " case " << n;
     ASSERT_LT(error.tail<3>().norm(), kRoundTripAngle) << test::seed_text(seed) << " case " << n;
     // on the singular branch the free q6 is the seed's, or, where the elbow cannot reach with
@@ -233,15 +234,15 @@ TEST(Ik, ShoulderAndElbowSingularPosesHaveFiniteSolutions) {
   // when a2 cos t2 + a3 cos(t2 + t3) = 0, i.e. tan t2 = (a2 + a3 cos t3) / (a3 sin t3)
   const double t3 = 0.5;
   const double t2 = std::atan((kUr5e.a2 + kUr5e.a3 * std::cos(t3)) / (kUr5e.a3 * std::sin(t3)));
-  const Vec6 shoulder = (Vec6() << 0.4, t2, t3, -t2 - t3, 1.0, 0.3).finished();
+  const JointVector shoulder = (JointVector() << 0.4, t2, t3, -t2 - t3, 1.0, 0.3).finished();
   // elbow fully stretched and fully folded (the elbow limit is +-pi)
-  const Vec6 stretched = (Vec6() << 0.4, -1.0, 0.0, -1.2, 1.0, 0.3).finished();
-  const Vec6 folded = (Vec6() << 0.4, -1.0, kPi, -1.2, 1.0, 0.3).finished();
-  for (const Vec6& q : {shoulder, stretched, folded}) {
+  const JointVector stretched = (JointVector() << 0.4, -1.0, 0.0, -1.2, 1.0, 0.3).finished();
+  const JointVector folded = (JointVector() << 0.4, -1.0, kPi, -1.2, 1.0, 0.3).finished();
+  for (const JointVector& q : {shoulder, stretched, folded}) {
     const Eigen::Isometry3d pose = forward_kinematics(chain, q);
     const IkSolver::Result result = ik.solve(pose, q);
     ASSERT_TRUE(result.outcome.ok()) << q.transpose() << ": " << result.outcome.message;
-    const Vec6 error = pose_error(pose, forward_kinematics(chain, result.q));
+    const Twist error = pose_error(pose, forward_kinematics(chain, result.q));
     EXPECT_LT(error.head<3>().norm(), kRoundTripPos) << q.transpose();
     EXPECT_LT(error.tail<3>().norm(), kRoundTripAngle) << q.transpose();
     EXPECT_LT((result.q - q).cwiseAbs().maxCoeff(), 1e-6) << q.transpose() << "\n" << result.q.transpose();
@@ -258,11 +259,11 @@ TEST(Ik, LineAndCircleToolDownAreContinuous) {
     const double phi = 2 * kPi * i / 1000.0;
     poses.push_back(tool_down_at(Vec3(0.5 + 0.15 * std::cos(phi), 0.15 * std::sin(phi), 0.3)));
   }
-  Vec6 previous = kReady;
+  JointVector previous = kReady;
   for (std::size_t i = 0; i < poses.size(); ++i) {
     const IkSolver::Result result = ik.solve(poses[i], previous);
     ASSERT_TRUE(result.outcome.ok()) << i << ": " << result.outcome.message;
-    const Vec6 error = pose_error(poses[i], forward_kinematics(chain, result.q));
+    const Twist error = pose_error(poses[i], forward_kinematics(chain, result.q));
     ASSERT_LT(error.norm(), kRoundTripPos) << i;
     // the line starts far from the seed; from there every step is small
     if (i > 0 && i != 721) {
@@ -297,11 +298,11 @@ TEST(Ik, SolvesAnyPlacementOfTheUrGeometry) {
   const std::uint64_t seed = 24;
   auto rng = test::make_rng(seed);
   for (int n = 0; n < test::property_cases(300); ++n) {
-    const Vec6 q = random_q_within(chain, rng);
+    const JointVector q = random_q_within(chain, rng);
     const Eigen::Isometry3d pose = forward_kinematics(chain, q);
     const IkSolver::Result result = ik.solve(pose, perturbed(q, rng, 0.05));
     ASSERT_TRUE(result.outcome.ok()) << test::seed_text(seed) << " case " << n << ": " << result.outcome.message;
-    const Vec6 error = pose_error(pose, forward_kinematics(chain, result.q));
+    const Twist error = pose_error(pose, forward_kinematics(chain, result.q));
     ASSERT_LT(error.head<3>().norm(), kRoundTripPos) << test::seed_text(seed) << " case " << n;
     ASSERT_LT(error.tail<3>().norm(), kRoundTripAngle) << test::seed_text(seed) << " case " << n;
   }
@@ -316,24 +317,18 @@ TEST(Ik, PolishingAbsorbsASmallDeviationFromTheUrPattern) {
   const std::uint64_t seed = 25;
   auto rng = test::make_rng(seed);
   for (int n = 0; n < test::property_cases(200); ++n) {
-    const Vec6 q = random_q_within(chain, rng);
+    const JointVector q = random_q_within(chain, rng);
     const Eigen::Isometry3d pose = forward_kinematics(chain, q);
     const IkSolver::Result result = ik.solve(pose, perturbed(q, rng, 0.05));
     ASSERT_TRUE(result.outcome.ok()) << test::seed_text(seed) << " case " << n << ": " << result.outcome.message;
-    const Vec6 error = pose_error(pose, forward_kinematics(chain, result.q));
+    const Twist error = pose_error(pose, forward_kinematics(chain, result.q));
     ASSERT_LT(error.head<3>().norm(), kRoundTripPos) << test::seed_text(seed) << " case " << n;
     ASSERT_LT(error.tail<3>().norm(), kRoundTripAngle) << test::seed_text(seed) << " case " << n;
   }
 }
 
 void expect_not_ur(const KinematicChain& chain, const std::string& why) {
-  try {
-    const IkSolver ik(chain);
-    ADD_FAILURE() << "accepted a chain that is not UR-type: " << why;
-  } catch (const InputError& error) {
-    EXPECT_EQ(error.field(), "urdf") << why;
-    EXPECT_NE(std::string(error.what()).find(why), std::string::npos) << error.what();
-  }
+  test::expect_input_error([&] { const IkSolver ik(chain); }, {.field = "urdf", .message = why}, "not UR-type: " + why);
 }
 
 TEST(Ik, RejectsChainsThatAreNotUrType) {
@@ -359,13 +354,13 @@ TEST(Ik, AllBranchesOutsideTheLimitsIsAJointLimit) {
   chain.joints[0].lower = -0.1;
   chain.joints[0].upper = 0.1;
   const IkSolver ik(chain);
-  const Vec6 q = (Vec6() << 1.0, -1.2, 1.5, -1.9, -1.4, 0.6).finished();
+  const JointVector q = (JointVector() << 1.0, -1.2, 1.5, -1.9, -1.4, 0.6).finished();
   const IkSolver::Result result = ik.solve(forward_kinematics(chain, q), q);
   EXPECT_EQ(result.outcome.status, Status::kJointLimit);
   EXPECT_NE(result.outcome.message.find("shoulder_pan_joint"), std::string::npos) << result.outcome.message;
   EXPECT_NE(result.outcome.message.find("deg"), std::string::npos) << result.outcome.message;
   // the same arm reaches a pose whose shoulder angle is inside the limits
-  Vec6 inside = q;
+  JointVector inside = q;
   inside[0] = 0.05;
   EXPECT_TRUE(ik.solve(forward_kinematics(chain, inside), inside).outcome.ok());
 }
@@ -373,8 +368,8 @@ TEST(Ik, AllBranchesOutsideTheLimitsIsAJointLimit) {
 TEST(Ik, SolutionsAreSortedByBranchDistance) {
   const KinematicChain chain = model_chain();
   const IkSolver ik(chain);
-  const Vec6 q = (Vec6() << 0.3, -1.2, 1.5, -1.9, -1.4, 0.6).finished();
-  const std::vector<Vec6> all = ik.solutions(forward_kinematics(chain, q), q);
+  const JointVector q = (JointVector() << 0.3, -1.2, 1.5, -1.9, -1.4, 0.6).finished();
+  const std::vector<JointVector> all = ik.solutions(forward_kinematics(chain, q), q);
   ASSERT_EQ(all.size(), 8u);
   EXPECT_LT((all.front() - q).norm(), kSameQ);
   for (std::size_t i = 1; i < all.size(); ++i) EXPECT_LE(branch_distance(all[i - 1], q), branch_distance(all[i], q));

@@ -19,8 +19,8 @@ constexpr UrGeometry kUr5e{0.1625, -0.425, -0.3922, 0.1333, 0.0997, 0.0996};
 
 KinematicChain model_chain() { return load_urdf_chain(test::source_path("models/ur5e_like.urdf")); }
 
-Vec6 random_q(std::mt19937_64& rng) {
-  Vec6 q;
+JointVector random_q(std::mt19937_64& rng) {
+  JointVector q;
   for (Eigen::Index i = 0; i < 6; ++i) q[i] = test::uniform(rng, -kPi, kPi);
   return q;
 }
@@ -28,7 +28,7 @@ Vec6 random_q(std::mt19937_64& rng) {
 TEST(Kinematics, ZeroPoseOfTheModelIsTheStretchedArm) {
   // DH at q = 0: x1 = e_x, z1 = -e_y; the arm reaches a2 + a3 along x, the wrist offsets d4 and
   // d6 point along -y and d5 down; the flange axis z6 = -e_y, x6 = e_x, y6 = e_z
-  const Eigen::Isometry3d pose = forward_kinematics(model_chain(), Vec6::Zero());
+  const Eigen::Isometry3d pose = forward_kinematics(model_chain(), JointVector::Zero());
   EXPECT_TRUE(pose.translation().isApprox(Vec3(-0.8172, -0.2329, 0.0628), kExact)) << pose.translation().transpose();
   Mat3 expected;
   expected.col(0) = Vec3::UnitX();
@@ -39,7 +39,7 @@ TEST(Kinematics, ZeroPoseOfTheModelIsTheStretchedArm) {
 
 TEST(Kinematics, ShoulderPanTurnsTheWholeArmAboutTheBaseAxis) {
   const KinematicChain chain = model_chain();
-  Vec6 q = Vec6::Zero();
+  JointVector q = JointVector::Zero();
   q[0] = kPi / 2;
   // a quarter turn maps (x, y, z) to (-y, x, z)
   EXPECT_TRUE(forward_kinematics(chain, q).translation().isApprox(Vec3(0.2329, -0.8172, 0.0628), kExact));
@@ -51,10 +51,10 @@ TEST(Kinematics, ModelChainEqualsTheDhChain) {
   const std::uint64_t seed = 11;
   auto rng = test::make_rng(seed);
   for (int n = 0; n < test::property_cases(200); ++n) {
-    const Vec6 q = random_q(rng);
-    const Vec6 error = pose_error(forward_kinematics(model, q), forward_kinematics(dh, q));
+    const JointVector q = random_q(rng);
+    const Twist error = pose_error(forward_kinematics(model, q), forward_kinematics(dh, q));
     ASSERT_LT(error.norm(), kExact) << test::seed_text(seed) << " case " << n;
-    const Vec6 dh_error = pose_error(forward_kinematics(dh, q), ur_forward_kinematics(kUr5e, q));
+    const Twist dh_error = pose_error(forward_kinematics(dh, q), ur_forward_kinematics(kUr5e, q));
     ASSERT_LT(dh_error.norm(), kExact) << test::seed_text(seed) << " case " << n;
   }
 }
@@ -65,13 +65,13 @@ TEST(Kinematics, JacobianMatchesFiniteDifferences) {
   auto rng = test::make_rng(seed);
   const double h = 1e-5;
   for (int n = 0; n < test::property_cases(200); ++n) {
-    const Vec6 q = random_q(rng);
+    const JointVector q = random_q(rng);
     const Mat6 jac = jacobian(chain, q);
     for (Eigen::Index i = 0; i < 6; ++i) {
-      Vec6 step = Vec6::Zero();
+      JointVector step = JointVector::Zero();
       step[i] = h;
       // pose_error(T(q + h), T(q - h)) = [dp; dw] over a 2h step
-      const Vec6 column = pose_error(forward_kinematics(chain, q + step), forward_kinematics(chain, q - step)) / (2 * h);
+      const Twist column = pose_error(forward_kinematics(chain, q + step), forward_kinematics(chain, q - step)) / (2 * h);
       ASSERT_LT((jac.col(i) - column).norm(), kFiniteDiff) << test::seed_text(seed) << " case " << n << " joint " << i;
     }
   }
@@ -84,7 +84,7 @@ TEST(Kinematics, PoseErrorIsTranslationAndRotationVector) {
   Eigen::Isometry3d target = actual;
   target.translation() += Vec3(0.01, 0, -0.02);
   target.linear() = Eigen::AngleAxisd(0.3, Vec3::UnitZ()).toRotationMatrix() * actual.linear();
-  const Vec6 error = pose_error(target, actual);
+  const Twist error = pose_error(target, actual);
   EXPECT_TRUE(error.head<3>().isApprox(Vec3(0.01, 0, -0.02), kExact));
   EXPECT_TRUE(error.tail<3>().isApprox(Vec3(0, 0, 0.3), kExact));
   // tiny rotations keep their size (no acos of a rounded trace)

@@ -1,15 +1,16 @@
 #pragma once
-// The whole pipeline for one scenario (DESIGN: data flow): per variant, blend -> time -> IK ->
+// The whole pipeline for one scenario: per variant, blend -> time -> IK ->
 // simulate -> metrics, then results on disk (summary.json, per-variant trace.csv, path.csv,
-// program.csv, corners.json, plots, video.mp4). Used by `blendbench run` and the end-to-end test.
-
-#include <nlohmann/json.hpp>
+// program.csv, corners.json, plots, video.mp4, and report.html). Used by `blendbench run` and
+// the end-to-end test.
 
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "blendbench/app/run_summary.hpp"
 #include "blendbench/io/scenario.hpp"
 
 namespace blendbench {
@@ -20,24 +21,29 @@ struct RunRequest {
   bool plots = true;                  // run the matplotlib script after the summary is written
   bool variant_files = true;          // per variant trace.csv, path.csv, program.csv, corners.json (a sweep keeps only summary.json)
   std::vector<std::string> variants;  // names to run; empty = all
+  std::optional<LimitsMode> limits;   // replaces the scenario's limits mode (`--limits`)
+  std::optional<double> max_samples;  // replaces TimingOptions::max_samples (`--max-samples`)
   // receives one line of progress at a time (variant started, stage timings, warnings)
   std::function<void(const std::string&)> progress;
 };
 
 struct RunResult {
-  nlohmann::json summary;  // what summary.json holds
-  bool all_ok = true;      // every variant ran without divergence or planning failure (false when interrupted)
+  RunSummary summary;  // what summary.json holds (to_json)
+  bool all_ok = true;  // every variant's status is ok (clean tracking data); false when interrupted
   int interrupted_by = 0;  // the signal that stopped the run (core/interrupt.hpp), 0 when none
+  std::optional<std::filesystem::path> report;  // report.html, when the plots were drawn
 };
 
-// Runs the scenario. Throws InputError for bad input of the whole scenario (an unknown variant
-// name, a start point the robot cannot reach, a variant's invalid transition: the error names
-// the file, line and field), and std::runtime_error when summary.json cannot be written. A
-// variant that cannot be planned, whose path leaves the robot's reach or limits, whose
-// simulation diverges or whose files cannot be written is recorded with status "failed" and a
-// message (naming the move where it applies) and the others still run. A stop request
-// (SIGINT/SIGTERM) ends the variant in progress (its folder removed), marks it and the rest
-// "interrupted", writes summary.json without plots and returns with interrupted_by set.
+// Runs the scenario. Throws InputError for bad input of the whole scenario, found before any
+// variant runs (an unknown variant name, a start point the robot cannot reach, robot.model not
+// matching the MJCF file, a servo rate that does not divide the model's physics rate: the error
+// names the file, line and field), and std::runtime_error when summary.json cannot be written. A
+// variant whose simulation diverges, whose plan fails, whose data is not clean (saturated,
+// outside the joint limits, not settled), whose path leaves the robot's reach or limits or whose
+// files cannot be written ("failed", the message naming the move where it applies) is recorded
+// with its status and message and the others still run. A stop request (SIGINT/SIGTERM) ends
+// the variant in progress (its folder removed), marks it and the rest "interrupted", writes
+// summary.json without plots and returns with interrupted_by set.
 RunResult run_scenario(const Scenario& scenario, const RunRequest& request);
 
 // Whether this build can render videos.

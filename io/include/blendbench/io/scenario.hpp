@@ -5,35 +5,57 @@
 // field path (e.g. "program.moves[3].arc.center").
 
 #include <Eigen/Geometry>
-#include <array>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "blendbench/program/program.hpp"
+#include "blendbench/robot/kinematics.hpp"
+#include "blendbench/timing/timing.hpp"
 
 namespace blendbench {
 
+// `robot.model`: which dynamics model runs, elastic joints (models/ur5e_like.xml, the default)
+// or rigid ones (models/ur5e_like_rigid.xml).
+enum class ArmModel { kElastic, kRigid };
+
 struct RobotSettings {
+  ArmModel model = ArmModel::kElastic;
   std::string urdf;  // absolute path of the kinematic model
-  std::string mjcf;  // absolute path of the MuJoCo model
+  std::string mjcf;  // absolute path of the MuJoCo model (the model's file unless `mjcf` is given)
   std::string base_link = "base_link";
   std::string tip_link = "tcp";
   Eigen::Matrix3d tool_rotation = Eigen::Matrix3d::Identity();  // fixed TCP orientation, base frame
-  Eigen::Matrix<double, 6, 1> q_seed = Eigen::Matrix<double, 6, 1>::Zero();  // rad, IK seed at the start
+  JointVector q_seed = JointVector::Zero();  // rad, IK seed at the start
+  SourceRef model_where;  // where `model` (or, when absent, `mjcf`) was given, for later errors
 };
 
+// `servo.controller`: the cascade with every feed-forward (the default) or the plain PD without
+// feed-forward kept for comparison (sim/servo.hpp states both).
+enum class ServoController { kCascade, kPd };
+
+// The servo: its rate, delay and encoder, and the switches of the cascade. The gains are tuned
+// from the model at the start pose (sim/servo.hpp, ServoTuning); unset switches take the
+// controller's defaults.
 struct ServoSettings {
-  double rate_hz = 1000;
-  std::optional<std::array<double, 6>> kp;  // N m/rad; unset = the simulator's defaults
-  std::optional<std::array<double, 6>> kd;  // N m s/rad
-  bool gravity_compensation = true;
-  bool feedforward = false;
+  ServoController controller = ServoController::kCascade;
+  double rate_hz = 2000;                    // 125 .. 8000: the drives' cascade; must divide the model's physics rate
+  double setpoint_rate_hz = 500;            // 125 .. rate_hz: the reference (and timing) rate; must divide rate_hz
+  int measurement_delay_ticks = 1;          // >= 0
+  double encoder_counts_per_turn = 1638400;  // per joint turn, >= 0 (0: exact)
+  std::optional<bool> velocity_feedforward, acceleration_feedforward, gravity_compensation, deflection_compensation;
+  SourceRef rate_where;  // where rate_hz was given (the runner checks it against the model's timestep)
 };
 
+// Settling, residual vibration and jerk filtering of the metrics (sim/metrics.hpp states why).
 struct SimulationSettings {
-  double settle_tolerance = 1e-4;  // m: the run has settled when the TCP stays this close to the end point
-  double settle_time = 1.0;        // s simulated after the reference ends
+  double settle_tolerance = 0.03e-3;     // m: within this of the end point ...
+  double settle_speed_tolerance = 1e-3;  // m/s: ... and slower than this ...
+  double settle_window = 0.2;            // s: ... for this long, after the reference has ended
+  double settle_time = 1.0;              // s simulated after the reference ends (>= settle_window)
+  double vibration_window = 0.5;         // s
+  double vibration_highpass = 12;        // Hz
+  double jerk_lowpass = 50;              // Hz
 };
 
 struct VideoSettings {
@@ -63,14 +85,24 @@ struct Scenario {
   std::vector<bool> explicit_buffer;                        // per move: the move sets its own buffer mode
   std::vector<std::string> ignored;                         // G-code words accepted but ignored
   std::vector<Variant> variants;                            // at least one
+  // `limits`: which limits the plans hold (cartesian.hpp; default cartesian), and the optional
+  // `axis_limits: {a: [x, y, z], j: [x, y, z]}` on the TCP along the robot base frame's axes
+  // (m/s^2, m/s^3 after conversion; cartesian only)
+  LimitsMode limits = LimitsMode::kCartesian;
+  std::optional<AxisLimits> axis_limits;
   RobotSettings robot;
   ServoSettings servo;
   SimulationSettings simulation;
   VideoSettings video;
 };
 
-// Reads and validates a scenario file. Relative paths inside it (models, G-code) are resolved
-// against the file's directory first, then against the repository root. Throws InputError.
+// The most variants one scenario may have: each is planned, simulated and rendered.
+inline constexpr std::size_t kMaxVariants = 1000;
+
+// Reads and validates a scenario file (read_input_file: a regular file of at most
+// kMaxInputBytes). The format, every key with its unit, default and range, is the table in
+// scenario_keys.hpp (docs/scenario_format.md). Relative paths inside it (models, G-code) are resolved
+// against the file's directory first, then against the data root. Throws InputError.
 Scenario load_scenario(const std::string& path);
 
 // The same from text; `file` names it in errors, `base_dir` resolves relative paths.
@@ -80,6 +112,10 @@ Scenario parse_scenario(const std::string& text, const std::string& file, const 
 // on every move without its own.
 Program program_for(const Scenario& scenario, const Variant& variant);
 
+// The velocity planner's options for a variant: the setpoint period (1 / servo.setpoint_rate_hz),
+// the scenario's limits mode and axis limits, the variant's baseline.
+TimingOptions timing_options(const Scenario& scenario, const Variant& variant);
+
 // The variant named `name`; throws InputError (field "--variant") listing the names when absent.
 const Variant& find_variant(const Scenario& scenario, const std::string& name);
 
@@ -88,5 +124,8 @@ const Variant& find_variant(const Scenario& scenario, const std::string& name);
 // or '..', no hidden folder) and are at most 100 characters long. Returns why `name` is not
 // such a name, or an empty string when it is.
 std::string folder_name_problem(const std::string& name);
+
+// The MJCF file of a dynamics model, relative to the data root (data_root.hpp).
+std::string model_file(ArmModel model);
 
 }  // namespace blendbench

@@ -9,9 +9,9 @@
 //   axes:
 //     variants[*].transition.parameter: [0.5, 1, 2]
 //     defaults.velocity: {from: 100, to: 400, steps: 4}          # add `scale: log` for log spacing
-//   metrics: [cycle_time_s, tracking_error_max_mm]               # default: every metric
-//   constraints: ["tracking_error_max_mm <= 0.5"]
-//   pareto: {x: cycle_time_s, y: contour_error_max_mm}           # the default
+//   metrics: [metrics.cycle_time_s, metrics.tracking_error_max_mm]   # default: every metric
+//   constraints: ["metrics.tracking_error_max_mm <= 0.5"]
+//   pareto: {x: metrics.cycle_time_s, y: metrics.contour_error_programmed_max_mm}   # the default
 //
 // Key paths are dotted mapping keys with `[N]` (element N, from 0) or `[*]` (every element) after
 // a key: `program.moves[2].velocity`, `servo.kp[0]`, `variants[*].transition.parameter`. Every
@@ -47,7 +47,7 @@ struct SweepAxis {
   SourceRef where;                  // the axis key in the sweep file
 };
 
-// A constraint on one metric of a row: "tracking_error_max_mm <= 0.5".
+// A constraint on one metric of a row: "metrics.tracking_error_max_mm <= 0.5".
 enum class Comparison { kLess, kLessEqual, kGreater, kGreaterEqual };
 struct Constraint {
   std::string text;    // as written
@@ -82,8 +82,8 @@ struct SweepSpec {
   SourceRef axes_where;
   std::vector<std::string> metrics;    // empty: every metric of the summary (see sweep_results.hpp)
   std::vector<Constraint> constraints;
-  std::string pareto_x = "cycle_time_s";          // minimised; the best setting has the least
-  std::string pareto_y = "contour_error_max_mm";  // minimised
+  std::string pareto_x = "metrics.cycle_time_s";                     // minimised; the best setting has the least
+  std::string pareto_y = "metrics.contour_error_programmed_max_mm";  // minimised
   std::vector<MetricName> named_metrics;          // every metric name above, with its location
   SourceRef where;                                // the sweep file's first line
 };

@@ -1,11 +1,12 @@
 #pragma once
-// Regression checks of a run against a committed baseline (DESIGN: `blendbench check`).
+// Regression checks of a run against a committed baseline (`blendbench check`).
 //
 // A baseline file (results/baselines/<scenario>.json) holds, per variant, the metric values of
 // a reference run and, per metric, a tolerance: a metric regresses when
 //   value > baseline * (1 + relative) + absolute
-// (every checked metric is "lower is better"), and a variant regresses when its status is no
-// longer "ok" or it disappeared. Improvements beyond the tolerance are reported as notes, so a
+// (every checked metric is "lower is better"; metrics are named by their dotted path in the
+// variant's summary entry, e.g. "metrics.cycle_time_s"), and a variant regresses when its
+// status is no longer "ok" or it disappeared. Improvements beyond the tolerance are reported as notes, so a
 // baseline is updated on purpose (`blendbench check RUN --update`), never silently.
 
 #include <nlohmann/json.hpp>

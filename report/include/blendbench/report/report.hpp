@@ -4,32 +4,66 @@
 
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
+#include "blendbench/program/corner_placement.hpp"
 #include "blendbench/program/path.hpp"
 #include "blendbench/timing/timing.hpp"
 #include "blendbench/program/program.hpp"
 
 namespace blendbench {
 
+// The most rows of a sampled path or program (path_csv, program_csv): 10^7, about 1 GB of CSV.
+inline constexpr double kMaxPathSamples = 1e7;
+
+// The rows path_csv writes for spacing `ds` (m > 0), as a double: it may exceed any integer.
+double path_sample_count(const Path& path, double ds);
+
 // The path sampled uniformly in s every `ds` m at most (both ends included), with the header
 // `s,x,y,z,tx,ty,tz,kappa` in mm, unit tangent and 1/mm. Pieces are sampled separately so every
-// junction appears exactly once.
+// junction appears exactly once. Throws InputError (field "ds") when that would be more than
+// kMaxPathSamples rows, before any is written.
 std::string path_csv(const Path& path, double ds);
 
-// The programmed moves sampled every `ds` m at most, header `s,x,y,z` (mm).
+// The programmed moves sampled every `ds` m at most, header `s,x,y,z` (mm); the same limit.
 std::string program_csv(const Program& program, double ds);
 
-// One JSON object per corner: index, method, case, fallback, note, parameter_mm, length_mm,
+// One corner report as JSON: index, method, case, fallback, note, parameter_mm, length_mm,
 // deviation_mm, kappa_max_per_mm, sharpness_max_per_mm2, feed_max_mm_per_min, trim_in_mm,
-// trim_out_mm, stop.
+// trim_out_mm, stop; with a placement also point_mm ([x, y, z]), s_programmed_mm, s_start_mm
+// and s_end_mm.
+nlohmann::json corner_json(const CornerReport& corner);
+nlohmann::json corner_json(const CornerReport& corner, const CornerPlacement& where);
+
+// Every corner of `path` as corner_json, without and with the placement (`program` is the
+// program `path` was blended from).
 nlohmann::json corners_json(const Path& path);
+nlohmann::json corners_json(const Path& path, const Program& program);
+
+// The timed pieces: index, move, corner, length_mm, v_peak_mm_s and the binding constraint.
+nlohmann::json pieces_json(const Path& path, const Timing& timing);
 
 // The timed profile, one row per sample: `t,s,x,y,z,v,a,j,kappa` in s, mm, mm/s, mm/s^2 and
 // mm/s^3 (tangential), 1/mm.
 std::string timed_csv(const Path& path, const Timing& timing);
 
+// What the timing says about one corner (report), added to its corner_json: the transition's
+// curvature_steps ("limit" or "allow") and the largest curvature step the corner leaves,
+// curvature_step_per_mm, the planned speed there curvature_step_velocity_mm_s and the jerk the
+// step implies at the servo period curvature_step_jerk_mm_s3 = |dK| v^2 / dt (0 where none).
+void add_corner_step(nlohmann::json& corner, const CornerReport& report, const Timing::CornerStep& step);
+
+// The plan's figures beyond its cycle time, added to `out`: limits ("path" or "cartesian"),
+// moves_merged and merge_tolerance_mm (collinear lines merged before blending, G64 Q:
+// Path::moves_merged), bound_cycle_time_s (the time-optimal bound of the same path under the
+// same limits without jerk) and planned_to_bound_ratio (cycle time over bound, 1 for an empty
+// path).
+void add_plan_figures(nlohmann::json& out, LimitsMode limits, int moves_merged, double merge_tolerance,
+                      double cycle_time, double bound_cycle_time);
+
 // The plan summary of the command-line contract: cycle_time_s, path_length_mm, feed_share,
-// corners (as corners_json) and pieces (index, move, corner, v_peak_mm_s, binding).
-nlohmann::json plan_summary_json(const Path& path, const Timing& timing);
+// servo_period_s, the figures of add_plan_figures, corners (corners_json with placements and
+// add_corner_step) and pieces (pieces_json).
+nlohmann::json plan_summary_json(const Path& path, const Timing& timing, const Program& program);
 
 }  // namespace blendbench

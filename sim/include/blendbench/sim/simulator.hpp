@@ -1,70 +1,44 @@
 #pragma once
-// The execution stage: a MuJoCo model of a six-joint arm driven by PD servos that track a joint
-// reference, sampled at every servo tick into a Trace (DESIGN: joint reference -> Trace).
+// The execution stage: a MuJoCo model of a six-joint arm, rigid or with elastic joints, driven
+// by a cascaded servo per joint (servo.hpp) that tracks a joint reference, sampled at every
+// setpoint into a Trace (trace.hpp).
 //
-// Conventions: SI units (rad, rad/s, N·m, s, m); positions in the world frame of the model.
-// The arm's joints are the six hinge joints driven by the model's six actuators, in the order
-// of their joint ids in the model (the kinematic-chain order); every JointVector uses it.
+// The model: six direct-torque <motor> actuators, each on a hinge joint (the motor hinge, angle
+// theta: the encoder's angle); a model is elastic when each motor hinge's body carries a second
+// hinge on the same axis after it (the gear, deflection delta, with a positive stiffness), so
+// the link angle is theta + delta; otherwise rigid (link angle = theta). Joint vectors are in the
+// order of the motor hinges' joint ids (the kinematic-chain order). Optional per-joint limits
+// come from <custom><numeric name="velocity_limits"/"acceleration_limits" data="6 values"/>.
+// Conventions: SI units (rad, rad/s, N*m, s, m); positions in the model's world frame.
 
 #include <mujoco/mujoco.h>
 
-#include <Eigen/Core>
 #include <array>
 #include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "blendbench/robot/joint_trajectory.hpp"
+#include "blendbench/sim/servo.hpp"
+#include "blendbench/sim/trace.hpp"
+
 namespace blendbench {
 
-// Joint-space vector of the six arm joints (rad, rad/s, rad/s², N·m, gains per joint).
-using JointVector = Eigen::Matrix<double, 6, 1>;
-
-// PD servo with optional model-based terms; per joint
-//   tau = kp (q_cmd - q) + kd (qd_cmd - qd) [+ c(q, qd)] [+ feed-forward],
-// then clamped to the actuator torque limits. c is MuJoCo's bias force qfrc_bias (gravity,
-// Coriolis, centrifugal) at the actual state. The feed-forward is the inverse dynamics of the
-// reference (mj_inverse at q_cmd, qd_cmd, qdd_cmd); when gravity compensation is also on, its
-// bias part is left out so the bias is counted once, at the actual state. The default gains are
-// zero: start from default_servo() below.
-struct ServoConfig {
-  double rate_hz = 1000;  // controller rate; the physics runs at the model timestep and the torque
-                          // is held between servo ticks. 1/rate_hz must be a multiple of it.
-  JointVector kp = JointVector::Zero();  // N·m/rad, >= 0
-  JointVector kd = JointVector::Zero();  // N·m·s/rad, >= 0
-  bool gravity_compensation = true;
-  bool feedforward = false;
+// Changes to a model after it is compiled (tests and studies): the gears' stiffness scaled (the
+// gear damping scaled by its square root, keeping the damping ratio), and another timestep.
+struct ModelChanges {
+  double stiffness_scale = 1;  // > 0
+  double timestep = 0;         // s; 0 keeps the model's
 };
 
-// Joint reference: sample k holds the commanded joint state at t = k * dt. q must be non-empty;
-// qd and qdd are either empty (treated as zero) or as long as q. dt must be a positive multiple
-// of the servo period (a single-sample reference may have dt = 0). Between samples the servo
-// interpolates linearly.
-struct JointReference {
-  double dt = 0;  // s
-  std::vector<JointVector> q, qd, qdd;  // rad, rad/s, rad/s²
-};
-
-// The state at one servo tick. q/qd are the measured joint state at time t; tau is the joint
-// torque applied from t to the next tick, after saturation; tcp and tcp_cmd are the world
-// positions of the model's `tcp` site for the actual and for the commanded joints.
-struct TraceSample {
-  double t = 0;  // s
-  JointVector q_cmd, qd_cmd, q, qd, tau;
-  Eigen::Vector3d tcp_cmd, tcp;  // m
-};
-
-// One sample per servo tick, t = k / rate_hz, from 0 to the end of the reference plus the settle
-// time. A diverged run stops at the first unhealthy step: `diverged` is set, `warning` says why,
-// and `samples` holds only the (finite) ticks before it — they are for diagnosis, never for
-// tracking metrics. `warning` may also carry non-fatal MuJoCo warnings (e.g. contact buffer full)
-// on a run that did not diverge.
-struct Trace {
-  std::vector<TraceSample> samples;
-  bool diverged = false;
-  std::string warning;
-  JointVector peak_abs_tau = JointVector::Zero();  // N·m, max over the samples of |tau|
-  bool torque_saturated = false;  // some commanded torque exceeded its limit and was clamped
+// Natural frequencies of the arm at one configuration (Hz), from the mass matrix and the gear
+// stiffness: per joint alone (its motor held and every other joint rigid: sqrt(K / I_link) / 2 pi),
+// and the six modes of the whole arm with every motor held. Zero on a rigid arm.
+struct NaturalFrequencies {
+  JointVector per_joint = JointVector::Zero();
+  JointVector arm = JointVector::Zero();  // ascending
+  std::array<JointVector, 6> arm_shapes{};  // mode shapes (gear deflections), largest entry 1
 };
 
 struct RunOptions {
@@ -76,66 +50,77 @@ struct RunOptions {
   std::function<void(const mjModel&, const mjData&, double t)> on_frame;
 };
 
+// The bound on omega_max * timestep the simulator accepts (omega_max: the model's highest mode
+// with the motors free): semi-implicit Euler is stable up to 2 and oscillates at
+// (2 / dt) asin(omega dt / 2), 1.5 % fast at 0.6.
+inline constexpr double kMaxOmegaDt = 0.6;
+
 class Simulator {
  public:
   // Loads an MJCF file. Throws InputError (file `mjcf_path`, field "mjcf") with MuJoCo's message
-  // when it does not compile, or naming what is missing when it is not a six-joint arm driven by
-  // six direct-torque <motor> actuators with a site named "tcp".
-  explicit Simulator(const std::string& mjcf_path);
+  // when it does not compile, or naming what is wrong when it is not a six-joint arm as above
+  // with a site named "tcp", or when its timestep is too long for its stiffest mode
+  // (kMaxOmegaDt; the message names the longest timestep that would do).
+  explicit Simulator(const std::string& mjcf_path, const ModelChanges& changes = {});
   // The same from MJCF text (tests); errors carry the file name "<string>".
-  static Simulator from_xml_string(const std::string& xml);
+  static Simulator from_xml_string(const std::string& xml, const ModelChanges& changes = {});
 
   [[nodiscard]] const mjModel& model() const { return *model_; }
+  [[nodiscard]] bool elastic() const { return gear_dof_[0] >= 0; }
+  [[nodiscard]] double timestep() const { return model_->opt.timestep; }
 
-  // Joint torque limit per joint (N·m): |gear| times the smaller of the actuator's control range
-  // (ctrlrange, when ctrllimited) and force range (forcerange, when forcelimited); +inf when
-  // neither is limited.
-  [[nodiscard]] JointVector torque_limits() const { return torque_limit_; }
+  // Velocity, acceleration and torque limits. The torque limit is |gear| times the smaller of
+  // the actuator's control range (ctrlrange, when ctrllimited) and force range (forcerange,
+  // when forcelimited); +inf when neither is limited.
+  [[nodiscard]] const JointLimits& limits() const { return limits_; }
+  [[nodiscard]] JointVector torque_limits() const { return limits_.torque; }
+  // Gear stiffness per joint (N*m/rad; +inf on a rigid arm).
+  [[nodiscard]] JointVector stiffness() const { return stiffness_; }
+  // Reflected rotor inertia per joint (the motor hinge's armature, kg*m^2).
+  [[nodiscard]] JointVector motor_inertia() const { return motor_inertia_; }
+  // Link-side inertia about each joint at link angles q with the other joints held (the mass
+  // matrix diagonal without rotor inertia, kg*m^2).
+  [[nodiscard]] JointVector link_inertia(const JointVector& q) const;
+  // Gravity torque per joint at link angles q (N*m, the torque that holds the arm still).
+  [[nodiscard]] JointVector gravity_torque(const JointVector& q) const;
+  // Natural frequencies at link angles q (see NaturalFrequencies).
+  [[nodiscard]] NaturalFrequencies natural_frequencies(const JointVector& q) const;
 
-  // Joint-space inertia diagonal (kg·m², armature included) at the configuration q.
-  [[nodiscard]] JointVector inertia_diagonal(const JointVector& q) const;
-
-  // Runs the reference from rest at reference.q[0] (non-arm degrees of freedom at the model's
-  // qpos0). Each physics step is mj_step1, the servo tick when one falls due, mj_step2 — MuJoCo's
-  // split for control between stages; it integrates with Euler or implicit as the model says
-  // (an RK4 model is integrated with Euler). Throws InputError (field "reference.*" or "servo.*") for a malformed reference or
-  // servo; a physically unstable run is not an error but a Trace with diverged = true. Throws
-  // Interrupted (core/interrupt.hpp) within ~1024 steps of a stop request (SIGINT/SIGTERM).
-  [[nodiscard]] Trace run(const JointReference& reference, const ServoConfig& servo,
-                          const RunOptions& options) const;
+  // Runs the reference from rest at reference.q[0] (the motors at their first reference, the
+  // gears deflected by the gravity load: the arm starts in equilibrium; non-arm degrees of
+  // freedom at the model's qpos0). The reference's dt must be a positive multiple of the setpoint
+  // period (a single sample may have dt = 0); between samples it is interpolated linearly, and
+  // the drives interpolate linearly between setpoints. The trace holds one sample per setpoint,
+  // t = k / setpoint_rate_hz, until the end of the reference plus options.settle_time. Each
+  // physics step is mj_step1, the servo tick when one falls due, mj_step2. Throws InputError
+  // (field "reference.*" or "servo.*") for a malformed reference or servo; a physically
+  // unstable run is not an error but a Trace with diverged = true. Throws Interrupted
+  // (core/interrupt.hpp) within ~1024 physics steps of a stop request (SIGINT/SIGTERM).
+  [[nodiscard]] Trace run(const JointTrajectory& reference, const ServoConfig& servo, const RunOptions& options) const;
 
  private:
   // Takes ownership of `model`; `source` names it in errors.
-  Simulator(mjModel* model, const std::string& source);
+  Simulator(mjModel* model, const std::string& source, const ModelChanges& changes);
 
   std::shared_ptr<const mjModel> model_;
-  std::array<int, 6> qpos_adr_{};   // qpos address of arm joint i
-  std::array<int, 6> dof_adr_{};    // qvel/qfrc address of arm joint i
-  std::array<int, 6> actuator_{};   // actuator driving arm joint i
+  std::array<int, 6> motor_qpos_{};  // qpos address of motor hinge i
+  std::array<int, 6> motor_dof_{};   // its dof address
+  std::array<int, 6> gear_qpos_{};   // qpos address of gear hinge i (-1 when rigid)
+  std::array<int, 6> gear_dof_{};    // its dof address (-1 when rigid)
+  std::array<int, 6> actuator_{};    // actuator driving joint i
   std::array<double, 6> ctrl_per_torque_{};  // ctrl = tau * ctrl_per_torque (1 / (gear * gain))
-  JointVector torque_limit_;
+  JointLimits limits_;
+  JointVector stiffness_;
+  JointVector motor_inertia_;
+  JointVector viscous_;  // motor-side viscous friction (N*m*s/rad)
+  JointVector coulomb_;  // motor-side Coulomb friction (N*m)
   int tcp_site_ = -1;
 };
 
-// Default PD gains for a UR5e-like arm (N·m/rad), shoulder to wrist.
-inline JointVector default_kp() {
-  JointVector kp;
-  kp << 4000, 4000, 3000, 500, 500, 300;
-  return kp;
-}
-
-// A servo that is stable at `rate_hz` on this model near configuration q: kp from `kp` (default
-// default_kp()), lowered on a joint whose natural frequency sqrt(kp / I) would exceed
-// kMaxOmegaT · rate_hz, and kd for the damping ratio `zeta` w.r.t. I, the joint-space inertia
-// diagonal at q. Gravity compensation on, feed-forward off.
-ServoConfig default_servo(const Simulator& sim, const JointVector& q, double rate_hz = 1000,
-                          const JointVector& kp = default_kp(), double zeta = 1.0);
-
-// Bound on omega_n · T_servo used by default_servo. The discrete PD loop on a double integrator
-// (semi-implicit Euler, torque held for T) with critical damping is stable up to omega_n T ≈ 0.83
-// (derived: with a = kp T²/I, b = kd T/I the Jury conditions give b < 2 and a + 2b < 4); 0.25
-// keeps the discrete damping close to the continuous one.
-inline constexpr double kMaxOmegaT = 0.25;
+// The servo of `tuning` with gains derived from the model at link angles q (ServoTuning states
+// the rule), every feed-forward on (Controller::kCascade). Throws InputError (field "servo.*")
+// for a rate outside 125 Hz .. 8 kHz or a negative delay.
+ServoConfig tune_servo(const Simulator& sim, const JointVector& q, const ServoTuning& tuning = {});
 
 // Makes MuJoCo's error handler throw std::runtime_error and its warning handler record instead
 // of printing (MuJoCo's defaults print "Press Enter", write MUJOCO_LOG.TXT and exit). Idempotent;

@@ -31,7 +31,7 @@ struct UrGeometry {
 Eigen::Isometry3d dh_transform(double theta, double d, double a, double alpha);
 
 // DH frame 6 (the flange) in DH frame 0 for the DH joint angles theta (rad).
-Eigen::Isometry3d ur_forward_kinematics(const UrGeometry& geometry, const Vec6& theta);
+Eigen::Isometry3d ur_forward_kinematics(const UrGeometry& geometry, const JointVector& theta);
 
 // All closed-form solutions (DH joint angles, each wrapped to (-pi, pi]) that place DH frame 6
 // at `flange_pose` (in DH frame 0): up to 8, two shoulder x two wrist x two elbow branches, in
@@ -46,8 +46,8 @@ Eigen::Isometry3d ur_forward_kinematics(const UrGeometry& geometry, const Vec6& 
 // the elbow's reach, and still be solved (at the singularity): rounding in a pose computed at a
 // shoulder-singular or fully stretched configuration.
 inline constexpr double kReachSlack = 1e-12;
-std::vector<Vec6> ur_closed_form_ik(const UrGeometry& geometry, const Eigen::Isometry3d& flange_pose,
-                                    const Vec6& theta_near = Vec6::Zero(), double reach_slack = kReachSlack);
+std::vector<JointVector> ur_closed_form_ik(const UrGeometry& geometry, const Eigen::Isometry3d& flange_pose,
+                                    const JointVector& theta_near = JointVector::Zero(), double reach_slack = kReachSlack);
 
 // A KinematicChain with exactly the DH geometry (base frame = DH frame 0, TCP = DH frame 6),
 // every joint about its frame's z axis, limits +-2 pi rad, pi rad/s, and 150 N*m for joints 1-3,
@@ -60,7 +60,7 @@ KinematicChain ur_chain(const UrGeometry& geometry);
 inline constexpr std::array<double, 6> kBranchWeights = {3.0, 3.0, 2.0, 1.0, 1.0, 1.0};
 
 // Weighted distance between two joint vectors with kBranchWeights (rad).
-double branch_distance(const Vec6& a, const Vec6& b);
+double branch_distance(const JointVector& a, const JointVector& b);
 
 // IK for one UR-type chain. The constructor finds the DH geometry in the chain at q = 0 (any
 // base placement, joint-axis signs, zero offsets and tool transform) and verifies it against
@@ -75,7 +75,7 @@ class IkSolver {
 
   struct Result {
     Outcome outcome;
-    Vec6 q = Vec6::Zero();  // rad; q_near when outcome is not ok
+    JointVector q = JointVector::Zero();  // rad; q_near when outcome is not ok
   };
 
   // The solution nearest q_near (kBranchWeights norm) among all branches, with every joint
@@ -87,32 +87,32 @@ class IkSolver {
   //   kSingular     branches exist but none could be polished to the tolerance (at a
   //                 singularity on the edge of the workspace of a chain that is not exactly
   //                 UR-type).
-  [[nodiscard]] Result solve(const Eigen::Isometry3d& tcp_pose, const Vec6& q_near) const;
+  [[nodiscard]] Result solve(const Eigen::Isometry3d& tcp_pose, const JointVector& q_near) const;
 
   // All polished branches with each joint wrapped to the representative nearest q_near,
   // limits ignored, sorted by branch_distance to q_near. Empty when none reaches the pose.
-  [[nodiscard]] std::vector<Vec6> solutions(const Eigen::Isometry3d& tcp_pose, const Vec6& q_near) const;
+  [[nodiscard]] std::vector<JointVector> solutions(const Eigen::Isometry3d& tcp_pose, const JointVector& q_near) const;
 
   [[nodiscard]] const KinematicChain& chain() const { return chain_; }
   // The DH geometry found in the chain.
   [[nodiscard]] const UrGeometry& geometry() const { return geometry_; }
   // Whether q (rad) lies within every joint limit (with a 1e-9 rad allowance for rounding).
-  [[nodiscard]] bool within_limits(const Vec6& q) const;
+  [[nodiscard]] bool within_limits(const JointVector& q) const;
 
  private:
   struct Branches {
-    std::vector<Vec6> q;    // polished, wrapped nearest q_near, sorted
+    std::vector<JointVector> q;    // polished, wrapped nearest q_near, sorted
     std::size_t found = 0;  // closed-form branches before polishing
   };
-  [[nodiscard]] Branches branches(const Eigen::Isometry3d& tcp_pose, const Vec6& q_near) const;
-  [[nodiscard]] bool polish(const Eigen::Isometry3d& tcp_pose, Vec6& q) const;
+  [[nodiscard]] Branches branches(const Eigen::Isometry3d& tcp_pose, const JointVector& q_near) const;
+  [[nodiscard]] bool polish(const Eigen::Isometry3d& tcp_pose, JointVector& q) const;
 
   KinematicChain chain_;
   UrGeometry geometry_;
   Eigen::Isometry3d base_;  // chain base -> DH frame 0
   Eigen::Isometry3d tool_;  // DH frame 6 -> TCP
-  Vec6 sign_;               // theta_i = sign_i * q_i + offset_i
-  Vec6 offset_;
+  JointVector sign_;               // theta_i = sign_i * q_i + offset_i
+  JointVector offset_;
   double reach_slack_ = kReachSlack;  // m, grows with the chain's deviation from the DH model
 };
 

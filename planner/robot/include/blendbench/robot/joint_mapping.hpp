@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "blendbench/robot/ik.hpp"
+#include "blendbench/robot/joint_trajectory.hpp"
 #include "blendbench/core/status.hpp"
 
 namespace blendbench {
@@ -15,13 +16,12 @@ namespace blendbench {
 // a branch flip or a singularity crossing exceeds it.
 inline constexpr double kMaxJointStep = 0.5;
 
-// Joint reference sampled every `dt` seconds: q (rad), qd (rad/s), qdd (rad/s^2), one entry per
-// TCP pose. On failure `outcome` says why and at which time, `failed_index` is the first pose
-// that failed, q holds the samples before it and qd, qdd are empty.
-struct JointTrajectory {
+// The joint reference of a tool path, one sample per TCP pose. On failure `outcome` says why and
+// at which time, `failed_index` is the first pose that failed, joints.q holds the samples before
+// it and joints.qd, joints.qdd are empty.
+struct JointMapping {
   Outcome outcome;
-  double dt = 0;  // s
-  std::vector<Vec6> q, qd, qdd;
+  JointTrajectory joints;
   std::size_t failed_index = 0;
 };
 
@@ -35,7 +35,7 @@ struct JointTrajectory {
 // second-order finite differences: central inside, one-sided three- and four-point stencils at
 // the ends (exact for quadratic and cubic motion respectively, so a path that starts and ends at
 // rest gives qd, qdd near zero there). Throws InputError (field "dt") unless dt > 0 and finite.
-JointTrajectory map_to_joints(const IkSolver& ik, const std::vector<Eigen::Isometry3d>& tcp_poses, double dt,
-                              const Vec6& q_seed);
+JointMapping map_to_joints(const IkSolver& ik, const std::vector<Eigen::Isometry3d>& tcp_poses, double dt,
+                           const JointVector& q_seed);
 
 }  // namespace blendbench

@@ -16,7 +16,12 @@
 
 namespace blendbench {
 
-using Vec6 = Eigen::Matrix<double, 6, 1>;
+// The one joint-space vector of the six-joint arm, in the chain's joint order: angles (rad),
+// velocities (rad/s), accelerations (rad/s^2), torques (N*m) or per-joint gains and limits.
+// Every stage (IK, joint mapping, scenario, simulator, metrics) uses this type.
+using JointVector = Eigen::Matrix<double, 6, 1>;
+// A spatial difference [dp; dw]: position (m) over rotation vector (rad), base frame.
+using Twist = Eigen::Matrix<double, 6, 1>;
 using Mat6 = Eigen::Matrix<double, 6, 6>;
 
 // One revolute joint. `origin` maps the previous joint frame (the base frame for the first
@@ -42,15 +47,15 @@ struct KinematicChain {
 
 // Pose of the TCP in the base frame at joint angles q (rad). The chain must have six joints
 // (asserted).
-Eigen::Isometry3d forward_kinematics(const KinematicChain& chain, const Vec6& q);
+Eigen::Isometry3d forward_kinematics(const KinematicChain& chain, const JointVector& q);
 
 // Geometric Jacobian of the TCP at q in the base frame: rows 0-2 map qd to the TCP's linear
 // velocity (m/s), rows 3-5 to its angular velocity (rad/s).
-Mat6 jacobian(const KinematicChain& chain, const Vec6& q);
+Mat6 jacobian(const KinematicChain& chain, const JointVector& q);
 
 // Pose error `target` relative to `actual` in the base frame: [dp; dw] with dp the position
 // difference (m) and dw the rotation vector (axis * angle, rad) of target * actual^-1.
-Vec6 pose_error(const Eigen::Isometry3d& target, const Eigen::Isometry3d& actual);
+Twist pose_error(const Eigen::Isometry3d& target, const Eigen::Isometry3d& actual);
 
 // Roll, pitch, yaw (rad) with R = Rz(yaw) Ry(pitch) Rx(roll), the URDF convention; pitch in
 // [-pi/2, pi/2], roll and yaw in (-pi, pi].

@@ -1,0 +1,122 @@
+#pragma once
+// What a run produces, typed: per variant its identity, status, plan figures, metrics, health,
+// timings and the comparison with the exact-stop variant; per run the scenario, the robot model
+// and the servo. One serializer (to_json) writes summary.json; the runner returns these structs
+// and the tests read them. Values are SI (m, s, rad) as in the stages; the JSON keys end in the
+// units they are converted to (mm, s, deg, Hz, ...).
+
+#include <nlohmann/json.hpp>
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "blendbench/io/scenario.hpp"
+#include "blendbench/program/path.hpp"
+#include "blendbench/report/report.hpp"
+#include "blendbench/sim/metrics.hpp"
+#include "blendbench/sim/servo.hpp"
+#include "blendbench/sim/workspace.hpp"
+#include "blendbench/timing/timing.hpp"
+
+namespace blendbench {
+
+// How a variant ended. Only kOk is clean tracking data: a saturated run or one outside the
+// model's joint limits still carries its metrics, flagged; a run that did not settle has no
+// cycle time; diverged and failed plans carry no metrics. kFailed: the variant could not run to
+// the end (its path leaves the robot's reach or limits, its files cannot be written);
+// kInterrupted: a stop request (SIGINT/SIGTERM) came before it finished.
+enum class VariantStatus { kOk, kSaturated, kLimitExceeded, kNotSettled, kDiverged, kPlanningFailed, kFailed, kInterrupted };
+std::string_view to_string(VariantStatus status);
+
+// The plan of one variant.
+struct PlanFigures {
+  double path_length = 0;         // m
+  double planned_cycle_time = 0;  // s
+  double feed_share = 0;
+  double path_deviation_max = 0;  // m: the largest corner deviation of the planned transitions
+  std::vector<CornerReport> corners;
+  std::vector<CornerPlacement> placements;  // one per corner
+  std::vector<CornerTiming> corner_times;   // one per corner, when the reference passes it
+  nlohmann::json pieces = nlohmann::json::array();  // pieces_json
+  LimitsMode limits = LimitsMode::kCartesian;        // the limits the plan holds
+  double bound_cycle_time = 0;                       // s: the time-optimal bound (time_optimal.hpp)
+  int moves_merged = 0;                              // collinear lines merged before blending (G64 Q)
+  double merge_tolerance = 0;                        // m
+  std::vector<Timing::CornerStep> corner_steps;      // one per corner (Timing::corner_steps)
+};
+
+// Wall-clock figures of one variant (s) and the real-time factors of the simulation.
+struct Timings {
+  double planning = 0, inverse_kinematics = 0, simulation = 0, video = 0;
+  double simulated = 0;  // s of simulated time
+  [[nodiscard]] double real_time_factor() const { return simulation > 0 ? simulated / simulation : 0.0; }
+  [[nodiscard]] double real_time_factor_with_video() const {
+    return simulation + video > 0 ? simulated / (simulation + video) : 0.0;
+  }
+};
+
+// A variant against the exact-stop variant of the run: cycle time saved (%) and the ratio of
+// each error (this / the exact stop's; empty when the exact stop's is zero).
+struct ExactStopComparison {
+  std::string reference;  // name of the exact-stop variant
+  std::optional<double> cycle_time_saved_percent;
+  std::vector<std::pair<std::string, std::optional<double>>> ratios;  // key (ends in _ratio), value
+};
+
+// Where the TCP went that the model lets it go (it has no contacts): the zones and the report.
+struct WorkspaceFigures {
+  KeepOut zones;
+  WorkspaceReport report;
+};
+
+struct VariantSummary {
+  std::string name;
+  Method method = Method::kNone;  // the variant's transition method (or the first move's)
+  double parameter = 0;           // m, the variant's transition parameter (0 when none)
+  TimingOptions::Baseline baseline = TimingOptions::Baseline::kNone;
+  VariantStatus status = VariantStatus::kOk;
+  std::string message;  // why the status is not ok
+  std::string warning;  // non-fatal MuJoCo warnings
+  PlanFigures plan;
+  std::optional<Metrics> metrics;
+  std::optional<Health> health;
+  std::optional<WorkspaceFigures> workspace;  // with the metrics
+  Timings timings;
+  std::optional<ExactStopComparison> comparison;
+};
+
+// The arm that ran: its model, timestep and natural frequencies at the start pose.
+struct RobotInfo {
+  ArmModel model = ArmModel::kElastic;
+  std::string mjcf;
+  double timestep = 0;  // s
+  JointVector start_q = JointVector::Zero();  // rad, link angles at the program's start
+  JointLimits limits;
+  JointVector natural_frequency_per_joint = JointVector::Zero();  // Hz (zero when rigid)
+  JointVector natural_frequency_arm = JointVector::Zero();        // Hz
+};
+
+struct RunSummary {
+  std::string scenario, file, description;
+  RobotInfo robot;
+  ServoController controller = ServoController::kCascade;
+  ServoConfig servo;  // as tuned at the start pose
+  SimulationSettings simulation;
+  std::vector<VariantSummary> variants;
+};
+
+// The comparison block of every variant that has a cycle time against the first exact-stop
+// variant (method none) that ran cleanly; nothing when there is none.
+void compare_with_exact_stop(RunSummary& summary);
+
+// The corners of a plan as corners.json holds them: corner_json with the placement and the
+// times the reference passes the corner (t_start_s, t_end_s).
+nlohmann::json corners_json(const PlanFigures& plan);
+
+// The one serializer of run results (nlohmann's ADL hook): summary.json is to_json(RunSummary).
+void to_json(nlohmann::json& out, const RunSummary& summary);
+void to_json(nlohmann::json& out, const VariantSummary& variant);
+
+}  // namespace blendbench

@@ -1,0 +1,71 @@
+#include "blendbench/sim/execution.hpp"
+
+#include <chrono>
+
+namespace blendbench {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+// Arc-length tolerance for "the reference is at this point of the path" (m).
+constexpr double kOnPath = 1e-9;
+
+}  // namespace
+
+std::vector<CornerTiming> corner_timings(const std::vector<CornerPlacement>& placements, const Timing& timing) {
+  std::vector<CornerTiming> out;
+  for (const CornerPlacement& p : placements) {
+    CornerTiming c;
+    c.index = p.index;
+    c.t_start = c.t_end = timing.cycle_time;
+    for (const TimedSample& s : timing.samples) {
+      if (s.s >= p.s_start - kOnPath) {
+        c.t_start = s.t;
+        break;
+      }
+    }
+    for (const TimedSample& s : timing.samples) {
+      if (s.s <= p.s_end + kOnPath) c.t_end = s.t;
+    }
+    out.push_back(c);
+  }
+  return out;
+}
+
+Execution execute(const Simulator& sim, const IkSolver& ik, const Program& program, const Path& path,
+                  const Timing& timing, const ExecutionOptions& options) {
+  Execution out;
+  // the reference: the tool pose of every sample, mapped to the joints
+  auto start = Clock::now();
+  std::vector<Eigen::Isometry3d> poses;
+  poses.reserve(timing.samples.size());
+  for (const TimedSample& s : timing.samples) {
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.linear() = options.tool_rotation;
+    pose.translation() = path.point(s.s);
+    poses.push_back(pose);
+  }
+  out.joints = map_to_joints(ik, poses, timing.dt, options.q0);
+  out.ik_seconds = seconds_since(start);
+  if (!out.joints.outcome.ok()) return out;
+
+  // the run
+  start = Clock::now();
+  out.trace = sim.run(out.joints.joints, options.servo, options.run);
+  out.simulation_seconds = seconds_since(start);
+  out.corners = corner_timings(corner_placements(path, program), timing);
+  if (out.trace.diverged) return out;
+
+  // metrics and health
+  MetricsOptions metrics = options.metrics;
+  const Primitive& last = program.moves.back().geometry;
+  metrics.end_point = point(last, length(last));
+  metrics.corners = out.corners;
+  out.metrics = compute_metrics(out.trace, program, path, metrics);
+  out.health = check_health(out.trace, out.joints.joints, sim.limits());
+  return out;
+}
+
+}  // namespace blendbench

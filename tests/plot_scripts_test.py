@@ -1,0 +1,110 @@
+#!/usr/bin/python3
+"""Each plot script on a small run (tests/data/tiny.yaml): the images exist and are not trivial.
+
+usage: plot_scripts_test.py BLENDBENCH SOURCE_DIR OUT_DIR
+
+Runs `blendbench run tests/data/tiny.yaml --no-video --no-plots`, then report/scripts/plot_run.py
+on the run folder, and report/scripts/corner_figures.py on `blendbench path` outputs of the same
+scenario's variants; checks every image the scripts promise is a PNG of a sensible size with
+real content (many colours, not one flat field), that report.html refers to images that exist,
+and that corner_figures.py wrote its Markdown section. Exit status 0 when all hold.
+"""
+
+import os
+import re
+import shutil
+import subprocess
+import sys
+
+from PIL import Image
+
+PYTHON = "/usr/bin/python3"
+# an image with content: at least this size, this many colours, and no colour on most pixels
+MIN_WIDTH, MIN_HEIGHT = 300, 200
+MIN_COLOURS = 16
+MAX_DOMINANT_SHARE = 0.97
+
+VARIANT_PNGS = ["path.png", "corners.png", "speed.png", "acceleration.png", "curvature.png", "tracking_error.png",
+                "following_error.png", "torques.png", "vibration.png", "joints.png"]
+RUN_PNGS = ["compare_speed.png", "compare_path.png", "compare_metrics.png"]
+
+failures = []
+
+
+def check_png(path):
+    if not os.path.isfile(path):
+        failures.append(f"{path}: missing")
+        return
+    with Image.open(path) as image:
+        if image.format != "PNG":
+            failures.append(f"{path}: not a PNG ({image.format})")
+        width, height = image.size
+        if width < MIN_WIDTH or height < MIN_HEIGHT:
+            failures.append(f"{path}: {width} x {height} pixels, too small")
+        colours = image.convert("RGB").getcolors(maxcolors=1 << 20)
+        if colours is None:
+            return  # more colours than counted: content
+        if len(colours) < MIN_COLOURS:
+            failures.append(f"{path}: {len(colours)} colours, a blank image")
+        if max(c for c, _ in colours) > MAX_DOMINANT_SHARE * width * height:
+            failures.append(f"{path}: one colour covers almost every pixel")
+
+
+def run(args, **kw):
+    result = subprocess.run(args, capture_output=True, text=True, **kw)
+    if result.returncode != 0:
+        failures.append(f"{' '.join(args)} exited {result.returncode}:\n{result.stdout}{result.stderr}")
+    return result
+
+
+def main(argv):
+    binary, source, out = argv[1:4]
+    scripts = os.path.join(source, "report", "scripts")
+    tiny = os.path.join(source, "tests", "data", "tiny.yaml")
+    shutil.rmtree(out, ignore_errors=True)
+    os.makedirs(out)
+
+    # plot_run.py on what a run wrote
+    run_dir = os.path.join(out, "run")
+    run([binary, "run", tiny, "--no-video", "--no-plots", "--out", run_dir])
+    run([PYTHON, os.path.join(scripts, "plot_run.py"), run_dir])
+    for variant in ("exact", "arc"):
+        for png in VARIANT_PNGS:
+            check_png(os.path.join(run_dir, variant, png))
+    for png in RUN_PNGS:
+        check_png(os.path.join(run_dir, png))
+    report = os.path.join(run_dir, "report.html")
+    if not os.path.isfile(report):
+        failures.append(f"{report}: missing")
+    else:
+        with open(report) as f:
+            page = f.read()
+        images = re.findall(r"<img src='([^']+)'", page)
+        if len(images) < 2 * len(VARIANT_PNGS) + len(RUN_PNGS):
+            failures.append(f"{report}: only {len(images)} images")
+        for src in images:
+            if not os.path.isfile(os.path.join(run_dir, src)):
+                failures.append(f"{report}: image {src} does not exist beside it")
+
+    # corner_figures.py on the variants' planned paths and corner reports
+    args = []
+    for variant in ("exact", "arc"):
+        csv = os.path.join(out, f"{variant}.csv")
+        report_json = os.path.join(out, f"{variant}.json")
+        run([binary, "path", tiny, "--variant", variant, "--csv", csv, "--report", report_json])
+        args += ["--run", variant, csv, report_json]
+    figure = os.path.join(out, "corners.png")
+    markdown = os.path.join(out, "corners.md")
+    run([PYTHON, os.path.join(scripts, "corner_figures.py"), "--name", "tiny", "--description", "two lines",
+         "--out", figure, "--markdown", markdown] + args)
+    check_png(figure)
+    if not os.path.isfile(markdown) or "| C0 | arc | arc |" not in open(markdown).read():
+        failures.append(f"{markdown}: missing or without the arc variant's corner row")
+
+    for f in failures:
+        print("FAIL:", f)
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
