@@ -382,7 +382,8 @@ int main(int argc, char** argv) {
     cmd->add_option("--limits", timing_flags.limits,
                     "Limits the plan holds: cartesian (vectors on the TCP, the default) or path (tangential, as in 004)");
     cmd->add_option("--max-samples", timing_flags.max_samples,
-                    "Refuse a plan of more servo samples than this (default 1e7)");
+                    "Refuse a plan of more servo samples than this (plan: default 1e7; run: a variant's plan and "
+                    "settle time together, default 5e5)");
   };
   add_timing_flags(run);
 

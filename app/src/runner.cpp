@@ -7,6 +7,7 @@
 #include <numbers>
 #include <optional>
 
+#include "blendbench/core/format.hpp"
 #include "blendbench/core/interrupt.hpp"
 #include "blendbench/corner/blend.hpp"
 #include "blendbench/io/urdf_chain.hpp"
@@ -76,6 +77,27 @@ std::string at_move(const Scenario& sc, const Program& program, std::size_t move
 
 [[noreturn]] void fail_at(const Scenario& sc, const SourceRef& where, const std::string& field, const std::string& what) {
   throw InputError(where.file.empty() ? sc.file : where.file, where.line, where.column, field, what);
+}
+
+// The samples left to the plan of a variant (runner.hpp: the run's budget less the settle time's
+// samples at `setpoint_rate`, Hz); InputError at settle_time_s when the settle time alone exceeds it.
+double plan_budget(const Scenario& sc, double setpoint_rate, double budget) {
+  const double settle = std::ceil(sc.simulation.settle_time * setpoint_rate);
+  if (settle < budget) return budget - settle;
+  fail_at(sc, sc.simulation.settle_time_where, "simulation.settle_time_s",
+          "the settle time alone would take " + format_value(settle, 3) + " samples at " +
+              format_value(1e3 / setpoint_rate, 3) + " ms (" + format_value(settle * kRunBytesPerSample / 1e9, 2) +
+              " GB); limit " + format_value(budget, 3) + " samples a run (--max-samples); shorten `settle_time_s`");
+}
+
+// Refuses (InputError at video.fps) a video of more than kMaxVideoFrames frames over `duration` (s).
+void check_video_frames(const Scenario& sc, double duration) {
+  const double frames = std::ceil(duration * sc.video.fps);
+  if (frames <= kMaxVideoFrames) return;
+  fail_at(sc, sc.video.fps_where, "video.fps",
+          "the video would have " + format_value(frames, 3) + " frames (" + format_value(duration, 3) + " s at " +
+              format_value(sc.video.fps, 3) + " fps); limit " + format_value(kMaxVideoFrames, 3) +
+              " frames; lower `fps` or run with --no-video");
 }
 
 // Everything shared by the variants of one scenario: robot models, solvers and the servo.
@@ -231,7 +253,8 @@ class VariantRun {
       topt.limits = *request_.limits;
       if (topt.limits == LimitsMode::kPath) topt.axis_limits.reset();
     }
-    if (request_.max_samples) topt.max_samples = *request_.max_samples;
+    // the work is bounded before it is done (runner.hpp): the plan gets what the settle time leaves
+    topt.max_samples = plan_budget(sc_, robot_.servo.setpoint_rate_hz, request_.max_samples.value_or(kMaxRunSamples));
     const Timing timing = plan_timing(path, topt);
     out.timings.planning = seconds_since(start);
     PlanFigures& plan = out.plan;
@@ -248,6 +271,7 @@ class VariantRun {
     plan.merge_tolerance = path.merge_tolerance;
     plan.corner_steps = timing.corner_steps;
     if (!timing.outcome.ok()) return failed(std::move(out), VariantStatus::kPlanningFailed, "planning failed: " + timing.outcome.message);
+    if (request_.video) check_video_frames(sc_, timing.cycle_time + sc_.simulation.settle_time);
     say("planned " + format_fixed(path.length() * kMm, 1) + " mm in " + format_fixed(timing.cycle_time, 3) + " s (" +
         format_fixed(out.timings.planning * 1e3, 1) + " ms)");
 

@@ -112,6 +112,11 @@ RunFolder::RunFolder(const fs::path& out) {
   // refused before any file is created (and checked again under the lock)
   (void)check_destination(target_, [&](const std::string& why) { refuse(out, why); });
   std::error_code ec;
+  // the folders above --out this run creates (deepest first), removed again when it commits nothing
+  for (fs::path p = parent; !p.empty() && !fs::exists(fs::symlink_status(p, ec)); p = p.parent_path()) {
+    created_.push_back(p);
+    if (p == p.parent_path()) break;
+  }
   fs::create_directories(parent, ec);
   if (ec) throw std::runtime_error("cannot create the folder " + parent.string() + ": " + ec.message());
 
@@ -192,6 +197,11 @@ void RunFolder::release() noexcept {
   }
   unregister_cleanup(lock_cleanup_);
   lock_cleanup_ = 0;
+  // a refused or failed first run leaves no empty results/runs/ behind (non-empty ones stay)
+  if (!committed_) {
+    for (const fs::path& p : created_) fs::remove(p, ec);
+  }
+  created_.clear();
 }
 
 RunFolder::~RunFolder() { release(); }

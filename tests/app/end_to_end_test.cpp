@@ -265,6 +265,35 @@ TEST_F(EndToEnd, AStopRequestKeepsFinishedVariantsAndMarksTheRest) {
   EXPECT_EQ(nlohmann::json::parse(in)["variants"][1]["status"], "interrupted");
 }
 
+// The work of a run is bounded before its simulation starts (runner.hpp): the settle time's
+// samples, then the plan's in what they leave, then the video's frames, each refused at the key
+// to change, with the figures that exceed the limit; nothing is written.
+TEST_F(EndToEnd, RunWorkIsBoundedBeforeTheSimulation) {
+  const auto run_with = [&](const std::string& text, double max_samples, bool video) {
+    RunRequest request = request_into(dir_);
+    request.max_samples = max_samples;
+    request.video = video;
+    (void)run_scenario(parse_scenario(text, "e2e.yaml", test::source_path("scenarios")), request);
+  };
+  // 0.5 s of settling at 500 Hz is 250 samples
+  test::expect_input_error([&] { run_with(kScenario, 200, false); },
+                           {.file = "e2e.yaml", .line = 5, .field = "simulation.settle_time_s",
+                            .message = "the settle time alone would take 250 samples at 2 ms"});
+  // 400 samples leave 150 to a plan of about 1.1 s (550 samples)
+  test::expect_input_error([&] { run_with(kScenario, 400, false); },
+                           {.file = "e2e.yaml", .field = "velocity", .message = "limit 150 samples; raise `velocity`"});
+  EXPECT_FALSE(fs::exists(dir_ / "summary.json"));
+  if (!video_supported()) GTEST_SKIP() << "no rendering in this build: the frame bound is not reached";
+  // 200 mm at 0.5 mm/s is 400 s (2e5 samples, within the default), 48,000 frames at 120 fps
+  const std::string slow = with("velocity: 200", "velocity: 0.5");
+  const std::string text = slow.substr(0, slow.find("units: mm\n") + 10) + "video: {fps: 120}\n" +
+                           slow.substr(slow.find("units: mm\n") + 10);
+  test::expect_input_error([&] { run_with(text, kMaxRunSamples, true); },
+                           {.file = "e2e.yaml", .line = 3, .column = 14, .field = "video.fps",
+                            .message = " s at 120 fps); limit 3.6e+04 frames; lower `fps` or run with --no-video"});
+  EXPECT_FALSE(fs::exists(dir_ / "exact")) << "refused before its video was opened";
+}
+
 // A path below the floor is run (the model has no contacts) and reported: the lowest TCP height
 // and when it first went below z = 0 of the base frame.
 TEST_F(EndToEnd, APathBelowTheFloorIsReported) {

@@ -92,6 +92,18 @@ TEST_F(RunFolderTest, WithoutACommitThePreviousRunStaysIntact) {
   EXPECT_EQ(read_file(out_ / "summary.json"), "old");
 }
 
+// A first run refused or failed before its commit leaves no folder it created above --out
+// (results/runs/ of a run in an empty working folder), but keeps one that holds something.
+TEST_F(RunFolderTest, WithoutACommitTheFoldersItCreatedAreRemoved) {
+  { RunFolder folder(dir_ / "results" / "runs" / "x"); }
+  EXPECT_EQ(entries(dir_), std::vector<std::string>{});
+  {
+    RunFolder folder(dir_ / "results" / "runs" / "x");
+    std::ofstream(dir_ / "results" / "note.txt") << "someone else's";
+  }
+  EXPECT_EQ(entries(dir_), (std::vector<std::string>{"results", "results/note.txt"}));
+}
+
 TEST_F(RunFolderTest, ASecondRunIntoTheSameFolderIsRefusedAtOnce) {
   RunFolder first(out_);
   try {

@@ -15,6 +15,17 @@
 
 namespace blendbench {
 
+// The work of one variant is bounded before it is done. Its trace holds one sample per setpoint
+// over the plan and the settle time after it, about kRunBytesPerSample of memory each (measured:
+// the peak RSS of `blendbench run` grows by 2.1 kB per sample of settle time, trace.csv's text
+// included), so a run holds at most kMaxRunSamples of them (1000 s at 500 Hz, about 1 GB):
+// the settle time's share is refused at simulation.settle_time_s, the plan's by plan_timing at
+// the move whose limit to raise. A video has at most kMaxVideoFrames frames (20 min at 30 fps),
+// refused at video.fps. Both are InputError (exit 2) before the simulation starts.
+inline constexpr double kRunBytesPerSample = 2.1e3;
+inline constexpr double kMaxRunSamples = 5e5;
+inline constexpr double kMaxVideoFrames = 36000;
+
 struct RunRequest {
   std::filesystem::path out_dir;      // created if missing; files in it are replaced atomically
   bool video = true;                  // render video.mp4 per variant (needs BLENDBENCH_RENDER)
@@ -22,7 +33,7 @@ struct RunRequest {
   bool variant_files = true;          // per variant trace.csv, path.csv, program.csv, corners.json (a sweep keeps only summary.json)
   std::vector<std::string> variants;  // names to run; empty = all
   std::optional<LimitsMode> limits;   // replaces the scenario's limits mode (`--limits`)
-  std::optional<double> max_samples;  // replaces TimingOptions::max_samples (`--max-samples`)
+  std::optional<double> max_samples;  // replaces kMaxRunSamples, plan and settle time (`--max-samples`)
   // receives one line of progress at a time (variant started, stage timings, warnings)
   std::function<void(const std::string&)> progress;
 };

@@ -56,12 +56,14 @@ struct SimulationSettings {
   double vibration_window = 0.5;         // s
   double vibration_highpass = 12;        // Hz
   double jerk_lowpass = 50;              // Hz
+  SourceRef settle_time_where;           // where settle_time_s was given (or its map), for the runner's work bound
 };
 
 struct VideoSettings {
   double fps = 30;
   int width = 640;
   int height = 480;
+  SourceRef fps_where;  // where fps was given (or its map), for the runner's work bound
 };
 
 // One variant: the transition applied to every move that does not set its own, an optional

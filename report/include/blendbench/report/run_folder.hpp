@@ -25,6 +25,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace blendbench {
 
@@ -55,10 +56,12 @@ class RunFolder {
  private:
   // The constructor's steps once the lock is held: checks, stale staging folders, the staging folder.
   void prepare(const std::filesystem::path& out, const std::filesystem::path& parent, const std::string& name);
-  // Removes the staging folder unless committed; releases and removes the lock. Idempotent.
+  // Removes the staging folder unless committed; releases and removes the lock; unless committed,
+  // removes the folders above the target it created when they are empty. Idempotent.
   void release() noexcept;
 
   std::filesystem::path target_, staging_, lock_path_;
+  std::vector<std::filesystem::path> created_;  // folders above target_ this run created, deepest first
   int lock_fd_ = -1;
   bool had_previous_ = false;
   bool committed_ = false;
