@@ -404,7 +404,9 @@ SweepSpec parse_sweep(const std::string& text, const std::string& file, const st
     }
   }
   for (const fs::path& candidate : candidates) {
-    if (fs::is_regular_file(candidate)) {
+    // a name the file system refuses (too long, ...) is a file that is not found, not an exception
+    std::error_code ec;
+    if (fs::is_regular_file(candidate, ec)) {
       spec.scenario = fs::absolute(candidate).lexically_normal().string();
       break;
     }

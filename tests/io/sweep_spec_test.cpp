@@ -194,6 +194,12 @@ TEST(SweepFile, ErrorsNameFileLineAndKey) {
   EXPECT_EQ(missing.field(), "scenario");
   const InputError absent = error_of([] { (void)parse("scenario: no/such.yaml\naxes: {a: [1]}\n"); });
   EXPECT_TRUE(has(absent.detail(), "file not found")) << absent.what();
+  // a name longer than the file system takes (found by tests/fuzz/fuzz_sweep: filesystem_error
+  // escaped as std::terminate) is a file that is not found
+  const std::string long_name = "scenario: " + std::string(5000, 'x') + ".yaml\naxes: {a: [1]}\n";
+  const InputError too_long = error_of([&] { (void)parse(long_name); });
+  EXPECT_EQ(too_long.field(), "scenario") << too_long.what();
+  EXPECT_TRUE(has(too_long.detail(), "file not found")) << too_long.what();
 }
 
 // The product: sizes multiply, the last axis varies fastest, every combination once.
