@@ -24,6 +24,10 @@ function(blendbench_library stage)
     $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
   target_compile_features(${target} PUBLIC cxx_std_20)
   target_link_libraries(${target} PUBLIC ${ARG_PUBLIC} PRIVATE ${ARG_PRIVATE} $<BUILD_INTERFACE:blendbench::warnings>)
+  # a sanitizer build's installed libraries need the sanitizers' run-time in whatever links them
+  if(BLENDBENCH_SANITIZER_LINK_FLAGS)
+    target_link_options(${target} INTERFACE $<INSTALL_INTERFACE:${BLENDBENCH_SANITIZER_LINK_FLAGS}>)
+  endif()
 
   install(TARGETS ${target} EXPORT blendbench-${BLENDBENCH_COMPONENT}
     ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}

@@ -5,6 +5,11 @@
 #
 #   bash tools/bootstrap.sh run [extra arguments for `blendbench run`]
 #   bash tools/bootstrap.sh test
+#
+# "test" runs, in order: the GCC Release build (build/) and its suite; a clang build of the whole
+# project with assertions on, AddressSanitizer and UndefinedBehaviorSanitizer (build-clang/,
+# Debug at -O1) and the same suite there; then each libFuzzer harness for
+# BLENDBENCH_FUZZ_SECONDS (default 60) s. It prints how long each step took.
 set -euo pipefail
 
 mode=${1:-}
@@ -23,9 +28,10 @@ packages=(
   libcli11-dev nlohmann-json3-dev googletest libgtest-dev libbenchmark-dev
   ffmpeg python3 python3-matplotlib python3-numpy python3-pil python3-yaml
 )
-# the test suite also brings up a one-machine Slurm for the sweep's job-array test
+# the test suite also brings up a one-machine Slurm for the sweep's job-array test, and the
+# sanitizer and fuzzing build needs clang with its sanitizer run-times
 if [ "$mode" = test ]; then
-  packages+=(slurm-wlm munge)
+  packages+=(slurm-wlm munge clang libclang-rt-14-dev)
 fi
 missing=()
 for p in "${packages[@]}"; do
@@ -49,11 +55,43 @@ if [ ${#missing[@]} -gt 0 ]; then
 fi
 
 jobs=$(nproc 2>/dev/null || echo 2)
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
-cmake --build build -j "$jobs"
+# how long each step took (wall clock, and the CPU time of the processes it ran), printed at
+# the end of "test"
+step_times=()
+cpu_file=$(mktemp)
+trap 'rm -f "$cpu_file"' EXIT
+cpu_seconds=0
+update_cpu() {  # user + system seconds of this shell's finished children (`times` runs here, not in a subshell)
+  times >"$cpu_file"
+  cpu_seconds=$(awk 'NR == 2 { n = 0; for (i = 1; i <= 2; ++i) { split($i, t, /[ms]/); n += t[1] * 60 + t[2] } printf "%d", n }' "$cpu_file")
+}
+step() {
+  local name=$1 start=$SECONDS before
+  shift
+  update_cpu
+  before=$cpu_seconds
+  "$@"
+  update_cpu
+  step_times+=("$name $((SECONDS - start)) s (CPU $((cpu_seconds - before)) s)")
+}
+
+# configure (once) and build: build_in DIR CMAKE_ARGUMENTS...
+build_in() {
+  local dir=$1
+  shift
+  cmake -S . -B "$dir" -G Ninja "$@"
+  cmake --build "$dir" -j "$jobs"
+}
+
+step "gcc build" build_in build -DCMAKE_BUILD_TYPE=Release
 
 if [ "$mode" = run ]; then
   exec build/blendbench run "$@"
-else
-  exec ctest --test-dir build --output-on-failure -j "$jobs" "$@"
 fi
+
+step "gcc ctest" ctest --test-dir build --output-on-failure -j "$jobs" "$@"
+# clang, assertions on, ASan + UBSan, libFuzzer's coverage (cmake/BlendbenchSanitize.cmake)
+step "clang build" build_in build-clang -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Debug -DBLENDBENCH_FUZZ=ON
+step "clang ctest" ctest --test-dir build-clang --output-on-failure -j "$jobs" "$@"
+step "fuzzing" bash tests/fuzz/run_fuzzers.sh build-clang "${BLENDBENCH_FUZZ_SECONDS:-60}"
+echo "bootstrap: test steps: $(IFS=';'; echo "${step_times[*]}" | sed 's/;/; /g')"

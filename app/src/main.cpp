@@ -1,10 +1,12 @@
 // blendbench: the command-line program (the contract: README, "What a run produces" and "Other commands").
-// Exit codes: 0 ok, 1 a check failed or a variant did not complete, 2 bad input.
+// Exit codes: 0 ok, 1 a check failed or a variant did not complete, 2 bad input (or an --out
+// folder in use by another run), 128 + signal when stopped by SIGINT (130) or SIGTERM (143).
 
 #include <CLI/CLI.hpp>
 
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -19,6 +21,8 @@
 #include "blendbench/io/data_root.hpp"
 #include "blendbench/io/program_io.hpp"
 #include "blendbench/report/report.hpp"
+#include "blendbench/report/run_folder.hpp"
+#include "blendbench/core/interrupt.hpp"
 #include "blendbench/papers/reproduce.hpp"
 #include "blendbench/app/runner.hpp"
 #include "blendbench/app/sweep.hpp"
@@ -32,6 +36,33 @@ namespace {
 constexpr int kExitOk = 0;
 constexpr int kExitCheckFailed = 1;
 constexpr int kExitBadInput = 2;
+// a stop by signal N exits 128 + N, as a shell reports a process killed by it
+constexpr int kExitSignalBase = 128;
+
+const char* signal_name(int signal) { return signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : "a signal"; }
+
+// A run stopped by a signal: its finished variants are kept (in --out, or beside it as
+// <out>.interrupted when --out holds a previous run, which stays intact); one line says where.
+int interrupted_run(bb::RunFolder& folder, const bb::RunResult& result) {
+  std::string finished;
+  int count = 0;
+  for (const bb::VariantSummary& v : result.summary.variants) {
+    if (v.status == bb::VariantStatus::kInterrupted) continue;
+    finished += (count++ == 0 ? "" : ", ") + v.name;
+  }
+  std::string where = "nothing kept";
+  if (count > 0) {
+    const std::filesystem::path kept =
+        folder.had_previous_run() ? std::filesystem::path(folder.target().string() + ".interrupted") : folder.target();
+    folder.commit_to(kept);
+    where = "kept " + std::to_string(count) + " finished variant(s) (" + finished + ") in " + kept.string();
+  }
+  std::cout << std::flush;
+  std::cerr << "blendbench: interrupted by " << signal_name(result.interrupted_by) << ": " << where
+            << (folder.had_previous_run() ? "; " + folder.target().string() + " still holds the previous run" : "")
+            << std::endl;
+  return kExitSignalBase + result.interrupted_by;
+}
 
 // --limits and --max-samples, shared by `run` and `plan`.
 struct TimingFlags {
@@ -60,8 +91,10 @@ int cmd_run(std::string scenario_path, std::string out_dir, bool no_video, bool 
   if (scenario_path.empty()) scenario_path = bb::data_file("scenarios/default.yaml");
   const bb::Scenario scenario = bb::load_scenario(scenario_path);
   if (out_dir.empty()) out_dir = "results/runs/" + scenario.name;
+  // the run goes to a staging folder beside --out, locked, and replaces it as a whole at the end
+  bb::RunFolder folder(out_dir);
   bb::RunRequest request;
-  request.out_dir = out_dir;
+  request.out_dir = folder.staging();
   request.video = !no_video;
   request.compare = compare;
   request.plots = !no_plots;
@@ -71,6 +104,8 @@ int cmd_run(std::string scenario_path, std::string out_dir, bool no_video, bool 
   request.progress = [](const std::string& line) { std::cout << line << std::endl; };
   std::cout << "blendbench: scenario '" << scenario.name << "' (" << scenario_path << ") -> " << out_dir << std::endl;
   const bb::RunResult result = bb::run_scenario(scenario, request);
+  if (result.interrupted_by != 0) return interrupted_run(folder, result);
+  folder.commit();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::cout << "done in " << bb::format_value(wall, 3) << " s: " << (std::filesystem::path(out_dir) / "summary.json").string()
             << std::endl;
@@ -89,7 +124,8 @@ int cmd_run(std::string scenario_path, std::string out_dir, bool no_video, bool 
     std::cout << std::endl;
   }
   if (result.report) {
-    std::cout << "report: " << result.report->string() << std::endl;
+    // written in the staging folder, now --out
+    std::cout << "report: " << (std::filesystem::path(out_dir) / result.report->filename()).string() << std::endl;
   } else if (request.plots) {
     std::cout << "no report: the plot script failed (see above)" << std::endl;
   } else {
@@ -198,6 +234,7 @@ LoadedProgram load_program(const std::string& input, const ProgramFlags& flags) 
 int cmd_path(const std::string& input, const ProgramFlags& flags, const std::string& csv, const std::string& report,
              double ds_mm) {
   if (!(ds_mm > 0)) throw bb::InputError("", 0, 0, "--ds", "the sample spacing must be positive");
+  bb::check_output_files({{"--csv", csv}, {"--report", report}});
   const LoadedProgram loaded = load_program(input, flags);
   const bb::Path path = bb::blend(loaded.program);
   // the rows are counted before any is sampled: a tiny spacing is refused, not an overflow
@@ -207,6 +244,7 @@ int cmd_path(const std::string& input, const ProgramFlags& flags, const std::str
                              bb::format_value(ds_mm, 6) + " mm would write " + bb::format_value(rows, 3) +
                              " rows; the limit is " + bb::format_value(bb::kMaxPathSamples, 3) + " (raise --ds)");
   }
+  bb::throw_if_stop_requested();
   bb::write_file_atomic(csv, bb::path_csv(path, ds_mm * 1e-3));
   if (!report.empty()) bb::write_file_atomic(report, bb::corners_json(path, loaded.program).dump(2) + "\n");
   std::cout << "path: " << bb::format_value(path.length() * 1e3, 6) << " mm, " << path.pieces().size() << " pieces, "
@@ -218,6 +256,7 @@ int cmd_plan(const std::string& input, const ProgramFlags& flags, const TimingFl
              const std::string& summary) {
   const std::optional<bb::LimitsMode> limits = limits_flag(timing_flags);
   const std::optional<double> max_samples = max_samples_flag(timing_flags);
+  bb::check_output_files({{"--csv", csv}, {"--summary", summary}});
   const LoadedProgram loaded = load_program(input, flags);
   const auto start = std::chrono::steady_clock::now();
   const bb::Path path = bb::blend(loaded.program);
@@ -236,6 +275,7 @@ int cmd_plan(const std::string& input, const ProgramFlags& flags, const TimingFl
   nlohmann::json j = bb::plan_summary_json(path, timing, loaded.program);
   j["ignored"] = loaded.ignored;
   j["planning_wall_time_s"] = wall;
+  bb::throw_if_stop_requested();
   bb::write_file_atomic(csv, bb::timed_csv(path, timing));
   bb::write_file_atomic(summary, j.dump(2) + "\n");
   std::cout << "plan: " << bb::format_value(path.length() * 1e3, 6) << " mm in " << bb::format_value(timing.cycle_time, 6)
@@ -307,6 +347,7 @@ int cmd_check(const std::string& run_dir, std::string baseline_file, bool update
     baseline_file = bb::data_file("results/baselines/" + name + ".json");
   }
   if (update) {
+    bb::check_output_files({{"--baseline", baseline_file}});
     bb::write_file_atomic(baseline_file, bb::make_baseline(summary).dump(2) + "\n");
     std::cout << "baseline written: " << baseline_file << std::endl;
     return kExitOk;
@@ -321,6 +362,8 @@ int cmd_check(const std::string& run_dir, std::string baseline_file, bool update
 }  // namespace
 
 int main(int argc, char** argv) {
+  // SIGINT/SIGTERM only set a flag; the long loops unwind (core/interrupt.hpp)
+  bb::install_stop_handlers();
   CLI::App app{"BlendBench: a testbench for blended robot trajectories"};
   app.require_subcommand(1);
 
@@ -344,7 +387,8 @@ int main(int argc, char** argv) {
     cmd->add_option("--limits", timing_flags.limits,
                     "Limits the plan holds: cartesian (vectors on the TCP, the default) or path (tangential, as in 004)");
     cmd->add_option("--max-samples", timing_flags.max_samples,
-                    "Refuse a plan of more servo samples than this (default 1e7)");
+                    "Refuse a plan of more servo samples than this (plan: default 1e7; run: a variant's plan and "
+                    "settle time together, default 5e5)");
   };
   add_timing_flags(run);
 
@@ -442,6 +486,11 @@ int main(int argc, char** argv) {
       sweep_args.plots = !sweep_no_plots;
       return bb::sweep_command(sweep_args, std::cout);
     }
+  } catch (const bb::Interrupted& stop) {
+    // unwound: temporary files and a staging folder are gone, previous outputs untouched (a
+    // sweep keeps the points it finished, for --resume)
+    std::cerr << "blendbench: interrupted by " << signal_name(stop.signal) << "; no output file was replaced" << std::endl;
+    return kExitSignalBase + stop.signal;
   } catch (const bb::InputError& e) {
     std::cerr << "blendbench: error: " << e.what() << std::endl;
     return kExitBadInput;

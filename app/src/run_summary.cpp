@@ -31,6 +31,20 @@ double corner_vibration_max(const Metrics& m) {
   return out;
 }
 
+// The keep-out report of a variant (sim/workspace.hpp), mm and s; null where none applies.
+nlohmann::json workspace_json(const WorkspaceFigures& w) {
+  return {{"floor_z_mm", finite_or_null(w.zones.floor_z / kMm)},
+          {"floor_clearance_mm", w.zones.floor_clearance / kMm},
+          {"tcp_z_min_mm", finite_or_null(w.report.tcp_z_min / kMm)},
+          {"below_floor", w.report.below_floor},
+          {"below_floor_t_s", finite_or_null(w.report.below_floor_t)},
+          {"base_radius_mm", w.zones.base_radius / kMm},
+          {"base_top_mm", w.zones.base_top / kMm},
+          {"base_distance_min_mm", finite_or_null(w.report.base_distance_min / kMm)},
+          {"into_base", w.report.into_base},
+          {"into_base_t_s", finite_or_null(w.report.into_base_t)}};
+}
+
 nlohmann::json metrics_json(const Metrics& m) {
   nlohmann::json corners = nlohmann::json::array();
   for (std::size_t c = 0; c < m.vibration_corners.size(); ++c) {
@@ -184,6 +198,10 @@ std::string_view to_string(VariantStatus status) {
       return "diverged";
     case VariantStatus::kPlanningFailed:
       return "planning_failed";
+    case VariantStatus::kFailed:
+      return "failed";
+    case VariantStatus::kInterrupted:
+      return "interrupted";
   }
   return "?";
 }
@@ -225,6 +243,7 @@ void to_json(nlohmann::json& out, const VariantSummary& v) {
   if (!v.warning.empty()) out["warning"] = v.warning;
   if (v.metrics) out["metrics"] = metrics_json(*v.metrics);
   if (v.health) out["health"] = health_json(*v.health);
+  if (v.workspace) out["workspace"] = workspace_json(*v.workspace);
   if (v.comparison) out["comparison"] = comparison_json(*v.comparison);
 }
 

@@ -9,6 +9,8 @@
 #include <numbers>
 #include <optional>
 
+#include "blendbench/core/format.hpp"
+#include "blendbench/core/interrupt.hpp"
 #include "blendbench/corner/blend.hpp"
 #include "blendbench/io/urdf_chain.hpp"
 #include "blendbench/report/csv.hpp"
@@ -17,6 +19,7 @@
 #include "blendbench/io/data_root.hpp"
 #include "blendbench/robot/ik.hpp"
 #include "blendbench/sim/execution.hpp"
+#include "blendbench/sim/workspace.hpp"
 #include "blendbench/timing/timing.hpp"
 #ifdef BLENDBENCH_HAS_RENDER
 #include "run_video.hpp"
@@ -59,14 +62,41 @@ std::size_t move_at(const Path& path, double s) {
   return static_cast<std::size_t>(std::max(piece.corner, 0));
 }
 
-[[noreturn]] void fail_unreachable(const Scenario& sc, const Program& program, std::size_t move, const std::string& what) {
+// The error of move `move` of the program, positioned where it was written.
+InputError move_error(const Scenario& sc, const Program& program, std::size_t move, const std::string& what) {
   const SourceRef& where = program.moves[move].where;
-  throw InputError(where.file.empty() ? sc.file : where.file, where.line, where.column,
-                   "program.moves[" + std::to_string(move) + "]", what);
+  return {where.file.empty() ? sc.file : where.file, where.line, where.column,
+          "program.moves[" + std::to_string(move) + "]", what};
+}
+
+// The same as a message: "file:line:column: 'program.moves[i]': what".
+std::string at_move(const Scenario& sc, const Program& program, std::size_t move, const std::string& what) {
+  return move_error(sc, program, move, what).what();
 }
 
 [[noreturn]] void fail_at(const Scenario& sc, const SourceRef& where, const std::string& field, const std::string& what) {
   throw InputError(where.file.empty() ? sc.file : where.file, where.line, where.column, field, what);
+}
+
+// The samples left to the plan of a variant (runner.hpp: the run's budget less the settle time's
+// samples at `setpoint_rate`, Hz); InputError at settle_time_s when the settle time alone exceeds it.
+double plan_budget(const Scenario& sc, double setpoint_rate, double budget) {
+  const double settle = std::ceil(sc.simulation.settle_time * setpoint_rate);
+  if (settle < budget) return budget - settle;
+  fail_at(sc, sc.simulation.settle_time_where, "simulation.settle_time_s",
+          "the settle time alone would take " + format_value(settle, 3) + " samples at " +
+              format_value(1e3 / setpoint_rate, 3) + " ms (" + format_value(settle * kRunBytesPerSample / 1e9, 2) +
+              " GB); limit " + format_value(budget, 3) + " samples a run (--max-samples); shorten `settle_time_s`");
+}
+
+// Refuses (InputError at video.fps) a video of more than kMaxVideoFrames frames over `duration` (s).
+void check_video_frames(const Scenario& sc, double duration) {
+  const double frames = std::ceil(duration * sc.video.fps);
+  if (frames <= kMaxVideoFrames) return;
+  fail_at(sc, sc.video.fps_where, "video.fps",
+          "the video would have " + format_value(frames, 3) + " frames (" + format_value(duration, 3) + " s at " +
+              format_value(sc.video.fps, 3) + " fps); limit " + format_value(kMaxVideoFrames, 3) +
+              " frames; lower `fps` or run with --no-video");
 }
 
 // Everything shared by the variants of one scenario: robot models, solvers and the servo.
@@ -76,6 +106,7 @@ struct Robot {
   std::unique_ptr<Simulator> sim;
   JointVector q0 = JointVector::Zero();  // link angles at the program's start
   ServoConfig servo;
+  KeepOut keep_out;  // the floor and the base, which the model does not collide with
 };
 
 // The scenario's servo, tuned from the model at the start pose, with its switches.
@@ -257,7 +288,8 @@ class VariantRun {
       topt.limits = *request_.limits;
       if (topt.limits == LimitsMode::kPath) topt.axis_limits.reset();
     }
-    if (request_.max_samples) topt.max_samples = *request_.max_samples;
+    // the work is bounded before it is done (runner.hpp): the plan gets what the settle time leaves
+    topt.max_samples = plan_budget(sc_, robot_.servo.setpoint_rate_hz, request_.max_samples.value_or(kMaxRunSamples));
     const Timing timing = plan_timing(path, topt);
     out.timings.planning = seconds_since(start);
     PlanFigures& plan = out.plan;
@@ -275,6 +307,7 @@ class VariantRun {
     plan.merge_tolerance = path.merge_tolerance;
     plan.corner_steps = timing.corner_steps;
     if (!timing.outcome.ok()) return failed(std::move(out), VariantStatus::kPlanningFailed, "planning failed: " + timing.outcome.message);
+    if (request_.video || request_.compare) check_video_frames(sc_, timing.cycle_time + sc_.simulation.settle_time);
     say("planned " + format_fixed(path.length() / kMm, 1) + " mm in " + format_fixed(timing.cycle_time, 3) + " s (" +
         format_fixed(out.timings.planning * 1e3, 1) + " ms)");
 
@@ -298,9 +331,12 @@ class VariantRun {
     }
 #endif
     const Execution run = execute(*robot_.sim, *robot_.ik, program, path, timing, options);
+    // a variant whose path leaves the reach fails alone (the start was checked for all)
     if (!run.joints.outcome.ok()) {
       const double s = timing.samples[run.joints.failed_index].s;
-      fail_unreachable(sc_, program, move_at(path, s), "the path leaves the robot's reach or limits at " + run.joints.outcome.message);
+      return failed(std::move(out), VariantStatus::kFailed,
+                    at_move(sc_, program, move_at(path, s),
+                            "the path leaves the robot's reach or limits at " + run.joints.outcome.message));
     }
     const Trace& trace = run.trace;
     plan.corner_times = run.corners;
@@ -335,6 +371,17 @@ class VariantRun {
     out.message = status_message(m, health);
     out.metrics = m;
     out.health = health;
+    // the model has no contacts: say where the TCP goes through the floor or into the base
+    const WorkspaceReport& workspace = out.workspace.emplace(
+        WorkspaceFigures{robot_.keep_out, check_workspace(trace, robot_.keep_out)}).report;
+    if (workspace.below_floor) {
+      say("warning: the TCP goes below the floor (z " + format_fixed(workspace.tcp_z_min / kMm, 1) + " mm, from t = " +
+          format_fixed(workspace.below_floor_t, 3) + " s); the model has no contacts");
+    }
+    if (workspace.into_base) {
+      say("warning: the TCP enters the robot's base (" + format_fixed(workspace.base_distance_min / kMm, 1) +
+          " mm from its axis, from t = " + format_fixed(workspace.into_base_t, 3) + " s); the model has no contacts");
+    }
     if (request_.variant_files) {
       write_file_atomic(dir_ / "trace.csv", trace_csv(trace, timing, m));
       write_file_atomic(dir_ / "path.csv", path_csv(path, kCsvStep));
@@ -387,6 +434,47 @@ class VariantRun {
   Videos* videos_;
 };
 
+// The summary entry of a variant that did not finish: what identifies it, and its status.
+VariantSummary unfinished(const Scenario& sc, const Variant& variant, VariantStatus status, std::string message = {}) {
+  VariantSummary out;
+  out.name = variant.name;
+  out.method = variant_method(sc.program, variant);
+  out.parameter = variant.transition ? variant.transition->parameter : 0.0;
+  out.baseline = timing_options(sc, variant).baseline;
+  out.status = status;
+  out.message = std::move(message);
+  return out;
+}
+
+// One variant, failing alone: an exception other than bad input (a file or video that cannot be
+// written, an internal error) becomes its status; a stop request (Interrupted, or ffmpeg ended by
+// the same Ctrl-C) marks it interrupted and removes its unfinished folder. InputError (a
+// variant's bad parameter is bad input of the scenario) propagates.
+VariantSummary run_variant(const Scenario& sc, const Robot& robot, const RunRequest& request, const Variant& variant,
+                           Videos* videos, int& interrupted_by) {
+  const std::filesystem::path dir = request.out_dir / variant.name;
+  const auto discard = [&] {
+    std::error_code ec;
+    std::filesystem::remove_all(dir, ec);
+  };
+  try {
+    return VariantRun(sc, robot, request, variant, videos).run();
+  } catch (const Interrupted& stop) {
+    interrupted_by = stop.signal;
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    if (stop_signal() == 0) {
+      discard();
+      if (request.progress) request.progress("  " + variant.name + ": failed: " + e.what());
+      return unfinished(sc, variant, VariantStatus::kFailed, e.what());
+    }
+    interrupted_by = stop_signal();
+  }
+  discard();
+  return unfinished(sc, variant, VariantStatus::kInterrupted);
+}
+
 }  // namespace
 
 bool video_supported() {
@@ -434,14 +522,17 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
                 format_value(robot.sim->timestep(), 6) + " s (" + format_value(1 / robot.sim->timestep(), 6) +
                 " Hz physics: use a rate that divides it)");
   }
+  // the program's start point is every variant's first pose: out of reach, the scenario itself
+  // is bad input (at the first move), found before any variant runs
   const Program first = program_for(scenario, *selected.front());
   const IkSolver::Result start = robot.ik->solve(tool_pose(scenario.start, scenario.robot.tool_rotation), scenario.robot.q_seed);
   if (!start.outcome.ok()) {
-    fail_unreachable(scenario, first, 0,
+    throw move_error(scenario, first, 0,
                      "the start point " + pose_text(scenario.start) + " cannot be reached: " + start.outcome.message);
   }
   robot.q0 = start.q;
   robot.servo = servo_of(scenario, *robot.sim, robot.q0);
+  robot.keep_out = keep_out_of(robot.sim->model());
 
   RunResult result;
   RunSummary& summary = result.summary;
@@ -467,17 +558,24 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
   std::size_t index = 0;
   for (const Variant* variant : selected) {
     ++index;
+    // after a stop request the rest are not started
+    if (result.interrupted_by == 0) result.interrupted_by = stop_signal();
+    if (result.interrupted_by != 0) {
+      summary.variants.push_back(unfinished(scenario, *variant, VariantStatus::kInterrupted));
+      continue;
+    }
     if (request.progress) {
       request.progress(std::string("[") + std::to_string(index) + "/" + std::to_string(selected.size()) + "] " +
                        variant->name);
     }
-    summary.variants.push_back(VariantRun(scenario, robot, request, *variant, with_videos).run());
+    summary.variants.push_back(run_variant(scenario, robot, request, *variant, with_videos, result.interrupted_by));
     result.all_ok = result.all_ok && summary.variants.back().status == VariantStatus::kOk;
   }
+  if (result.interrupted_by != 0) result.all_ok = false;
   compare_with_exact_stop(summary);
 #ifdef BLENDBENCH_HAS_RENDER
   // every variant side by side (the corners are the programmed ones: the same in every variant)
-  if (request.compare) {
+  if (request.compare && result.interrupted_by == 0) {
     for (const VariantSummary& v : summary.variants) {
       for (const CornerPlacement& p : v.plan.placements) {
         const auto same = [&](const CornerPlacement& q) { return q.index == p.index; };
@@ -494,7 +592,7 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
 #endif
   write_file_atomic(request.out_dir / "summary.json", nlohmann::json(summary).dump(2) + "\n");
 
-  if (request.plots) {
+  if (request.plots && result.interrupted_by == 0) {
     const auto plot_start = Clock::now();
     // an argument vector, no shell: the output folder is data, whatever characters it holds
     const ProcessResult plotted =

@@ -1,6 +1,7 @@
 #include "sweep_pool.hpp"
 
 #include <sched.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -17,6 +18,7 @@
 #include <thread>
 
 #include "blendbench/app/runner.hpp"
+#include "blendbench/core/interrupt.hpp"
 #include "blendbench/io/scenario.hpp"
 #include "blendbench/report/output.hpp"
 #include "blendbench/report/process.hpp"
@@ -68,6 +70,10 @@ PointOutcome run_one(const SweepPlan& plan, const SweepPoint& point, const fs::p
     outcome.status = "ok";
   } else if (result.signal != 0) {
     outcome.status = "crashed";
+    outcome.message = result.message;
+  } else if (result.exit_status == 128 + SIGINT || result.exit_status == 128 + SIGTERM) {
+    // stopped by Ctrl-C or SIGTERM (core/interrupt.hpp): run again on --resume
+    outcome.status = "interrupted";
     outcome.message = result.message;
   } else if (result.exit_status == 1 && outcome.has_summary) {
     outcome.status = "failed";
@@ -155,7 +161,8 @@ PoolStats run_pool(const SweepPlan& plan, const std::vector<std::size_t>& runs, 
     const fs::path dir = point_dir(out_dir, point);
     if (resume) {
       const std::optional<PointOutcome> done = read_outcome(dir, {}, nullptr);
-      if (done && done->status != "crashed" && read_text(dir / "scenario.yaml") == point.scenario_text) {
+      if (done && done->status != "crashed" && done->status != "interrupted" &&
+          read_text(dir / "scenario.yaml") == point.scenario_text) {
         ++stats.resumed;
         stats.not_ok += done->status == "ok" ? 0 : 1;
         continue;
@@ -180,7 +187,7 @@ PoolStats run_pool(const SweepPlan& plan, const std::vector<std::size_t>& runs, 
   // each worker takes the next point, runs it as a child process and reports the outcome
   const auto worker = [&]() {
     for (;;) {
-      if (stop) return;
+      if (stop || stop_requested()) return;
       const std::size_t k = next++;
       if (k >= todo.size()) return;
       const SweepPoint& point = plan.points[todo[k]];
@@ -230,7 +237,7 @@ PoolStats run_pool(const SweepPlan& plan, const std::vector<std::size_t>& runs, 
   for (int w = 0; w < workers && !todo.empty(); ++w) threads.emplace_back(worker);
   {
     std::unique_lock<std::mutex> lock(mutex);
-    while (finished < todo.size() && !stop) {
+    while (finished < todo.size() && !stop && !stop_requested()) {
       progress.draw(finished, stats.not_ok, running);
       changed.wait_for(lock, std::chrono::milliseconds(500));
     }
@@ -238,6 +245,8 @@ PoolStats run_pool(const SweepPlan& plan, const std::vector<std::size_t>& runs, 
   }
   for (std::thread& t : threads) t.join();
   progress.finish();
+  // a stop request: no new point was started, the running ones ended
+  throw_if_stop_requested();
   if (failure) std::rethrow_exception(failure);
   if (names_error) throw *names_error;
   stats.ran = finished;
@@ -262,6 +271,7 @@ int run_point_folder(const fs::path& dir) {
   request.progress = [](const std::string& line) { std::cout << line << '\n'; };
   const RunResult result = run_scenario(scenario, request);
   std::cout.flush();
+  if (result.interrupted_by != 0) throw Interrupted{result.interrupted_by};
   return result.all_ok ? 0 : 1;
 }
 

@@ -338,6 +338,7 @@ void read_simulation(const Reader& r, const Field& root, Scenario& sc) {
   s.jerk_lowpass = r.number(r.value(sim, "jerk_lowpass_hz"));
   const Field time = r.value(sim, "settle_time_s");
   s.settle_time = r.number(time);
+  s.settle_time_where = r.where(time);
   // the settle window must fit into the simulated time after the reference
   if (s.settle_time < s.settle_window) {
     const Field window = r.child(sim, "settle_window_s");
@@ -351,7 +352,9 @@ void read_simulation(const Reader& r, const Field& root, Scenario& sc) {
 void read_video(const Reader& r, const Field& root, Scenario& sc) {
   const Field video = r.child(root, "video");
   if (video.node.defined()) r.check_keys(video);
-  sc.video.fps = r.number(r.value(video, "fps"));
+  const Field fps = r.value(video, "fps");
+  sc.video.fps = r.number(fps);
+  sc.video.fps_where = r.where(fps);
   for (auto [key, target] : {std::pair{"width", &sc.video.width}, std::pair{"height", &sc.video.height}}) {
     const Field f = r.value(video, key);
     *target = r.integer(f);

@@ -65,6 +65,8 @@ class SweepReader {
   void check_keys(const YAML::Node& node, const std::string& field, const std::vector<std::string>& allowed) const {
     if (!node.IsMap()) fail(node, field, "expected a mapping (key: value pairs)");
     for (const auto& item : node) {
+      // a key is a name: a list or mapping as a key is refused where it stands
+      if (!item.first.IsScalar()) fail(item.first, field, "a key must be a name, not a list or mapping");
       const std::string key = item.first.as<std::string>();
       if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
       std::string list;
@@ -402,7 +404,9 @@ SweepSpec parse_sweep(const std::string& text, const std::string& file, const st
     }
   }
   for (const fs::path& candidate : candidates) {
-    if (fs::is_regular_file(candidate)) {
+    // a name the file system refuses (too long, ...) is a file that is not found, not an exception
+    std::error_code ec;
+    if (fs::is_regular_file(candidate, ec)) {
       spec.scenario = fs::absolute(candidate).lexically_normal().string();
       break;
     }

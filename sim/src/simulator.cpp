@@ -12,6 +12,7 @@
 
 #include "blendbench/core/format.hpp"
 #include "blendbench/core/input_error.hpp"
+#include "blendbench/core/interrupt.hpp"
 
 namespace blendbench {
 namespace {
@@ -613,6 +614,8 @@ Trace Simulator::run(const JointTrajectory& reference, const ServoConfig& servo,
 
   for (long step = 0; step <= last_step; ++step) {
     const double t_step = static_cast<double>(step) * h;
+    // a stop request (SIGINT/SIGTERM) unwinds from here, every 1024 physics steps
+    if (step % 1024 == 0) throw_if_stop_requested();
 
     // position and velocity stages: poses now describe the state at t_step
     mj_step1(&m, d.get());

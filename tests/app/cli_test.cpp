@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "support/csv.hpp"
+#include "support/program.hpp"
 #include "support/property.hpp"
 
 namespace {
@@ -45,32 +46,10 @@ Result run(const std::string& args) { return run_shell(std::string(BLENDBENCH_BI
 
 // Runs the program with an argument vector (no shell between) in the working directory `cwd`.
 Result run_in(const fs::path& cwd, const std::vector<std::string>& args) {
+  blendbench::test::Child child(BLENDBENCH_BINARY, args, cwd);
   Result r;
-  int fds[2];
-  if (::pipe(fds) != 0) return r;
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    ::dup2(fds[1], STDOUT_FILENO);
-    ::dup2(fds[1], STDERR_FILENO);
-    ::close(fds[0]);
-    ::close(fds[1]);
-    if (::chdir(cwd.c_str()) != 0) ::_exit(127);
-    std::vector<std::string> all = {BLENDBENCH_BINARY};
-    all.insert(all.end(), args.begin(), args.end());
-    std::vector<char*> argv;
-    for (std::string& a : all) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    ::execv(argv[0], argv.data());
-    ::_exit(127);
-  }
-  ::close(fds[1]);
-  std::array<char, 4096> buffer{};
-  ssize_t n = 0;
-  while ((n = ::read(fds[0], buffer.data(), buffer.size())) > 0) r.output.append(buffer.data(), static_cast<std::size_t>(n));
-  ::close(fds[0]);
-  int status = 0;
-  ::waitpid(pid, &status, 0);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.exit_code = child.wait();
+  r.output = child.output();
   return r;
 }
 
@@ -122,7 +101,7 @@ TEST_F(Cli, BadScenarioExitsTwoNamingFileLineAndField) {
       {"jerk: 20000", "jerky: 20000", "bad.yaml:5:47: 'defaults.jerky': unknown key"},
       {"defaults: {velocity: 200, acceleration: 2000, jerk: 20000}", "defaults: {velocity: 200, acceleration: 2000}",
        "bad.yaml:5:11: 'defaults.jerk': missing required field"},
-      {"line: [60, 60, 0]", "line: [60, 900, 0]", "bad.yaml:12:7: 'program.moves[1]'"},
+      {"origin: [400, -50, 250]", "origin: [1400, -50, 250]", "bad.yaml:11:7: 'program.moves[0]': the start point"},
       {"units: mm", "units: mm\nservo: {rate_hz: 100}", "bad.yaml:4:18: 'servo.rate_hz': must be in [125, 8000] Hz, got 100"},
       {"units: mm", "units: mm\nservo: {setpoint_rate_hz: 300}", "bad.yaml:4:27: 'servo.setpoint_rate_hz': the servo rate (2000 Hz) must be a whole multiple"},
       {"units: mm", "units: mm\nservo: {controller: pid}", "bad.yaml:4:21: 'servo.controller': unknown value 'pid' (did you mean 'pd'?)"},
@@ -315,6 +294,25 @@ TEST_F(Cli, PlanAndPathOfAGcodeProgramKeepTheirContract) {
   const blendbench::test::Csv path = blendbench::test::read_csv(dir_ / "p.csv");
   EXPECT_EQ(path.header, "s,x,y,z,tx,ty,tz,kappa");
   EXPECT_NEAR(path.columns.at("s").back(), summary["path_length_mm"].get<double>(), 1e-6);
+}
+
+// A corner from rest to rest: the velocity planner's span over the whole path has zero velocity
+// at both ends, which once reached plan_scurve with a zero peak velocity (an assertion in a build
+// with assertions on, as the sanitizer build of the test command is). The plan stops at both ends
+// and holds the feed between.
+TEST_F(Cli, ACornerFromRestToRestIsPlannedWithAssertionsOn) {
+  const fs::path part = dir_ / "corner.ngc";
+  std::ofstream(part) << "G21 G90 G64 P1\nG1 F600 X0 Y0\nX10\nY10\nM2\n";
+  const Result r = run("plan " + part.string() + " --amax 1000 --jmax 10000 --csv " + (dir_ / "t.csv").string() +
+                       " --summary " + (dir_ / "s.json").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const blendbench::test::Csv profile = blendbench::test::read_csv(dir_ / "t.csv");
+  const std::vector<double>& v = profile.columns.at("v");
+  ASSERT_GT(v.size(), 10u);
+  EXPECT_EQ(v.front(), 0.0);
+  EXPECT_EQ(v.back(), 0.0);
+  EXPECT_LE(*std::max_element(v.begin(), v.end()), 600.0 / 60 * (1 + 1e-9));
+  EXPECT_GT(*std::max_element(v.begin(), v.end()), 0.0);
 }
 
 // --start-distance sizes every biclothoid by where it starts; misuse is bad input, naming the flag.

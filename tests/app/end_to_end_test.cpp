@@ -7,10 +7,12 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include "blendbench/core/interrupt.hpp"
 #include "blendbench/app/runner.hpp"
 #include "blendbench/io/scenario.hpp"
 #include "support/input_error.hpp"
@@ -48,13 +50,18 @@ class EndToEnd : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
 
-  RunResult run(const std::string& text) {
-    const Scenario sc = parse_scenario(text, "e2e.yaml", test::source_path("scenarios"));
+  // A run into `dir` without video or plots.
+  static RunRequest request_into(const fs::path& dir) {
     RunRequest request;
-    request.out_dir = dir_;
+    request.out_dir = dir;
     request.video = false;
     request.plots = false;
-    return run_scenario(sc, request);
+    return request;
+  }
+
+  RunResult run(const std::string& text) {
+    const Scenario sc = parse_scenario(text, "e2e.yaml", test::source_path("scenarios"));
+    return run_scenario(sc, request_into(dir_));
   }
 
   // The scenario with one text replacement.
@@ -188,12 +195,134 @@ TEST_F(EndToEnd, RigidModelRunsAndMismatchesAreBadInput) {
   }
 }
 
-TEST_F(EndToEnd, UnreachableTargetIsBadInputNamingTheMove) {
-  // when and where: the time on the plan and the pose that is out of reach
-  const InputError e = test::expect_input_error([&] { (void)run(with("line: [100, 100, 0]", "line: [100, 900, 0]")); },
-                                                {.file = "e2e.yaml", .line = 10, .field = "program.moves[1]",
-                                                 .message = "out of reach: position ("});
-  EXPECT_NE(std::string(e.what()).find("t = "), std::string::npos) << e.what();
+// A move the robot cannot reach fails its variant, not the run: the status says where (file,
+// line, move), when (the time on the plan) and what (the pose out of reach).
+TEST_F(EndToEnd, UnreachableMoveFailsTheVariantNamingTheMove) {
+  const RunResult result = run(with("line: [100, 100, 0]", "line: [100, 900, 0]"));
+  EXPECT_FALSE(result.all_ok);
+  ASSERT_EQ(result.summary.variants.size(), 2u);
+  for (const VariantSummary& v : result.summary.variants) {
+    SCOPED_TRACE(v.name);
+    EXPECT_EQ(v.status, VariantStatus::kFailed);
+    EXPECT_EQ(v.message.rfind("e2e.yaml:10:", 0), 0u) << v.message;
+    EXPECT_NE(v.message.find("'program.moves[1]'"), std::string::npos) << v.message;
+    EXPECT_NE(v.message.find("t = "), std::string::npos) << v.message;
+    EXPECT_NE(v.message.find("out of reach: position ("), std::string::npos) << v.message;
+    EXPECT_FALSE(v.metrics);
+    EXPECT_FALSE(fs::exists(dir_ / v.name)) << "a failed variant leaves no folder";
+  }
+  std::ifstream in(dir_ / "summary.json");
+  EXPECT_EQ(nlohmann::json::parse(in)["variants"][0]["status"], "failed");
+}
+
+// Of two variants of one program (tests/data/reach.yaml), the exact stop reaches a corner
+// beyond the arm's reach while the biclothoid, 40 mm inside the corner, stays within it: the
+// first fails alone and the second runs to the end.
+TEST_F(EndToEnd, OneVariantOutOfReachFailsAloneTheOthersRun) {
+  const Scenario sc = load_scenario(test::source_path("tests/data/reach.yaml"));
+  const RunResult result = run_scenario(sc, request_into(dir_));
+  EXPECT_FALSE(result.all_ok);
+  const auto& variants = result.summary.variants;
+  ASSERT_EQ(variants.size(), 2u);
+  EXPECT_EQ(variants[0].status, VariantStatus::kFailed);
+  EXPECT_NE(variants[0].message.find("reach.yaml:12:7: 'program.moves[0]'"), std::string::npos) << variants[0].message;
+  EXPECT_EQ(variants[1].status, VariantStatus::kOk) << variants[1].message;
+  ASSERT_TRUE(variants[1].metrics);
+  EXPECT_TRUE(variants[1].metrics->cycle_time);
+  EXPECT_TRUE(fs::is_regular_file(dir_ / "biclothoid_40" / "trace.csv"));
+  EXPECT_FALSE(fs::exists(dir_ / "exact"));
+}
+
+// The start point is every variant's: out of reach, the scenario is bad input, found before any
+// variant runs or any file is written.
+TEST_F(EndToEnd, UnreachableStartIsBadInputOfTheScenario) {
+  test::expect_input_error([&] { (void)run(with("origin: [400, -50, 250]", "origin: [1400, -50, 250]")); },
+                           {.file = "e2e.yaml", .line = 9, .field = "program.moves[0]",
+                            .message = "the start point (1400.0, -50.0, 250.0) mm cannot be reached"});
+  EXPECT_FALSE(fs::exists(dir_ / "summary.json"));
+}
+
+// A stop request (what the SIGINT/SIGTERM handler records) while the second variant starts:
+// the first variant's results are kept, the second is marked interrupted and leaves no folder,
+// summary.json lists both, and the run says which signal stopped it.
+TEST_F(EndToEnd, AStopRequestKeepsFinishedVariantsAndMarksTheRest) {
+  const Scenario sc = parse_scenario(kScenario, "e2e.yaml", test::source_path("scenarios"));
+  RunRequest request = request_into(dir_);
+  request.progress = [](const std::string& line) {
+    if (line.rfind("[2/2]", 0) == 0) request_stop(SIGTERM);
+  };
+  const RunResult result = run_scenario(sc, request);
+  clear_stop_request();
+  EXPECT_EQ(result.interrupted_by, SIGTERM);
+  EXPECT_FALSE(result.all_ok);
+  const auto& variants = result.summary.variants;
+  ASSERT_EQ(variants.size(), 2u);
+  EXPECT_EQ(variants[0].status, VariantStatus::kOk);
+  EXPECT_EQ(variants[1].status, VariantStatus::kInterrupted);
+  EXPECT_TRUE(fs::is_regular_file(dir_ / "exact" / "trace.csv"));
+  EXPECT_FALSE(fs::exists(dir_ / "arc"));
+  std::ifstream in(dir_ / "summary.json");
+  EXPECT_EQ(nlohmann::json::parse(in)["variants"][1]["status"], "interrupted");
+}
+
+// The work of a run is bounded before its simulation starts (runner.hpp): the settle time's
+// samples, then the plan's in what they leave, then the video's frames, each refused at the key
+// to change, with the figures that exceed the limit; nothing is written.
+TEST_F(EndToEnd, RunWorkIsBoundedBeforeTheSimulation) {
+  const auto run_with = [&](const std::string& text, double max_samples, bool video) {
+    RunRequest request = request_into(dir_);
+    request.max_samples = max_samples;
+    request.video = video;
+    (void)run_scenario(parse_scenario(text, "e2e.yaml", test::source_path("scenarios")), request);
+  };
+  // 0.5 s of settling at 500 Hz is 250 samples
+  test::expect_input_error([&] { run_with(kScenario, 200, false); },
+                           {.file = "e2e.yaml", .line = 5, .field = "simulation.settle_time_s",
+                            .message = "the settle time alone would take 250 samples at 2 ms"});
+  // 400 samples leave 150 to a plan of about 1.1 s (550 samples)
+  test::expect_input_error([&] { run_with(kScenario, 400, false); },
+                           {.file = "e2e.yaml", .field = "velocity", .message = "limit 150 samples; raise `velocity`"});
+  EXPECT_FALSE(fs::exists(dir_ / "summary.json"));
+  if (!video_supported()) GTEST_SKIP() << "no rendering in this build: the frame bound is not reached";
+  // 200 mm at 0.5 mm/s is 400 s (2e5 samples, within the default), 48,000 frames at 120 fps
+  const std::string slow = with("velocity: 200", "velocity: 0.5");
+  const std::string text = slow.substr(0, slow.find("units: mm\n") + 10) + "video: {fps: 120}\n" +
+                           slow.substr(slow.find("units: mm\n") + 10);
+  test::expect_input_error([&] { run_with(text, kMaxRunSamples, true); },
+                           {.file = "e2e.yaml", .line = 3, .column = 14, .field = "video.fps",
+                            .message = " s at 120 fps); limit 3.6e+04 frames; lower `fps` or run with --no-video"});
+  EXPECT_FALSE(fs::exists(dir_ / "exact")) << "refused before its video was opened";
+}
+
+// A path below the floor is run (the model has no contacts) and reported: the lowest TCP height
+// and when it first went below z = 0 of the base frame.
+TEST_F(EndToEnd, APathBelowTheFloorIsReported) {
+  constexpr double kTrackingBoundMm = kTrackingBound * 1e3;
+  std::string text = with("origin: [400, -50, 250]", "origin: [400, -50, 20]");
+  text.replace(text.find("line: [100, 0, 0]"), 17, "line: [100, 0, -40]");
+  const RunResult result = run(text);
+  ASSERT_TRUE(result.all_ok);
+  for (const VariantSummary& v : result.summary.variants) {
+    SCOPED_TRACE(v.name);
+    ASSERT_TRUE(v.workspace);
+    const WorkspaceReport& w = v.workspace->report;
+    EXPECT_TRUE(w.below_floor);
+    // the exact stop's commanded path reaches z = -20 mm at the first corner, the arc blend's
+    // stays above it by the cut of its corner; the actual TCP is within the tracking bound
+    const double z_min = w.tcp_z_min * 1e3;
+    EXPECT_LT(z_min, -10.0);
+    EXPECT_GT(z_min, -20.0 - kTrackingBoundMm);
+    if (v.name == "exact") {
+      EXPECT_NEAR(z_min, -20.0, kTrackingBoundMm);
+    }
+    EXPECT_GT(w.below_floor_t, 0.0);
+    EXPECT_FALSE(w.into_base);
+  }
+  // summary.json says it in mm
+  std::ifstream in(dir_ / "summary.json");
+  const nlohmann::json w = nlohmann::json::parse(in)["variants"][0]["workspace"];
+  EXPECT_TRUE(w["below_floor"].get<bool>()) << w.dump();
+  EXPECT_NEAR(w["tcp_z_min_mm"].get<double>(), result.summary.variants[0].workspace->report.tcp_z_min * 1e3, 1e-9);
 }
 
 }  // namespace

@@ -180,6 +180,8 @@ TEST(SweepFile, ErrorsNameFileLineAndKey) {
       {"axes: {defaults.velocity: [1]}\nconstraints: [\"x = 1\"]\n", 3, "constraints[0]", "bad constraint"},
       {"axes: {defaults.velocity: [1]}\nvariants: [arc, arc]\n", 3, "variants[1]", "selected twice"},
       {"axes: {defaults.velocity: [1]}\npareto: {x: a, y: a}\n", 3, "pareto", "different"},
+      // a list as a key (found by tests/fuzz/fuzz_sweep): refused where it stands, not yaml-cpp's bad conversion
+      {"axes:\n  defaults.velocity: {from: 1, [0]: 3, steps: 2}\n", 3, "axes.defaults.velocity", "a key must be a name"},
   };
   for (const Case& c : cases) {
     const InputError e = error_of([&] { (void)parse(tiny_sweep(c.body)); });
@@ -192,6 +194,12 @@ TEST(SweepFile, ErrorsNameFileLineAndKey) {
   EXPECT_EQ(missing.field(), "scenario");
   const InputError absent = error_of([] { (void)parse("scenario: no/such.yaml\naxes: {a: [1]}\n"); });
   EXPECT_TRUE(has(absent.detail(), "file not found")) << absent.what();
+  // a name longer than the file system takes (found by tests/fuzz/fuzz_sweep: filesystem_error
+  // escaped as std::terminate) is a file that is not found
+  const std::string long_name = "scenario: " + std::string(5000, 'x') + ".yaml\naxes: {a: [1]}\n";
+  const InputError too_long = error_of([&] { (void)parse(long_name); });
+  EXPECT_EQ(too_long.field(), "scenario") << too_long.what();
+  EXPECT_TRUE(has(too_long.detail(), "file not found")) << too_long.what();
 }
 
 // The product: sizes multiply, the last axis varies fastest, every combination once.

@@ -8,19 +8,16 @@
 
 #include <cmath>
 #include <fstream>
-#include <sstream>
+
+#include "blendbench/core/input_error.hpp"
+#include "support/files.hpp"
 
 namespace blendbench {
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using test::read_file;
 
 class OutputTest : public ::testing::Test {
  protected:
@@ -38,9 +35,9 @@ class OutputTest : public ::testing::Test {
 TEST_F(OutputTest, WritesAndReplacesAtomically) {
   const fs::path file = dir_ / "sub" / "summary.json";
   write_file_atomic(file, "first");
-  EXPECT_EQ(slurp(file), "first");
+  EXPECT_EQ(read_file(file), "first");
   write_file_atomic(file, "second, longer");
-  EXPECT_EQ(slurp(file), "second, longer");
+  EXPECT_EQ(read_file(file), "second, longer");
   // no temporary file is left behind
   int entries = 0;
   for (const auto& e : fs::directory_iterator(file.parent_path())) entries += e.is_regular_file() ? 1 : 0;
@@ -59,7 +56,7 @@ TEST_F(OutputTest, FailureKeepsTheOldFileAndSaysWhere) {
     EXPECT_NE(std::string(e.what()).find(dir_.string()), std::string::npos) << e.what();
   }
   ::chmod(dir_.c_str(), 0755);
-  EXPECT_EQ(slurp(file), "old");
+  EXPECT_EQ(read_file(file), "old");
 }
 
 TEST_F(OutputTest, AWriteCutShortKeepsTheOldFileAndLeavesNoTemporary) {
@@ -81,7 +78,7 @@ TEST_F(OutputTest, AWriteCutShortKeepsTheOldFileAndLeavesNoTemporary) {
   ::setrlimit(RLIMIT_FSIZE, &saved);
   std::signal(SIGXFSZ, old_handler);
   EXPECT_NE(error.find(file.string()), std::string::npos) << "expected a failure naming the file, got '" << error << "'";
-  EXPECT_EQ(slurp(file), "old");
+  EXPECT_EQ(read_file(file), "old");
   int entries = 0;
   for (const auto& e : fs::directory_iterator(dir_)) entries += e.is_regular_file() ? 1 : 0;
   EXPECT_EQ(entries, 1) << "the temporary file must be removed";
@@ -95,6 +92,84 @@ TEST_F(OutputTest, FailsWhenTheTargetIsADirectory) {
   int entries = 0;
   for (const auto& e : fs::directory_iterator(dir_)) entries += e.is_regular_file() ? 1 : 0;
   EXPECT_EQ(entries, 0) << "the temporary file must be removed";
+}
+
+// A symbolic link, a FIFO or a device given as an output is never replaced by a regular file,
+// and a symbolic link planted at the temporary name is not followed.
+TEST_F(OutputTest, NonRegularTargetsAreRefusedAndKept) {
+  fs::create_directories(dir_);
+  const fs::path elsewhere = dir_ / "elsewhere.txt";
+  std::ofstream(elsewhere) << "keep";
+  fs::create_symlink(elsewhere, dir_ / "link.csv");
+  ASSERT_EQ(::mkfifo((dir_ / "fifo.csv").c_str(), 0644), 0);
+  for (const char* name : {"link.csv", "fifo.csv"}) {
+    SCOPED_TRACE(name);
+    try {
+      write_file_atomic(dir_ / name, "x");
+      ADD_FAILURE() << "expected a refusal";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("refusing to replace"), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_TRUE(fs::is_symlink(dir_ / "link.csv"));
+  EXPECT_EQ(fs::symlink_status(dir_ / "fifo.csv").type(), fs::file_type::fifo);
+  EXPECT_EQ(read_file(elsewhere), "keep");
+  EXPECT_THROW(write_file_atomic("/dev/null", "x"), std::runtime_error);
+
+  // a link at the temporary name (a stale one, or planted) is replaced, not written through
+  const fs::path target = dir_ / "out.csv";
+  fs::create_symlink(elsewhere, temporary_path_for(target));
+  write_file_atomic(target, "new");
+  EXPECT_EQ(read_file(target), "new");
+  EXPECT_EQ(read_file(elsewhere), "keep");
+  EXPECT_FALSE(fs::exists(fs::symlink_status(temporary_path_for(target))));
+}
+
+// Two outputs naming one file, however spelled, are refused before any work; distinct files
+// and options not given pass.
+TEST_F(OutputTest, OutputsNamingTheSameFileAreRefused) {
+  fs::create_directories(dir_ / "sub");
+  fs::create_directory_symlink(dir_ / "sub", dir_ / "alias");
+  std::ofstream(dir_ / "sub" / "a.csv") << "x";
+  ASSERT_EQ(::link((dir_ / "sub" / "a.csv").c_str(), (dir_ / "hard.csv").c_str()), 0);
+  const fs::path a = dir_ / "sub" / "a.csv";
+  const fs::path spellings[] = {dir_ / "sub" / "." / "a.csv", dir_ / "sub" / ".." / "sub" / "a.csv",
+                                dir_ / "alias" / "a.csv", dir_ / "hard.csv"};
+  for (const fs::path& other : spellings) {
+    SCOPED_TRACE(other.string());
+    try {
+      check_output_files({{"--csv", a}, {"--summary", other}});
+      ADD_FAILURE() << "expected a refusal";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.field(), "--summary");
+      EXPECT_NE(std::string(e.what()).find("names the same file as --csv"), std::string::npos) << e.what();
+    }
+  }
+  // the same for files that do not exist yet
+  EXPECT_THROW(check_output_files({{"--csv", dir_ / "new.csv"}, {"--summary", dir_ / "alias" / ".." / "new.csv"}}),
+               InputError);
+  EXPECT_NO_THROW(check_output_files({{"--csv", a}, {"--summary", dir_ / "sub" / "b.json"}, {"--report", ""}}));
+}
+
+TEST_F(OutputTest, NonRegularOutputsAreRefusedBeforeAnyWork) {
+  fs::create_directories(dir_ / "folder");
+  ASSERT_EQ(::mkfifo((dir_ / "fifo").c_str(), 0644), 0);
+  fs::create_symlink(dir_ / "nowhere", dir_ / "dangling");
+  const std::pair<fs::path, std::string> cases[] = {{dir_ / "folder", "a directory"},
+                                                    {dir_ / "fifo", "a FIFO"},
+                                                    {dir_ / "dangling", "a symbolic link"},
+                                                    {"/dev/null", "a device"}};
+  for (const auto& [path, kind] : cases) {
+    SCOPED_TRACE(path.string());
+    try {
+      check_output_files({{"--csv", path}});
+      ADD_FAILURE() << "expected a refusal";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.field(), "--csv");
+      EXPECT_NE(std::string(e.what()).find("exists and is " + kind + ", not a regular file"), std::string::npos)
+          << e.what();
+    }
+  }
 }
 
 TEST(FormatValue, TenDigitsShortestFormAndNonFinite) {

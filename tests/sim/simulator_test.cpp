@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <string>
 
@@ -265,7 +266,7 @@ TEST_F(SimulatorTest, TrackingErrorIsBoundedAndFallsAsTheGainsRise) {
   const JointTrajectory reference = cosine_reference(q0_, 0.2, std::numbers::pi, 2.0, 0.001);
   RunOptions options;
   options.settle_time = 0.5;
-  double previous = INFINITY;
+  double previous = std::numeric_limits<double>::infinity();
   for (const double scale : {0.25, 0.5, 1.0}) {
     ServoConfig servo = pd_at(sim_, q0_);
     servo.kp *= scale;
@@ -435,7 +436,7 @@ TEST_F(SimulatorTest, MalformedReferenceOrServoIsAnInputError) {
   reference.qd.pop_back();
   EXPECT_EQ(field_of(reference, servo), "reference.qd");
   reference.qd.clear();
-  reference.q[3][2] = NAN;
+  reference.q[3][2] = std::numeric_limits<double>::quiet_NaN();
   EXPECT_EQ(field_of(reference, servo), "reference.q");
   reference.q[3][2] = 0;
   ServoConfig odd = servo;

@@ -152,8 +152,10 @@ double bisect(double bad, double good, Ok ok) {
 }
 
 // Step 3: whether span sp can go from w0 to w1 under its caps: the monotone change between
-// them (cruising at the higher one) does.
+// them (cruising at the higher one) does. At rest at both ends (a span from stop to stop) it is
+// standing still, under every cap; plan_scurve needs a positive peak, so it is not asked.
 bool feasible(const Span& sp, double w0, double w1, const std::vector<Interval>& iv) {
+  if (std::max(w0, w1) <= 0) return true;
   return fits_under_caps(sp, w0, w1, std::max(w0, w1), iv);
 }
 

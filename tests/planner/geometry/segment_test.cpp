@@ -107,8 +107,10 @@ TEST(Segment, ClothoidQuadratureMatchesFresnelSeries) {
 // int_0^s (cos, sin)(theta0 + k t + c t^2 / 2) dt by composite long-double Gauss-Legendre
 // (16 points, the phase changing by at most 0.2 rad per panel): an independent reference. Nodes
 // and weights (positive half) to 25 digits, computed with mpmath.
-Eigen::Vector2d clothoid_reference(double theta0, double k, double c, double s) {
+Eigen::Vector2d clothoid_reference(double theta0_in, double k_in, double c_in, double s_in) {
   using Long = long double;
+  const Long theta0 = static_cast<Long>(theta0_in), k = static_cast<Long>(k_in), c = static_cast<Long>(c_in),
+             s = static_cast<Long>(s_in);
   static const std::array<Long, 8> x = {0.0950125098376374401853193L, 0.2816035507792589132304605L,
                                         0.4580167776572273863424194L, 0.6178762444026437484466718L,
                                         0.7554044083550030338951012L, 0.8656312023878317438804679L,
@@ -119,7 +121,7 @@ Eigen::Vector2d clothoid_reference(double theta0, double k, double c, double s) 
                                         0.0622535239386478928628438L, 0.0271524594117540948517806L};
   const Long turn = std::abs(k) * s + 0.5L * std::abs(c) * s * s;
   const int panels = std::max(1, static_cast<int>(std::ceil(turn / 0.2L)));
-  const Long h = static_cast<Long>(s) / panels;
+  const Long h = s / panels;
   Long sx = 0;
   Long sy = 0;
   for (int p = 0; p < panels; ++p) {

@@ -17,14 +17,17 @@
 #include "blendbench/report/report.hpp"
 #include "blendbench/sim/metrics.hpp"
 #include "blendbench/sim/servo.hpp"
+#include "blendbench/sim/workspace.hpp"
 #include "blendbench/timing/timing.hpp"
 
 namespace blendbench {
 
 // How a variant ended. Only kOk is clean tracking data: a saturated run or one outside the
 // model's joint limits still carries its metrics, flagged; a run that did not settle has no
-// cycle time; diverged and failed plans carry no metrics.
-enum class VariantStatus { kOk, kSaturated, kLimitExceeded, kNotSettled, kDiverged, kPlanningFailed };
+// cycle time; diverged and failed plans carry no metrics. kFailed: the variant could not run to
+// the end (its path leaves the robot's reach or limits, its files cannot be written);
+// kInterrupted: a stop request (SIGINT/SIGTERM) came before it finished.
+enum class VariantStatus { kOk, kSaturated, kLimitExceeded, kNotSettled, kDiverged, kPlanningFailed, kFailed, kInterrupted };
 std::string_view to_string(VariantStatus status);
 
 // The plan of one variant.
@@ -63,6 +66,12 @@ struct ExactStopComparison {
   std::vector<std::pair<std::string, std::optional<double>>> ratios;  // key (ends in _ratio), value
 };
 
+// Where the TCP went that the model lets it go (it has no contacts): the zones and the report.
+struct WorkspaceFigures {
+  KeepOut zones;
+  WorkspaceReport report;
+};
+
 struct VariantSummary {
   std::string name;
   Method method = Method::kNone;  // the variant's transition method (or the first move's)
@@ -74,6 +83,7 @@ struct VariantSummary {
   PlanFigures plan;
   std::optional<Metrics> metrics;
   std::optional<Health> health;
+  std::optional<WorkspaceFigures> workspace;  // with the metrics
   Timings timings;
   std::optional<ExactStopComparison> comparison;
 };

@@ -56,6 +56,7 @@ struct SimulationSettings {
   double vibration_window = 0.5;         // s
   double vibration_highpass = 12;        // Hz
   double jerk_lowpass = 50;              // Hz
+  SourceRef settle_time_where;           // where settle_time_s was given (or its map), for the runner's work bound
 };
 
 // `video.camera`: where the videos' camera stands (render/camera.hpp states the framing rule and
@@ -81,6 +82,7 @@ struct VideoSettings {
   int width = 640;    // even, 64 .. 1920
   int height = 480;   // even, 64 .. 1920
   VideoCamera camera;
+  SourceRef fps_where;  // where fps was given (or its map), for the runner's work bound
 };
 
 // One variant: the transition applied to every move that does not set its own, an optional

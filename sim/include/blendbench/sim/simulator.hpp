@@ -94,7 +94,8 @@ class Simulator {
   // t = k / setpoint_rate_hz, until the end of the reference plus options.settle_time. Each
   // physics step is mj_step1, the servo tick when one falls due, mj_step2. Throws InputError
   // (field "reference.*" or "servo.*") for a malformed reference or servo; a physically
-  // unstable run is not an error but a Trace with diverged = true.
+  // unstable run is not an error but a Trace with diverged = true. Throws Interrupted
+  // (core/interrupt.hpp) within ~1024 physics steps of a stop request (SIGINT/SIGTERM).
   [[nodiscard]] Trace run(const JointTrajectory& reference, const ServoConfig& servo, const RunOptions& options) const;
 
  private:

@@ -1,0 +1,86 @@
+#pragma once
+// The output folder of a run (`blendbench run --out DIR`), handled as a whole.
+//
+// - Lock: a run holds an exclusive flock on the lock file `.<name>.lock` beside DIR (a sibling,
+//   so it outlives the swap below); a second run into DIR fails at once with InputError (field
+//   "--out", exit 2: the folder asked for is in use), naming the pid that holds it.
+// - Staging: the run writes into a fresh sibling `.<name>.staging-<pid>`. Staging folders of
+//   earlier runs that were killed (SIGKILL, power loss) are removed first: under the lock no
+//   other run can own them.
+// - Commit: the staging folder takes DIR's place in one rename (renameat2 RENAME_EXCHANGE when
+//   DIR exists; the previous run, then under the staging name, is deleted afterwards). So
+//   summary.json and the variant folders always come from one run, no folder of an earlier run
+//   survives, and a run that ends before its commit (an error, a kill) leaves the previous run
+//   intact.
+// - Without a commit (an exception, an interrupt) the destructor removes the staging folder.
+//
+// Refused with InputError (field "--out"), before anything is written: an existing DIR that is
+// not a directory (a file, a symlink, a FIFO, a device), and a directory that is neither empty
+// nor a run (no summary.json): the swap would delete what it holds.
+//
+// Also here: the program's stop-signal handlers and a registry of paths to remove on the way
+// out, used by write_file_atomic and RunFolder and emptied by main's exit paths and by
+// std::terminate.
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace blendbench {
+
+class RunFolder {
+ public:
+  // Takes the lock for `out` and creates the staging folder (and `out`'s parent when missing).
+  // Throws InputError (field "--out") as described above, std::runtime_error when the file
+  // system refuses (the system's message and the path).
+  explicit RunFolder(const std::filesystem::path& out);
+  ~RunFolder();  // removes the staging folder unless committed; releases and removes the lock
+  RunFolder(const RunFolder&) = delete;
+  RunFolder& operator=(const RunFolder&) = delete;
+
+  // Where the run writes (an empty folder, a sibling of target()).
+  [[nodiscard]] const std::filesystem::path& staging() const { return staging_; }
+  // The folder the run is for (`out` made absolute).
+  [[nodiscard]] const std::filesystem::path& target() const { return target_; }
+  // Whether target() held a run (a summary.json) when the lock was taken.
+  [[nodiscard]] bool had_previous_run() const { return had_previous_; }
+
+  // Publishes the staging folder as target(), replacing what it held as a whole (see above).
+  // Throws std::runtime_error when a rename fails (the previous run is then intact).
+  void commit() { commit_to(target_); }
+  // The same at `where`, a sibling of target() (e.g. a run interrupted while target() holds a
+  // previous one); `where` must be absent, empty or a run, else std::runtime_error.
+  void commit_to(const std::filesystem::path& where);
+
+ private:
+  // The constructor's steps once the lock is held: checks, stale staging folders, the staging folder.
+  void prepare(const std::filesystem::path& out, const std::filesystem::path& parent, const std::string& name);
+  // Removes the staging folder unless committed; releases and removes the lock; unless committed,
+  // removes the folders above the target it created when they are empty. Idempotent.
+  void release() noexcept;
+
+  std::filesystem::path target_, staging_, lock_path_;
+  std::vector<std::filesystem::path> created_;  // folders above target_ this run created, deepest first
+  int lock_fd_ = -1;
+  bool had_previous_ = false;
+  bool committed_ = false;
+  std::uint64_t staging_cleanup_ = 0, lock_cleanup_ = 0;
+};
+
+// Installs handlers for SIGINT and SIGTERM that only record the signal
+// (core/interrupt.hpp, request_stop) and are reset after the first one, so a second Ctrl-C ends
+// the program at once; and a std::terminate handler that removes the registered paths before
+// aborting. Call once, early in main.
+void install_stop_handlers();
+
+// Registers `path` (a file or a folder) to be removed by remove_registered_paths; returns a
+// handle for unregister_cleanup. Thread-safe.
+std::uint64_t register_cleanup(const std::filesystem::path& path);
+// Forgets a registration (the path was published or removed by its owner); 0 is ignored.
+void unregister_cleanup(std::uint64_t handle) noexcept;
+// Removes every registered path (recursively) and forgets them; for exit paths that skip
+// destructors. Never throws.
+void remove_registered_paths() noexcept;
+
+}  // namespace blendbench
