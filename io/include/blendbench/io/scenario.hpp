@@ -22,8 +22,8 @@ struct RobotSettings {
   ArmModel model = ArmModel::kElastic;
   std::string urdf;  // absolute path of the kinematic model
   std::string mjcf;  // absolute path of the MuJoCo model (the model's file unless `mjcf` is given)
-  std::string base_link = "base_link";
-  std::string tip_link = "tcp";
+  std::string base_link;  // empty: the URDF's root link
+  std::string tip_link;   // empty: the URDF's one leaf below the base
   Eigen::Matrix3d tool_rotation = Eigen::Matrix3d::Identity();  // fixed TCP orientation, base frame
   JointVector q_seed = JointVector::Zero();  // rad, IK seed at the start
   SourceRef model_where;  // where `model` (or, when absent, `mjcf`) was given, for later errors
