@@ -328,7 +328,7 @@ TEST(Ik, PolishingAbsorbsASmallDeviationFromTheUrPattern) {
 
 void expect_not_ur(const KinematicChain& chain, const std::string& why) {
   try {
-    const IkSolver ik(chain);
+    const IkSolver ik(chain, IkMethod::kUrClosedForm);
     ADD_FAILURE() << "accepted a chain that is not UR-type: " << why;
   } catch (const InputError& error) {
     EXPECT_EQ(error.field(), "urdf") << why;
