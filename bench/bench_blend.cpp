@@ -6,14 +6,18 @@
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <vector>
 
 #include "blendbench/geometry/arc_construction.hpp"
 #include "blendbench/corner/corner.hpp"
 #include "blendbench/geometry/fresnel.hpp"
 #include "blendbench/geometry/segment.hpp"
+#include "support/random_corner.hpp"
 
 namespace blendbench {
 namespace {
@@ -161,6 +165,55 @@ void BM_ClothoidXy(benchmark::State& state) {
     s = s < 7.8e-3 ? s + 1e-7 : 7.76e-3;
   }
 }
+
+// The distribution over random corners: those of the property tests (test::random_corner,
+// seeds 1000 + i, the kind i % 4, as Biclothoid.RandomCornersAreG2AndWithinTolerance), each fit
+// timed on its own with the steady clock and its fastest of the benchmark's repetitions kept
+// (the clock's own ~20 ns included). Counters: median, p90, p99, largest (us) and the share of
+// corners over 8 us.
+void distribution(benchmark::State& state, test::CornerKind kind, Method method, CornerFit (*fit)(const CornerInput&)) {
+  constexpr int kCorners = 2000;
+  std::vector<CornerInput> corners;
+  for (int i = 0; i < kCorners * 4; ++i) {
+    if (i % 4 != static_cast<int>(kind)) continue;
+    auto rng = test::make_rng(1000 + static_cast<std::uint64_t>(i));
+    corners.push_back(test::random_corner(rng, kind, method).input);
+  }
+  std::vector<double> best(corners.size(), 1e30);
+  using Clock = std::chrono::steady_clock;
+  for (auto _ : state) {
+    for (std::size_t k = 0; k < corners.size(); ++k) {
+      const auto t0 = Clock::now();
+      CornerFit result = fit(corners[k]);
+      const auto t1 = Clock::now();
+      benchmark::DoNotOptimize(result);
+      best[k] = std::min(best[k], std::chrono::duration<double, std::micro>(t1 - t0).count());
+    }
+  }
+  std::vector<double> sorted = best;
+  std::sort(sorted.begin(), sorted.end());
+  const auto at = [&](double q) { return sorted[static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1))]; };
+  state.counters["p50_us"] = at(0.5);
+  state.counters["p90_us"] = at(0.9);
+  state.counters["p99_us"] = at(0.99);
+  state.counters["max_us"] = sorted.back();
+  state.counters["over_8us"] = static_cast<double>(std::count_if(sorted.begin(), sorted.end(), [](double t) { return t > 8; })) /
+                               static_cast<double>(sorted.size());
+}
+void BM_BiclothoidRandom(benchmark::State& s, test::CornerKind kind) {
+  distribution(s, kind, Method::kBiclothoid, fit_biclothoid_corner);
+}
+void BM_ClothoidRandom(benchmark::State& s, test::CornerKind kind) {
+  distribution(s, kind, Method::kClothoid, fit_clothoid_corner);
+}
+BENCHMARK_CAPTURE(BM_BiclothoidRandom, LineLine, test::CornerKind::kLineLine)->Iterations(5);
+BENCHMARK_CAPTURE(BM_BiclothoidRandom, LineArc, test::CornerKind::kLineArc)->Iterations(5);
+BENCHMARK_CAPTURE(BM_BiclothoidRandom, ArcLine, test::CornerKind::kArcLine)->Iterations(5);
+BENCHMARK_CAPTURE(BM_BiclothoidRandom, ArcArc, test::CornerKind::kArcArc)->Iterations(5);
+BENCHMARK_CAPTURE(BM_ClothoidRandom, LineLine, test::CornerKind::kLineLine)->Iterations(5);
+BENCHMARK_CAPTURE(BM_ClothoidRandom, LineArc, test::CornerKind::kLineArc)->Iterations(5);
+BENCHMARK_CAPTURE(BM_ClothoidRandom, ArcLine, test::CornerKind::kArcLine)->Iterations(5);
+BENCHMARK_CAPTURE(BM_ClothoidRandom, ArcArc, test::CornerKind::kArcArc)->Iterations(5);
 
 BENCHMARK(BM_BiclothoidLineLine);
 BENCHMARK(BM_BiclothoidLineArc);

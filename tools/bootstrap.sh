@@ -19,7 +19,7 @@ cd "$root"
 
 packages=(
   build-essential cmake ninja-build pkg-config
-  libeigen3-dev libmujoco-dev libosmesa6-dev liburdfdom-dev libyaml-cpp-dev
+  libeigen3-dev libmujoco-dev libosmesa6-dev liburdfdom-dev libyaml-dev libyaml-cpp-dev
   libcli11-dev nlohmann-json3-dev googletest libgtest-dev libbenchmark-dev
   ffmpeg python3 python3-matplotlib python3-numpy python3-pil python3-yaml
 )

@@ -4,12 +4,14 @@
 #include <CLI/CLI.hpp>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <optional>
 
+#include "blendbench/core/format.hpp"
 #include "blendbench/corner/blend.hpp"
 #include "blendbench/timing/timing.hpp"
 #include "blendbench/report/check.hpp"
@@ -21,6 +23,7 @@
 #include "blendbench/app/runner.hpp"
 #include "blendbench/app/sweep.hpp"
 #include "blendbench/io/scenario.hpp"
+#include "blendbench/io/scenario_keys.hpp"
 
 namespace bb = blendbench;
 
@@ -30,8 +33,28 @@ constexpr int kExitOk = 0;
 constexpr int kExitCheckFailed = 1;
 constexpr int kExitBadInput = 2;
 
+// --limits and --max-samples, shared by `run` and `plan`.
+struct TimingFlags {
+  std::string limits;  // empty: the scenario's (cartesian by default)
+  std::optional<double> max_samples;
+};
+
+std::optional<bb::LimitsMode> limits_flag(const TimingFlags& flags) {
+  if (flags.limits.empty()) return std::nullopt;
+  const auto mode = bb::limits_mode_from_string(flags.limits);
+  if (!mode) throw bb::InputError("", 0, 0, "--limits", "must be 'path' or 'cartesian', got '" + flags.limits + "'");
+  return mode;
+}
+
+std::optional<double> max_samples_flag(const TimingFlags& flags) {
+  if (flags.max_samples && !(*flags.max_samples >= 1 && std::isfinite(*flags.max_samples))) {
+    throw bb::InputError("", 0, 0, "--max-samples", "must be at least 1");
+  }
+  return flags.max_samples;
+}
+
 int cmd_run(std::string scenario_path, std::string out_dir, bool no_video, bool no_plots,
-            const std::vector<std::string>& variants) {
+            const std::vector<std::string>& variants, const TimingFlags& timing_flags) {
   const auto start = std::chrono::steady_clock::now();
   // no scenario given: the default one in the data root (data_root.hpp)
   if (scenario_path.empty()) scenario_path = bb::data_file("scenarios/default.yaml");
@@ -42,6 +65,8 @@ int cmd_run(std::string scenario_path, std::string out_dir, bool no_video, bool 
   request.video = !no_video;
   request.plots = !no_plots;
   request.variants = variants;
+  request.limits = limits_flag(timing_flags);
+  request.max_samples = max_samples_flag(timing_flags);
   request.progress = [](const std::string& line) { std::cout << line << std::endl; };
   std::cout << "blendbench: scenario '" << scenario.name << "' (" << scenario_path << ") -> " << out_dir << std::endl;
   const bb::RunResult result = bb::run_scenario(scenario, request);
@@ -81,12 +106,14 @@ struct ProgramFlags {
   double feed_mm_per_min = 0;
   double amax_mm_s2 = 0;
   double jmax_mm_s3 = 0;
+  std::optional<double> merge_mm;  // G64 Q on every move: merge collinear lines within it
 };
 
 struct LoadedProgram {
   bb::Program program;
   std::vector<std::string> ignored;
-  double dt = 1e-3;  // setpoint period for timing (s): 1 ms for G-code, the scenario's setpoint rate otherwise
+  // a scenario's (setpoint period, limits, its variant's baseline); G-code: 1 ms, cartesian
+  bb::TimingOptions timing;
 };
 
 // Defaults for G-code programs, which carry no acceleration or jerk (documented in the README).
@@ -151,10 +178,14 @@ LoadedProgram load_program(const std::string& input, const ProgramFlags& flags) 
     const bb::Variant& v = flags.variant.empty() ? scenario.variants.front() : bb::find_variant(scenario, flags.variant);
     out.program = bb::program_for(scenario, v);
     out.ignored = scenario.ignored;
-    out.dt = 1.0 / scenario.servo.setpoint_rate_hz;
+    out.timing = bb::timing_options(scenario, v);
+  }
+  if (flags.merge_mm && !(*flags.merge_mm >= 0 && std::isfinite(*flags.merge_mm))) {
+    throw bb::InputError("", 0, 0, "--merge-tolerance", "must be >= 0 (mm)");
   }
   for (bb::Move& move : out.program.moves) {
     if (transition) move.transition = *transition;
+    if (flags.merge_mm) move.transition.merge_tolerance = *flags.merge_mm * 1e-3;
     // an F word in a G-code file sets the feed; --feed overrides it as a machine override would
     if (flags.feed_mm_per_min > 0) move.limits.velocity = flags.feed_mm_per_min * 1e-3 / 60.0;
     if (flags.amax_mm_s2 > 0) move.limits.acceleration = move.limits.deceleration = flags.amax_mm_s2 * 1e-3;
@@ -168,6 +199,13 @@ int cmd_path(const std::string& input, const ProgramFlags& flags, const std::str
   if (!(ds_mm > 0)) throw bb::InputError("", 0, 0, "--ds", "the sample spacing must be positive");
   const LoadedProgram loaded = load_program(input, flags);
   const bb::Path path = bb::blend(loaded.program);
+  // the rows are counted before any is sampled: a tiny spacing is refused, not an overflow
+  if (const double rows = bb::path_sample_count(path, ds_mm * 1e-3); rows > bb::kMaxPathSamples) {
+    throw bb::InputError("", 0, 0, "--ds",
+                         "sampling the " + bb::format_number(path.length() * 1e3, 6) + " mm path every " +
+                             bb::format_number(ds_mm, 6) + " mm would write " + bb::format_number(rows, 3) +
+                             " rows; the limit is " + bb::format_number(bb::kMaxPathSamples, 3) + " (raise --ds)");
+  }
   bb::write_file_atomic(csv, bb::path_csv(path, ds_mm * 1e-3));
   if (!report.empty()) bb::write_file_atomic(report, bb::corners_json(path, loaded.program).dump(2) + "\n");
   std::cout << "path: " << bb::format_number(path.length() * 1e3, 6) << " mm, " << path.pieces().size() << " pieces, "
@@ -175,12 +213,19 @@ int cmd_path(const std::string& input, const ProgramFlags& flags, const std::str
   return kExitOk;
 }
 
-int cmd_plan(const std::string& input, const ProgramFlags& flags, const std::string& csv, const std::string& summary) {
+int cmd_plan(const std::string& input, const ProgramFlags& flags, const TimingFlags& timing_flags, const std::string& csv,
+             const std::string& summary) {
+  const std::optional<bb::LimitsMode> limits = limits_flag(timing_flags);
+  const std::optional<double> max_samples = max_samples_flag(timing_flags);
   const LoadedProgram loaded = load_program(input, flags);
   const auto start = std::chrono::steady_clock::now();
   const bb::Path path = bb::blend(loaded.program);
-  bb::TimingOptions options;
-  options.dt = loaded.dt;
+  bb::TimingOptions options = loaded.timing;
+  if (limits) {
+    options.limits = *limits;
+    if (*limits == bb::LimitsMode::kPath) options.axis_limits.reset();
+  }
+  if (max_samples) options.max_samples = *max_samples;
   const bb::Timing timing = bb::plan_timing(path, options);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!timing.outcome.ok()) {
@@ -197,6 +242,47 @@ int cmd_plan(const std::string& input, const ProgramFlags& flags, const std::str
             << csv << ", " << summary << std::endl;
   for (const std::string& line : loaded.ignored) std::cout << "  ignored: " << line << std::endl;
   return kExitOk;
+}
+
+// Checks one input without running it: loaded (a scenario, or G-code with the path/plan
+// defaults), checked by the planner and blended, every variant of a scenario, so geometric
+// refusals show. Returns what was checked; throws InputError.
+std::string validate_input(const std::string& input) {
+  const auto blend_checked = [](const bb::Program& program) {
+    bb::validate(program);
+    return bb::blend(program).corners.size();
+  };
+  if (bb::is_gcode_file(input)) {
+    const LoadedProgram loaded = load_program(input, ProgramFlags{});
+    const std::size_t corners = blend_checked(loaded.program);
+    return "G-code, " + std::to_string(loaded.program.moves.size()) + " moves, " + std::to_string(corners) +
+           " corners blended, " + std::to_string(loaded.ignored.size()) + " notes";
+  }
+  const bb::Scenario scenario = bb::load_scenario(input);
+  for (const bb::Variant& v : scenario.variants) (void)blend_checked(bb::program_for(scenario, v));
+  return "scenario '" + scenario.name + "', " + std::to_string(scenario.program.moves.size()) + " moves, " +
+         std::to_string(scenario.variants.size()) + " variants blended";
+}
+
+// `validate FILE...`: one line per file, "FILE: ok (...)" or the refusal; exit 2 if any is bad.
+int cmd_validate(const std::vector<std::string>& files, bool schema) {
+  if (schema) {
+    std::cout << bb::scenario_format_markdown();
+    return kExitOk;
+  }
+  if (files.empty()) throw bb::InputError("", 0, 0, "FILE", "name at least one file to check (or --schema)");
+  bool all_ok = true;
+  for (const std::string& file : files) {
+    try {
+      const std::string checked = validate_input(file);
+      std::cout << file << ": ok (" << checked << ")" << std::endl;
+    } catch (const bb::InputError& e) {
+      // the error names its file, except for a refusal that came from no file
+      std::cout << (e.file().empty() ? bb::printable(file) + ": " : std::string()) << e.what() << std::endl;
+      all_ok = false;
+    }
+  }
+  return all_ok ? kExitOk : kExitBadInput;
 }
 
 nlohmann::json read_json(const std::string& path, const std::string& what) {
@@ -248,6 +334,14 @@ int main(int argc, char** argv) {
   run->add_flag("--no-video", no_video, "Do not render videos");
   run->add_flag("--no-plots", no_plots, "Do not draw plots");
   run->add_option("--variant", variants, "Run only this variant (repeatable)");
+  TimingFlags timing_flags;
+  const auto add_timing_flags = [&](CLI::App* cmd) {
+    cmd->add_option("--limits", timing_flags.limits,
+                    "Limits the plan holds: cartesian (vectors on the TCP, the default) or path (tangential, as in 004)");
+    cmd->add_option("--max-samples", timing_flags.max_samples,
+                    "Refuse a plan of more servo samples than this (default 1e7)");
+  };
+  add_timing_flags(run);
 
   // shared by `path` and `plan`
   std::string input;
@@ -264,6 +358,8 @@ int main(int argc, char** argv) {
     cmd->add_option("--feed", flags.feed_mm_per_min, "Feed on every move, mm/min (G-code default 1000 until an F word)");
     cmd->add_option("--amax", flags.amax_mm_s2, "Acceleration limit, mm/s^2 (G-code default 1000)");
     cmd->add_option("--jmax", flags.jmax_mm_s3, "Jerk limit, mm/s^3 (G-code default 10000)");
+    cmd->add_option("--merge-tolerance", flags.merge_mm,
+                    "Merge runs of collinear lines within this many mm before blending (LinuxCNC's G64 Q); 0 = off");
   };
 
   std::string report;
@@ -278,7 +374,10 @@ int main(int argc, char** argv) {
   CLI::App* plan = app.add_subcommand("plan", "Write the timed profile (every servo period) and a plan summary");
   add_program_flags(plan);
   plan->add_option("--csv", csv, "Output CSV: t,s,x,y,z,v,a,j,kappa (s, mm, mm/s, mm/s^2, mm/s^3, 1/mm)")->required();
-  plan->add_option("--summary", summary, "Output JSON: cycle_time_s, path_length_mm, corners, pieces")->required();
+  plan->add_option("--summary", summary,
+                   "Output JSON: cycle_time_s, path_length_mm, limits, bound_cycle_time_s, planned_to_bound_ratio, corners, pieces")
+      ->required();
+  add_timing_flags(plan);
 
   std::string run_dir;
   std::string baseline;
@@ -287,6 +386,13 @@ int main(int argc, char** argv) {
   check->add_option("run_dir", run_dir, "Folder of a run (holds summary.json)")->required();
   check->add_option("--baseline", baseline, "Baseline JSON (default: results/baselines/<scenario>.json)");
   check->add_flag("--update", update, "Write the baseline from this run instead of checking");
+
+  std::vector<std::string> validate_files;
+  bool schema = false;
+  CLI::App* validate = app.add_subcommand(
+      "validate", "Check scenario and G-code files without running them: load, the planner's checks, blend every variant");
+  validate->add_option("files", validate_files, "Scenario YAML or G-code files");
+  validate->add_flag("--schema", schema, "Print the scenario format (every key with unit, default and range) as Markdown");
 
   std::string paper;
   std::string papers_out = "results/papers";
@@ -321,10 +427,11 @@ int main(int argc, char** argv) {
   }
 
   try {
-    if (*run) return cmd_run(scenario_path, out_dir, no_video, no_plots, variants);
+    if (*run) return cmd_run(scenario_path, out_dir, no_video, no_plots, variants, timing_flags);
     if (*path) return cmd_path(input, flags, csv, report, ds_mm);
-    if (*plan) return cmd_plan(input, flags, csv, summary);
+    if (*plan) return cmd_plan(input, flags, timing_flags, csv, summary);
     if (*check) return cmd_check(run_dir, baseline, update);
+    if (*validate) return cmd_validate(validate_files, schema);
     if (*reproduce) return bb::reproduce(paper, papers_out, !no_paper_plots, std::cout);
     if (*sweep) {
       sweep_args.plots = !sweep_no_plots;
@@ -334,7 +441,7 @@ int main(int argc, char** argv) {
     std::cerr << "blendbench: error: " << e.what() << std::endl;
     return kExitBadInput;
   } catch (const std::exception& e) {
-    std::cerr << "blendbench: failed: " << e.what() << std::endl;
+    std::cerr << "blendbench: failed: " << bb::printable(e.what()) << std::endl;
     return kExitCheckFailed;
   }
   return kExitOk;

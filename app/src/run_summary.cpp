@@ -104,12 +104,14 @@ nlohmann::json health_json(const Health& h) {
 }
 
 nlohmann::json plan_json(const PlanFigures& p) {
-  return {{"path_length_mm", p.path_length * kMm},
-          {"planned_cycle_time_s", p.planned_cycle_time},
-          {"feed_share", p.feed_share},
-          {"path_deviation_max_mm", p.path_deviation_max * kMm},
-          {"corners", corners_json(p)},
-          {"pieces", p.pieces}};
+  nlohmann::json out = {{"path_length_mm", p.path_length * kMm},
+                        {"planned_cycle_time_s", p.planned_cycle_time},
+                        {"feed_share", p.feed_share},
+                        {"path_deviation_max_mm", p.path_deviation_max * kMm},
+                        {"corners", corners_json(p)},
+                        {"pieces", p.pieces}};
+  add_plan_figures(out, p.limits, p.moves_merged, p.merge_tolerance, p.planned_cycle_time, p.bound_cycle_time);
+  return out;
 }
 
 nlohmann::json timings_json(const Timings& t) {
@@ -171,6 +173,7 @@ nlohmann::json corners_json(const PlanFigures& p) {
       c["t_start_s"] = p.corner_times[k].t_start;
       c["t_end_s"] = p.corner_times[k].t_end;
     }
+    add_corner_step(c, p.corners[k], k < p.corner_steps.size() ? p.corner_steps[k] : Timing::CornerStep{});
     corners.push_back(std::move(c));
   }
   return corners;

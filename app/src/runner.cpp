@@ -34,12 +34,6 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-TimingOptions::Baseline baseline_of(const Variant& variant) {
-  if (variant.baseline == "exact_stop") return TimingOptions::Baseline::kExactStop;
-  if (variant.baseline == "junction_slowdown") return TimingOptions::Baseline::kJunctionSlowdown;
-  return TimingOptions::Baseline::kNone;
-}
-
 // The method a variant mostly uses: its own transition, else the first move's.
 Method variant_method(const Program& program, const Variant& variant) {
   if (variant.transition) return variant.transition->method;
@@ -216,14 +210,19 @@ class VariantRun {
     out.name = variant_.name;
     out.method = variant_method(program, variant_);
     out.parameter = variant_.transition ? variant_.transition->parameter : 0.0;
-    out.baseline = baseline_of(variant_);
+    out.baseline = timing_options(sc_, variant_).baseline;
 
     // plan: blend and time
     auto start = Clock::now();
     const Path path = blend(program);
-    TimingOptions topt;
+    // the scenario's limits mode and axis limits, or the command line's; the setpoint period
+    TimingOptions topt = timing_options(sc_, variant_);
     topt.dt = 1.0 / robot_.servo.setpoint_rate_hz;
-    topt.baseline = out.baseline;
+    if (request_.limits) {
+      topt.limits = *request_.limits;
+      if (topt.limits == LimitsMode::kPath) topt.axis_limits.reset();
+    }
+    if (request_.max_samples) topt.max_samples = *request_.max_samples;
     const Timing timing = plan_timing(path, topt);
     out.timings.planning = seconds_since(start);
     PlanFigures& plan = out.plan;
@@ -234,6 +233,11 @@ class VariantRun {
     for (const CornerReport& c : path.corners) plan.path_deviation_max = std::max(plan.path_deviation_max, c.deviation);
     plan.placements = corner_placements(path, program);
     plan.pieces = pieces_json(path, timing);
+    plan.limits = timing.limits;
+    plan.bound_cycle_time = timing.bound_cycle_time;
+    plan.moves_merged = path.moves_merged;
+    plan.merge_tolerance = path.merge_tolerance;
+    plan.corner_steps = timing.corner_steps;
     if (!timing.outcome.ok()) return failed(std::move(out), VariantStatus::kPlanningFailed, "planning failed: " + timing.outcome.message);
     say("planned " + format_fixed(path.length() * kMm, 1) + " mm in " + format_fixed(timing.cycle_time, 3) + " s (" +
         format_fixed(out.timings.planning * 1e3, 1) + " ms)");

@@ -40,8 +40,6 @@ constexpr double kSamePoint = kZeroLengthMove;
 constexpr double kNoteworthyRadiusError = 1e-9;
 // Samples per turn when comparing a corrected arc with LinuxCNC's spiral.
 constexpr int kSpiralSamples = 128;
-// Most turns one G2/G3 may make (P); far beyond any real helix, it bounds the work per arc.
-constexpr int kMaxTurns = 10000;
 
 using Vec2 = Eigen::Vector2d;
 
@@ -86,15 +84,14 @@ class Reader {
     result_.start = options_.start;
     // a UTF-8 byte order mark (editors on Windows) is not part of the program
     if (text_.substr(0, 3) == "\xEF\xBB\xBF") text_.remove_prefix(3);
-    std::vector<std::string_view> lines;
-    for (std::size_t begin = 0; begin <= text_.size();) {
+    // line by line, never all lines at once (a file of empty lines would cost 16 bytes a byte)
+    int line_no = 0;
+    for (std::size_t begin = 0; begin <= text_.size(); ++line_no) {
       const std::size_t end = std::min(text_.find('\n', begin), text_.size());
-      lines.push_back(text_.substr(begin, end - begin));
-      begin = end + 1;
-    }
-    for (std::size_t k = 0; k < lines.size(); ++k) {
-      const int line_no = static_cast<int>(k) + 1;
-      const std::string_view line = lines[k];
+      const std::string_view line = text_.substr(begin, end - begin);
+      const std::size_t next = end + 1;
+      begin = next;
+      const int number = line_no + 1;
       const std::string_view stripped = strip_blanks(line);
       // tape markers: '%' alone on a line opens the program (first) or ends it
       if (stripped == "%") {
@@ -102,23 +99,23 @@ class Reader {
           opened_ = true;
           continue;
         }
-        note_rest(lines, k, "the closing % (line " + std::to_string(line_no) + ")");
+        note_rest(next, number, "the closing % (line " + std::to_string(number) + ")");
         break;
       }
       if (!stripped.empty() && stripped.front() == '/') {
-        result_.ignored.push_back("line " + std::to_string(line_no) + ": block delete '/', line skipped");
+        result_.ignored.push_back("line " + std::to_string(number) + ": block delete '/', line skipped");
         seen_code_ = true;
         continue;
       }
-      Block block = lex_block(line, line_no, file_);
+      Block block = lex_block(line, number, file_);
       if (block.words.empty()) continue;
       seen_code_ = true;
       if (block.unicode_minus) {
-        result_.ignored.push_back("line " + std::to_string(line_no) + ": Unicode minus sign (U+2212) read as '-'");
+        result_.ignored.push_back("line " + std::to_string(number) + ": Unicode minus sign (U+2212) read as '-'");
       }
       execute(block);
       if (ended_) {
-        note_rest(lines, k, end_word_ + " (line " + std::to_string(line_no) + ")");
+        note_rest(next, number, end_word_ + " (line " + std::to_string(number) + ")");
         break;
       }
     }
@@ -149,21 +146,23 @@ class Reader {
     if (!options_.start.allFinite()) throw InputError(file_, 0, 0, "start", "G-code options: start must be finite");
   }
 
-  // Notes the non-blank lines after line k that are not read.
-  void note_rest(const std::vector<std::string_view>& lines, std::size_t k, const std::string& why) {
-    std::size_t first = 0;
-    std::size_t last = 0;
-    for (std::size_t j = k + 1; j < lines.size(); ++j) {
-      if (strip_blanks(lines[j]).empty()) continue;
-      if (first == 0) first = j + 1;
-      last = j + 1;
+  // Notes the non-blank lines not read: those from text offset `begin` on, line `line` being the
+  // last one read.
+  void note_rest(std::size_t begin, int line, const std::string& why) {
+    int first = 0;
+    int last = 0;
+    for (; begin <= text_.size(); begin = std::min(text_.find('\n', begin), text_.size()) + 1) {
+      ++line;
+      const std::size_t end = std::min(text_.find('\n', begin), text_.size());
+      if (strip_blanks(text_.substr(begin, end - begin)).empty()) continue;
+      if (first == 0) first = line;
+      last = line;
     }
     if (first == 0) return;
     const std::string range = first == last ? "line " + std::to_string(first)
                                             : "lines " + std::to_string(first) + "-" + std::to_string(last);
     result_.ignored.push_back(range + " after " + why + " not read");
   }
-
 
   std::string note_of(const Word& word, int line) const { return word.text + " (line " + std::to_string(line) + ")"; }
 
@@ -281,7 +280,11 @@ class Reader {
       transition_.method = options_.tolerance_method;
       transition_.parameter = p->value * scale();
     }
-    if (q) result_.ignored.push_back(note_of(*q, line) + ": G64 naive CAM tolerance Q ignored");
+    // Q: the naive CAM tolerance, collinear lines within it merged before blending
+    if (q) {
+      if (!(q->value >= 0)) fail(line, q->column, q->text, "the G64 naive CAM tolerance Q must be >= 0");
+      transition_.merge_tolerance = q->value * scale();
+    }
   }
 
   // The motion mode (G0-G3, G80) and the move of the line, if it has one; `p_users` counts the
@@ -376,6 +379,10 @@ class Reader {
       result_.ignored.push_back(move.name + ": zero-length move dropped");
       return;
     }
+    if (result_.program.moves.size() == kMaxMoves) {
+      fail(move.where.line, move.where.column, move.name.substr(move.name.rfind(' ') + 1),
+           "more than " + std::to_string(kMaxMoves) + " moves (the limit of one program)");
+    }
     path_end_ = point(move.geometry, len);
     result_.program.moves.push_back(std::move(move));
   }
@@ -396,9 +403,10 @@ class Reader {
     // turns: P (integer >= 1), one by default
     int turns = 1;
     if (p) {
-      if (std::round(p->value) != p->value || p->value < 1 || p->value > kMaxTurns) {
+      if (std::round(p->value) != p->value || p->value < 1 || p->value > kMaxArcTurns) {
         fail(line, p->column, p->text,
-             "the number of turns P of G2/G3 must be an integer from 1 to " + std::to_string(kMaxTurns));
+             "the number of turns P of G2/G3 must be an integer from 1 to " + std::to_string(kMaxArcTurns) +
+                 " (the limit bounds the work per arc), got " + format_number(p->value));
       }
       turns = static_cast<int>(p->value);
     }

@@ -1,285 +1,105 @@
+// The YAML scenario loader (scenario.hpp): the file read into a tree with positions
+// (yaml_document.hpp), walked map by map by the reader (scenario_reader.hpp) against the
+// format's table (scenario_keys.hpp), and turned into a Scenario here.
+
 #include "blendbench/io/scenario.hpp"
 
-#include <yaml-cpp/yaml.h>
-
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <initializer_list>
 #include <numbers>
 #include <set>
-#include <sstream>
 
-#include "blendbench/geometry/arc_construction.hpp"
 #include "blendbench/core/format.hpp"
+#include "blendbench/geometry/arc_construction.hpp"
 #include "blendbench/io/data_root.hpp"
 #include "blendbench/io/program_io.hpp"
+#include "scenario_reader.hpp"
 
 namespace blendbench {
 namespace {
 
+using namespace scenario_detail;  // the reader private to the scenario loader
+
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-// A YAML node with its field path, so every error can name file, line, column and field.
-struct Field {
-  YAML::Node node;
-  std::string path;
-};
-
-class Reader {
- public:
-  Reader(std::string file, std::string base_dir) : file_(std::move(file)), base_dir_(std::move(base_dir)) {}
-
-  [[noreturn]] void fail(const Field& f, const std::string& message) const {
-    const YAML::Mark mark = f.node.IsDefined() ? f.node.Mark() : YAML::Mark::null_mark();
-    const int line = mark.line >= 0 ? mark.line + 1 : 0;
-    const int column = mark.column >= 0 ? mark.column + 1 : 0;
-    throw InputError(file_, line, column, f.path, message);
-  }
-
-  // Fails on any key of the map `f` that is not in `allowed`.
-  void check_keys(const Field& f, std::initializer_list<const char*> allowed) const {
-    if (!f.node.IsMap()) fail(f, "expected a mapping (key: value pairs)");
-    const std::set<std::string> keys(allowed.begin(), allowed.end());
-    for (const auto& item : f.node) {
-      const std::string key = item.first.as<std::string>();
-      if (keys.count(key) == 0) {
-        std::string list;
-        for (const char* k : allowed) list += std::string(list.empty() ? "" : ", ") + k;
-        fail({item.first, join(f.path, key)}, "unknown key '" + key + "' (allowed: " + list + ")");
-      }
-    }
-  }
-
-  static std::string join(const std::string& path, const std::string& key) {
-    return path.empty() ? key : path + "." + key;
-  }
-
-  // The child `key` of map `f`; undefined when absent. Looked up through a const node and
-  // copy-constructed: assigning a yaml-cpp node to one of another document merges the two
-  // documents' node sets, which made every lookup cost the size of the file (loading was
-  // quadratic in the number of moves).
-  static Field child(const Field& f, const std::string& key) {
-    if (f.node.IsMap()) {
-      const YAML::Node& map = f.node;
-      if (YAML::Node c = map[key]; c.IsDefined()) return {c, join(f.path, key)};
-    }
-    return {YAML::Node(YAML::NodeType::Undefined), join(f.path, key)};
-  }
-
-  Field require(const Field& f, const std::string& key) const {
-    Field c = child(f, key);
-    if (!c.node.IsDefined() || c.node.IsNull()) {
-      Field at = f;
-      at.path = c.path;
-      fail(at, "missing required field");
-    }
-    return c;
-  }
-
-  double number(const Field& f) const {
-    if (!f.node.IsScalar()) fail(f, "expected a number");
-    try {
-      const double value = f.node.as<double>();
-      if (!std::isfinite(value)) fail(f, "expected a finite number");
-      return value;
-    } catch (const YAML::BadConversion&) {
-      fail(f, "expected a number, got '" + f.node.Scalar() + "'");
-    }
-  }
-
-  double positive(const Field& f) const {
-    const double value = number(f);
-    if (!(value > 0)) fail(f, "must be positive, got " + f.node.Scalar());
-    return value;
-  }
-
-  double non_negative(const Field& f) const {
-    const double value = number(f);
-    if (value < 0) fail(f, "must be >= 0, got " + f.node.Scalar());
-    return value;
-  }
-
-  int integer(const Field& f) const {
-    if (!f.node.IsScalar()) fail(f, "expected an integer");
-    try {
-      return f.node.as<int>();
-    } catch (const YAML::BadConversion&) {
-      fail(f, "expected an integer, got '" + f.node.Scalar() + "'");
-    }
-  }
-
-  bool boolean(const Field& f) const {
-    if (!f.node.IsScalar()) fail(f, "expected true or false");
-    try {
-      return f.node.as<bool>();
-    } catch (const YAML::BadConversion&) {
-      fail(f, "expected true or false, got '" + f.node.Scalar() + "'");
-    }
-  }
-
-  std::string text(const Field& f) const {
-    if (!f.node.IsScalar()) fail(f, "expected a string");
-    return f.node.Scalar();
-  }
-
-  // One of the named values; the error lists them ("<what> must be 'a' or 'b', got 'c'").
-  template <class T>
-  T choice(const Field& f, const std::string& what, std::initializer_list<std::pair<const char*, T>> values) const {
-    const std::string given = text(f);
-    std::string names;
-    std::size_t k = 0;
-    for (const auto& [name, value] : values) {
-      if (given == name) return value;
-      if (k > 0) names += k + 1 == values.size() ? " or " : ", ";
-      names += std::string("'") + name + "'";
-      ++k;
-    }
-    fail(f, what + " must be " + names + ", got '" + given + "'");
-  }
-
-  template <std::size_t N>
-  std::array<double, N> numbers(const Field& f) const {
-    if (!f.node.IsSequence() || f.node.size() != N) fail(f, "expected a list of " + std::to_string(N) + " numbers");
-    std::array<double, N> out{};
-    for (std::size_t i = 0; i < N; ++i) out[i] = number({f.node[i], f.path + "[" + std::to_string(i) + "]"});
-    return out;
-  }
-
-  Vec3 vec3(const Field& f) const {
-    const auto v = numbers<3>(f);
-    return {v[0], v[1], v[2]};
-  }
-
-  SourceRef where(const Field& f) const {
-    const YAML::Mark mark = f.node.IsDefined() ? f.node.Mark() : YAML::Mark::null_mark();
-    return {file_, mark.line >= 0 ? mark.line + 1 : 0, mark.column >= 0 ? mark.column + 1 : 0};
-  }
-
-  // An existing file named relative to the scenario's directory, then to the data root
-  // (data_root.hpp: models/ and scenarios/ in the source tree or the install prefix).
-  std::string existing_file(const Field& f) const {
-    const std::string name = text(f);
-    namespace fs = std::filesystem;
-    const auto found = [](const fs::path& candidate) { return fs::is_regular_file(candidate); };
-    const auto result = [](const fs::path& candidate) { return fs::absolute(candidate).lexically_normal().string(); };
-    if (fs::path(name).is_absolute()) {
-      if (found(name)) return result(name);
-      fail(f, "file not found: " + name);
-    }
-    if (found(fs::path(base_dir_) / name)) return result(fs::path(base_dir_) / name);
-    fs::path root;
-    try {
-      root = data_root();
-    } catch (const DataRootError& e) {
-      fail(f, "file not found: " + name + " (not beside the scenario, and " + e.what() + ")");
-    }
-    if (found(root / name)) return result(root / name);
-    fail(f, "file not found: " + name);
-  }
-
-  [[nodiscard]] const std::string& file() const { return file_; }
-
- private:
-  std::string file_;
-  std::string base_dir_;
-};
-
-Eigen::Matrix3d rpy_deg(const std::array<double, 3>& rpy) {
-  // fixed-axis roll (x), pitch (y), yaw (z), as in URDF: R = Rz(yaw) Ry(pitch) Rx(roll)
-  return (Eigen::AngleAxisd(rpy[2] * kDeg, Vec3::UnitZ()) * Eigen::AngleAxisd(rpy[1] * kDeg, Vec3::UnitY()) *
-          Eigen::AngleAxisd(rpy[0] * kDeg, Vec3::UnitX()))
+Eigen::Matrix3d rpy_deg(const std::vector<double>& rpy) {
+  // fixed-axis roll (x), pitch (y), yaw (z), as in URDF: R = Rz(yaw) Ry(pitch) Rx(roll); the
+  // values are already radians (the unit deg converts like any other: by kDeg below)
+  return (Eigen::AngleAxisd(rpy[2], Vec3::UnitZ()) * Eigen::AngleAxisd(rpy[1], Vec3::UnitY()) *
+          Eigen::AngleAxisd(rpy[0], Vec3::UnitX()))
       .toRotationMatrix();
 }
 
-// Unit scale of lengths for a scenario: 1e-3 for mm, 1 for m.
-double unit_scale(const Reader& r, const Field& root) {
-  const Field f = Reader::child(root, "units");
-  if (!f.node.IsDefined()) return 1e-3;
-  const std::string units = r.text(f);
-  if (units == "mm") return 1e-3;
-  if (units == "m") return 1.0;
-  r.fail(f, "units must be 'mm' or 'm', got '" + units + "'");
+// Degrees read from the file, in radians.
+std::vector<double> radians(std::vector<double> deg) {
+  for (double& v : deg) v *= kDeg;
+  return deg;
 }
 
-Transition read_transition(const Reader& r, const Field& f, double scale) {
-  r.check_keys(f, {"method", "parameter", "start_distance", "kappa_max", "velocity"});
+Transition read_transition(const Reader& r, const Field& f) {
+  r.check_keys(f);
   Transition t;
   const Field method = r.require(f, "method");
-  const auto m = method_from_string(r.text(method));
-  if (!m) r.fail(method, "unknown method '" + r.text(method) + "' (none, arc, bezier, clothoid, biclothoid)");
-  t.method = *m;
-  const Field parameter = Reader::child(f, "parameter");
-  const Field start = Reader::child(f, "start_distance");
-  if (start.node.IsDefined()) {
+  t.method = *method_from_string(r.choice(method));
+  const Field parameter = r.child(f, "parameter");
+  const Field start = r.child(f, "start_distance");
+  if (start.node.defined()) {
     if (t.method != Method::kBiclothoid) {
-      r.fail(start, "a start distance sizes only a biclothoid transition, not " + r.text(method));
+      r.fail(start, "a start distance sizes only a biclothoid transition, not " + r.choice(method));
     }
-    if (parameter.node.IsDefined()) {
+    if (parameter.node.defined()) {
       r.fail(start, "give the biclothoid either a maximum deviation (parameter) or a start distance, not both");
     }
-    t.start_distance = r.non_negative(start) * scale;
-    if (!(t.start_distance > 0)) r.fail(start, "the start distance must be positive");
-  } else if (parameter.node.IsDefined()) {
-    t.parameter = r.non_negative(parameter) * scale;
+    t.start_distance = r.number(start);
+  } else if (parameter.node.defined()) {
+    t.parameter = r.number(parameter);
   } else if (t.method != Method::kNone) {
-    r.fail(r.require(f, "parameter"), "missing required field");
+    (void)r.require(f, "parameter");
   }
-  if (const Field k = Reader::child(f, "kappa_max"); k.node.IsDefined()) t.kappa_max = r.non_negative(k) / scale;
-  if (const Field v = Reader::child(f, "velocity"); v.node.IsDefined()) t.velocity = r.non_negative(v) * scale;
+  t.kappa_max = r.number(r.value(f, "kappa_max"));
+  t.velocity = r.number(r.value(f, "velocity"));
+  t.merge_tolerance = r.number(r.value(f, "merge_tolerance"));
+  t.curvature_steps = *curvature_steps_from_string(r.choice(r.value(f, "curvature_steps")));
   return t;
 }
 
-BufferMode read_buffer(const Reader& r, const Field& f) {
-  const auto mode = buffer_mode_from_string(r.text(f));
-  if (!mode) {
-    r.fail(f, "unknown buffer mode '" + r.text(f) +
-                  "' (Aborting, Buffered, BlendingLow, BlendingPrevious, BlendingNext, BlendingHigh)");
-  }
-  return *mode;
-}
+BufferMode read_buffer(const Reader& r, const Field& f) { return *buffer_mode_from_string(r.choice(f)); }
 
-// Reads one arc specification; positions are in the program frame, scaled to metres.
-Arc read_arc(const Reader& r, const Field& f, const Vec3& start, double scale) {
-  r.check_keys(f, {"end", "center", "radius", "via", "direction", "normal", "turns"});
-  const Vec3 end = r.vec3(r.require(f, "end")) * scale;
-  const Field via = Reader::child(f, "via");
-  const Field center = Reader::child(f, "center");
-  const Field radius = Reader::child(f, "radius");
-  const int given = static_cast<int>(via.node.IsDefined()) + static_cast<int>(center.node.IsDefined()) +
-                    static_cast<int>(radius.node.IsDefined());
+// Reads one arc specification; positions are in the program frame, in metres.
+Arc read_arc(const Reader& r, const Field& f, const Vec3& start) {
+  r.check_keys(f);
+  const Vec3 end = r.vec3(r.require(f, "end"));
+  const Field via = r.child(f, "via");
+  const Field center = r.child(f, "center");
+  const Field radius = r.child(f, "radius");
+  const int given = static_cast<int>(via.node.defined()) + static_cast<int>(center.node.defined()) +
+                    static_cast<int>(radius.node.defined());
   if (given != 1) r.fail(f, "an arc needs exactly one of 'center', 'radius' or 'via'");
 
   ArcBuild built;
-  if (via.node.IsDefined()) {
+  if (via.node.defined()) {
     for (const char* key : {"direction", "normal", "turns"}) {
-      if (Reader::child(f, key).node.IsDefined()) r.fail(Reader::child(f, key), "not used with 'via' (the via point fixes the arc)");
+      if (const Field k = r.child(f, key); k.node.defined()) r.fail(k, "not used with 'via' (the via point fixes the arc)");
     }
-    built = arc_through(start, r.vec3(via) * scale, end);
+    built = arc_through(start, r.vec3(via), end);
     if (!built.outcome.ok()) r.fail(via, built.outcome.message);
     return built.arc;
   }
-  const Field direction = r.require(f, "direction");
-  const std::string dir = r.text(direction);
-  if (dir != "cw" && dir != "ccw") r.fail(direction, "direction must be 'cw' or 'ccw', got '" + dir + "'");
-  const bool ccw = dir == "ccw";
-  Vec3 normal = Vec3::UnitZ();
-  if (const Field n = Reader::child(f, "normal"); n.node.IsDefined()) {
-    normal = r.vec3(n);
-    if (!(normal.norm() > 0)) r.fail(n, "the normal must not be zero");
-  }
-  int turns = 0;
-  if (const Field t = Reader::child(f, "turns"); t.node.IsDefined()) {
-    turns = r.integer(t);
-    if (turns < 0) r.fail(t, "turns must be >= 0");
-  }
-  if (center.node.IsDefined()) {
-    // a tolerance of a micrometre (scaled) on the radii, like a CNC control's arc check
-    built = arc_from_center(start, end, r.vec3(center) * scale, normal, ccw, turns, 1e-6);
+  const bool ccw = r.choice(r.require(f, "direction")) == "ccw";
+  const Field n = r.value(f, "normal");
+  const Vec3 normal = r.vec3(n);
+  if (!(normal.norm() > 0)) r.fail(n, "the normal must not be zero");
+  const Field turns_field = r.value(f, "turns");
+  const int turns = r.integer(turns_field);
+  if (center.node.defined()) {
+    // a tolerance of a micrometre on the radii, like a CNC control's arc check
+    built = arc_from_center(start, end, r.vec3(center), normal, ccw, turns, 1e-6);
     if (!built.outcome.ok()) r.fail(center, built.outcome.message);
   } else {
-    if (turns != 0) r.fail(Reader::child(f, "turns"), "'turns' needs a 'center'");
-    built = arc_from_radius(start, end, r.number(radius) * scale, normal, ccw, 1e-9);
+    if (turns != 0) r.fail(turns_field, "'turns' needs a 'center'");
+    built = arc_from_radius(start, end, r.number(radius), normal, ccw, 1e-9);
     if (!built.outcome.ok()) r.fail(radius, built.outcome.message);
   }
   return built.arc;
@@ -300,31 +120,32 @@ struct MoveDefaults {
   BufferMode buffer = BufferMode::kBlendingLow;
 };
 
-MoveDefaults read_defaults(const Reader& r, const Field& root, double scale) {
+MoveDefaults read_defaults(const Reader& r, const Field& root) {
   const Field defaults = r.require(root, "defaults");
-  r.check_keys(defaults, {"velocity", "acceleration", "deceleration", "jerk", "buffer"});
+  r.check_keys(defaults);
   MoveDefaults d;
-  d.limits.velocity = r.positive(r.require(defaults, "velocity")) * scale;
-  d.limits.acceleration = r.positive(r.require(defaults, "acceleration")) * scale;
-  const Field dec = Reader::child(defaults, "deceleration");
-  d.limits.deceleration = dec.node.IsDefined() ? r.positive(dec) * scale : d.limits.acceleration;
-  d.limits.jerk = r.positive(r.require(defaults, "jerk")) * scale;
-  if (const Field b = Reader::child(defaults, "buffer"); b.node.IsDefined()) d.buffer = read_buffer(r, b);
+  d.limits.velocity = r.number(r.require(defaults, "velocity"));
+  d.limits.acceleration = r.number(r.require(defaults, "acceleration"));
+  const Field dec = r.child(defaults, "deceleration");
+  d.limits.deceleration = dec.node.defined() ? r.number(dec) : d.limits.acceleration;
+  d.limits.jerk = r.number(r.require(defaults, "jerk"));
+  d.buffer = read_buffer(r, r.value(defaults, "buffer"));
   return d;
 }
 
 // A program given as a G-code file: read in its own units (G20/G21), placed by the frame.
 // Variants replace the transitions of all its moves (the file's G61/G64 apply when a variant
 // sets no transition).
-void read_gcode_program(const Reader& r, const Field& gcode, const Field& start, double scale,
-                        const MoveDefaults& defaults, Scenario& sc) {
+void read_gcode_program(const Reader& r, const Field& gcode, const Field& start, const MoveDefaults& defaults,
+                        Scenario& sc) {
   GcodeOptions options;
   options.limits = defaults.limits;
   options.buffer = defaults.buffer;
-  if (start.node.IsDefined()) options.start = r.vec3(start) * scale;
+  options.start = r.vec3(start);
   const GcodeResult parsed = load_gcode_file(r.existing_file(gcode), options);
   sc.start = sc.frame * parsed.start;
   sc.ignored = parsed.ignored;
+  sc.program.moves.reserve(parsed.program.moves.size());
   for (Move move : parsed.program.moves) {
     if (Line* line = std::get_if<Line>(&move.geometry)) {
       line->p0 = sc.frame * line->p0;
@@ -333,221 +154,210 @@ void read_gcode_program(const Reader& r, const Field& gcode, const Field& start,
       move.geometry = transformed(std::get<Arc>(move.geometry), sc.frame);
     }
     sc.program.moves.push_back(std::move(move));
-    sc.explicit_transition.push_back(false);
-    sc.explicit_buffer.push_back(false);
   }
+  sc.explicit_transition.assign(sc.program.moves.size(), false);
+  sc.explicit_buffer.assign(sc.program.moves.size(), false);
 }
 
-void read_program(const Reader& r, const Field& root, double scale, Scenario& sc) {
+// One move of the list: its geometry from `current` (program frame, m), its limits and modes.
+Move read_move(const Reader& r, const Field& m, std::size_t i, const MoveDefaults& defaults, Vec3& current, Scenario& sc) {
+  r.check_keys(m);
+  const Field line = r.child(m, "line");
+  const Field arc = r.child(m, "arc");
+  if (line.node.defined() == arc.node.defined()) r.fail(m, "a move needs exactly one of 'line' or 'arc'");
+  Move move;
+  move.where = r.where(m);
+  move.name = "move " + std::to_string(i + 1) + " (line " + std::to_string(move.where.line) + ")";
+  if (line.node.defined()) {
+    const Vec3 end = r.vec3(line);
+    if ((end - current).norm() <= 1e-12) r.fail(line, "zero-length move: the end point equals the start point");
+    move.geometry = Line{sc.frame * current, sc.frame * end};
+    current = end;
+  } else {
+    const Arc a = read_arc(r, arc, current);
+    move.geometry = transformed(a, sc.frame);
+    current = point(Segment(a), length(a));
+  }
+  move.limits = defaults.limits;
+  const std::array<std::pair<const char*, double*>, 4> limits = {{{"velocity", &move.limits.velocity},
+                                                                  {"acceleration", &move.limits.acceleration},
+                                                                  {"deceleration", &move.limits.deceleration},
+                                                                  {"jerk", &move.limits.jerk}}};
+  for (const auto& [key, target] : limits) {
+    if (const Field v = r.child(m, key); v.node.defined()) *target = r.number(v);
+  }
+  move.buffer = defaults.buffer;
+  if (const Field b = r.child(m, "buffer"); b.node.defined()) move.buffer = read_buffer(r, b);
+  if (const Field t = r.child(m, "transition"); t.node.defined()) move.transition = read_transition(r, t);
+  return move;
+}
+
+void read_program(const Reader& r, const Field& root, Scenario& sc) {
   const Field program = r.require(root, "program");
-  r.check_keys(program, {"start", "moves", "gcode"});
-  const Field moves = Reader::child(program, "moves");
-  const Field gcode = Reader::child(program, "gcode");
-  const MoveDefaults defaults = read_defaults(r, root, scale);
-  const Limits& base = defaults.limits;
-  const BufferMode base_buffer = defaults.buffer;
-  if (gcode.node.IsDefined()) {
-    if (moves.node.IsDefined()) r.fail(moves, "give either 'moves' or 'gcode', not both");
-    read_gcode_program(r, gcode, Reader::child(program, "start"), scale, defaults, sc);
+  r.check_keys(program);
+  const Field moves = r.child(program, "moves");
+  const Field gcode = r.child(program, "gcode");
+  const MoveDefaults defaults = read_defaults(r, root);
+  const Field start = r.value(program, "start");
+  if (gcode.node.defined()) {
+    if (moves.node.defined()) r.fail(moves, "give either 'moves' or 'gcode', not both");
+    read_gcode_program(r, gcode, start, defaults, sc);
     return;
   }
-  if (!moves.node.IsDefined()) r.fail(r.require(program, "moves"), "missing required field");
-  if (!moves.node.IsSequence() || moves.node.size() == 0) r.fail(moves, "expected a non-empty list of moves");
+  if (!moves.node.defined()) (void)r.require(program, "moves");
+  if (!moves.node.is_sequence() || moves.node.size() == 0) {
+    r.fail(moves, "expected a non-empty list of moves, got " + what_is(moves.node));
+  }
+  if (moves.node.size() > kMaxMoves) {
+    r.fail(r.item(moves, kMaxMoves), "more than " + std::to_string(kMaxMoves) + " moves (the limit of one program)");
+  }
 
-  Vec3 current = Vec3::Zero();
-  if (const Field s = Reader::child(program, "start"); s.node.IsDefined()) current = r.vec3(s) * scale;
+  Vec3 current = r.vec3(start);
   sc.start = sc.frame * current;
-
-  for (std::size_t i = 0; i < moves.node.size(); ++i) {
-    const Field m{moves.node[i], moves.path + "[" + std::to_string(i) + "]"};
-    r.check_keys(m, {"line", "arc", "velocity", "acceleration", "deceleration", "jerk", "buffer", "transition"});
-    const Field line = Reader::child(m, "line");
-    const Field arc = Reader::child(m, "arc");
-    if (line.node.IsDefined() == arc.node.IsDefined()) r.fail(m, "a move needs exactly one of 'line' or 'arc'");
-    Move move;
-    move.where = r.where(m);
-    move.name = "move " + std::to_string(i + 1) + " (line " + std::to_string(move.where.line) + ")";
-    if (line.node.IsDefined()) {
-      const Vec3 end = r.vec3(line) * scale;
-      if ((end - current).norm() <= 1e-12) r.fail(line, "zero-length move: the end point equals the start point");
-      move.geometry = Line{sc.frame * current, sc.frame * end};
-      current = end;
-    } else {
-      const Arc a = read_arc(r, arc, current, scale);
-      move.geometry = transformed(a, sc.frame);
-      current = point(Segment(a), length(a));
-    }
-    move.limits = base;
-    if (const Field v = Reader::child(m, "velocity"); v.node.IsDefined()) move.limits.velocity = r.positive(v) * scale;
-    if (const Field a = Reader::child(m, "acceleration"); a.node.IsDefined()) {
-      move.limits.acceleration = r.positive(a) * scale;
-    }
-    if (const Field d = Reader::child(m, "deceleration"); d.node.IsDefined()) {
-      move.limits.deceleration = r.positive(d) * scale;
-    }
-    if (const Field j = Reader::child(m, "jerk"); j.node.IsDefined()) move.limits.jerk = r.positive(j) * scale;
-    move.buffer = base_buffer;
-    const Field b = Reader::child(m, "buffer");
-    if (b.node.IsDefined()) move.buffer = read_buffer(r, b);
-    const Field t = Reader::child(m, "transition");
-    if (t.node.IsDefined()) move.transition = read_transition(r, t, scale);
-    sc.explicit_transition.push_back(t.node.IsDefined());
-    sc.explicit_buffer.push_back(b.node.IsDefined());
-    sc.program.moves.push_back(std::move(move));
-  }
-}
-
-void read_robot_fields(const Reader& r, const Field& root, Scenario& sc) {
-  const Field robot = Reader::child(root, "robot");
-  // default: tool pointing down (TCP z along -Z of the base)
-  sc.robot.tool_rotation = rpy_deg({180, 0, 0});
-  // the ready configuration of the model (keyframe "ready"): elbow up, tool down, facing +x
-  sc.robot.q_seed << 180 * kDeg, -90 * kDeg, 90 * kDeg, -90 * kDeg, -90 * kDeg, 0;
-  if (!robot.node.IsDefined()) return;
-  r.check_keys(robot, {"model", "urdf", "mjcf", "base_link", "tip_link", "tool_rpy_deg", "q_seed_deg"});
-  if (const Field f = Reader::child(robot, "model"); f.node.IsDefined()) {
-    sc.robot.model = r.choice<ArmModel>(f, "model", {{"rigid", ArmModel::kRigid}, {"elastic", ArmModel::kElastic}});
-    sc.robot.model_where = r.where(f);
-  }
-  if (const Field f = Reader::child(robot, "urdf"); f.node.IsDefined()) sc.robot.urdf = r.existing_file(f);
-  if (const Field f = Reader::child(robot, "mjcf"); f.node.IsDefined()) {
-    sc.robot.mjcf = r.existing_file(f);
-    if (!Reader::child(robot, "model").node.IsDefined()) sc.robot.model_where = r.where(f);
-  }
-  if (const Field f = Reader::child(robot, "base_link"); f.node.IsDefined()) sc.robot.base_link = r.text(f);
-  if (const Field f = Reader::child(robot, "tip_link"); f.node.IsDefined()) sc.robot.tip_link = r.text(f);
-  if (const Field f = Reader::child(robot, "tool_rpy_deg"); f.node.IsDefined()) {
-    sc.robot.tool_rotation = rpy_deg(r.numbers<3>(f));
-  }
-  if (const Field f = Reader::child(robot, "q_seed_deg"); f.node.IsDefined()) {
-    const auto q = r.numbers<6>(f);
-    for (int i = 0; i < 6; ++i) sc.robot.q_seed[i] = q[static_cast<std::size_t>(i)] * kDeg;
+  const std::size_t count = moves.node.size();
+  sc.program.moves.reserve(count);
+  sc.explicit_transition.reserve(count);
+  sc.explicit_buffer.reserve(count);
+  for (std::size_t i = 0; i < count; ++i) {
+    const Field m = r.item(moves, i);
+    sc.program.moves.push_back(read_move(r, m, i, defaults, current, sc));
+    sc.explicit_transition.push_back(r.child(m, "transition").node.defined());
+    sc.explicit_buffer.push_back(r.child(m, "buffer").node.defined());
   }
 }
 
 void read_robot(const Reader& r, const Field& root, Scenario& sc) {
-  read_robot_fields(r, root, sc);
-  // the shipped arm in the data root (data_root.hpp) unless the scenario names its own model
-  if (sc.robot.urdf.empty()) sc.robot.urdf = data_file("models/ur5e_like.urdf");
-  if (sc.robot.mjcf.empty()) sc.robot.mjcf = data_file(model_file(sc.robot.model));
+  const Field robot = r.child(root, "robot");
+  if (robot.node.defined()) r.check_keys(robot);
+  // the shipped arm in the data root (data_root.hpp) unless the scenario names its own model;
+  // the dynamics of the chosen `model` unless it names its own MJCF
+  const Field model = r.value(robot, "model");
+  sc.robot.model = r.choice(model) == "rigid" ? ArmModel::kRigid : ArmModel::kElastic;
+  const Field mjcf = r.child(robot, "mjcf");
+  sc.robot.mjcf = mjcf.node.defined() ? r.existing_file(mjcf) : data_file(model_file(sc.robot.model));
+  // where the model was chosen, for later errors: `model`, else `mjcf`, else nowhere
+  if (const Field given = r.child(robot, "model"); given.node.defined()) {
+    sc.robot.model_where = r.where(given);
+  } else if (mjcf.node.defined()) {
+    sc.robot.model_where = r.where(mjcf);
+  }
+  sc.robot.urdf = r.existing_file(r.value(robot, "urdf"));
+  sc.robot.base_link = r.text(r.value(robot, "base_link"));
+  sc.robot.tip_link = r.text(r.value(robot, "tip_link"));
+  sc.robot.tool_rotation = rpy_deg(radians(r.numbers(r.value(robot, "tool_rpy_deg"))));
+  const std::vector<double> q = radians(r.numbers(r.value(robot, "q_seed_deg")));
+  for (int i = 0; i < 6; ++i) sc.robot.q_seed[i] = q[static_cast<std::size_t>(i)];
 }
 
-// The servo rates the simulator accepts (Hz).
-constexpr double kMinServoRate = 125;
-constexpr double kMaxServoRate = 8000;
+// Whether `a` is a whole multiple of `b` (both > 0), to 1e-9 of the ratio.
+bool whole_multiple(double a, double b) {
+  const double ratio = a / b;
+  return std::abs(ratio - std::round(ratio)) <= 1e-9 * ratio;
+}
 
-void read_servo(const Reader& r, const Field& servo, Scenario& sc) {
-  r.check_keys(servo, {"controller", "rate_hz", "setpoint_rate_hz", "measurement_delay_ticks", "encoder_counts_per_turn",
-                       "velocity_feedforward", "acceleration_feedforward", "gravity_compensation",
-                       "deflection_compensation"});
-  if (const Field f = Reader::child(servo, "controller"); f.node.IsDefined()) {
-    sc.servo.controller =
-        r.choice<ServoController>(f, "controller", {{"cascade", ServoController::kCascade}, {"pd", ServoController::kPd}});
-  }
-  if (const Field f = Reader::child(servo, "rate_hz"); f.node.IsDefined()) {
-    sc.servo.rate_hz = r.positive(f);
-    sc.servo.rate_where = r.where(f);
-    if (sc.servo.rate_hz < kMinServoRate || sc.servo.rate_hz > kMaxServoRate) {
-      r.fail(f, "the servo rate must be between 125 and 8000 Hz, got " + f.node.Scalar());
+void read_servo(const Reader& r, const Field& root, Scenario& sc) {
+  const Field servo = r.child(root, "servo");
+  if (servo.node.defined()) r.check_keys(servo);
+  ServoSettings& s = sc.servo;
+  s.controller = r.choice(r.value(servo, "controller")) == "pd" ? ServoController::kPd : ServoController::kCascade;
+  const Field rate = r.value(servo, "rate_hz");
+  s.rate_hz = r.number(rate);
+  if (r.child(servo, "rate_hz").node.defined()) s.rate_where = r.where(rate);
+  if (const Field f = r.child(servo, "setpoint_rate_hz"); f.node.defined()) {
+    s.setpoint_rate_hz = r.number(f);
+    if (s.setpoint_rate_hz > s.rate_hz) {
+      r.fail(f, "the setpoint rate must be at most the servo rate (" + format_value(s.rate_hz) + " Hz), got " + f.node.scalar());
     }
-  }
-  if (const Field f = Reader::child(servo, "setpoint_rate_hz"); f.node.IsDefined()) {
-    sc.servo.setpoint_rate_hz = r.positive(f);
-    if (sc.servo.setpoint_rate_hz < kMinServoRate || sc.servo.setpoint_rate_hz > sc.servo.rate_hz) {
-      r.fail(f, "the setpoint rate must be between 125 Hz and the servo rate (" + format_value(sc.servo.rate_hz) +
-                    " Hz), got " + f.node.Scalar());
+    if (!whole_multiple(s.rate_hz, s.setpoint_rate_hz)) {
+      r.fail(f, "the servo rate (" + format_value(s.rate_hz) + " Hz) must be a whole multiple of the setpoint rate");
     }
-    const double ratio = sc.servo.rate_hz / sc.servo.setpoint_rate_hz;
-    if (std::abs(ratio - std::round(ratio)) > 1e-9 * ratio) {
-      r.fail(f, "the servo rate (" + format_value(sc.servo.rate_hz) + " Hz) must be a whole multiple of the setpoint rate");
-    }
-  } else if (sc.servo.rate_hz < sc.servo.setpoint_rate_hz ||
-             std::abs(sc.servo.rate_hz / sc.servo.setpoint_rate_hz - std::round(sc.servo.rate_hz / sc.servo.setpoint_rate_hz)) > 1e-9) {
+  } else if (s.rate_hz < s.setpoint_rate_hz || !whole_multiple(s.rate_hz, s.setpoint_rate_hz)) {
     // a servo rate given alone runs the setpoints at its own rate when it cannot take 500 Hz
-    sc.servo.setpoint_rate_hz = sc.servo.rate_hz;
+    s.setpoint_rate_hz = s.rate_hz;
   }
-  if (const Field f = Reader::child(servo, "measurement_delay_ticks"); f.node.IsDefined()) {
-    sc.servo.measurement_delay_ticks = r.integer(f);
-    if (sc.servo.measurement_delay_ticks < 0 || sc.servo.measurement_delay_ticks > 100) {
-      r.fail(f, "the measurement delay must be between 0 and 100 servo ticks, got " + f.node.Scalar());
-    }
+  s.measurement_delay_ticks = r.integer(r.value(servo, "measurement_delay_ticks"));
+  const Field counts = r.value(servo, "encoder_counts_per_turn");
+  s.encoder_counts_per_turn = r.number(counts);
+  if (s.encoder_counts_per_turn != std::round(s.encoder_counts_per_turn)) {
+    r.fail(counts, "counts per turn must be a whole number (0: an exact encoder), got " + counts.node.scalar());
   }
-  if (const Field f = Reader::child(servo, "encoder_counts_per_turn"); f.node.IsDefined()) {
-    sc.servo.encoder_counts_per_turn = r.non_negative(f);
-    if (sc.servo.encoder_counts_per_turn != std::round(sc.servo.encoder_counts_per_turn)) {
-      r.fail(f, "counts per turn must be a whole number (0: an exact encoder)");
-    }
-  }
-  for (auto [key, target] : {std::pair{"velocity_feedforward", &sc.servo.velocity_feedforward},
-                             std::pair{"acceleration_feedforward", &sc.servo.acceleration_feedforward},
-                             std::pair{"gravity_compensation", &sc.servo.gravity_compensation},
-                             std::pair{"deflection_compensation", &sc.servo.deflection_compensation}}) {
-    if (const Field f = Reader::child(servo, key); f.node.IsDefined()) *target = r.boolean(f);
+  // unset switches take the controller's defaults (sim/servo.hpp)
+  for (auto [key, target] : {std::pair{"velocity_feedforward", &s.velocity_feedforward},
+                             std::pair{"acceleration_feedforward", &s.acceleration_feedforward},
+                             std::pair{"gravity_compensation", &s.gravity_compensation},
+                             std::pair{"deflection_compensation", &s.deflection_compensation}}) {
+    if (const Field f = r.child(servo, key); f.node.defined()) *target = r.flag(f);
   }
 }
 
-void read_simulation(const Reader& r, const Field& sim, double scale, Scenario& sc) {
-  r.check_keys(sim, {"settle_tolerance", "settle_speed_tolerance", "settle_window_s", "settle_time_s",
-                     "vibration_window_s", "vibration_highpass_hz", "jerk_lowpass_hz"});
+void read_simulation(const Reader& r, const Field& root, Scenario& sc) {
+  const Field sim = r.child(root, "simulation");
+  if (sim.node.defined()) r.check_keys(sim);
   SimulationSettings& s = sc.simulation;
-  if (const Field f = Reader::child(sim, "settle_tolerance"); f.node.IsDefined()) s.settle_tolerance = r.positive(f) * scale;
-  if (const Field f = Reader::child(sim, "settle_speed_tolerance"); f.node.IsDefined()) {
-    s.settle_speed_tolerance = r.positive(f) * scale;
-  }
-  if (const Field f = Reader::child(sim, "settle_window_s"); f.node.IsDefined()) s.settle_window = r.non_negative(f);
-  if (const Field f = Reader::child(sim, "vibration_window_s"); f.node.IsDefined()) s.vibration_window = r.positive(f);
-  if (const Field f = Reader::child(sim, "vibration_highpass_hz"); f.node.IsDefined()) s.vibration_highpass = r.positive(f);
-  if (const Field f = Reader::child(sim, "jerk_lowpass_hz"); f.node.IsDefined()) s.jerk_lowpass = r.positive(f);
-  const Field time = Reader::child(sim, "settle_time_s");
-  if (time.node.IsDefined()) s.settle_time = r.non_negative(time);
+  s.settle_tolerance = r.number(r.value(sim, "settle_tolerance"));
+  s.settle_speed_tolerance = r.number(r.value(sim, "settle_speed_tolerance"));
+  s.settle_window = r.number(r.value(sim, "settle_window_s"));
+  s.vibration_window = r.number(r.value(sim, "vibration_window_s"));
+  s.vibration_highpass = r.number(r.value(sim, "vibration_highpass_hz"));
+  s.jerk_lowpass = r.number(r.value(sim, "jerk_lowpass_hz"));
+  const Field time = r.value(sim, "settle_time_s");
+  s.settle_time = r.number(time);
   // the settle window must fit into the simulated time after the reference
   if (s.settle_time < s.settle_window) {
-    const Field at = time.node.IsDefined() ? time : Reader::child(sim, "settle_window_s");
-    r.fail(at.node.IsDefined() ? at : sim, "settle_time_s (" + format_value(s.settle_time) +
-                                               " s) must be at least the settle window settle_window_s (" +
-                                               format_value(s.settle_window) + " s)");
+    const Field window = r.child(sim, "settle_window_s");
+    r.fail(r.child(sim, "settle_time_s").node.defined() || !window.node.defined() ? time : window,
+           "settle_time_s (" + format_value(s.settle_time) + " s) must be at least the settle window settle_window_s (" +
+               format_value(s.settle_window) + " s)");
   }
 }
 
-void read_settings(const Reader& r, const Field& root, double scale, Scenario& sc) {
-  if (const Field servo = Reader::child(root, "servo"); servo.node.IsDefined()) read_servo(r, servo, sc);
-  if (const Field sim = Reader::child(root, "simulation"); sim.node.IsDefined()) read_simulation(r, sim, scale, sc);
-  if (const Field video = Reader::child(root, "video"); video.node.IsDefined()) {
-    r.check_keys(video, {"fps", "width", "height"});
-    if (const Field f = Reader::child(video, "fps"); f.node.IsDefined()) {
-      sc.video.fps = r.positive(f);
-      if (sc.video.fps < 24 || sc.video.fps > 120) r.fail(f, "fps must be between 24 and 120");
-    }
-    for (auto [key, target] : {std::pair{"width", &sc.video.width}, std::pair{"height", &sc.video.height}}) {
-      const Field f = Reader::child(video, key);
-      if (!f.node.IsDefined()) continue;
-      *target = r.integer(f);
-      if (*target < 64 || *target > 1920 || *target % 2 != 0) r.fail(f, "must be an even number of pixels in [64, 1920]");
-    }
+void read_video(const Reader& r, const Field& root, Scenario& sc) {
+  const Field video = r.child(root, "video");
+  if (video.node.defined()) r.check_keys(video);
+  sc.video.fps = r.number(r.value(video, "fps"));
+  for (auto [key, target] : {std::pair{"width", &sc.video.width}, std::pair{"height", &sc.video.height}}) {
+    const Field f = r.value(video, key);
+    *target = r.integer(f);
+    if (*target % 2 != 0) r.fail(f, "must be an even number of pixels, got " + f.node.scalar());
   }
 }
 
-void read_variants(const Reader& r, const Field& root, double scale, Scenario& sc) {
+// `limits` and `axis_limits`.
+void read_limits(const Reader& r, const Field& root, Scenario& sc) {
+  sc.limits = *limits_mode_from_string(r.choice(r.value(root, "limits")));
+  const Field axes = r.child(root, "axis_limits");
+  if (!axes.node.defined()) return;
+  if (sc.limits != LimitsMode::kCartesian) {
+    r.fail(axes, "per-axis limits need 'limits: cartesian' (path mode bounds no vector)");
+  }
+  r.check_keys(axes);
+  AxisLimits out;
+  out.acceleration = r.vec3(r.require(axes, "a"));
+  out.jerk = r.vec3(r.require(axes, "j"));
+  sc.axis_limits = out;
+}
+
+void read_variants(const Reader& r, const Field& root, Scenario& sc) {
   const Field variants = r.require(root, "variants");
-  if (!variants.node.IsSequence() || variants.node.size() == 0) r.fail(variants, "expected a non-empty list of variants");
+  if (!variants.node.is_sequence() || variants.node.size() == 0) {
+    r.fail(variants, "expected a non-empty list of variants, got " + what_is(variants.node));
+  }
+  if (variants.node.size() > kMaxVariants) {
+    r.fail(r.item(variants, kMaxVariants), "more than " + std::to_string(kMaxVariants) + " variants (the limit of one scenario)");
+  }
   std::set<std::string> names;
   for (std::size_t i = 0; i < variants.node.size(); ++i) {
-    const Field f{variants.node[i], variants.path + "[" + std::to_string(i) + "]"};
-    r.check_keys(f, {"name", "transition", "buffer", "baseline"});
+    const Field f = r.item(variants, i);
+    r.check_keys(f);
     Variant v;
     v.where = r.where(f);
     const Field name = r.require(f, "name");
     v.name = r.text(name);
     if (const std::string problem = folder_name_problem(v.name); !problem.empty()) r.fail(name, "variant " + problem);
     if (!names.insert(v.name).second) r.fail(name, "duplicate variant name '" + v.name + "'");
-    if (const Field t = Reader::child(f, "transition"); t.node.IsDefined()) v.transition = read_transition(r, t, scale);
-    if (const Field b = Reader::child(f, "buffer"); b.node.IsDefined()) v.buffer = read_buffer(r, b);
-    if (const Field b = Reader::child(f, "baseline"); b.node.IsDefined()) {
-      v.baseline = r.text(b);
-      if (v.baseline != "none" && v.baseline != "exact_stop" && v.baseline != "junction_slowdown") {
-        r.fail(b, "baseline must be 'none', 'exact_stop' or 'junction_slowdown'");
-      }
-    }
+    if (const Field t = r.child(f, "transition"); t.node.defined()) v.transition = read_transition(r, t);
+    if (const Field b = r.child(f, "buffer"); b.node.defined()) v.buffer = read_buffer(r, b);
+    v.baseline = r.choice(r.value(f, "baseline"));
     sc.variants.push_back(std::move(v));
   }
 }
@@ -577,47 +387,42 @@ std::string model_file(ArmModel model) {
 }
 
 Scenario parse_scenario(const std::string& text, const std::string& file, const std::string& base_dir) {
-  const Reader r(file, base_dir);
-  YAML::Node doc;
-  try {
-    doc = YAML::Load(text);
-  } catch (const YAML::ParserException& e) {
-    throw InputError(file, e.mark.line + 1, e.mark.column + 1, "", "invalid YAML: " + e.msg);
+  const Document doc(text, file);
+  Reader r(doc, file, base_dir);
+  const Field root = r.root();
+  if (!root.node.is_map()) {
+    r.fail(root, "a scenario must be a map with 'name', 'defaults', 'program' and 'variants', got " + what_is(root.node));
   }
-  const Field root{doc, ""};
-  if (!doc.IsMap()) r.fail(root, "a scenario must be a mapping with 'name', 'program' and 'variants'");
-  r.check_keys(root, {"name", "description", "units", "robot", "servo", "simulation", "video", "frame", "defaults",
-                      "program", "variants"});
+  r.check_keys(root);
   Scenario sc;
   sc.file = file;
   const Field name = r.require(root, "name");
   sc.name = r.text(name);
   if (const std::string problem = folder_name_problem(sc.name); !problem.empty()) r.fail(name, "scenario " + problem);
-  if (const Field d = Reader::child(root, "description"); d.node.IsDefined()) sc.description = r.text(d);
-  const double scale = unit_scale(r, root);
-  if (const Field frame = Reader::child(root, "frame"); frame.node.IsDefined()) {
-    r.check_keys(frame, {"origin", "rpy_deg"});
-    sc.frame.translation() = r.vec3(r.require(frame, "origin")) * scale;
-    if (const Field rpy = Reader::child(frame, "rpy_deg"); rpy.node.IsDefined()) {
-      sc.frame.linear() = rpy_deg(r.numbers<3>(rpy));
-    }
+  sc.description = r.text(r.value(root, "description"));
+  const double scale = r.choice(r.value(root, "units")) == "m" ? 1.0 : 1e-3;
+  r.set_scale(scale);
+  if (const Field frame = r.child(root, "frame"); frame.node.defined()) {
+    r.check_keys(frame);
+    sc.frame.translation() = r.vec3(r.require(frame, "origin"));
+    sc.frame.linear() = rpy_deg(radians(r.numbers(r.value(frame, "rpy_deg"))));
   }
   read_robot(r, root, sc);
-  read_settings(r, root, scale, sc);
-  read_program(r, root, scale, sc);
-  read_variants(r, root, scale, sc);
+  read_servo(r, root, sc);
+  read_simulation(r, root, sc);
+  read_video(r, root, sc);
+  read_limits(r, root, sc);
+  read_program(r, root, sc);
+  read_variants(r, root, sc);
   // the planner's own checks (joins, limits) on the first variant's program
   validate(program_for(sc, sc.variants.front()));
   return sc;
 }
 
 Scenario load_scenario(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path, 0, 0, "", "cannot open the scenario file");
-  std::stringstream buffer;
-  buffer << in.rdbuf();
+  const std::string text = read_input_file(path, "scenario file");
   const std::string dir = std::filesystem::path(path).parent_path().string();
-  return parse_scenario(buffer.str(), path, dir.empty() ? "." : dir);
+  return parse_scenario(text, path, dir.empty() ? "." : dir);
 }
 
 Program program_for(const Scenario& scenario, const Variant& variant) {
@@ -627,6 +432,16 @@ Program program_for(const Scenario& scenario, const Variant& variant) {
     if (variant.buffer && !scenario.explicit_buffer[k]) program.moves[k].buffer = *variant.buffer;
   }
   return program;
+}
+
+TimingOptions timing_options(const Scenario& scenario, const Variant& variant) {
+  TimingOptions options;
+  options.dt = 1.0 / scenario.servo.setpoint_rate_hz;
+  options.limits = scenario.limits;
+  options.axis_limits = scenario.axis_limits;
+  if (variant.baseline == "exact_stop") options.baseline = TimingOptions::Baseline::kExactStop;
+  if (variant.baseline == "junction_slowdown") options.baseline = TimingOptions::Baseline::kJunctionSlowdown;
+  return options;
 }
 
 const Variant& find_variant(const Scenario& scenario, const std::string& name) {

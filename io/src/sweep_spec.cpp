@@ -7,11 +7,10 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <set>
-#include <sstream>
 
 #include "blendbench/io/data_root.hpp"
+#include "blendbench/io/program_io.hpp"
 #include "blendbench/io/scenario.hpp"
 #include "blendbench/core/format.hpp"
 
@@ -153,13 +152,8 @@ void add_metric_name(SweepSpec& spec, const std::string& name, const std::string
   spec.named_metrics.push_back({name, field, where});
 }
 
-std::string read_file_text(const std::string& path, const std::string& what) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path, 0, 0, "", "cannot open the " + what);
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
-}
+// A whole input file, bounded and regular (program_io.hpp read_input_file).
+std::string read_file_text(const std::string& path, const std::string& what) { return read_input_file(path, what); }
 
 // 64-bit FNV-1a: a stable content hash (the same on every machine and build), enough to tell
 // 10^5 points apart (collision chance ~3e-10).

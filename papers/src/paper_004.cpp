@@ -384,7 +384,7 @@ Paper004 reproduce_004() {
             " The biclothoid paths are slightly shorter than the original, hence their shorter times in table 3.",
         "**With transition jerk limiting** the AMC5 slows down at A, B and C (fig. 4); by how much follows its own "
         "rule, which the paper does not give. Our junction slow-down baseline "
-        "(`TimingOptions::Baseline::kJunctionSlowdown`, planner/timing/src/timing.cpp) keeps the acceleration step at a "
+        "(`TimingOptions::Baseline::kJunctionSlowdown`, planner/timing/src/intervals.cpp) keeps the acceleration step at a "
         "junction within j·dt at the 1 ms servo period: at the curvature jumps A and B (0.1 /mm) v ≤ √(j dt / Δκ) = " +
             fixed(cap_ab, 1) + " mm/s, at the " + fixed(kink_c * 180 / kPi, 2) + "° kink C v ≤ j dt² / (2 sin(θ/2)) = " +
             fixed(cap_c, 1) + " mm/s. Its time, " + fixed(js.timing.cycle_time, 3) + " s, " +

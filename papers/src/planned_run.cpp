@@ -116,6 +116,9 @@ PlannedRun plan_run(std::string name, std::string description, Program program, 
   TimingOptions options;
   options.dt = kServoPeriod;
   options.baseline = baseline;
+  // the sources' own model: tangential limits and eq. 25-27 of 004 (the paper tables compare
+  // with it), not the vectors on the TCP that runs default to
+  options.limits = LimitsMode::kPath;
   run.timing = plan_timing(run.path, options);
   if (!run.timing.outcome.ok()) {
     throw std::runtime_error("reproduction '" + run.name + "': planning failed: " + run.timing.outcome.message);

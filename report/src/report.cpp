@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "blendbench/core/format.hpp"
+#include "blendbench/core/input_error.hpp"
 #include "blendbench/report/csv.hpp"
 #include "blendbench/report/json.hpp"
 
@@ -12,19 +14,35 @@ namespace {
 // mm from m, for output
 constexpr double kMm = 1e3;
 
-int sample_count(double len, double ds) { return std::max(1, static_cast<int>(std::ceil(len / ds - 1e-9))); }
+// Intervals a piece of length `len` is sampled in (a double: len / ds may exceed any integer).
+double intervals(double len, double ds) { return std::max(1.0, std::ceil(len / ds - 1e-9)); }
+
+// Refuses a sampling of `rows` rows beyond kMaxPathSamples, naming the length and spacing.
+void check_rows(double rows, double length, double ds) {
+  if (rows <= kMaxPathSamples) return;
+  throw InputError("", 0, 0, "ds",
+                   "sampling " + format_mm(length) + " every " + format_mm(ds) + " would write " + format_value(rows, 3) +
+                       " rows; the limit is " + format_value(kMaxPathSamples) + " (a larger spacing)");
+}
 
 nlohmann::json mm(const Vec3& p) { return nlohmann::json::array({p.x() * kMm, p.y() * kMm, p.z() * kMm}); }
 
 }  // namespace
 
+double path_sample_count(const Path& path, double ds) {
+  double rows = path.pieces().empty() ? 0 : 1;
+  for (const PathPiece& piece : path.pieces()) rows += intervals(length(piece.segment), ds);
+  return rows;
+}
+
 std::string path_csv(const Path& path, double ds) {
   CsvWriter out({"s", "x", "y", "z", "tx", "ty", "tz", "kappa"});
   if (path.pieces().empty()) return out.text();
+  check_rows(path_sample_count(path, ds), path.length(), ds);
   for (std::size_t k = 0; k < path.pieces().size(); ++k) {
     const Segment& seg = path.pieces()[k].segment;
     const double len = length(seg);
-    const int n = sample_count(len, ds);
+    const int n = static_cast<int>(intervals(len, ds));
     // every piece contributes its start; the last piece also its end
     const int last = k + 1 == path.pieces().size() ? n : n - 1;
     for (int i = 0; i <= last; ++i) {
@@ -40,11 +58,18 @@ std::string path_csv(const Path& path, double ds) {
 
 std::string program_csv(const Program& program, double ds) {
   CsvWriter out({"s", "x", "y", "z"});
+  double rows = 1;
+  double total = 0;
+  for (const Move& move : program.moves) {
+    rows += intervals(length(move.geometry), ds);
+    total += length(move.geometry);
+  }
+  check_rows(rows, total, ds);
   double offset = 0;
   for (std::size_t k = 0; k < program.moves.size(); ++k) {
     const Primitive& g = program.moves[k].geometry;
     const double len = length(g);
-    const int n = sample_count(len, ds);
+    const int n = static_cast<int>(intervals(len, ds));
     const int last = k + 1 == program.moves.size() ? n : n - 1;
     for (int i = 0; i <= last; ++i) {
       const double s = len * i / n;
@@ -124,13 +149,35 @@ nlohmann::json pieces_json(const Path& path, const Timing& timing) {
   return pieces;
 }
 
+void add_corner_step(nlohmann::json& corner, const CornerReport& report, const Timing::CornerStep& step) {
+  corner["curvature_steps"] = std::string(to_string(report.curvature_steps));
+  corner["curvature_step_per_mm"] = step.dk / kMm;
+  corner["curvature_step_velocity_mm_s"] = step.velocity * kMm;
+  corner["curvature_step_jerk_mm_s3"] = step.jerk * kMm;
+}
+
+void add_plan_figures(nlohmann::json& out, LimitsMode limits, int moves_merged, double merge_tolerance,
+                      double cycle_time, double bound_cycle_time) {
+  out["limits"] = std::string(to_string(limits));
+  out["moves_merged"] = moves_merged;
+  out["merge_tolerance_mm"] = merge_tolerance * kMm;
+  out["bound_cycle_time_s"] = bound_cycle_time;
+  out["planned_to_bound_ratio"] = finite_or_null(bound_cycle_time > 0 ? cycle_time / bound_cycle_time : 1.0);
+}
+
 nlohmann::json plan_summary_json(const Path& path, const Timing& timing, const Program& program) {
-  return {{"cycle_time_s", timing.cycle_time},
-          {"path_length_mm", path.length() * kMm},
-          {"feed_share", timing.feed_share},
-          {"servo_period_s", timing.dt},
-          {"corners", corners_json(path, program)},
-          {"pieces", pieces_json(path, timing)}};
+  nlohmann::json corners = corners_json(path, program);
+  for (std::size_t k = 0; k < corners.size() && k < path.corners.size(); ++k) {
+    add_corner_step(corners[k], path.corners[k], k < timing.corner_steps.size() ? timing.corner_steps[k] : Timing::CornerStep{});
+  }
+  nlohmann::json out = {{"cycle_time_s", timing.cycle_time},
+                        {"path_length_mm", path.length() * kMm},
+                        {"feed_share", timing.feed_share},
+                        {"servo_period_s", timing.dt},
+                        {"corners", corners},
+                        {"pieces", pieces_json(path, timing)}};
+  add_plan_figures(out, timing.limits, path.moves_merged, path.merge_tolerance, timing.cycle_time, timing.bound_cycle_time);
+  return out;
 }
 
 }  // namespace blendbench

@@ -122,11 +122,11 @@ TEST_F(Cli, BadScenarioExitsTwoNamingFileLineAndField) {
       {"defaults: {velocity: 200, acceleration: 2000, jerk: 20000}", "defaults: {velocity: 200, acceleration: 2000}",
        "bad.yaml:5:11: 'defaults.jerk': missing required field"},
       {"line: [60, 60, 0]", "line: [60, 900, 0]", "bad.yaml:12:7: 'program.moves[1]'"},
-      {"units: mm", "units: mm\nservo: {rate_hz: 100}", "bad.yaml:4:18: 'servo.rate_hz': the servo rate must be between"},
+      {"units: mm", "units: mm\nservo: {rate_hz: 100}", "bad.yaml:4:18: 'servo.rate_hz': must be in [125, 8000] Hz, got 100"},
       {"units: mm", "units: mm\nservo: {setpoint_rate_hz: 300}", "bad.yaml:4:27: 'servo.setpoint_rate_hz': the servo rate (2000 Hz) must be a whole multiple"},
-      {"units: mm", "units: mm\nservo: {controller: pid}", "bad.yaml:4:21: 'servo.controller': controller must be 'cascade' or 'pd'"},
+      {"units: mm", "units: mm\nservo: {controller: pid}", "bad.yaml:4:21: 'servo.controller': unknown value 'pid' (did you mean 'pd'?)"},
       {"units: mm", "units: mm\nservo: {measurement_delay_ticks: -1}", "bad.yaml:4:34: 'servo.measurement_delay_ticks'"},
-      {"units: mm", "units: mm\nrobot: {model: flexible}", "bad.yaml:4:16: 'robot.model': model must be 'rigid' or 'elastic'"},
+      {"units: mm", "units: mm\nrobot: {model: flexible}", "bad.yaml:4:16: 'robot.model': unknown value 'flexible' (one of: elastic, rigid)"},
       {"simulation: {settle_tolerance: 0.2, settle_time_s: 0.3}", "simulation: {settle_tolerance: 0.2, settle_time_s: 0.1}",
        "bad.yaml:6:52: 'simulation.settle_time_s': settle_time_s (0.1 s) must be at least the settle window"},
       {"units: mm", "units: mm\nservo: {rate_hz: 3000, setpoint_rate_hz: 500}", "bad.yaml:4:18: 'servo.rate_hz': the servo period"},
@@ -197,6 +197,63 @@ TEST_F(Cli, BadGcodeNamesLineAndWord) {
   EXPECT_NE(r.output.find("part.ngc:3:1: 'G41'"), std::string::npos) << r.output;
 }
 
+// `validate FILE...`: one line per file, ok or the positioned refusal, exit 2 when any is bad;
+// nothing is run or written. Typos get the closest key; G-code is checked like a scenario.
+TEST_F(Cli, ValidateChecksEveryFileWithoutRunningIt) {
+  const fs::path work = dir_ / "work";
+  fs::create_directories(work);
+  const std::string tiny = blendbench::test::source_path("tests/data/tiny.yaml");
+  const std::string typo = scenario_with("acceleration: 2000", "acceleraton: 2000");
+  const fs::path part = dir_ / "rect.ngc";
+  std::ofstream(part) << "G21 G90\nG1 X40 F6000\nG1 Y30\nG64 P0.5\nG1 X0\nM2\n";
+  const fs::path bad_part = dir_ / "bad.ngc";
+  std::ofstream(bad_part) << "G21 G90\nG1 X40 F6000\nG2 X40 Y0 I-5 P101\n";
+  Result r = run_in(work, {"validate", tiny, typo, part.string(), bad_part.string()});
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  const std::vector<std::string> lines = [&] {
+    std::vector<std::string> out;
+    std::stringstream in(r.output);
+    for (std::string line; std::getline(in, line);) out.push_back(line);
+    return out;
+  }();
+  ASSERT_EQ(lines.size(), 4u) << r.output;
+  EXPECT_EQ(lines[0], tiny + ": ok (scenario 'tiny', 2 moves, 2 variants blended)");
+  EXPECT_EQ(lines[1], typo + ":5:27: 'defaults.acceleraton': unknown key 'acceleraton' (did you mean 'acceleration'?)");
+  EXPECT_EQ(lines[2], part.string() + ": ok (G-code, 3 moves, 2 corners blended, 0 notes)");
+  EXPECT_EQ(lines[3].rfind(bad_part.string() + ":3:15: 'P101': the number of turns P of G2/G3 must be an integer from 1 to 100", 0), 0u)
+      << lines[3];
+  EXPECT_TRUE(files_below(work).empty()) << "validate wrote something";
+  // all good: exit 0
+  r = run_in(work, {"validate", tiny, part.string()});
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  // a geometric refusal of one variant's blend shows (a biclothoid of tolerance 0 at a kink)
+  const std::string zero = scenario_with("{name: arc, transition: {method: arc, parameter: 5}}",
+                                         "{name: bic0, transition: {method: biclothoid, parameter: 0}}");
+  r = run_in(work, {"validate", zero});
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("'transition.parameter'"), std::string::npos) << r.output;
+  // the reference of the format, as committed
+  r = run_in(work, {"validate", "--schema"});
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream doc(blendbench::test::source_path("docs/scenario_format.md"));
+  std::stringstream committed;
+  committed << doc.rdbuf();
+  EXPECT_EQ(r.output, committed.str());
+  EXPECT_EQ(run_in(work, {"validate"}).exit_code, 2);
+}
+
+// A spacing so small the row count would overflow an integer is refused with the flag.
+TEST_F(Cli, PathRefusesASpacingThatWouldWriteTooManyRows) {
+  const std::string tiny = blendbench::test::source_path("tests/data/tiny.yaml");
+  for (const std::string ds : {"1e-300", "1e-05"}) {
+    const Result r = run_in(dir_, {"path", tiny, "--ds", ds, "--csv", (dir_ / "p.csv").string()});
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_NE(r.output.find("'--ds': sampling the 120 mm path every " + ds + " mm would write"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("rows; the limit is 1e+07 (raise --ds)"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(dir_ / "p.csv"));
+  }
+}
+
 // A 40 x 30 mm rectangle from the origin: three corners of 90 degrees.
 constexpr const char* kRectangle = "G21 G90\nG1 X40 F6000\nG1 Y30\nG1 X0\nG1 Y0\nM2\n";
 
@@ -243,8 +300,17 @@ TEST_F(Cli, PlanAndPathOfAGcodeProgramKeepTheirContract) {
   r = run("path " + part.string() + options + " --csv " + (dir_ / "p.csv").string() + " --report " +
           (dir_ / "r.json").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
+  // the path's corner reports are the plan's, which add what the timing says about each corner
   std::ifstream report_file(dir_ / "r.json");
-  EXPECT_EQ(nlohmann::json::parse(report_file), corners);
+  nlohmann::json planned = corners;
+  for (auto& c : planned) {
+    for (const char* key : {"curvature_steps", "curvature_step_per_mm", "curvature_step_velocity_mm_s",
+                            "curvature_step_jerk_mm_s3"}) {
+      EXPECT_TRUE(c.contains(key)) << key;
+      c.erase(key);
+    }
+  }
+  EXPECT_EQ(nlohmann::json::parse(report_file), planned);
   const blendbench::test::Csv path = blendbench::test::read_csv(dir_ / "p.csv");
   EXPECT_EQ(path.header, "s,x,y,z,tx,ty,tz,kappa");
   EXPECT_NEAR(path.columns.at("s").back(), summary["path_length_mm"].get<double>(), 1e-6);

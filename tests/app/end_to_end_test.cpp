@@ -13,6 +13,7 @@
 
 #include "blendbench/app/runner.hpp"
 #include "blendbench/io/scenario.hpp"
+#include "support/input_error.hpp"
 #include "support/property.hpp"
 
 namespace blendbench {
@@ -182,30 +183,17 @@ TEST_F(EndToEnd, RigidModelRunsAndMismatchesAreBadInput) {
   } cases[] = {{"robot: {model: rigid, mjcf: ../models/ur5e_like.xml}", "robot.model", "elastic joints"},
                {"servo: {rate_hz: 3000, setpoint_rate_hz: 500}", "servo.rate_hz", "8000 Hz physics"}};
   for (const auto& c : cases) {
-    try {
-      (void)run(with("units: mm", "units: mm\n" + c.line));
-      ADD_FAILURE() << "expected an InputError for " << c.line;
-    } catch (const InputError& e) {
-      EXPECT_EQ(e.field(), c.field);
-      EXPECT_EQ(e.line(), 3);
-      EXPECT_NE(std::string(e.what()).find(c.fragment), std::string::npos) << e.what();
-    }
+    test::expect_input_error([&] { (void)run(with("units: mm", "units: mm\n" + c.line)); },
+                             {.line = 3, .field = c.field, .message = c.fragment}, c.line);
   }
 }
 
 TEST_F(EndToEnd, UnreachableTargetIsBadInputNamingTheMove) {
-  try {
-    (void)run(with("line: [100, 100, 0]", "line: [100, 900, 0]"));
-    FAIL() << "expected an InputError";
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.file(), "e2e.yaml");
-    EXPECT_EQ(e.line(), 10) << e.what();
-    EXPECT_EQ(e.field(), "program.moves[1]") << e.what();
-    // when and where: the time on the plan and the pose that is out of reach
-    const std::string what = e.what();
-    EXPECT_NE(what.find("t = "), std::string::npos) << what;
-    EXPECT_NE(what.find("out of reach: position ("), std::string::npos) << what;
-  }
+  // when and where: the time on the plan and the pose that is out of reach
+  const InputError e = test::expect_input_error([&] { (void)run(with("line: [100, 100, 0]", "line: [100, 900, 0]")); },
+                                                {.file = "e2e.yaml", .line = 10, .field = "program.moves[1]",
+                                                 .message = "out of reach: position ("});
+  EXPECT_NE(std::string(e.what()).find("t = "), std::string::npos) << e.what();
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <numbers>
 
@@ -18,7 +19,9 @@ namespace {
 using Baseline = TimingOptions::Baseline;
 
 TEST(ScenarioLimits, EveryScenarioVariantAndBaselineHoldsEveryLimit) {
+  // in both limits modes; the scenario's own (and its axis limits) as well when it sets them
   int profiles = 0;
+  test::CartesianMargins worst;
   for (const auto& entry : std::filesystem::recursive_directory_iterator(test::source_path("scenarios"))) {
     if (entry.path().extension() != ".yaml") continue;
     if (entry.path().parent_path().filename() == "sweeps") continue;  // sweep files (sweep_test runs them)
@@ -26,18 +29,30 @@ TEST(ScenarioLimits, EveryScenarioVariantAndBaselineHoldsEveryLimit) {
     for (const Variant& v : sc.variants) {
       const Path path = blend(program_for(sc, v));
       for (const Baseline b : {Baseline::kNone, Baseline::kExactStop, Baseline::kJunctionSlowdown}) {
-        TimingOptions options;
-        options.dt = 1.0 / sc.servo.setpoint_rate_hz;
-        options.baseline = b;
-        const Timing timing = plan_timing(path, options);
-        const std::string where = entry.path().filename().string() + " / " + v.name + " / baseline " +
-                                  std::to_string(static_cast<int>(b));
-        (void)test::expect_valid(path, timing, where, b);
-        ++profiles;
+        for (const LimitsMode mode : {LimitsMode::kPath, LimitsMode::kCartesian}) {
+          TimingOptions options = timing_options(sc, v);
+          options.baseline = b;
+          if (mode != options.limits) {
+            options.limits = mode;
+            options.axis_limits.reset();
+          }
+          const Timing timing = plan_timing(path, options);
+          const std::string where = entry.path().filename().string() + " / " + v.name + " / baseline " +
+                                    std::to_string(static_cast<int>(b)) + " / " + std::string(to_string(mode));
+          (void)test::expect_valid(path, timing, where, options);
+          EXPECT_GE(timing.cycle_time, timing.bound_cycle_time) << where;
+          if (mode == LimitsMode::kCartesian) {
+            const test::CartesianMargins m = test::expect_cartesian_valid(path, timing, options.axis_limits, where);
+            worst.j = std::max(worst.j, m.j);
+            worst.fd_j = std::max(worst.fd_j, m.fd_j);
+          }
+          ++profiles;
+        }
       }
     }
   }
-  EXPECT_GT(profiles, 30);
+  EXPECT_GT(profiles, 60);
+  std::printf("cartesian worst |j| / j_max: analytic %.12f, finite differences %.12f\n", worst.j, worst.fd_j);
 }
 
 // A random planar-or-not program of lines and arcs with random limits.
@@ -92,8 +107,11 @@ TEST(ScenarioLimits, RandomProgramsWithEveryMethodHoldEveryLimit) {
     for (const Method method : {Method::kNone, Method::kArc, Method::kBezier, Method::kClothoid, Method::kBiclothoid}) {
       const Program program = random_program(rng, method);
       const Path path = blend(program);
+      const std::string where = test::seed_text(seed) + " method " + std::string(to_string(method));
       const Timing timing = plan_timing(path, {});
-      (void)test::expect_valid(path, timing, test::seed_text(seed) + " method " + std::string(to_string(method)));
+      (void)test::expect_valid(path, timing, where);
+      (void)test::expect_cartesian_valid(path, timing, {}, where);
+      EXPECT_GE(timing.cycle_time, timing.bound_cycle_time) << where;
     }
   }
 }

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include "support/input_error.hpp"
+
 #include <string>
 
 #include "blendbench/app/sweep.hpp"
@@ -40,12 +42,7 @@ TEST(Sbatch, ArrayResourcesAndTheShardCommand) {
 TEST(Sbatch, RefusesWhatTheScriptCannotCarry) {
   const auto refused = [](const std::string& binary, const std::string& file, const std::string& out, std::size_t tasks,
                           const SbatchOptions& options, const std::string& field) {
-    try {
-      (void)sbatch_script(binary, file, out, tasks, options);
-      ADD_FAILURE() << "expected an InputError for " << field;
-    } catch (const InputError& e) {
-      EXPECT_EQ(e.field(), field) << e.what();
-    }
+    test::expect_input_error([&] { (void)sbatch_script(binary, file, out, tasks, options); }, {.field = field}, field);
   };
   refused("/b", "/f.yaml", "/out dir", 1, {}, "--out");
   refused("/b", "/f.yaml", "/out%j", 1, {}, "--out");

@@ -9,6 +9,8 @@
 #include <numbers>
 #include <sstream>
 
+#include "blendbench/geometry/arc_construction.hpp"
+#include "support/input_error.hpp"
 #include "support/property.hpp"
 
 namespace blendbench {
@@ -31,17 +33,9 @@ GcodeResult parse(const std::string& text, const GcodeOptions& opt = options()) 
 
 // Parses text that must fail; checks the location and word, returns the message.
 std::string expect_error(const std::string& text, int line, int column, const std::string& word) {
-  try {
-    parse(text);
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.file(), "part.ngc") << text;
-    EXPECT_EQ(e.line(), line) << text << "\n" << e.what();
-    EXPECT_EQ(e.column(), column) << text << "\n" << e.what();
-    EXPECT_EQ(e.field(), word) << text << "\n" << e.what();
-    return e.detail();
-  }
-  ADD_FAILURE() << "no InputError for:\n" << text;
-  return {};
+  return test::expect_input_error([&] { (void)parse(text); },
+                                  {.file = "part.ngc", .line = line, .column = column, .field = word}, text)
+      .detail();
 }
 
 const Arc& arc_of(const GcodeResult& r, std::size_t k) {
@@ -294,6 +288,16 @@ TEST(Gcode, HelixRiseAlongTheNormalAxis) {
   EXPECT_VEC_NEAR(point(r.program.moves[0].geometry, length(r.program.moves[0].geometry) / 3), mm(0, 0, -2), kTol);
 }
 
+// P turns are bounded (kMaxArcTurns): the work per arc is known before any is done.
+TEST(Gcode, TurnsBeyondTheLimitAreRefusedNamingTheWordAndTheLimit) {
+  const std::string limit = std::to_string(kMaxArcTurns);
+  EXPECT_NEAR(arc_of(parse("G3 Z-6 I5 P" + limit), 0).sweep, 2 * kPi * kMaxArcTurns, 1e-9);
+  for (const std::string& p : {std::to_string(kMaxArcTurns + 1), std::string("10000"), std::string("100000000000000000000"), std::string("2.5")}) {
+    const std::string message = expect_error("G21\nG3 Z-6 I5 P" + p, 2, 11, "P" + p);
+    EXPECT_NE(message.find("from 1 to " + limit + " (the limit bounds the work per arc)"), std::string::npos) << message;
+  }
+}
+
 TEST(Gcode, IncrementalAndAbsoluteDistanceModes) {
   GcodeResult r = parse("G91 G1 X10\nY10\nX-10 Y-10 Z5\nG90 X1 Y2 Z3");
   ASSERT_EQ(r.program.moves.size(), 4u);
@@ -373,7 +377,9 @@ TEST(Gcode, PathControlModes) {
   EXPECT_EQ(m[5].transition.method, Method::kNone);
   EXPECT_EQ(m[6].transition.method, Method::kBezier);
   EXPECT_NEAR(m[7].transition.parameter, 0.1 * kInch, 1e-15);
-  EXPECT_TRUE(has_note(r, "Q0.02 (line 8): G64 naive CAM tolerance Q ignored")) << notes(r);
+  // Q: the naive CAM tolerance, in the units in force (inch here), on the moves that follow
+  EXPECT_NEAR(m[7].transition.merge_tolerance, 0.02 * kInch, 1e-15);
+  EXPECT_EQ(m[6].transition.merge_tolerance, 0.0);
   // the arc mapping: G64 P is the corner distance
   opt.tolerance_method = Method::kArc;
   const GcodeResult a = parse("G64 P0.2 G1 X1\nY1", opt);
@@ -381,6 +387,7 @@ TEST(Gcode, PathControlModes) {
   EXPECT_NEAR(a.program.moves[0].transition.parameter, 0.2 * kMm, 1e-15);
   expect_error("G64 P-1", 1, 5, "P-1");
   expect_error("G1 X1 Q1", 1, 7, "Q1");
+  expect_error("G64 P0.1 Q-1", 1, 10, "Q-1");
 }
 
 TEST(Gcode, DwellPauseAndToolChangeStopTheMoveBefore) {
@@ -513,13 +520,7 @@ TEST(Gcode, ZeroLengthMovesAreDropped) {
   const GcodeResult s = parse("G1 X0.00001\nX5");
   EXPECT_EQ(s.program.moves.size(), 2u);
   // nothing but zero-length moves: no program
-  try {
-    parse("G1 X0\n");
-    ADD_FAILURE() << "expected an InputError";
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.file(), "part.ngc");
-    EXPECT_NE(e.detail().find("no moves"), std::string::npos);
-  }
+  test::expect_input_error([] { (void)parse("G1 X0\n"); }, {.file = "part.ngc", .message = "no moves"});
 }
 
 TEST(Gcode, UnsupportedWordsStopWithLineColumnAndWord) {

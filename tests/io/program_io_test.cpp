@@ -1,12 +1,15 @@
 #include "blendbench/io/program_io.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
+
+#include "support/input_error.hpp"
 
 namespace blendbench {
 namespace {
@@ -147,60 +150,46 @@ TEST_F(ProgramIoTest, OptionsArePassedToTheParser) {
 // A missing file is an InputError that names it, with no line.
 TEST_F(ProgramIoTest, MissingFileThrowsNamingTheFile) {
   const std::string path = (dir_ / "missing.ngc").string();
-  try {
-    load_gcode_file(path, options());
-    ADD_FAILURE() << "no InputError for a missing file";
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.file(), path);
-    EXPECT_EQ(e.line(), 0);
-    EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
-    EXPECT_NE(e.detail().find("cannot"), std::string::npos) << e.detail();
-  }
+  test::expect_input_error([&] { load_gcode_file(path, options()); },
+                           {.file = path, .line = 0, .message = path + ": cannot open the G-code file: No such file"});
 }
 
-// A path that opens but cannot be read (a directory; the tests may run as root, so file
-// permissions would not stop the read) is an InputError that says it cannot be read, not a
-// parse of an empty text ("no moves").
-TEST_F(ProgramIoTest, UnreadablePathThrowsNamingTheFile) {
+// A folder, a FIFO and a device are refused before they are opened for reading: a folder used to
+// read as an empty text ("no moves"), a FIFO blocked until a writer came, /dev/zero never ended.
+TEST_F(ProgramIoTest, OnlyRegularFilesAreRead) {
   const fs::path folder = dir_ / "folder.ngc";
   fs::create_directories(folder);
-  try {
-    load_gcode_file(folder.string(), options());
-    ADD_FAILURE() << "no InputError for a directory";
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.file(), folder.string());
-    EXPECT_EQ(e.line(), 0);
-    EXPECT_NE(std::string(e.what()).find(folder.string()), std::string::npos) << e.what();
-    // regression: this used to read as an empty text and report "the G-code program has no moves"
-    EXPECT_EQ(e.detail(), "cannot read the G-code file");
-  }
+  test::expect_input_error([&] { load_gcode_file(folder.string(), options()); },
+                           {.file = folder.string(), .line = 0, .message = "the G-code file is a folder, not a regular file"});
+  const fs::path fifo = dir_ / "pipe.ngc";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  test::expect_input_error([&] { load_gcode_file(fifo.string(), options()); },
+                           {.file = fifo.string(), .message = "the G-code file is a FIFO (named pipe), not a regular file"});
+  test::expect_input_error([&] { (void)read_input_file("/dev/zero", "scenario file"); },
+                           {.file = "/dev/zero", .message = "the scenario file is a character device, not a regular file"});
+}
+
+// The size is checked before a byte is read: the limit itself passes, one byte more does not.
+TEST_F(ProgramIoTest, FilesOverTheSizeLimitAreRefusedNamingSizeAndLimit) {
+  const std::string text(3u << 20, 'x');
+  const std::string path = write("big.ngc", text);
+  EXPECT_EQ(read_input_file(path, "G-code file", text.size()), text);
+  test::expect_input_error([&] { (void)read_input_file(path, "G-code file", text.size() - 1); },
+                           {.file = path, .message = "the G-code file is 3 MiB; the limit is 3 MiB"});
+  EXPECT_GT(kMaxInputBytes, std::uintmax_t{20} << 20);
 }
 
 // An empty file is readable: the parser's error (no moves) names the file.
 TEST_F(ProgramIoTest, EmptyFileIsTheParsersNoMovesError) {
   const std::string path = write("empty.ngc", "");
-  try {
-    load_gcode_file(path, options());
-    ADD_FAILURE() << "no InputError for an empty program";
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.file(), path);
-    EXPECT_NE(e.detail().find("no moves"), std::string::npos) << e.detail();
-  }
+  test::expect_input_error([&] { load_gcode_file(path, options()); }, {.file = path, .message = "no moves"});
 }
 
 // A parse error keeps the file name, line, column and word.
 TEST_F(ProgramIoTest, ParseErrorKeepsFileAndLine) {
   const std::string path = write("comp.tap", "G21 G90\nG1 X1 F600\n  G41 D1\nG1 X2\n");
-  try {
-    load_gcode_file(path, options());
-    ADD_FAILURE() << "no InputError for G41";
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.file(), path);
-    EXPECT_EQ(e.line(), 3);
-    EXPECT_EQ(e.column(), 3);
-    EXPECT_EQ(e.field(), "G41");
-    EXPECT_EQ(std::string(e.what()).rfind(path + ":3:3: ", 0), 0u) << e.what();
-  }
+  test::expect_input_error([&] { load_gcode_file(path, options()); },
+                           {.file = path, .line = 3, .column = 3, .field = "G41", .message = path + ":3:3: "});
 }
 
 TEST(IsGcodeFileTest, EveryExtensionInAnyCase) {

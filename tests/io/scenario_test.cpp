@@ -7,6 +7,7 @@
 
 #include "blendbench/corner/blend.hpp"
 
+#include "support/input_error.hpp"
 #include "support/property.hpp"
 
 namespace blendbench {
@@ -32,16 +33,9 @@ variants:
 Scenario parse(const std::string& text) { return parse_scenario(text, "test.yaml", "."); }
 
 // Asserts that parsing fails with an InputError at the given line and field.
-void expect_error(const std::string& text, int line, const std::string& field, const std::string& fragment) {
-  try {
-    (void)parse(text);
-    FAIL() << "expected an InputError for field " << field;
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.file(), "test.yaml");
-    EXPECT_EQ(e.line(), line) << e.what();
-    EXPECT_EQ(e.field(), field) << e.what();
-    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
-  }
+InputError expect_error(const std::string& text, int line, const std::string& field, const std::string& fragment) {
+  return test::expect_input_error([&] { (void)parse(text); }, {.file = "test.yaml", .line = line, .field = field, .message = fragment},
+                                  text);
 }
 
 std::string replaced(std::string text, const std::string& from, const std::string& to) {
@@ -81,16 +75,51 @@ TEST(Scenario, BadInputNamesFileLineAndField) {
   expect_error(replaced(kValid, "velocity: 100", "velocity: fast"), 4, "defaults.velocity", "expected a number");
   expect_error(replaced(kValid, "jerk: 10000, ", ""), 4, "defaults.jerk", "missing required field");
   expect_error(replaced(kValid, "direction: ccw", "direction: left"), 9, "program.moves[1].arc.direction",
-               "'cw' or 'ccw'");
+               "unknown value 'left' (one of: cw, ccw)");
   expect_error(replaced(kValid, "method: arc, parameter: 5", "method: spline, parameter: 5"), 11,
-               "program.moves[1].transition.method", "unknown method");
+               "program.moves[1].transition.method", "unknown value 'spline' (one of: none, arc, bezier");
+  expect_error(replaced(kValid, "method: arc, parameter: 5", "method: bezeir, parameter: 5"), 11,
+               "program.moves[1].transition.method", "unknown value 'bezeir' (did you mean 'bezier'?)");
   expect_error(replaced(kValid, "name: arc5", "name: exact"), 15, "variants[1].name", "duplicate variant");
   expect_error(replaced(kValid, "center: [100, 50, 0]", "center: [100, 40, 0]"), 9, "program.moves[1].arc.center",
                "differs from the radius");
   expect_error(replaced(kValid, "line: [0, 100, 0]", "line: [100, 100, 0]"), 12, "program.moves[2].line",
                "zero-length");
-  expect_error(replaced(kValid, "acceleration: 1000", "acceleration: -5"), 4, "defaults.acceleration", "positive");
+  expect_error(replaced(kValid, "acceleration: 1000", "acceleration: -5"), 4, "defaults.acceleration",
+               "must be > 0 mm/s^2, got -5");
   expect_error(replaced(kValid, "velocity: 50", "velocity: [50]"), 10, "program.moves[1].velocity", "expected a number");
+}
+
+// `limits`, `axis_limits` and `curvature_steps`: read in the scenario's units, and every misuse
+// refused at its line and key.
+TEST(Scenario, LimitsModeAxisLimitsAndCurvatureSteps) {
+  const Scenario plain = parse(kValid);
+  EXPECT_EQ(plain.limits, LimitsMode::kCartesian);
+  EXPECT_FALSE(plain.axis_limits);
+  EXPECT_EQ(plain.program.moves[1].transition.curvature_steps, CurvatureSteps::kLimit);
+  const std::string text = replaced(replaced(kValid, "units: mm\n", "units: mm\nlimits: cartesian\naxis_limits: {a: [500, 600, 700], j: [5000, 6000, 7000]}\n"),
+                                    "transition: {method: arc, parameter: 5}",
+                                    "transition: {method: arc, parameter: 5, curvature_steps: allow, merge_tolerance: 0.01}");
+  const Scenario sc = parse(text);
+  ASSERT_TRUE(sc.axis_limits);
+  EXPECT_TRUE(sc.axis_limits->acceleration.isApprox(Vec3(0.5, 0.6, 0.7), 1e-15));
+  EXPECT_TRUE(sc.axis_limits->jerk.isApprox(Vec3(5, 6, 7), 1e-15));
+  EXPECT_EQ(sc.program.moves[1].transition.curvature_steps, CurvatureSteps::kAllow);
+  EXPECT_NEAR(sc.program.moves[1].transition.merge_tolerance, 1e-5, 1e-18);
+  const TimingOptions options = timing_options(sc, sc.variants[0]);
+  EXPECT_EQ(options.limits, LimitsMode::kCartesian);
+  EXPECT_DOUBLE_EQ(options.dt, 1.0 / sc.servo.setpoint_rate_hz);
+  ASSERT_TRUE(options.axis_limits);
+  EXPECT_EQ(parse(replaced(kValid, "units: mm\n", "units: mm\nlimits: path\n")).limits, LimitsMode::kPath);
+  expect_error(replaced(kValid, "units: mm\n", "units: mm\nlimits: tcp\n"), 3, "limits", "unknown value 'tcp' (one of: cartesian, path)");
+  expect_error(replaced(kValid, "units: mm\n", "units: mm\nlimits: path\naxis_limits: {a: [1, 1, 1], j: [1, 1, 1]}\n"), 4,
+               "axis_limits", "need 'limits: cartesian'");
+  expect_error(replaced(kValid, "units: mm\n", "units: mm\naxis_limits: {a: [1, 0, 1], j: [1, 1, 1]}\n"), 3,
+               "axis_limits.a[1]", "must be > 0 mm/s^2, got 0");
+  expect_error(replaced(kValid, "units: mm\n", "units: mm\naxis_limits: {a: [1, 1, 1]}\n"), 3, "axis_limits.j",
+               "missing required field");
+  expect_error(replaced(kValid, "transition: {method: arc, parameter: 5}", "transition: {method: arc, parameter: 5, curvature_steps: yes}"),
+               11, "program.moves[1].transition.curvature_steps", "unknown value 'yes' (one of: limit, allow)");
 }
 
 TEST(Scenario, BiclothoidTakesAStartDistanceInsteadOfADeviation) {
@@ -104,17 +133,166 @@ TEST(Scenario, BiclothoidTakesAStartDistanceInsteadOfADeviation) {
   expect_error(replaced(kValid, "method: arc, parameter: 5", "method: biclothoid, parameter: 1, start_distance: 5"), 11,
                "program.moves[1].transition.start_distance", "not both");
   expect_error(replaced(kValid, "method: arc, parameter: 5", "method: biclothoid, start_distance: 0"), 11,
-               "program.moves[1].transition.start_distance", "must be positive");
+               "program.moves[1].transition.start_distance", "must be > 0 mm, got 0");
 }
 
 TEST(Scenario, InvalidYamlReportsTheParserPosition) {
-  try {
-    (void)parse("name: x\nprogram: [unclosed\n");
-    FAIL();
-  } catch (const InputError& e) {
-    EXPECT_GE(e.line(), 2);
-    EXPECT_NE(std::string(e.what()).find("invalid YAML"), std::string::npos);
+  const InputError e = test::expect_input_error([] { (void)parse("name: x\nprogram: [unclosed\n"); },
+                                                {.file = "test.yaml", .message = "invalid YAML"});
+  EXPECT_GE(e.line(), 2);
+}
+
+// yaml-cpp and libyaml keep one of two equal keys silently; the loader refuses the second,
+// naming both places, at any depth and in maps of any size.
+TEST(Scenario, DuplicateKeysAreRefusedWhereTheSecondIs) {
+  expect_error(replaced(kValid, "velocity: 100,", "velocity: 200, velocity: -1,"), 4, "defaults.velocity",
+               "test.yaml:4:27: 'defaults.velocity': duplicate key 'velocity' (first at line 4, column 12)");
+  expect_error(replaced(kValid, "name: square", "name: square\nname: again"), 2, "name", "duplicate key 'name'");
+  expect_error(replaced(kValid, "      velocity: 50", "      velocity: 50\n      velocity: 60"), 11,
+               "program.moves[1].velocity", "duplicate key 'velocity' (first at line 10, column 7)");
+  // a large map is checked through a hash set: the same answer
+  std::string many = "name: big\ndescription: x\n";
+  for (int i = 0; i < 40; ++i) many.append("k").append(std::to_string(i)).append(": 1\n");
+  many += "k17: again\n";
+  expect_error(many, 43, "k17", "duplicate key 'k17' (first at line 20, column 1)");
+}
+
+// A list or a map as a key used to end in yaml-cpp's "bad conversion" (exit 1).
+TEST(Scenario, KeysThatAreNotNamesAreRefusedAtTheirPosition) {
+  expect_error(replaced(kValid, "units: mm", "units: mm\n? [a, b]\n: 3"), 3, "", "a key must be a name, not a list");
+  expect_error(replaced(kValid, "    - line: [0, 100, 0]", "    - {a: 1}: 2"), 12, "program.moves[2]",
+               "a key must be a name, not a map");
+  expect_error(replaced(kValid, "units: mm", "units: mm\n? \n: 3"), 3, "", "a key must be a name, not an empty key");
+  expect_error(replaced(kValid, "units: mm", "units: &u mm\n*u : 3"), 3, "", "a key must be a name, not an alias");
+}
+
+// An unterminated quote runs to the end of the file; it used to read as "'program': missing
+// required field". A quote closed by a later one leaves a string over several lines: named too.
+TEST(Scenario, AnUnclosedQuoteIsNamedAtItsOpeningQuote) {
+  expect_error(replaced(kValid, "name: square", "name: square\ndescription: \"half"), 2, "description",
+               "test.yaml:2:14: 'description': the quoted string that opens here is never closed");
+  expect_error(replaced(kValid, "units: mm", "units: 'mm"), 2, "units", "the quoted string that opens here is never closed");
+  // closed by a quote at the end of the file: the keys in between are text, so one is missing
+  const std::string swallowed = replaced(kValid, "name: square", "name: square\ndescription: \"half") + "\"\n";
+  expect_error(swallowed, 1, "program",
+               "missing required field; the quoted string at line 2, column 14 spans 16 lines: is its closing quote missing?");
+  // closed by a later quote in the middle: the parser's error comes with the same hint
+  const std::string closed_late = replaced(replaced(kValid, "name: square", "name: square\ndescription: \"half"),
+                                           "  - {name: exact", "\"\n  - {name: exact");
+  expect_error(closed_late, 16, "", "; the quoted string at line 2, column 14 spans 14 lines: is its closing quote missing?");
+}
+
+// Bytes that are not text are refused where they are, and never echoed raw.
+TEST(Scenario, BinaryBytesAreRefusedAndEscaped) {
+  const InputError e = expect_error(std::string("name: sq\x01uare\n") + kValid, 1, "", "not a text file: control characters");
+  EXPECT_EQ(e.column(), 9);
+  EXPECT_NE(std::string(e.what()).find("(byte 0x01)"), std::string::npos) << e.what();
+  expect_error("name: \xff\xfe\n", 1, "", "invalid leading UTF-8 octet (byte 0xff)");
+  // a control character inside a quoted string (an escape) reaches the message escaped
+  const InputError q = expect_error(replaced(kValid, "name: square", "name: \"sq\\e[2Juare\""), 1, "name", "scenario name");
+  EXPECT_EQ(std::string(q.what()).find('\x1b'), std::string::npos) << q.what();
+}
+
+// Bounded work in the document itself: nesting depth, and aliases counted as what they repeat.
+TEST(Scenario, DeepNestingAndAliasBombsAreRefusedBeforeTheyCost) {
+  const std::string deep = "name: deep\nprogram: " + std::string(100000, '[') + std::string(100000, ']') + "\n";
+  expect_error(deep, 2, "program[0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0]"
+                        "[0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0][0]",
+               "nested deeper than 64 levels of lists and maps");
+  // nine aliases of nine aliases of ...: 9^9 nodes from a few hundred bytes
+  std::string bomb = "name: bomb\na0: &a0 [x, x, x, x, x, x, x, x, x]\n";
+  for (int i = 1; i <= 9; ++i) {
+    const std::string p = "*a" + std::to_string(i - 1);
+    bomb += "a" + std::to_string(i) + ": &a" + std::to_string(i) + " [" + p;
+    for (int k = 1; k < 9; ++k) bomb += ", " + p;
+    bomb += "]\n";
   }
+  expect_error(bomb, 8, "a6[5]", "more than 4000000 YAML nodes (aliases counted as the nodes they repeat)");
+  // aliases within the limit are fine: a shared transition
+  const Scenario sc = parse(replaced(replaced(kValid, "{method: arc, parameter: 5}", "&t {method: arc, parameter: 5}"),
+                                     "transition: {method: none}", "transition: *t"));
+  EXPECT_EQ(sc.variants[0].transition->method, Method::kArc);
+  EXPECT_EQ(sc.variants[0].transition->parameter, 0.005);
+  expect_error(replaced(kValid, "transition: {method: none}", "transition: *nope"), 14, "variants[0].transition",
+               "unknown alias *nope");
+  expect_error(std::string(kValid) + "---\nname: second\n", 16, "", "a second YAML document");
+}
+
+// Every spelling of a value that is not a finite number, and numbers beyond a double.
+TEST(Scenario, NanAndInfinitySpellingsAreRefusedNamingTheKey) {
+  for (const std::string v : {".nan", ".NaN", "nan", "NaN", ".inf", "-.inf", "+.Inf", "inf", "-Infinity", "1e999", "-1e400"}) {
+    expect_error(replaced(kValid, "velocity: 100", "velocity: " + v), 4, "defaults.velocity", "expected a finite number");
+  }
+  for (const std::string v : {"0x10", "1_000", "12abc", "1.2.3", "--1", "e5", "."}) {
+    expect_error(replaced(kValid, "velocity: 100", "velocity: " + v), 4, "defaults.velocity", "expected a number, got '" + v);
+  }
+  // below the smallest double: zero, then the range says why
+  expect_error(replaced(kValid, "velocity: 100", "velocity: 1e-400"), 4, "defaults.velocity", "must be > 0 mm/s, got 1e-400");
+}
+
+// Every range check names its key and position: rates, delays, counts, durations, filters, pixels.
+TEST(Scenario, RangeChecksCarryTheirPosition) {
+  const std::string base = std::string(kValid) +
+                           "servo: {rate_hz: 2000, measurement_delay_ticks: 1, encoder_counts_per_turn: 4096}\n"
+                           "simulation: {settle_time_s: 1, vibration_highpass_hz: 12}\nvideo: {width: 640}\n";
+  EXPECT_NO_THROW((void)parse(base));
+  expect_error(replaced(base, "measurement_delay_ticks: 1", "measurement_delay_ticks: -1"), 16,
+               "servo.measurement_delay_ticks", "must be in [0, 100], got -1");
+  expect_error(replaced(base, "encoder_counts_per_turn: 4096", "encoder_counts_per_turn: -4096"), 16,
+               "servo.encoder_counts_per_turn", "must be >= 0, got -4096");
+  expect_error(replaced(base, "encoder_counts_per_turn: 4096", "encoder_counts_per_turn: 4096.5"), 16,
+               "servo.encoder_counts_per_turn", "counts per turn must be a whole number");
+  expect_error(replaced(base, "rate_hz: 2000", "rate_hz: 1e-300"), 16, "servo.rate_hz", "must be in [125, 8000] Hz, got 1e-300");
+  expect_error(replaced(base, "rate_hz: 2000", "rate_hz: 2000, setpoint_rate_hz: 300"), 16, "servo.setpoint_rate_hz",
+               "the servo rate (2000 Hz) must be a whole multiple of the setpoint rate");
+  expect_error(replaced(base, "rate_hz: 2000", "rate_hz: 1000, setpoint_rate_hz: 2000"), 16, "servo.setpoint_rate_hz",
+               "the setpoint rate must be at most the servo rate (1000 Hz), got 2000");
+  expect_error(replaced(base, "settle_time_s: 1", "settle_time_s: 1e308"), 17, "simulation.settle_time_s",
+               "must be in [0, 60] s, got 1e308");
+  expect_error(replaced(base, "settle_time_s: 1", "settle_time_s: 0.1"), 17, "simulation.settle_time_s",
+               "settle_time_s (0.1 s) must be at least the settle window settle_window_s (0.2 s)");
+  // the default settle time is refused where the window is: the key the user wrote
+  expect_error(replaced(base, "settle_time_s: 1,", "settle_window_s: 5,"), 17, "simulation.settle_window_s",
+               "settle_time_s (1 s) must be at least the settle window settle_window_s (5 s)");
+  expect_error(replaced(base, "vibration_highpass_hz: 12", "vibration_highpass_hz: 1e-300"), 17,
+               "simulation.vibration_highpass_hz", "must be in [1, 4000] Hz, got 1e-300");
+  expect_error(replaced(base, "width: 640", "width: 641"), 18, "video.width", "must be an even number of pixels, got 641");
+  expect_error(replaced(base, "width: 640", "width: 640.0"), 18, "video.width", "expected an integer (digits only), got '640.0'");
+  expect_error(replaced(base, "width: 640", "width: 99999999999999999999999"), 18, "video.width",
+               "expected an integer in [64, 1920] px");
+  expect_error(replaced(kValid, "direction: ccw}", "direction: ccw, turns: 1000000}"), 9, "program.moves[1].arc.turns",
+               "must be in [0, 100], got 1000000");
+  // in a file in metres, the unit of a length says m
+  expect_error(replaced(replaced(kValid, "units: mm", "units: m"), "acceleration: 1000", "acceleration: 0"), 4,
+               "defaults.acceleration", "must be > 0 m/s^2, got 0");
+}
+
+// The servo's rates: a rate given alone keeps 500 Hz setpoints when it can, its own otherwise.
+TEST(Scenario, SetpointRateFollowsTheServoRateWhenNotGiven) {
+  EXPECT_EQ(parse(kValid).servo.setpoint_rate_hz, 500);
+  EXPECT_EQ(parse(std::string(kValid) + "servo: {rate_hz: 4000}\n").servo.setpoint_rate_hz, 500);
+  EXPECT_EQ(parse(std::string(kValid) + "servo: {rate_hz: 250}\n").servo.setpoint_rate_hz, 250);
+  EXPECT_EQ(parse(std::string(kValid) + "servo: {rate_hz: 1200}\n").servo.setpoint_rate_hz, 1200);
+  const Scenario sc = parse(std::string(kValid) + "servo: {rate_hz: 4000, setpoint_rate_hz: 1000}\n");
+  EXPECT_EQ(sc.servo.setpoint_rate_hz, 1000);
+  EXPECT_EQ(sc.servo.rate_where.line, 16);
+  EXPECT_EQ(parse(kValid).servo.rate_where.line, 0);
+}
+
+// Where a key is valid but in another map, the message says where it belongs.
+TEST(Scenario, AKeyInTheWrongMapIsToldWhereItBelongs) {
+  expect_error(std::string(kValid) + "simulation: {rate_hz: 500}\n", 16, "simulation.rate_hz",
+               "unknown key 'rate_hz' here; it belongs in servo");
+  expect_error(replaced(kValid, "units: mm", "units: mm\nvelocty: 3"), 3, "velocty", "unknown key 'velocty' (allowed: name,");
+  expect_error(replaced(kValid, "velocity: 100,", "velocty: 100,"), 4, "defaults.velocty",
+               "unknown key 'velocty' (did you mean 'velocity'?)");
+}
+
+// Counts are bounded before the work: the number of moves and of variants.
+TEST(Scenario, TooManyVariantsAreRefusedAtTheFirstBeyondTheLimit) {
+  std::string text = replaced(kValid, "  - {name: exact, transition: {method: none}}\n  - {name: arc5, transition: {method: arc, parameter: 2}, buffer: BlendingLow}\n", "");
+  for (std::size_t i = 0; i <= kMaxVariants; ++i) text += "  - {name: v" + std::to_string(i) + "}\n";
+  expect_error(text, 14 + static_cast<int>(kMaxVariants), "variants[1000]", "more than 1000 variants");
 }
 
 TEST(Scenario, ArcFormsAgree) {
@@ -202,13 +380,13 @@ TEST(Scenario, RobotServoAndSimulationSettings) {
   EXPECT_EQ(parse(replaced(kValid, "units: mm\n", "units: mm\nservo: {rate_hz: 250}\n")).servo.setpoint_rate_hz, 250);
 
   const std::string at = "units: mm\n";
-  expect_error(replaced(kValid, at, at + "servo: {rate_hz: 9000}\n"), 3, "servo.rate_hz", "between 125 and 8000 Hz");
+  expect_error(replaced(kValid, at, at + "servo: {rate_hz: 9000}\n"), 3, "servo.rate_hz", "must be in [125, 8000] Hz, got 9000");
   expect_error(replaced(kValid, at, at + "servo: {setpoint_rate_hz: 3000}\n"), 3, "servo.setpoint_rate_hz",
-               "between 125 Hz and the servo rate");
+               "the setpoint rate must be at most the servo rate (2000 Hz), got 3000");
   expect_error(replaced(kValid, at, at + "servo: {encoder_counts_per_turn: 10.5}\n"), 3, "servo.encoder_counts_per_turn",
                "whole number");
   expect_error(replaced(kValid, at, at + "servo: {kp: [1, 2, 3, 4, 5, 6]}\n"), 3, "servo.kp", "unknown key 'kp'");
-  expect_error(replaced(kValid, at, at + "robot: {model: flexible}\n"), 3, "robot.model", "'rigid' or 'elastic'");
+  expect_error(replaced(kValid, at, at + "robot: {model: flexible}\n"), 3, "robot.model", "unknown value 'flexible' (one of: elastic, rigid)");
   expect_error(replaced(kValid, at, at + "simulation: {settle_window_s: 2}\n"), 3, "simulation.settle_window_s",
                "must be at least the settle window");
 }

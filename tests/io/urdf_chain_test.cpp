@@ -7,6 +7,7 @@
 #include <numbers>
 #include <string>
 
+#include "support/input_error.hpp"
 #include "support/property.hpp"
 #include "blendbench/core/input_error.hpp"
 
@@ -82,14 +83,8 @@ std::string arm_urdf(const std::string& joint4 = R"(
 // contains `words`.
 void expect_input_error(const std::string& path, const std::string& field, const std::string& words,
                         const std::string& base = "base_link", const std::string& tip = "tcp") {
-  try {
-    (void)load_urdf_chain(path, base, tip);
-    ADD_FAILURE() << "accepted " << path;
-  } catch (const InputError& error) {
-    EXPECT_EQ(error.file(), path);
-    EXPECT_EQ(error.field(), field) << error.what();
-    EXPECT_NE(std::string(error.what()).find(words), std::string::npos) << error.what();
-  }
+  test::expect_input_error([&] { (void)load_urdf_chain(path, base, tip); }, {.file = path, .field = field, .message = words},
+                           path);
 }
 
 TEST(UrdfChain, ReadsTheModelArm) {

@@ -17,6 +17,7 @@
 
 #include "blendbench/core/input_error.hpp"
 #include "blendbench/sim/simulator.hpp"
+#include "support/input_error.hpp"
 #include "support/property.hpp"
 
 namespace blendbench {
@@ -232,14 +233,9 @@ TEST(ElasticModel, FrictionHasTheStatedViscousAndCoulombTerms) {
 TEST(ElasticModel, TimestepResolvesTheStiffestMode) {
   const Simulator sim(elastic_model());
   EXPECT_DOUBLE_EQ(sim.timestep(), 1.0 / 8000);
-  try {
-    (void)Simulator(elastic_model(), ModelChanges{1.0, 1.2 / 8000});
-    FAIL() << "expected an InputError";
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.field(), "mjcf");
-    EXPECT_NE(e.detail().find("too long for the model's stiffest mode"), std::string::npos) << e.what();
-    EXPECT_NE(e.detail().find("use at most 0.00013"), std::string::npos) << e.what();
-  }
+  const InputError e = test::expect_input_error([] { (void)Simulator(elastic_model(), ModelChanges{1.0, 1.2 / 8000}); },
+                                                {.field = "mjcf", .message = "too long for the model's stiffest mode"});
+  EXPECT_NE(e.detail().find("use at most 0.00013"), std::string::npos) << e.what();
   // the rigid arm has no such mode
   EXPECT_NO_THROW((void)Simulator(rigid_model(), ModelChanges{1.0, 1e-3}));
 }

@@ -10,6 +10,7 @@
 #include <numbers>
 #include <string>
 
+#include "support/input_error.hpp"
 #include "support/property.hpp"
 #include "support/test_arm.hpp"
 #include "blendbench/core/input_error.hpp"
@@ -101,49 +102,26 @@ bool all_finite(const Trace& trace) {
 }
 
 TEST(SimulatorLoad, InvalidXmlIsAnInputErrorWithMujocosMessageAndLine) {
-  try {
-    (void)Simulator::from_xml_string("<mujoco>\n<worldbody>\n<body><joint type=\"hing\"/></body></worldbody></mujoco>");
-    FAIL() << "expected InputError";
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.field(), "mjcf");
-    EXPECT_EQ(e.file(), "<string>");
-    EXPECT_EQ(e.line(), 3);
-    EXPECT_NE(e.detail().find("hing"), std::string::npos) << e.what();
-    EXPECT_EQ(e.detail().find('\n'), std::string::npos) << e.what();
-  }
+  const InputError e = test::expect_input_error(
+      [] { (void)Simulator::from_xml_string("<mujoco>\n<worldbody>\n<body><joint type=\"hing\"/></body></worldbody></mujoco>"); },
+      {.file = "<string>", .line = 3, .field = "mjcf", .message = "hing"});
+  EXPECT_EQ(e.detail().find('\n'), std::string::npos) << e.what();
 }
 
 TEST(SimulatorLoad, MissingFileNamesTheFile) {
-  try {
-    (void)Simulator("/nonexistent/arm.xml");
-    FAIL() << "expected InputError";
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.file(), "/nonexistent/arm.xml");
-    EXPECT_EQ(e.field(), "mjcf");
-  }
+  test::expect_input_error([] { (void)Simulator("/nonexistent/arm.xml"); }, {.file = "/nonexistent/arm.xml", .field = "mjcf"});
 }
 
 TEST(SimulatorLoad, ModelWithoutTcpSiteIsRejected) {
   std::string xml = test::kTestArmXml;
   xml.replace(xml.find("name=\"tcp\""), 10, "name=\"tip\"");
-  try {
-    (void)Simulator::from_xml_string(xml);
-    FAIL() << "expected InputError";
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.field(), "site");
-  }
+  test::expect_input_error([&] { (void)Simulator::from_xml_string(xml); }, {.field = "site"});
 }
 
 TEST(SimulatorLoad, PositionActuatorIsRejected) {
   std::string xml = test::kTestArmXml;
   xml.replace(xml.find("<motor name=\"elbow\""), 6, "<position");
-  try {
-    (void)Simulator::from_xml_string(xml);
-    FAIL() << "expected InputError";
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.field(), "actuator");
-    EXPECT_NE(e.detail().find("'elbow'"), std::string::npos) << e.what();
-  }
+  test::expect_input_error([&] { (void)Simulator::from_xml_string(xml); }, {.field = "actuator", .message = "'elbow'"});
 }
 
 TEST(SimulatorLoad, FiveActuatorsAreRejected) {
@@ -446,13 +424,8 @@ TEST_F(SimulatorTest, FramesComeAtTheRequestedRate) {
 
 TEST_F(SimulatorTest, MalformedReferenceOrServoIsAnInputError) {
   const ServoConfig servo = servo_at(sim_, q0_);
-  const auto field_of = [&](const JointTrajectory& reference, const ServoConfig& s) -> std::string {
-    try {
-      (void)sim_.run(reference, s, {});
-    } catch (const InputError& e) {
-      return e.field();
-    }
-    return "no error";
+  const auto field_of = [&](const JointTrajectory& reference, const ServoConfig& s) {
+    return test::expect_input_error([&] { (void)sim_.run(reference, s, {}); }, {}).field();
   };
   EXPECT_EQ(field_of(JointTrajectory{}, servo), "reference.q");
   JointTrajectory reference = cosine_reference(q0_, 0.1, 1.0, 0.1, 0.001);

@@ -13,10 +13,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "blendbench/corner/blend.hpp"
+#include "blendbench/timing/cartesian.hpp"
 #include "blendbench/timing/profile_margins.hpp"
 #include "blendbench/timing/timing.hpp"
 
@@ -35,8 +37,11 @@ struct Margins {
 // differences of s (stencil averages of v, a, j) within the largest limits of the pieces the
 // stencil touches, up to the rounding noise of s; v = 0 at every stop (the samples on either
 // side of a stop are within J dt^2 / 2 of rest: a jerk-limited arrival at rest).
+// `planned`: the options the timing was planned with (its hand-over zones are the planner's
+// under them; dt is taken from the timing).
 inline Margins expect_valid(const Path& path, const Timing& timing, const std::string& where,
-                     TimingOptions::Baseline baseline = TimingOptions::Baseline::kNone) {
+                            const TimingOptions& planned) {
+  const TimingOptions::Baseline baseline = planned.baseline;
   Margins m;
   const auto& x = timing.samples;
   EXPECT_TRUE(timing.outcome.ok()) << where << " " << timing.outcome.message;
@@ -51,9 +56,8 @@ inline Margins expect_valid(const Path& path, const Timing& timing, const std::s
   EXPECT_EQ(x.back().s, path.length()) << where;
   EXPECT_EQ(x.back().v, 0.0) << where;
   EXPECT_EQ(x.back().a, 0.0) << where;
-  TimingOptions options;
+  TimingOptions options = planned;
   options.dt = dt;
-  options.baseline = baseline;
   const std::vector<HandoverZone> zones = handover_zones(path, options);
   std::vector<LocalLimits> lim(x.size());
   for (std::size_t k = 0; k < x.size(); ++k) {
@@ -120,6 +124,115 @@ inline Margins expect_valid(const Path& path, const Timing& timing, const std::s
     if (past != x.end()) {
       EXPECT_LE(past->v, bound) << where << " stop before piece " << p;
     }
+  }
+  return m;
+}
+
+// The same for a timing planned with the default options and `baseline`.
+inline Margins expect_valid(const Path& path, const Timing& timing, const std::string& where,
+                            TimingOptions::Baseline baseline = TimingOptions::Baseline::kNone) {
+  TimingOptions options;
+  options.baseline = baseline;
+  return expect_valid(path, timing, where, options);
+}
+
+// Margins of a profile as vectors on the TCP (cartesian.hpp): the largest |a| / A and |j| / J
+// over the samples, analytic from v, a_t, j_t and the path's tangent, curvature vector and its
+// derivative at each sample (a_t > 0: A the acceleration, a_t < 0: the deceleration, a_t = 0:
+// the smaller), and the same for the axis components against the axis limits; fd_a, fd_j: the
+// same from finite differences of the sampled x, y, z (2nd and 3rd differences, the averages of
+// the acceleration and jerk over their stencils), against the largest limits the stencil
+// touches, up to the rounding of the positions.
+struct CartesianMargins {
+  double a = 0, j = 0, axis_a = 0, axis_j = 0, fd_a = 0, fd_j = 0;
+};
+
+// Checks the Cartesian limits on every sample (all within kRel): the analytic vectors of every
+// piece touching the sample's s; the finite differences on stencils that cross no kink (a
+// velocity step) for the acceleration, and no kink or curvature step (an acceleration step,
+// bounded by the junction rule or allowed and reported) for the jerk.
+inline CartesianMargins expect_cartesian_valid(const Path& path, const Timing& timing,
+                                               const std::optional<AxisLimits>& axes, const std::string& where) {
+  CartesianMargins m;
+  const auto& x = timing.samples;
+  const auto& pieces = path.pieces();
+  const double inf = std::numeric_limits<double>::infinity();
+  const Vec3 no_axis = Vec3::Constant(inf);
+  const Vec3 axis_a = axes ? axes->acceleration : no_axis;
+  const Vec3 axis_j = axes ? axes->jerk : no_axis;
+  struct Widest {
+    double a = 0, j = 0;
+  };
+  std::vector<Widest> widest(x.size());
+  std::vector<Vec3> p(x.size());
+  for (std::size_t k = 0; k < x.size(); ++k) {
+    const TimedSample& q = x[k];
+    p[k] = path.point(q.s);
+    // at a junction the sample's a_t and j_t are one side's (the span it falls in): the sample
+    // must be valid on at least one of the pieces it touches
+    CartesianMargins here{inf, inf, inf, inf, 0, 0};
+    path.for_pieces_at(q.s, [&](std::size_t i, double local) {
+      const PathPiece& piece = pieces[i];
+      const SegmentFrame f = frame(piece.segment, local);
+      const Vec3 a = tcp_acceleration(q.v, q.a, f.tangent, f.curvature);
+      const Vec3 j = tcp_jerk(q.v, q.a, q.j, f.tangent, f.curvature, f.curvature_derivative);
+      const Limits& lim = piece.limits;
+      const double a_lim = q.a > 0 ? lim.acceleration : q.a < 0 ? lim.deceleration : std::min(lim.acceleration, lim.deceleration);
+      here.a = std::min(here.a, a.norm() / a_lim);
+      here.j = std::min(here.j, j.norm() / lim.jerk);
+      here.axis_a = std::min(here.axis_a, a.cwiseAbs().cwiseQuotient(axis_a).maxCoeff());
+      here.axis_j = std::min(here.axis_j, j.cwiseAbs().cwiseQuotient(axis_j).maxCoeff());
+      widest[k].a = std::max({widest[k].a, lim.acceleration, lim.deceleration});
+      widest[k].j = std::max(widest[k].j, lim.jerk);
+    });
+    m.a = std::max(m.a, here.a);
+    m.j = std::max(m.j, here.j);
+    m.axis_a = std::max(m.axis_a, here.axis_a);
+    m.axis_j = std::max(m.axis_j, here.axis_j);
+  }
+  EXPECT_LE(m.a, 1 + kRel) << where << " |a|";
+  EXPECT_LE(m.j, 1 + kRel) << where << " |j|";
+  EXPECT_LE(m.axis_a, 1 + kRel) << where << " axis a";
+  EXPECT_LE(m.axis_j, 1 + kRel) << where << " axis j";
+  if (x.size() < 4) return m;
+
+  // junctions whose kink or curvature step a stencil must not cross
+  std::vector<std::pair<double, bool>> steps;  // s, and whether it is a kink
+  for (std::size_t i = 1; i < pieces.size(); ++i) {
+    const Segment& a = pieces[i - 1].segment;
+    const Segment& b = pieces[i].segment;
+    const bool kink = angle_between(tangent(a, length(a)), tangent(b, 0.0)) > 1e-9;
+    const bool jump = (curvature_vector(a, length(a)) - curvature_vector(b, 0.0)).norm() > 1e-9;
+    if (kink || jump) steps.emplace_back(path.offset(i), kink);
+  }
+  const auto crosses = [&](std::size_t k0, std::size_t k1, bool kinks_only) {
+    const auto it = std::lower_bound(steps.begin(), steps.end(), std::pair{x[k0].s, false});
+    for (auto s = it; s != steps.end() && s->first <= x[k1].s; ++s) {
+      if (!kinks_only || s->second) return true;
+    }
+    return false;
+  };
+  double size = 0;
+  for (const Vec3& q : p) size = std::max(size, q.cwiseAbs().maxCoeff());
+  const double noise = 8 * kEps * (size + path.length());
+  const double dt = timing.dt;
+  for (std::size_t k = 1; k + 1 < x.size(); ++k) {
+    if (crosses(k - 1, k + 1, true)) continue;
+    const Vec3 a = (p[k + 1] - 2 * p[k] + p[k - 1]) / (dt * dt);
+    const double lim = std::max({widest[k - 1].a, widest[k].a, widest[k + 1].a});
+    const double slack = 4 * noise / (dt * dt);
+    m.fd_a = std::max(m.fd_a, (a.norm() - slack) / lim);
+    EXPECT_LE(a.norm(), lim * (1 + kRel) + slack) << where << " finite-difference |a|, k=" << k;
+    EXPECT_LE((a.cwiseAbs() - Vec3::Constant(slack)).cwiseQuotient(axis_a).maxCoeff(), 1 + kRel) << where << " axis a, k=" << k;
+  }
+  for (std::size_t k = 1; k + 2 < x.size(); ++k) {
+    if (crosses(k - 1, k + 2, false)) continue;
+    const Vec3 j = (p[k + 2] - 3 * p[k + 1] + 3 * p[k] - p[k - 1]) / (dt * dt * dt);
+    const double lim = std::max({widest[k - 1].j, widest[k].j, widest[k + 1].j, widest[k + 2].j});
+    const double slack = 8 * noise / (dt * dt * dt);
+    m.fd_j = std::max(m.fd_j, (j.norm() - slack) / lim);
+    EXPECT_LE(j.norm(), lim * (1 + kRel) + slack) << where << " finite-difference |j|, k=" << k;
+    EXPECT_LE((j.cwiseAbs() - Vec3::Constant(slack)).cwiseQuotient(axis_j).maxCoeff(), 1 + kRel) << where << " axis j, k=" << k;
   }
   return m;
 }

@@ -1,5 +1,8 @@
 #include "blendbench/core/format.hpp"
 
+#include <algorithm>
+#include <array>
+#include <charconv>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -13,12 +16,65 @@ std::string with_unit(double value, const char* unit) { return format_value(valu
 }  // namespace
 
 std::string format_value(double value, int digits) {
-  std::ostringstream out;
-  out.precision(digits);
-  if (std::isnan(value)) value = std::numeric_limits<double>::quiet_NaN();  // never "-nan"
-  if (value == 0) value = 0;                                                 // never "-0"
-  out << value;
-  return out.str();
+  if (std::isnan(value)) return "nan";  // never "-nan"
+  if (value == 0) value = 0;            // never "-0"
+  // %g with `digits` significant digits, as a stream prints it, without building a stream (the
+  // corner fits format their notes on the hot path)
+  std::array<char, 64> text{};
+  const auto [end, error] = std::to_chars(text.data(), text.data() + text.size(), value, std::chars_format::general,
+                                          std::clamp(digits, 1, 40));
+  return error == std::errc() ? std::string(text.data(), end) : std::string("?");
+}
+
+std::string printable(std::string_view text) {
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string out;
+  out.reserve(text.size());
+  const auto escape = [&](unsigned char c) {
+    out += "\\x";
+    out += kHex[c >> 4];
+    out += kHex[c & 0xF];
+  };
+  const auto byte = [&](std::size_t i) { return static_cast<unsigned char>(text[i]); };
+  for (std::size_t i = 0; i < text.size();) {
+    const unsigned char c = byte(i);
+    if (c < 0x80) {
+      // ASCII: the controls escaped, "\n" and "\t" by name
+      if (c == '\n') {
+        out += "\\n";
+      } else if (c == '\t') {
+        out += "\\t";
+      } else if (c < 0x20 || c == 0x7F) {
+        escape(c);
+      } else {
+        out += static_cast<char>(c);
+      }
+      ++i;
+      continue;
+    }
+    // a UTF-8 sequence: its length from the lead byte, continuation bytes 10xxxxxx, no overlong
+    // form, no surrogate, at most U+10FFFF (RFC 3629); the C1 controls U+0080-U+009F escaped
+    const std::size_t len = c >= 0xC2 && c <= 0xDF ? 2 : c >= 0xE0 && c <= 0xEF ? 3 : c >= 0xF0 && c <= 0xF4 ? 4 : 0;
+    bool ok = len > 0 && i + len <= text.size();
+    for (std::size_t k = 1; ok && k < len; ++k) ok = (byte(i + k) & 0xC0) == 0x80;
+    if (ok && len == 3) {
+      const unsigned char c1 = byte(i + 1);
+      ok = !(c == 0xE0 && c1 < 0xA0) && !(c == 0xED && c1 >= 0xA0);
+    }
+    if (ok && len == 4) {
+      const unsigned char c1 = byte(i + 1);
+      ok = !(c == 0xF0 && c1 < 0x90) && !(c == 0xF4 && c1 >= 0x90);
+    }
+    if (ok && len == 2 && c == 0xC2 && byte(i + 1) < 0xA0) ok = false;  // C1 control
+    if (!ok) {
+      escape(c);
+      ++i;
+      continue;
+    }
+    out.append(text.substr(i, len));
+    i += len;
+  }
+  return out;
 }
 
 std::string format_mm(double metres) { return with_unit(metres * 1e3, "mm"); }

@@ -2,22 +2,26 @@
 
 #include <utility>
 
+#include "blendbench/core/format.hpp"
+
 namespace blendbench {
 namespace {
 
+// "file:line:column: 'field': message", every part printable (bytes of a binary input, a file
+// name or a key with control characters are escaped, so the message stays one line).
 std::string format_location(const std::string& file, int line, int column, const std::string& field,
                             const std::string& message) {
   std::string out;
   if (!file.empty()) {
-    out += file;
+    out += printable(file);
     if (line > 0) {
       out += ':' + std::to_string(line);
       if (column > 0) out += ':' + std::to_string(column);
     }
     out += ": ";
   }
-  if (!field.empty()) out += "'" + field + "': ";
-  out += message;
+  if (!field.empty()) out += "'" + printable(field) + "': ";
+  out += printable(message);
   return out;
 }
 
@@ -29,7 +33,7 @@ InputError::InputError(std::string file, int line, int column, std::string field
       line_(line),
       column_(column),
       field_(std::move(field)),
-      detail_(message) {}
+      detail_(printable(message)) {}
 
 void fail_at(const SourceRef& where, const std::string& field, const std::string& message) {
   throw InputError(where.file, where.line, where.column, field, message);

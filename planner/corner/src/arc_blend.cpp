@@ -53,8 +53,8 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 constexpr double kTwoPi = 2 * std::numbers::pi;
 
-// rad: a corner whose tangent turns by less than this is G1 (collinear / tangent); one that
-// turns by more than pi minus this is a reversal
+// rad: a corner whose tangent turns by less than this is G1 (collinear / tangent); reversals
+// and near reversals by the shared thresholds (corner.hpp)
 constexpr double kStraightAngle = 1e-10;
 // rad: line and arc (or two arc planes) within this angle count as coplanar
 constexpr double kPlanarAngle = 1e-10;
@@ -404,7 +404,7 @@ CornerFit fit_line_line(const Corner& k, double d_req) {
     return fit;
   }
   // 180 degrees (001 fig. 7-3): both shortened by d, meeting at the same point; the kink stays
-  if (k.theta >= kPi - kStraightAngle) {
+  if (k.theta >= kPi - kReversalAngle) {
     CornerFit kink = kink_fit(k, CornerCase::kReversal, d, d);
     kink.note = note;
     return kink;
@@ -521,7 +521,7 @@ CornerFit from_candidate(const Corner& k, const Candidate& cand, double d) {
 CornerFit fit_planar(const Corner& k, const Plane& pl, bool larger_in, double d_req) {
   const double avail_larger = larger_in ? k.avail_in : k.avail_out;
   const double d = std::min(d_req, avail_larger);
-  const bool reversal = k.theta >= kPi - kStraightAngle;
+  const bool reversal = k.theta >= kPi - kReversalAngle;
   const auto finish = [&](CornerFit fit) {
     if (reversal && !fit.transition.empty()) {
       fit.corner_case = CornerCase::kReversal;

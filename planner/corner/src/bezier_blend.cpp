@@ -33,9 +33,9 @@ namespace {
 
 // rad: tangents closer than this are continuous (the blender's G1 threshold).
 constexpr double kTangentAngle = 1e-9;
-// rad: tangents within this of opposite are a reversal; no Bezier joins them (the cubic of
-// eq. 8-9 would stop at u = 1/2, and the curvature of any fillet grows like 1/angle^2).
-constexpr double kReversalAngle = 1e-9;
+// Tangents within kReversalAngle of opposite (corner.hpp) are a reversal; no Bezier joins them
+// (the cubic of eq. 8-9 would stop at u = 1/2, and the curvature of any fillet grows like
+// 1/angle^2; within kNearReversalAngle the blender already left the kink).
 // m: a transition shorter than this is a zero-distance corner. Control points are stored in
 // absolute coordinates, so below ~1 nm their rounding (1e-16 of ~1 m) would swamp curvature.
 constexpr double kMinLength = 1e-9;

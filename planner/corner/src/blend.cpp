@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "blendbench/geometry/closest.hpp"
+#include "blendbench/core/format.hpp"
 #include "blendbench/corner/corner.hpp"
 
 namespace blendbench {
@@ -12,6 +14,9 @@ namespace {
 
 // Angle (rad) below which two tangents count as continuous (G1) at a junction.
 constexpr double kG1Angle = 1e-9;
+// The corner report's deviation is exact to this share of the corner's size (the longer of the
+// transition and the path it replaces): hausdorff_within, closest.hpp.
+constexpr double kDeviationTolerance = 1e-9;
 
 std::string move_name(const Program& program, std::size_t k) {
   const Move& move = program.moves[k];
@@ -19,6 +24,11 @@ std::string move_name(const Program& program, std::size_t k) {
 }
 
 CornerFit fit_corner(const CornerInput& corner) {
+  // near reversals by one rule for every method (corner.hpp)
+  if (corner.spec.method != Method::kNone) {
+    const double theta = angle_between(tangent(corner.in, length(corner.in)), tangent(corner.out, 0.0));
+    if (auto fit = near_reversal_fit(corner, theta)) return *fit;
+  }
   switch (corner.spec.method) {
     case Method::kNone: {
       CornerFit fit;
@@ -46,6 +56,33 @@ Limits transition_limits(const Move& in, const Move& out) {
 }
 
 }  // namespace
+
+std::optional<CornerFit> near_reversal_fit(const CornerInput& corner, double theta) {
+  if (!(theta >= std::numbers::pi - kNearReversalAngle) || theta >= std::numbers::pi - kReversalAngle) {
+    return std::nullopt;
+  }
+  const std::string why = "the tangent turns by " + format_deg(theta) + ", within " + format_deg(kNearReversalAngle) +
+                          " of a reversal";
+  // as at a reversal: no transition, the kink stays
+  CornerFit fit;
+  fit.corner_case = CornerCase::kNearReversal;
+  fit.note = why + ": no transition, the kink stays (as at a reversal)";
+  fit.stop = corner.buffer == BufferMode::kBuffered;
+  return fit;
+}
+
+std::string cusp_problem(const CornerInput& corner, const CornerFit& fit) {
+  if (fit.transition.empty() || !(fit.parameter_used > 0)) return {};
+  double scale = fit.parameter_used;
+  for (const Primitive* p : {&corner.in, &corner.out}) {
+    if (const auto* a = std::get_if<Arc>(p)) scale = std::min(scale, a->radius);
+  }
+  double kappa = 0;
+  for (const Segment& seg : fit.transition) kappa = std::max(kappa, max_curvature(seg, 0, length(seg)));
+  if (!(kappa * scale > 1 / kCuspShare)) return {};
+  return "the transition would be a cusp: its smallest radius " + format_mm(1 / kappa) + " is below " +
+         format_value(100 * kCuspShare) + " % of " + format_mm(scale) + " (the parameter or a programmed radius)";
+}
 
 double curvature_speed_limit(double kappa, double sharpness, double a_max, double j_max) {
   const double inf = std::numeric_limits<double>::infinity();
@@ -79,7 +116,7 @@ void measure_corner(CornerReport& report, const std::vector<Segment>& transition
       if (report.trim_out < len_out) kept.push_back(to_segment(sub_segment(out, report.trim_out, len_out)));
     }
     if (!skipped.empty() && !kept.empty()) {
-      report.deviation = directed_hausdorff(skipped, kept, (report.trim_in + report.trim_out) / 512.0);
+      report.deviation = directed_hausdorff_within(skipped, kept, kDeviationTolerance * (report.trim_in + report.trim_out));
     }
     return;
   }
@@ -99,16 +136,17 @@ void measure_corner(CornerReport& report, const std::vector<Segment>& transition
     replaced.push_back(to_segment(in));
     replaced.push_back(to_segment(out));
   }
-  // sample step from the longer of the two curves: a tiny transition (a near-180 degree fillet)
-  // replacing long trims would otherwise take billions of samples
+  // to kDeviationTolerance of the longer of the two curves
   double replaced_length = 0;
   for (const Segment& seg : replaced) replaced_length += length(seg);
-  report.deviation = hausdorff(transition, replaced, std::max(report.length, replaced_length) / 512.0);
+  report.deviation = hausdorff_within(transition, replaced, kDeviationTolerance * std::max(report.length, replaced_length));
   report.feed_max = curvature_speed_limit(report.kappa_max, report.sharpness_max, a_max, j_max);
 }
 
-Path blend(const Program& program) {
-  validate(program);
+namespace {
+
+// The blender on a validated program, without merging.
+Path blend_moves(const Program& program) {
   const std::size_t n = program.moves.size();
   std::vector<double> lengths(n);
   for (std::size_t k = 0; k < n; ++k) lengths[k] = length(program.moves[k].geometry);
@@ -134,6 +172,9 @@ Path blend(const Program& program) {
     corner.name = "corner " + std::to_string(k + 1) + " (" + move_name(program, k) + " -> " + move_name(program, k + 1) + ")";
     corner.where = a.where;
     CornerFit fit = fit_corner(corner);
+    if (fit.outcome.ok()) {
+      if (const std::string cusp = cusp_problem(corner, fit); !cusp.empty()) fit.outcome = {Status::kInfeasible, cusp};
+    }
     if (!fit.outcome.ok()) {
       // documented fallback: leave the corner as programmed and stop there
       CornerFit kink;
@@ -172,8 +213,10 @@ Path blend(const Program& program) {
     const double s0 = trim_start[k];
     const double s1 = lengths[k] - trim_end[k];
     if (s1 - s0 > 1e-12 * lengths[k]) {
+      // the junction at its start belongs to the corner before it
+      const bool allowed = k > 0 && program.moves[k - 1].transition.curvature_steps == CurvatureSteps::kAllow;
       append(PathPiece{to_segment(sub_segment(move.geometry, s0, s1)), static_cast<int>(k), -1, move.limits,
-                       move.buffer, false, 0.0},
+                       move.buffer, false, 0.0, allowed, move.where},
              k > 0 ? program.moves[k - 1].buffer : move.buffer, tangent(move.geometry, s0),
              tangent(move.geometry, s1));
     }
@@ -191,16 +234,106 @@ Path blend(const Program& program) {
     report.trim_in = fit.trim_in;
     report.trim_out = fit.trim_out;
     report.stop = fit.stop;
+    report.curvature_steps = move.transition.curvature_steps;
     measure_corner(report, fit.transition, move.geometry, next.geometry, next.limits.acceleration, next.limits.jerk);
     stop_next = stop_next || fit.stop;
     const Limits lim = transition_limits(move, next);
+    // where the transition's limits were written: the next move's (acceleration, deceleration,
+    // jerk, and the velocity unless the incoming move sets it)
+    const SourceRef& source =
+        move.transition.velocity > 0 || lim.velocity != next.limits.velocity ? move.where : next.where;
     for (const Segment& seg : fit.transition) {
       if (length(seg) <= 0) continue;
-      append(PathPiece{seg, -1, static_cast<int>(k), lim, move.buffer, false, 0.0}, move.buffer, tangent(seg, 0.0),
+      append(PathPiece{seg, -1, static_cast<int>(k), lim, move.buffer, false, 0.0,
+                       report.curvature_steps == CurvatureSteps::kAllow, source},
+             move.buffer, tangent(seg, 0.0),
              tangent(seg, length(seg)));
     }
     path.corners.push_back(std::move(report));
   }
+  return path;
+}
+
+// Whether vertices[i] (i in [1, size - 1)) lie within `tol` of the chord from the first to the
+// last, each ahead of the one before along it.
+bool on_chord(const std::vector<Vec3>& vertices, double tol) {
+  const Vec3& a = vertices.front();
+  const Vec3 d = vertices.back() - a;
+  const double len = d.norm();
+  if (!(len > 0)) return false;
+  const Vec3 u = d / len;
+  double along = 0;
+  for (std::size_t i = 1; i + 1 < vertices.size(); ++i) {
+    const Vec3 r = vertices[i] - a;
+    const double x = r.dot(u);
+    if (x <= along || x >= len || (r - x * u).norm() > tol) return false;
+    along = x;
+  }
+  return true;
+}
+
+// Whether move b may join a run of lines that ends with move a (blend.hpp).
+bool mergeable(const Move& a, const Move& b) {
+  const auto same = [](const Limits& x, const Limits& y) {
+    return x.velocity == y.velocity && x.acceleration == y.acceleration && x.deceleration == y.deceleration &&
+           x.jerk == y.jerk;
+  };
+  return std::holds_alternative<Line>(a.geometry) && std::holds_alternative<Line>(b.geometry) &&
+         a.transition.method != Method::kNone && a.transition.merge_tolerance > 0 && same(a.limits, b.limits) &&
+         a.buffer == b.buffer;
+}
+
+}  // namespace
+
+MergedProgram merge_collinear(const Program& program) {
+  MergedProgram out;
+  const auto& moves = program.moves;
+  std::vector<Vec3> vertices;
+  for (std::size_t k = 0; k < moves.size();) {
+    // grow the run k..m greedily while its inner vertices stay on the chord
+    std::size_t m = k;
+    double tol = moves[k].transition.merge_tolerance;
+    if (std::holds_alternative<Line>(moves[k].geometry)) {
+      vertices = {std::get<Line>(moves[k].geometry).p0, std::get<Line>(moves[k].geometry).p1};
+      while (m + 1 < moves.size() && m + 1 - k < static_cast<std::size_t>(kMaxMergeRun) && mergeable(moves[m], moves[m + 1])) {
+        const double t = std::min(tol, moves[m].transition.merge_tolerance);
+        vertices.push_back(std::get<Line>(moves[m + 1].geometry).p1);
+        if (!on_chord(vertices, t)) break;
+        tol = t;
+        ++m;
+      }
+    }
+    Move merged = moves[k];
+    if (m > k) {
+      merged.geometry = Line{vertices.front(), std::get<Line>(moves[m].geometry).p1};
+      merged.transition = moves[m].transition;
+      out.moves_merged += static_cast<int>(m - k);
+      out.tolerance = std::max(out.tolerance, tol);
+    }
+    out.program.moves.push_back(std::move(merged));
+    out.first.push_back(k);
+    out.last.push_back(m);
+    k = m + 1;
+  }
+  return out;
+}
+
+Path blend(const Program& program) {
+  validate(program);
+  const MergedProgram merged = merge_collinear(program);
+  if (merged.moves_merged == 0) return blend_moves(program);
+  const Path blended = blend_moves(merged.program);
+  // the pieces and reports with the program's own move and corner indices
+  Path path;
+  for (PathPiece piece : blended.pieces()) {
+    if (piece.move >= 0) piece.move = static_cast<int>(merged.first[static_cast<std::size_t>(piece.move)]);
+    if (piece.corner >= 0) piece.corner = static_cast<int>(merged.last[static_cast<std::size_t>(piece.corner)]);
+    path.append(std::move(piece));
+  }
+  path.corners = blended.corners;
+  for (CornerReport& r : path.corners) r.index = static_cast<int>(merged.last[static_cast<std::size_t>(r.index)]);
+  path.moves_merged = merged.moves_merged;
+  path.merge_tolerance = merged.tolerance;
   return path;
 }
 

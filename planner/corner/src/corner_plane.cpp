@@ -17,8 +17,6 @@ namespace blendbench {
 using namespace biclothoid_detail;  // the helpers private to the biclothoid sources
 namespace {
 
-// How close to pi a turn must be to count as a reversal (rad).
-constexpr double kReversalAngle = 1e-9;
 // Largest out-of-plane angle (rad) of a line or arc normal for a corner to count as planar.
 constexpr double kPlanarAngle = 1e-10;
 

@@ -232,6 +232,31 @@ double bezier_sharpness_at_u(const Bezier& bezier, double u) {
   return std::abs(dkappa_du / g);
 }
 
+// d^3 p / ds^3 of a Bezier at parameter u, from its derivatives r1, r2, r3 in u: with
+// sigma = |r1|, n = r2 sigma - r1 sigma', p_ss = n / sigma^3 and
+// p_sss = n' / sigma^4 - 3 n sigma' / sigma^5, n' = r3 sigma - r1 sigma''.
+Vec3 bezier_curvature_derivative_at_u(const Bezier& bezier, double u) {
+  const Vec3 r1 = bezier.d1(u);
+  const Vec3 r2 = bezier.d2(u);
+  const Vec3 r3 = bezier.d3(u);
+  const double sigma = r1.norm();
+  const double sigma1 = r1.dot(r2) / sigma;
+  const double sigma2 = (r2.squaredNorm() + r1.dot(r3) - sigma1 * sigma1) / sigma;
+  const Vec3 n = r2 * sigma - r1 * sigma1;
+  const Vec3 n1 = r3 * sigma - r1 * sigma2;
+  const double s2 = sigma * sigma;
+  return n1 / (s2 * s2) - 3.0 * sigma1 * n / (s2 * s2 * sigma);
+}
+
+// |d^3p/ds^3 + kappa^2 T| of a Bezier at u: the part normal to the tangent.
+double bezier_spatial_sharpness_at_u(const Bezier& bezier, double u) {
+  const Vec3 r1 = bezier.d1(u);
+  const Vec3 r2 = bezier.d2(u);
+  const double g2 = r1.squaredNorm();
+  const Vec3 k = (r2 - r1 * (r1.dot(r2) / g2)) / g2;
+  return (bezier_curvature_derivative_at_u(bezier, u) + k.squaredNorm() * r1 / std::sqrt(g2)).norm();
+}
+
 }  // namespace
 
 // ---- Clothoid
@@ -331,6 +356,41 @@ Primitive sub_segment(const Primitive& primitive, double s0, double s1) {
 Vec3 start_point(const Segment& segment) { return point(segment, 0.0); }
 Vec3 end_point(const Segment& segment) { return point(segment, length(segment)); }
 
+Vec3 curvature_derivative(const Segment& segment, double s) {
+  return std::visit(
+      Overloaded{
+          [](const Line&) -> Vec3 { return Vec3::Zero(); },
+          [s](const Arc& a) -> Vec3 {
+            // kappa N = -(r / g^2) radial(phi), phi = s / g: its derivative is -(r / g^3) d radial/dphi
+            const double g = arc_speed(a);
+            const double phi = clamp_s(s, length(a)) / g;
+            return -a.radius / (g * g * g) * (-std::sin(phi) * a.u + std::cos(phi) * a.v);
+          },
+          [s](const Bezier& b) -> Vec3 { return bezier_curvature_derivative_at_u(b, b.parameter_at(s)); },
+          [s](const Clothoid& c) -> Vec3 {
+            // kappa n with n = (-sin, cos)(theta): (kappa n)' = c n - kappa^2 T
+            const double x = clamp_s(s, c.length);
+            const double theta = c.kappa0 * x + 0.5 * c.sharpness * x * x;
+            const double kappa = c.kappa0 + c.sharpness * x;
+            const Vec3 t = std::cos(theta) * c.e1 + std::sin(theta) * c.e2;
+            const Vec3 n = -std::sin(theta) * c.e1 + std::cos(theta) * c.e2;
+            return c.sharpness * n - kappa * kappa * t;
+          },
+      },
+      segment);
+}
+
+SegmentFrame frame(const Segment& segment, double s) {
+  if (const auto* b = std::get_if<Bezier>(&segment)) {
+    const double u = b->parameter_at(s);
+    const Vec3 c1 = b->d1(u);
+    const Vec3 c2 = b->d2(u);
+    const double g2 = c1.squaredNorm();
+    return {b->eval(u), c1 / std::sqrt(g2), (c2 - c1 * (c1.dot(c2) / g2)) / g2, bezier_curvature_derivative_at_u(*b, u)};
+  }
+  return {point(segment, s), tangent(segment, s), curvature_vector(segment, s), curvature_derivative(segment, s)};
+}
+
 double sharpness(const Segment& segment, double s) {
   return std::visit(Overloaded{
                         [](const Line&) { return 0.0; },
@@ -377,6 +437,27 @@ double max_sharpness(const Segment& segment, double s0, double s1) {
                         [](const Arc&) { return 0.0; },
                         [s0, s1](const Bezier& b) {
                           return scan_max([&b](double u) { return bezier_sharpness_at_u(b, u); },
+                                          b.parameter_at(s0), b.parameter_at(s1), 64);
+                        },
+                        [](const Clothoid& c) { return std::abs(c.sharpness); },
+                    },
+                    segment);
+}
+
+double max_spatial_sharpness(const Segment& segment, double s0, double s1) {
+  const double len = length(segment);
+  s0 = clamp_s(s0, len);
+  s1 = clamp_s(s1, len);
+  if (s1 < s0) std::swap(s0, s1);
+  return std::visit(Overloaded{
+                        [](const Line&) { return 0.0; },
+                        [](const Arc& a) {
+                          // kappa tau = r |b| / g^4 (b the rise per radian, g = ds/dphi)
+                          const double g = arc_speed(a);
+                          return a.radius * std::abs(arc_pitch(a)) / (g * g * g * g);
+                        },
+                        [s0, s1](const Bezier& b) {
+                          return scan_max([&b](double u) { return bezier_spatial_sharpness_at_u(b, u); },
                                           b.parameter_at(s0), b.parameter_at(s1), 64);
                         },
                         [](const Clothoid& c) { return std::abs(c.sharpness); },

@@ -12,6 +12,7 @@ constexpr std::pair<CornerCase, std::string_view> kCaseNames[] = {
     {CornerCase::kExactStop, "exact_stop"},
     {CornerCase::kCollinear, "collinear"},
     {CornerCase::kReversal, "reversal"},
+    {CornerCase::kNearReversal, "near_reversal"},
     {CornerCase::kZeroDistance, "zero_distance"},
     {CornerCase::kIntersection, "intersection"},
     {CornerCase::kTangent, "tangent"},

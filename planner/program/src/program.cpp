@@ -67,6 +67,14 @@ double junction_velocity(BufferMode mode, double v_prev, double v_next) {
   return std::min(v_prev, v_next);
 }
 
+std::string_view to_string(CurvatureSteps steps) { return steps == CurvatureSteps::kAllow ? "allow" : "limit"; }
+
+std::optional<CurvatureSteps> curvature_steps_from_string(std::string_view name) {
+  if (name == "limit") return CurvatureSteps::kLimit;
+  if (name == "allow") return CurvatureSteps::kAllow;
+  return std::nullopt;
+}
+
 std::optional<BufferMode> buffer_mode_from_string(std::string_view name) {
   const std::string key = lower(name);
   for (const auto& [m, n] : kBufferNames) {
@@ -85,14 +93,36 @@ std::optional<Method> method_from_string(std::string_view name) {
 
 void validate(const Program& program) {
   if (program.moves.empty()) throw InputError("", 0, 0, "moves", "the program has no moves");
+  if (program.moves.size() > kMaxMoves) {
+    fail_at(program.moves[kMaxMoves].where, "moves",
+            "the program has " + std::to_string(program.moves.size()) + " moves; the limit is " + std::to_string(kMaxMoves));
+  }
   // size of the program, for relative tolerances; a non-finite length is reported below and must
   // not make the tolerance infinite (every other move would read as zero length)
   double size = 0;
-  for (const Move& move : program.moves) {
-    const double len = length(move.geometry);
-    if (std::isfinite(len)) size = std::max(size, len);
+  std::size_t longest = 0;
+  for (std::size_t k = 0; k < program.moves.size(); ++k) {
+    const double len = length(program.moves[k].geometry);
+    if (std::isfinite(len) && len > size) {
+      size = len;
+      longest = k;
+    }
   }
-  const double join_tol = 1e-9 * std::max(size, 1e-3);
+  // relative to the program's size: in double precision, points of a path that spans `size` are
+  // only known to about 1e-16 of it, so joins and lengths are judged at 1e-9 of it (1 nm per m)
+  constexpr double kRelativeJoin = 1e-9;
+  constexpr double kMinSize = 1e-3;  // m: below a millimetre the tolerance stays 1e-12 m
+  const double join_tol = kRelativeJoin * std::max(size, kMinSize);
+  // why a length is below the tolerance: the move is a point (below a nanometre, less than any
+  // machine resolves), or the tolerance is large because another move is huge
+  constexpr double kPointLength = 1e-9;  // m
+  const auto tolerance_cause = [&](double len) {
+    if (len <= kPointLength) return std::string();
+    return "; the join tolerance " + format_mm(join_tol) + " is 1e-9 of the longest move, " +
+           describe(program.moves[longest], longest) + " of " + format_mm(size) +
+           ": moves of such different sizes cannot be joined in double precision (check the units and coordinates of " +
+           describe(program.moves[longest], longest) + ")";
+  };
 
   for (std::size_t k = 0; k < program.moves.size(); ++k) {
     const Move& move = program.moves[k];
@@ -112,7 +142,10 @@ void validate(const Program& program) {
       fail_at(move.where, "geometry", who + " has a coordinate that is not a finite number (NaN or infinite)");
     }
     if (len <= join_tol) {
-      fail_at(move.where, "geometry", who + " has zero length (" + format_mm(len) + "); remove it or give it a distinct end point");
+      const std::string cause = tolerance_cause(len);
+      fail_at(move.where, "geometry",
+              cause.empty() ? who + " has zero length (" + format_mm(len) + "); remove it or give it a distinct end point"
+                            : who + " (" + format_mm(len) + ") is too short to be told from a point" + cause);
     }
     // joined to the previous move; checked after this move's own geometry, so that a non-finite
     // or degenerate start is named as such and not as an infinite or spurious gap
@@ -152,6 +185,10 @@ void validate(const Program& program) {
     }
     if (!std::isfinite(move.transition.kappa_max) || move.transition.kappa_max < 0) {
       fail_at(move.where, "transition.kappa_max", who + ": the curvature cap must be >= 0, got " + format_per_mm(move.transition.kappa_max));
+    }
+    if (!std::isfinite(move.transition.merge_tolerance) || move.transition.merge_tolerance < 0) {
+      fail_at(move.where, "transition.merge_tolerance",
+              who + ": the merge tolerance must be >= 0, got " + format_mm(move.transition.merge_tolerance));
     }
     if (!std::isfinite(move.transition.velocity) || move.transition.velocity < 0) {
       fail_at(move.where, "transition.velocity", who + ": the transition velocity must be >= 0, got " + format_mm_per_s(move.transition.velocity));

@@ -8,6 +8,7 @@
 #include <numbers>
 #include <string>
 
+#include "blendbench/core/input_error.hpp"
 #include "support/property.hpp"
 
 namespace blendbench {
@@ -130,6 +131,45 @@ TEST(Format, NaNPrintsAsNanWhateverItsSign) {
     for (const Unit& unit : kUnits) EXPECT_EQ(unit.format(nan), std::string("nan ") + unit.name) << std::signbit(nan);
     EXPECT_EQ(format_value(nan), "nan") << std::signbit(nan);
   }
+}
+
+TEST(Printable, KeepsTextAndWellFormedUtf8AndEscapesTheRest) {
+  EXPECT_EQ(printable("velocity: 200 mm/s"), "velocity: 200 mm/s");
+  EXPECT_EQ(printable("X\u22125 \u00b0"), "X\u22125 \u00b0");  // U+2212 minus, U+00B0 degree
+  EXPECT_EQ(printable("a\nb\tc"), "a\\nb\\tc");
+  EXPECT_EQ(printable(std::string("\x01\x7f\x1b[2J", 6)), "\\x01\\x7f\\x1b[2J");
+  EXPECT_EQ(printable(std::string("nul\0!", 5)), "nul\\x00!");
+  EXPECT_EQ(printable("\xff\xfe"), "\\xff\\xfe");                  // never UTF-8
+  EXPECT_EQ(printable("\xe2\x88"), "\\xe2\\x88");                  // a sequence cut short
+  EXPECT_EQ(printable("\xc0\xaf"), "\\xc0\\xaf");                  // overlong '/'
+  EXPECT_EQ(printable("\xed\xa0\x80"), "\\xed\\xa0\\x80");          // a UTF-16 surrogate
+  EXPECT_EQ(printable("\xf4\x90\x80\x80"), "\\xf4\\x90\\x80\\x80");  // beyond U+10FFFF
+  EXPECT_EQ(printable("\xc2\x85"), "\\xc2\\x85");                  // C1 control NEL
+}
+
+TEST(Printable, RandomBytesBecomeOneLineOfPrintableText) {
+  const int cases = test::property_cases(2000);
+  for (int c = 0; c < cases; ++c) {
+    const std::uint64_t seed = 0x9e7ab1e0 + static_cast<std::uint64_t>(c);
+    std::mt19937_64 rng = test::make_rng(seed);
+    std::string bytes(1 + rng() % 40, '\0');
+    for (char& b : bytes) b = static_cast<char>(rng() % 256);
+    const std::string out = printable(bytes);
+    // no control byte survives, and the result is its own printable form (well-formed UTF-8)
+    for (const char b : out) {
+      const auto u = static_cast<unsigned char>(b);
+      ASSERT_FALSE(u < 0x20 || u == 0x7F) << test::seed_text(seed);
+    }
+    ASSERT_EQ(printable(out), out) << test::seed_text(seed);
+  }
+}
+
+TEST(Printable, InputErrorMessagesAreEscapedButFieldAndFileKeptAsGiven) {
+  const InputError e("bin\x01.yaml", 3, 7, "na\x02me", "unknown key '\x1b[31m'");
+  EXPECT_EQ(std::string(e.what()), "bin\\x01.yaml:3:7: 'na\\x02me': unknown key '\\x1b[31m'");
+  EXPECT_EQ(e.detail(), "unknown key '\\x1b[31m'");
+  EXPECT_EQ(e.field(), "na\x02me");
+  EXPECT_EQ(e.file(), "bin\x01.yaml");
 }
 
 }  // namespace

@@ -29,7 +29,7 @@ constexpr double kPosRel = 1e-9;
 constexpr double kG1 = 1e-9;
 
 // Cases that leave a tangent kink at the corner (a zero-length transition).
-const std::set<CornerCase> kKinkCases = {CornerCase::kZeroDistance, CornerCase::kIntersection, CornerCase::kReversal,
+const std::set<CornerCase> kKinkCases = {CornerCase::kZeroDistance, CornerCase::kIntersection, CornerCase::kReversal, CornerCase::kNearReversal,
                                          CornerCase::kSameCircleOppositeDirection};
 
 // A circular arc starting at `start` around `center`, counter-clockwise about `axis`.

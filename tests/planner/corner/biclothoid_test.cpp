@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "support/input_error.hpp"
 #include "support/corner_check.hpp"
 #include "blendbench/geometry/arc_construction.hpp"
 #include "blendbench/corner/blend.hpp"
@@ -369,15 +370,8 @@ TEST(Biclothoid, SpecialCorners) {
 TEST(Biclothoid, ZeroToleranceAtAKinkIsAnInputErrorNamingTheCorner) {
   const std::vector<Primitive> moves = listing1();
   const CornerInput c = corner_between(moves[2], moves[3], 0.0);
-  try {
-    (void)fit_biclothoid_corner(c);
-    FAIL() << "expected InputError";
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.file(), "part.ngc");
-    EXPECT_EQ(e.line(), 7);
-    EXPECT_EQ(e.field(), "transition.parameter");
-    EXPECT_NE(std::string(e.what()).find("corner under test"), std::string::npos) << e.what();
-  }
+  test::expect_input_error([&] { (void)fit_biclothoid_corner(c); },
+                           {.file = "part.ngc", .line = 7, .field = "transition.parameter", .message = "corner under test"});
 }
 
 TEST(Biclothoid, NonPlanarCornersFallBackToBezier) {

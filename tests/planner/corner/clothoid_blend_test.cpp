@@ -6,6 +6,7 @@
 #include <numbers>
 #include <string>
 
+#include "support/input_error.hpp"
 #include "support/corner_check.hpp"
 #include "blendbench/corner/biclothoid.hpp"
 #include "blendbench/corner/blend.hpp"
@@ -186,15 +187,8 @@ TEST(ClothoidPair, SpecialCorners) {
   EXPECT_TRUE(rev.stop);
   EXPECT_TRUE(rev.transition.empty());
   // parameter 0 with a tangent discontinuity: an impossible request
-  try {
-    (void)fit_clothoid_corner(line_corner(kPi / 4, 0.0));
-    FAIL() << "expected InputError";
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.file(), "cell.yaml");
-    EXPECT_EQ(e.line(), 12);
-    EXPECT_EQ(e.field(), "transition.parameter");
-    EXPECT_NE(std::string(e.what()).find("corner 1 (move 1 -> move 2)"), std::string::npos) << e.what();
-  }
+  test::expect_input_error([] { (void)fit_clothoid_corner(line_corner(kPi / 4, 0.0)); },
+                           {.file = "cell.yaml", .line = 12, .field = "transition.parameter", .message = "corner 1 (move 1 -> move 2)"});
   // parameter 0 on a collinear corner is fine
   EXPECT_EQ(fit_clothoid_corner(line_corner(0.0, 0.0)).corner_case, CornerCase::kCollinear);
 }

@@ -170,5 +170,41 @@ TEST(Segment, MaxCurvatureOfABezierFindsTheInteriorPeak) {
   EXPECT_NEAR(max_curvature(seg, 0, length(seg)), mid, 1e-9 * mid);
 }
 
+// d^3p/ds^3 of every segment type against a central difference of its curvature vector, its
+// tangent part -kappa^2 (Frenet), and the spatial sharpness against its definition.
+TEST(Segment, CurvatureDerivativeAgreesWithFiniteDifferences) {
+  const std::vector<Segment> segments = {
+      Line{Vec3(0, 0, 0), Vec3(1, 2, 3)},
+      Arc{Vec3(1, 2, 3), Vec3(1, 0, 0), Vec3(0, 0, 1), 0.5, 4.0, 0.0},
+      Arc{Vec3(1, 2, 3), Vec3(1, 0, 0), Vec3(0, 0, 1), 0.5, 4.0, 0.7},
+      Clothoid{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), -0.5, 2.0, 1.5},
+      Bezier({Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 1, 0), Vec3(2, 2, 0)}),
+      Bezier({Vec3(0, 0, 0), Vec3(1, 0, 0.2), Vec3(2, 1, -0.3), Vec3(2, 2, 0.5), Vec3(1, 3, 1)}),
+  };
+  for (std::size_t i = 0; i < segments.size(); ++i) {
+    const Segment& seg = segments[i];
+    const double len = length(seg);
+    double spatial = 0;
+    for (double s = 0.02 * len; s < 0.98 * len; s += len / 29) {
+      const Vec3 d = curvature_derivative(seg, s);
+      const Vec3 fd = derivative([&](double x) { return curvature_vector(seg, x); }, s, 1e-5 * len);
+      EXPECT_LE((d - fd).norm(), 1e-6 * std::max(1.0, d.norm())) << "segment " << i << " s=" << s;
+      const double kappa = curvature_vector(seg, s).norm();
+      EXPECT_NEAR(d.dot(tangent(seg, s)), -kappa * kappa, 1e-9 * std::max(1.0, kappa * kappa)) << "segment " << i;
+      spatial = std::max(spatial, (d + kappa * kappa * tangent(seg, s)).norm());
+    }
+    const double reported = max_spatial_sharpness(seg, 0, len);
+    EXPECT_GE(reported, spatial * (1 - 1e-9) - 1e-12) << "segment " << i;
+    EXPECT_LE(reported, spatial * 1.02 + 1e-12) << "segment " << i;
+  }
+  // planar: the spatial sharpness is the sharpness; a helix: kappa tau = r b / (r^2 + b^2)^2
+  EXPECT_NEAR(max_spatial_sharpness(segments[3], 0, 1.5), max_sharpness(segments[3], 0, 1.5), 1e-15);
+  EXPECT_NEAR(max_spatial_sharpness(segments[4], 0, length(segments[4])),
+              max_sharpness(segments[4], 0, length(segments[4])), 1e-9);
+  const double b = 0.7 / 4.0;
+  EXPECT_NEAR(max_spatial_sharpness(segments[2], 0, 1), 0.5 * b / std::pow(0.25 + b * b, 2), 1e-12);
+  EXPECT_EQ(max_spatial_sharpness(segments[1], 0, 1), 0.0);
+}
+
 }  // namespace
 }  // namespace blendbench

@@ -13,6 +13,7 @@
 #include <string_view>
 #include <vector>
 
+#include "support/input_error.hpp"
 #include "support/property.hpp"
 #include "support/random_geometry.hpp"
 #include "blendbench/core/format.hpp"
@@ -191,15 +192,7 @@ Program three_moves() {
 }
 
 // The InputError validate throws; a failure (and an empty error) when it throws none.
-InputError validation_error(const Program& program) {
-  try {
-    validate(program);
-  } catch (const InputError& e) {
-    return e;
-  }
-  ADD_FAILURE() << "validate accepted the program";
-  return InputError("", 0, 0, "", "");
-}
+InputError validation_error(const Program& program) { return test::expect_input_error([&] { validate(program); }, {}); }
 
 // Checks that the error is located where `move` was written and names `field`.
 void expect_at(const InputError& e, const Move& move, const std::string& field) {
@@ -407,6 +400,22 @@ TEST(Validate, AZeroLengthLineIsAnInputErrorNamingTheMove) {
     expect_at(e, program.moves[1], "geometry");
     EXPECT_TRUE(starts_with(e.detail(), "N20 G1 has zero length")) << e.what();
   }
+}
+
+// The join tolerance is relative to the longest move, so beside a huge move a normal one is
+// below it: the message names that cause (the huge move and the tolerance), not "zero length".
+TEST(Validate, AMoveShorterThanTheToleranceOfAHugeMoveNamesTheHugeMove) {
+  Program program;
+  program.moves = {line_move({0, 0, 0}, {0.01, 0, 0}), line_move({0.01, 0, 0}, {0.01, 1e27, 0})};
+  program.moves[0].name = "line 2 G1";
+  program.moves[0].where = {"part.ngc", 2, 1};
+  program.moves[1].name = "line 3 G1";
+  const InputError e = validation_error(program);
+  expect_at(e, program.moves[0], "geometry");
+  EXPECT_TRUE(starts_with(e.detail(), "line 2 G1 (10 mm) is too short to be told from a point; the join tolerance 1e+21 mm "
+                                      "is 1e-9 of the longest move, line 3 G1 of 1e+30 mm"))
+      << e.what();
+  EXPECT_EQ(e.detail().find("zero length"), std::string::npos) << e.what();
 }
 
 TEST(Validate, ANonFiniteCoordinateIsNamedAsSuchWhereverItIs) {

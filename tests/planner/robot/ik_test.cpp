@@ -7,6 +7,7 @@
 #include <iostream>
 #include <numbers>
 
+#include "support/input_error.hpp"
 #include "support/property.hpp"
 #include "blendbench/core/input_error.hpp"
 #include "blendbench/io/urdf_chain.hpp"
@@ -327,13 +328,8 @@ TEST(Ik, PolishingAbsorbsASmallDeviationFromTheUrPattern) {
 }
 
 void expect_not_ur(const KinematicChain& chain, const std::string& why) {
-  try {
-    const IkSolver ik(chain, IkMethod::kUrClosedForm);
-    ADD_FAILURE() << "accepted a chain that is not UR-type: " << why;
-  } catch (const InputError& error) {
-    EXPECT_EQ(error.field(), "urdf") << why;
-    EXPECT_NE(std::string(error.what()).find(why), std::string::npos) << error.what();
-  }
+  test::expect_input_error([&] { const IkSolver ik(chain, IkMethod::kUrClosedForm); }, {.field = "urdf", .message = why},
+                           "not UR-type: " + why);
 }
 
 TEST(Ik, RejectsChainsThatAreNotUrType) {

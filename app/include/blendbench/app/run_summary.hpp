@@ -37,6 +37,11 @@ struct PlanFigures {
   std::vector<CornerPlacement> placements;  // one per corner
   std::vector<CornerTiming> corner_times;   // one per corner, when the reference passes it
   nlohmann::json pieces = nlohmann::json::array();  // pieces_json
+  LimitsMode limits = LimitsMode::kCartesian;        // the limits the plan holds
+  double bound_cycle_time = 0;                       // s: the time-optimal bound (time_optimal.hpp)
+  int moves_merged = 0;                              // collinear lines merged before blending (G64 Q)
+  double merge_tolerance = 0;                        // m
+  std::vector<Timing::CornerStep> corner_steps;      // one per corner (Timing::corner_steps)
 };
 
 // Wall-clock figures of one variant (s) and the real-time factors of the simulation.

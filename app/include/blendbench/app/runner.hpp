@@ -21,6 +21,8 @@ struct RunRequest {
   bool plots = true;                  // run the matplotlib script after the summary is written
   bool variant_files = true;          // per variant trace.csv, path.csv, program.csv, corners.json (a sweep keeps only summary.json)
   std::vector<std::string> variants;  // names to run; empty = all
+  std::optional<LimitsMode> limits;   // replaces the scenario's limits mode (`--limits`)
+  std::optional<double> max_samples;  // replaces TimingOptions::max_samples (`--max-samples`)
   // receives one line of progress at a time (variant started, stage timings, warnings)
   std::function<void(const std::string&)> progress;
 };

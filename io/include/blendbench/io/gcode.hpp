@@ -6,9 +6,10 @@
 //
 // Path words (read and turned into moves):
 //   G0 G1 G2 G3 (G2/G3 by I/J/K centre or by R, helical when the axis normal to the plane moves,
-//   full circles by I/J/K with no end point or end = start, P = number of turns), G17 G18 G19,
+//   full circles by I/J/K with no end point or end = start, P = number of turns, at most
+//   kMaxArcTurns = 100), G17 G18 G19,
 //   G20 G21, G90 G91, G90.1 G91.1, G80 (cancels the motion mode), F (units per minute),
-//   G61 G61.1 (exact stop), G64 [P tol] [Q ignored], G4 P (dwell), X Y Z, N, M2 M30,
+//   G61 G61.1 (exact stop), G64 [P tol] [Q tol], G4 P (dwell), X Y Z, N, M2 M30,
 //   comments ( ) and ;, '/' block delete, '%' tape markers. Words are case-insensitive; spaces
 //   and tabs are allowed anywhere outside comments (RS274/NGC); numbers look like 1, -10., .5, +3.
 // Words that do not change the path are accepted and listed in GcodeResult::ignored:
@@ -37,7 +38,8 @@
 //   transition starts), which bounds the deviation at line-line corners: an arc fillet between
 //   lines turning by delta deviates by d tan(delta/4) < d, and a Bezier whose control points lie
 //   in the triangle of the two transition points and the corner stays inside it, within d of
-//   the lines. G64 P0 is G64 without P. Q (naive CAM tolerance) is ignored.
+//   the lines. G64 P0 is G64 without P. Q (LinuxCNC's naive CAM tolerance) gives
+//   Transition::merge_tolerance: runs of collinear lines within it are merged before blending.
 // - Arc end point off the circle (I/J/K format): LinuxCNC's rule (interp_arc.cc, arc_data_ijk;
 //   constants in interp_internal.hh): with r1, r2 the distances from the centre to the start
 //   and to the end in the plane, it is an error when |r1 - r2| > 0.002 sqrt(2) in (G20) /
@@ -60,6 +62,8 @@
 //   position still becomes the programmed end (so G91 stays exact); the next move starts where
 //   the last kept move ended, so the path has no gap.
 // - M2/M30 or a closing '%' ends the program; later lines are not read and are noted.
+// - Work is bounded before it is done: at most kMaxMoves (10^6) moves, refused at the move past
+//   it; the text is read line by line.
 
 #include <string>
 #include <string_view>

@@ -11,6 +11,7 @@
 
 #include "blendbench/program/program.hpp"
 #include "blendbench/robot/kinematics.hpp"
+#include "blendbench/timing/timing.hpp"
 
 namespace blendbench {
 
@@ -84,14 +85,24 @@ struct Scenario {
   std::vector<bool> explicit_buffer;                        // per move: the move sets its own buffer mode
   std::vector<std::string> ignored;                         // G-code words accepted but ignored
   std::vector<Variant> variants;                            // at least one
+  // `limits`: which limits the plans hold (cartesian.hpp; default cartesian), and the optional
+  // `axis_limits: {a: [x, y, z], j: [x, y, z]}` on the TCP along the robot base frame's axes
+  // (m/s^2, m/s^3 after conversion; cartesian only)
+  LimitsMode limits = LimitsMode::kCartesian;
+  std::optional<AxisLimits> axis_limits;
   RobotSettings robot;
   ServoSettings servo;
   SimulationSettings simulation;
   VideoSettings video;
 };
 
-// Reads and validates a scenario file. Relative paths inside it (models, G-code) are resolved
-// against the file's directory first, then against the repository root. Throws InputError.
+// The most variants one scenario may have: each is planned, simulated and rendered.
+inline constexpr std::size_t kMaxVariants = 1000;
+
+// Reads and validates a scenario file (read_input_file: a regular file of at most
+// kMaxInputBytes). The format, every key with its unit, default and range, is the table in
+// scenario_keys.hpp (docs/scenario_format.md). Relative paths inside it (models, G-code) are resolved
+// against the file's directory first, then against the data root. Throws InputError.
 Scenario load_scenario(const std::string& path);
 
 // The same from text; `file` names it in errors, `base_dir` resolves relative paths.
@@ -100,6 +111,10 @@ Scenario parse_scenario(const std::string& text, const std::string& file, const 
 // The program of one variant: its transition on every move without its own, its buffer mode
 // on every move without its own.
 Program program_for(const Scenario& scenario, const Variant& variant);
+
+// The velocity planner's options for a variant: the setpoint period (1 / servo.setpoint_rate_hz),
+// the scenario's limits mode and axis limits, the variant's baseline.
+TimingOptions timing_options(const Scenario& scenario, const Variant& variant);
 
 // The variant named `name`; throws InputError (field "--variant") listing the names when absent.
 const Variant& find_variant(const Scenario& scenario, const std::string& name);

@@ -13,12 +13,19 @@
 
 namespace blendbench {
 
+// The most rows of a sampled path or program (path_csv, program_csv): 10^7, about 1 GB of CSV.
+inline constexpr double kMaxPathSamples = 1e7;
+
+// The rows path_csv writes for spacing `ds` (m > 0), as a double: it may exceed any integer.
+double path_sample_count(const Path& path, double ds);
+
 // The path sampled uniformly in s every `ds` m at most (both ends included), with the header
 // `s,x,y,z,tx,ty,tz,kappa` in mm, unit tangent and 1/mm. Pieces are sampled separately so every
-// junction appears exactly once.
+// junction appears exactly once. Throws InputError (field "ds") when that would be more than
+// kMaxPathSamples rows, before any is written.
 std::string path_csv(const Path& path, double ds);
 
-// The programmed moves sampled every `ds` m at most, header `s,x,y,z` (mm).
+// The programmed moves sampled every `ds` m at most, header `s,x,y,z` (mm); the same limit.
 std::string program_csv(const Program& program, double ds);
 
 // One corner report as JSON: index, method, case, fallback, note, parameter_mm, length_mm,
@@ -40,8 +47,23 @@ nlohmann::json pieces_json(const Path& path, const Timing& timing);
 // mm/s^3 (tangential), 1/mm.
 std::string timed_csv(const Path& path, const Timing& timing);
 
+// What the timing says about one corner (report), added to its corner_json: the transition's
+// curvature_steps ("limit" or "allow") and the largest curvature step the corner leaves,
+// curvature_step_per_mm, the planned speed there curvature_step_velocity_mm_s and the jerk the
+// step implies at the servo period curvature_step_jerk_mm_s3 = |dK| v^2 / dt (0 where none).
+void add_corner_step(nlohmann::json& corner, const CornerReport& report, const Timing::CornerStep& step);
+
+// The plan's figures beyond its cycle time, added to `out`: limits ("path" or "cartesian"),
+// moves_merged and merge_tolerance_mm (collinear lines merged before blending, G64 Q:
+// Path::moves_merged), bound_cycle_time_s (the time-optimal bound of the same path under the
+// same limits without jerk) and planned_to_bound_ratio (cycle time over bound, 1 for an empty
+// path).
+void add_plan_figures(nlohmann::json& out, LimitsMode limits, int moves_merged, double merge_tolerance,
+                      double cycle_time, double bound_cycle_time);
+
 // The plan summary of the command-line contract: cycle_time_s, path_length_mm, feed_share,
-// servo_period_s, corners (corners_json with placements) and pieces (pieces_json).
+// servo_period_s, the figures of add_plan_figures, corners (corners_json with placements and
+// add_corner_step) and pieces (pieces_json).
 nlohmann::json plan_summary_json(const Path& path, const Timing& timing, const Program& program);
 
 }  // namespace blendbench

@@ -4,6 +4,7 @@
 // reader and is not printed ("0 mm", "nan mm"); infinities keep theirs ("-inf mm").
 
 #include <string>
+#include <string_view>
 
 namespace blendbench {
 
@@ -12,5 +13,10 @@ std::string format_deg(double radians);        // "90 deg"
 std::string format_per_mm(double per_metre);   // "0.124 1/mm"
 std::string format_mm_per_s(double metres_per_second);  // "250 mm/s"
 std::string format_value(double value, int digits = 6);  // "-1e-07": a quantity without a unit
+
+// `text` safe to print on one line of a terminal: control characters (C0, DEL, C1), and bytes
+// that are not part of a well-formed UTF-8 sequence, become escapes ("\n", "\t", "\x01",
+// "\xff"; a backslash stays itself). Printable ASCII and well-formed UTF-8 (e.g. U+2212) are kept.
+std::string printable(std::string_view text);
 
 }  // namespace blendbench

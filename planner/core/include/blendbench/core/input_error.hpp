@@ -10,14 +10,16 @@ namespace blendbench {
 class InputError : public std::runtime_error {
  public:
   // `file` may be empty for input that did not come from a file (a command-line flag);
-  // `line`/`column` are 1-based, 0 when unknown; `field` names the key, word or flag.
+  // `line`/`column` are 1-based, 0 when unknown; `field` names the key, word or flag. what()
+  // and detail() are printable on one line (format.hpp printable: control characters and bytes
+  // that are not UTF-8 escaped); file() and field() are kept as given.
   InputError(std::string file, int line, int column, std::string field, const std::string& message);
 
   [[nodiscard]] const std::string& file() const { return file_; }
   [[nodiscard]] int line() const { return line_; }
   [[nodiscard]] int column() const { return column_; }
   [[nodiscard]] const std::string& field() const { return field_; }
-  // The message without the location prefix.
+  // The message without the location prefix (printable, as in what()).
   [[nodiscard]] const std::string& detail() const { return detail_; }
 
  private:

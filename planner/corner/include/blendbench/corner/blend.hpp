@@ -4,6 +4,9 @@
 #include "blendbench/program/path.hpp"
 #include "blendbench/program/program.hpp"
 
+#include <cstddef>
+#include <vector>
+
 namespace blendbench {
 
 // Inserts the transition of each move's method at the corner at its end (the last move's
@@ -11,7 +14,25 @@ namespace blendbench {
 // naming the move). A corner the method cannot fit becomes a kink with stop_before set and a
 // report whose note says why, or an InputError when the request itself is impossible
 // (e.g. tolerance 0 at a tangent discontinuity).
+// First merges runs of collinear lines (merge_collinear); the path's move and corner indices
+// are those of `program`.
 Path blend(const Program& program);
+
+// LinuxCNC's G64 Q ("naive CAM detector") on a program: consecutive moves k..m are merged into
+// one line from the start of k to the end of m when they are all lines with the same limits
+// and buffer mode, the corners k..m-1 (each at the end of its move) have a transition other
+// than none with merge_tolerance > 0, and every inner vertex lies within the smallest of those
+// tolerances of that line and ahead of the previous one along it; the merged line keeps move
+// k's name, source and limits and move m's transition. Runs are grown greedily, at most
+// kMaxMergeRun moves. `first[j]` and `last[j]` are the original indices of merged move j.
+struct MergedProgram {
+  Program program;
+  std::vector<std::size_t> first, last;
+  int moves_merged = 0;
+  double tolerance = 0;  // m: the largest tolerance a merge used
+};
+inline constexpr int kMaxMergeRun = 256;
+MergedProgram merge_collinear(const Program& program);
 
 // Fills the measured fields of a report (length, deviation, kappa_max, sharpness_max,
 // feed_max) from the transition pieces and the programmed moves. `a_max` (m/s^2) and `j_max`

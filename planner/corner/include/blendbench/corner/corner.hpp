@@ -2,6 +2,8 @@
 // The interface every transition method implements: fit one corner between two moves. The
 // special cases and fallbacks a fit reports are the enums of program/corner_case.hpp.
 
+#include <numbers>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -41,6 +43,36 @@ struct CornerFit {
   double parameter_used = 0;
   bool stop = false;  // velocity must go to zero here (Buffered at a remaining kink)
 };
+
+// Reversals, shared by every method. A corner whose tangent turns by theta >= pi -
+// kReversalAngle is a reversal (each method's own rule: 001 shortens both lines and keeps the
+// kink, 003 joins parting arcs by a U-turn arc, 000, 002 and 004 leave the kink). One that turns
+// by theta in [pi - kNearReversalAngle, pi - kReversalAngle) is a near reversal: a fillet there
+// is a cusp or close to one (the arc's radius d / tan(theta / 2) is 0.044 d at the threshold
+// and nanometres within 1e-6 rad of pi; a Bezier's curvature grows like 1 / (pi - theta)^2,
+// 003's U-turn arcs between nearly opposite arcs can be as tight), so every method treats it as
+// the sources treat a line reversal: no transition, the kink stays (a stop when Buffered, else
+// the kink's junction velocity, which is nearly a stop), case "near_reversal". Applied by the
+// blender before it calls the method (near_reversal_fit).
+inline constexpr double kReversalAngle = 1e-9;                       // rad
+inline constexpr double kNearReversalAngle = std::numbers::pi / 36;  // rad: 5 degrees
+
+// The near-reversal rule above for `corner`, whose tangent turns by theta (rad): the kink fit,
+// or nullopt when theta is outside [pi - kNearReversalAngle, pi - kReversalAngle).
+std::optional<CornerFit> near_reversal_fit(const CornerInput& corner, double theta);
+
+// Cusps, by the same rule for every method: a transition whose smallest radius 1 / kappa_max is
+// below kCuspShare of its scale, the smaller of the parameter used (corner distance, TP,
+// tolerance or start distance) and the radii of the programmed arcs at the corner, is a cusp
+// (outside the near-reversal band it happens to a Bezier, whose curvature grows like
+// 1 / (pi - theta)^2, and to fillets between nearly opposite arcs). Such a fit is refused
+// (cusp_problem) and the blender leaves the corner as an exact stop (fallback exact_stop, the
+// note says why). The arc's line-line fillet has kappa d = tan(theta / 2) <= 22.9 outside the
+// near-reversal band, far from the 100 this allows.
+inline constexpr double kCuspShare = 0.01;
+
+// Why `fit` of `corner` is a cusp (above), or an empty string when it is not.
+std::string cusp_problem(const CornerInput& corner, const CornerFit& fit);
 
 CornerFit fit_arc_corner(const CornerInput& corner);         // 001, 003: corner distance
 CornerFit fit_bezier_corner(const CornerInput& corner);      // 000: transition parameter TP

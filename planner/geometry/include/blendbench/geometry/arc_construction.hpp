@@ -8,6 +8,11 @@
 
 namespace blendbench {
 
+// The most full turns one programmed arc (a helix) may make: 100, far beyond a thread-milling
+// helix; it bounds the work per arc (sampling, blending, planning) before any is done. Readers
+// refuse more (G-code P, a scenario arc's `turns`).
+inline constexpr int kMaxArcTurns = 100;
+
 struct ArcBuild {
   Outcome outcome;  // kInfeasible with a message when no arc fits the specification
   Arc arc;

@@ -30,4 +30,13 @@ double hausdorff(const std::vector<Segment>& a, const std::vector<Segment>& b, d
 // `to` (m), sampled as above. 0 when either set is empty.
 double directed_hausdorff(const std::vector<Segment>& from, const std::vector<Segment>& to, double step);
 
+// The same distances for short chains (a corner's transition against the path it replaces)
+// without dense sampling (hausdorff.cpp): each chain sampled by the turning and length of its
+// segments (one sample per 0.05 rad, at least 8 a segment), distances to the other chain exact
+// on lines and planar arcs and by a bracketed Newton search elsewhere, and every sampled local
+// maximum refined by Brent's method until its bracket is below `tolerance` (m, > 0) of arc
+// length. The result is a distance realised between the chains.
+double hausdorff_within(const std::vector<Segment>& a, const std::vector<Segment>& b, double tolerance);
+double directed_hausdorff_within(const std::vector<Segment>& from, const std::vector<Segment>& to, double tolerance);
+
 }  // namespace blendbench

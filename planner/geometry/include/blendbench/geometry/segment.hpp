@@ -111,6 +111,21 @@ Vec3 curvature_vector(const Clothoid& clothoid, double s);
 Vec3 curvature_vector(const Segment& segment, double s);
 Vec3 curvature_vector(const Primitive& primitive, double s);
 
+// d^3 p / ds^3 = d(kappa N)/ds = -kappa^2 T + kappa' N + kappa tau B (1/m^2; kappa' = d kappa/ds,
+// tau the torsion): with the path speed v, tangential acceleration a_t and jerk j_t, the TCP's
+// jerk is j_t T + 3 v a_t (kappa N) + v^3 d^3p/ds^3. Zero on a line.
+Vec3 curvature_derivative(const Segment& segment, double s);
+
+// Position, unit tangent, curvature vector and its derivative d^3p/ds^3 at s in one
+// evaluation (a Bezier inverts its arc length once, not once per quantity).
+struct SegmentFrame {
+  Vec3 point;
+  Vec3 tangent;
+  Vec3 curvature;             // kappa N
+  Vec3 curvature_derivative;  // d^3p/ds^3
+};
+SegmentFrame frame(const Segment& segment, double s);
+
 // |d kappa / ds| at s (1/m^2), kappa the unsigned curvature.
 double sharpness(const Segment& segment, double s);
 
@@ -119,6 +134,10 @@ double sharpness(const Segment& segment, double s);
 // section search (relative error below 1e-9 for the fillets used here).
 double max_curvature(const Segment& segment, double s0, double s1);
 double max_sharpness(const Segment& segment, double s0, double s1);
+// Maximum over [s0, s1] of sqrt(kappa'^2 + (kappa tau)^2) (1/m^2), the part of d^3p/ds^3 normal
+// to the tangent: equal to max_sharpness on planar segments, kappa tau on a helix. Same
+// accuracy as max_sharpness.
+double max_spatial_sharpness(const Segment& segment, double s0, double s1);
 
 // The part of a line or arc between arc lengths s0 <= s1 (exact, same parameterisation).
 Line sub_segment(const Line& line, double s0, double s1);

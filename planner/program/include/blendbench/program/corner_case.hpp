@@ -16,6 +16,7 @@ enum class CornerCase {
   kExactStop,                    // method none: the corner is left as programmed and stopped at
   kCollinear,                    // 0 degree: the moves continue each other (001)
   kReversal,                     // 180 degree: the path turns back on itself (001)
+  kNearReversal,                 // within kNearReversalAngle of 180 degrees (corner.hpp): treated as a reversal
   kZeroDistance,                 // corner distance 0: a zero-length transition (001, 003)
   kIntersection,                 // the arcs cross at the corner (003)
   kTangent,                      // G1 already: only the curvature jumps

@@ -29,6 +29,7 @@ struct CornerReport {
   double trim_in = 0;                 // m removed from the end of the incoming move
   double trim_out = 0;                // m removed from the start of the outgoing move
   bool stop = false;                  // the path velocity must reach zero here
+  CurvatureSteps curvature_steps = CurvatureSteps::kLimit;  // the transition's (program.hpp)
 };
 
 // One piece of the path.
@@ -42,6 +43,12 @@ struct PathPiece {
   // the tangent turns by `kink_angle` (rad, 0 where the path is G1).
   bool stop_before = false;
   double kink_angle = 0;
+  // The curvature jump at the start of this piece may step (the corner it belongs to has
+  // curvature_steps: allow); else the junction rule bounds it.
+  bool curvature_step_allowed = false;
+  // Where the move it comes from was written (a transition: the move its limits come from, the
+  // outgoing one unless the incoming one sets its velocity), for errors.
+  SourceRef where = {};
 };
 
 class Path {
@@ -81,6 +88,11 @@ class Path {
   [[nodiscard]] Vec3 curvature_vector(double s) const;
 
   std::vector<CornerReport> corners;
+  // Collinear lines merged before blending (Transition::merge_tolerance, G64 Q): how many moves
+  // the merging removed and the largest tolerance it used (m). Move and corner indices in the
+  // pieces and reports are the program's own, before merging (a merged line is its first move).
+  int moves_merged = 0;
+  double merge_tolerance = 0;
 
  private:
   std::vector<PathPiece> pieces_;

@@ -26,12 +26,20 @@ double junction_velocity(BufferMode mode, double v_prev, double v_next);
 // The transition curve inserted at the corner at the end of a move.
 enum class Method { kNone, kArc, kBezier, kClothoid, kBiclothoid };
 
+// What the velocity planner does where a transition leaves a curvature step (a circular blend
+// meeting a line or an arc of another radius): kLimit keeps the step of the normal acceleration
+// within j dt per servo period (a junction velocity bound, timing.hpp); kAllow lets it step,
+// as a controller running a G1 blend does, and reports the jerk the step implies.
+enum class CurvatureSteps { kLimit, kAllow };
+
 std::string_view to_string(BufferMode mode);
 std::string_view to_string(Method method);
+std::string_view to_string(CurvatureSteps steps);  // "limit", "allow"
 // Parse the names used in files ("Buffered", "BlendingLow", ...; "none", "arc", ...);
 // case-insensitive; nullopt when unknown.
 std::optional<BufferMode> buffer_mode_from_string(std::string_view name);
 std::optional<Method> method_from_string(std::string_view name);
+std::optional<CurvatureSteps> curvature_steps_from_string(std::string_view name);
 
 // The transition mode and its parameter, on the move that ends at the corner.
 struct Transition {
@@ -48,6 +56,13 @@ struct Transition {
   // parameter); 0 = the junction velocity of the move's buffer mode (junction_velocity; with
   // BlendingLow the slower of the two moves).
   double velocity = 0;
+  // The curvature steps this transition leaves at its ends (an arc's, or the corner's own when
+  // it is left tangent): limited by the junction rule, or allowed and reported.
+  CurvatureSteps curvature_steps = CurvatureSteps::kLimit;
+  // m: LinuxCNC's G64 Q ("naive CAM detector"): a run of lines whose corners all set this (and
+  // share limits and buffer mode) is merged into one line before blending where every inner
+  // vertex lies within it of that line, in order along it (blend.hpp); 0 = off.
+  double merge_tolerance = 0;
 };
 
 // Kinematic limits of one move along the path (PLCopen Velocity, Acceleration, Deceleration, Jerk).
@@ -71,7 +86,12 @@ struct Program {
   std::vector<Move> moves;
 };
 
-// Checks what the blender assumes: at least one move; finite coordinates; arcs of positive
+// The most moves a program may have: 10^6, ten times the largest program the loaders are
+// benchmarked on; it bounds the work of blending and planning before any is done. Readers refuse
+// the move past it where it is written.
+inline constexpr std::size_t kMaxMoves = 1'000'000;
+
+// Checks what the blender assumes: at least one move and at most kMaxMoves; finite coordinates; arcs of positive
 // radius and sweep; no zero-length move; consecutive moves joined (end of move k equals start
 // of move k+1 within 1e-9 of the program size); positive finite limits; finite non-negative
 // transition values, a start distance only on a biclothoid and not with a parameter. Throws

@@ -6,8 +6,11 @@
 #include <string>
 #include <vector>
 
-#include "blendbench/program/path.hpp"
+#include <optional>
+
 #include "blendbench/core/status.hpp"
+#include "blendbench/program/path.hpp"
+#include "blendbench/timing/cartesian.hpp"
 
 namespace blendbench {
 
@@ -20,9 +23,18 @@ struct TimingOptions {
   // true: one S-curve may span several intervals of a curved stretch, carrying acceleration
   // through the knots between them (timing.cpp); false: zero tangential acceleration at every
   // interval boundary (the more conservative method, kept for comparison: its cycle time never
-  // grows when a limit is raised, and the default was never slower on thousands of random
-  // paths, timing_test).
+  // grows when a limit is raised in path mode, and the default was never slower on thousands of
+  // random paths, timing_test; in cartesian mode one counterexample is known, 004's fillet,
+  // 0.714 s carried against 0.710 s).
   bool carry_acceleration = true;
+  // Which limits the plan holds (cartesian.hpp): as vectors on the TCP (the default), or the
+  // tangential model of 004 (kPath, kept for the paper reproductions).
+  LimitsMode limits = LimitsMode::kCartesian;
+  // Optional per-axis acceleration and jerk limits on the TCP (kCartesian only).
+  std::optional<AxisLimits> axis_limits;
+  // The largest number of samples (>= 1) a plan may have: plan_timing refuses a longer plan
+  // before it samples it. 1e7 samples are 2.8 hours of motion at 1 ms and 400 MB of samples.
+  double max_samples = 1e7;
 };
 
 // One servo tick: time (s), arc length (m), path velocity (m/s), tangential acceleration
@@ -49,12 +61,26 @@ struct PieceTiming {
 struct Timing {
   Outcome outcome;
   double dt = 0;
+  LimitsMode limits = LimitsMode::kCartesian;  // the mode it was planned in
   double cycle_time = 0;  // s, planned duration from rest to rest
   // t = k*dt, k = 0..N with N = ceil(cycle_time/dt); the last sample is the end of the path at
   // rest (s = length, v = a = j = 0).
   std::vector<TimedSample> samples;
   std::vector<PieceTiming> pieces;  // one per path piece, in order
   double feed_share = 0;            // share of time spent at the programmed feed (within 0.1 %)
+  // s: the time-optimal bound of the same path under the same limits without jerk
+  // (time_optimal.hpp); no profile that holds them takes less.
+  double bound_cycle_time = 0;
+  // Per corner (in path.corners order): the largest curvature step its transition leaves (the
+  // jump |dK| of the curvature vector at a junction of the corner), the planned speed there and
+  // the jerk the step of the normal acceleration implies at the servo period, |dK| v^2 / dt
+  // (m/s, m/s^3); all 0 where the corner leaves no curvature step.
+  struct CornerStep {
+    double dk = 0;
+    double velocity = 0;
+    double jerk = 0;
+  };
+  std::vector<CornerStep> corner_steps;
 };
 
 // PLCopen buffer modes at a junction that is not a stop. The earlier piece's mode chooses the
@@ -88,14 +114,22 @@ std::vector<HandoverZone> handover_zones(const Path& path, const TimingOptions& 
 // cbrt(j/sqrt(c(s)^2 + kappa(s)^4))) (004 eq. 25-27, a and j the piece's acceleration and
 // jerk limits; feed(s) the piece's velocity, or the junction velocity in a hand-over zone):
 // 0 <= v <= v_lim(s), |a_t| <= acceleration (speeding up) or deceleration (slowing down),
-// |j_t| <= jerk, kappa v^2 <= acceleration, and v = 0 at every stop_before.
+// |j_t| <= jerk, kappa v^2 <= acceleration, and v = 0 at every stop_before. With
+// options.limits = kCartesian (the default) the TCP's acceleration and jerk vectors hold the
+// limits as well (cartesian.hpp: |a| <= acceleration or deceleration, |j| <= jerk, and every
+// axis limit), also while the speed changes on a curve.
 // Kinks and curvature jumps that are not stops get the controller-style junction velocity
-// (2 v sin(theta/2) <= min(j dt^2, a dt); dk v^2 <= j dt); a Buffered kink is a stop.
+// (2 v sin(theta/2) <= min(j dt^2, a dt); dk v^2 <= j dt, dropped where the piece after the
+// junction has curvature_step_allowed, its corner's report then stating the step's jerk in
+// corner_steps); a Buffered kink is a stop.
 // The method (intervals with a cap each; S-curves between knots of zero acceleration, each
 // spanning one interval or a run of them under their caps; backward and forward passes) and
 // where it is conservative are described in timing.cpp.
-// Throws InputError for options.dt <= 0 or a piece with a non-positive limit. An empty path
-// gives one sample at rest.
+// Throws InputError for options.dt <= 0, max_samples < 1, an axis limit that is not positive
+// or given in kPath mode, a piece with a non-positive limit, and a plan of more than
+// max_samples samples (or of no finite duration): located at the move whose limits make it so
+// long and naming the limit to raise, checked before any sample is made. An empty path gives
+// one sample at rest.
 Timing plan_timing(const Path& path, const TimingOptions& options = {});
 
 }  // namespace blendbench
