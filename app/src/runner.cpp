@@ -7,6 +7,7 @@
 #include <numbers>
 #include <optional>
 
+#include "blendbench/core/format.hpp"
 #include "blendbench/corner/blend.hpp"
 #include "blendbench/io/urdf_chain.hpp"
 #include "blendbench/report/csv.hpp"
@@ -246,6 +247,8 @@ class VariantRun {
     ExecutionOptions options;
     options.tool_rotation = sc_.robot.tool_rotation;
     options.q0 = robot_.q0;
+    options.mapping.allow_branch_change = sc_.robot.allow_branch_change;
+    options.run.tool = sc_.robot.tool;
     options.servo = robot_.servo;
     options.run.settle_time = sc_.simulation.settle_time;
     options.metrics.settle_tolerance = sc_.simulation.settle_tolerance;
@@ -286,6 +289,12 @@ class VariantRun {
     }
     const Trace& trace = run.trace;
     plan.corner_times = run.corners;
+    out.singularities = run.singularities;
+    out.branch_changes = run.joints.branch_changes;
+    for (const SingularityPassage& p : run.singularities) {
+      say("near a " + std::string(to_string(p.kind)) + " singularity at t = " + format_fixed(p.t, 3) + " s, " +
+          describe_pose(p.pose) + " (measure " + format_value(p.measure) + ", threshold " + format_value(p.threshold) + ")");
+    }
     out.timings.inverse_kinematics = run.ik_seconds;
     out.timings.simulated = trace.samples.empty() ? 0.0 : trace.samples.back().t;
     out.timings.video = video_seconds;
@@ -372,7 +381,14 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
   // the robot: kinematics, dynamics (checked against robot.model), the start pose, the servo
   Robot robot;
   robot.chain = load_urdf_chain(scenario.robot.urdf, scenario.robot.base_link, scenario.robot.tip_link);
+  // the tool on the flange: the chain, the solver and the trace all follow its centre point
+  robot.chain.tcp = robot.chain.tcp * scenario.robot.tool;
   robot.ik = std::make_unique<IkSolver>(robot.chain);
+  if (scenario.robot.estimate_total_mass > 0 && !scenario.robot.mjcf_from_urdf) {
+    fail_at(scenario, scenario.robot.estimate_where, "robot.estimate_inertia",
+            "estimate_inertia applies only to a URDF run without an MJCF; " + scenario.robot.mjcf +
+                " states the dynamics");
+  }
   robot.sim = std::make_unique<Simulator>(scenario.robot.mjcf);
   const bool want_elastic = scenario.robot.model == ArmModel::kElastic;
   if (robot.sim->elastic() != want_elastic) {
@@ -403,6 +419,10 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
   summary.description = scenario.description;
   summary.robot.model = scenario.robot.model;
   summary.robot.mjcf = scenario.robot.mjcf;
+  summary.robot.urdf = scenario.robot.urdf;
+  summary.robot.ik_method = robot.ik->method();
+  summary.robot.tool = scenario.robot.tool;
+  summary.robot.joints = robot.chain.joints;
   summary.robot.timestep = robot.sim->timestep();
   summary.robot.start_q = robot.q0;
   summary.robot.limits = robot.sim->limits();

@@ -15,6 +15,7 @@
 #include "blendbench/io/scenario.hpp"
 #include "blendbench/program/path.hpp"
 #include "blendbench/report/report.hpp"
+#include "blendbench/robot/singularity.hpp"
 #include "blendbench/sim/metrics.hpp"
 #include "blendbench/sim/servo.hpp"
 #include "blendbench/timing/timing.hpp"
@@ -75,12 +76,20 @@ struct VariantSummary {
   std::optional<Health> health;
   Timings timings;
   std::optional<ExactStopComparison> comparison;
+  // where the joint reference passes near a singularity, and the IK branch changes it was
+  // allowed to make (robot.allow_branch_change), in time order
+  std::vector<SingularityPassage> singularities;
+  std::vector<BranchChange> branch_changes;
 };
 
 // The arm that ran: its model, timestep and natural frequencies at the start pose.
 struct RobotInfo {
   ArmModel model = ArmModel::kElastic;
   std::string mjcf;
+  std::string urdf;
+  IkMethod ik_method = IkMethod::kAuto;  // the solver the chain's geometry chose
+  Eigen::Isometry3d tool = Eigen::Isometry3d::Identity();  // the TCP in the flange frame
+  std::vector<JointSpec> joints;  // the chain's joints: names and URDF limits
   double timestep = 0;  // s
   JointVector start_q = JointVector::Zero();  // rad, link angles at the program's start
   JointLimits limits;
