@@ -46,8 +46,8 @@ const nlohmann::json* at_path(const nlohmann::json& v, const std::string& path) 
 }
 
 std::string line(const std::string& variant, const std::string& metric, double value, double base, double bound) {
-  return variant + ": " + metric + " = " + format_number(value, 6) + " (baseline " + format_number(base, 6) +
-         ", allowed up to " + format_number(bound, 6) + ")";
+  return variant + ": " + metric + " = " + format_value(value, 6) + " (baseline " + format_value(base, 6) +
+         ", allowed up to " + format_value(bound, 6) + ")";
 }
 
 }  // namespace
@@ -107,8 +107,8 @@ CheckReport check_run(const nlohmann::json& summary, const nlohmann::json& basel
       if (!(value <= bound)) {
         report.regressions.push_back(line(name, metric, value, b, bound));
       } else if (value < b * (1 - tol["relative"].get<double>()) - tol["absolute"].get<double>()) {
-        report.notes.push_back(name + ": " + metric + " improved to " + format_number(value, 6) + " from " +
-                               format_number(b, 6) + "; update the baseline with --update");
+        report.notes.push_back(name + ": " + metric + " improved to " + format_value(value, 6) + " from " +
+                               format_value(b, 6) + "; update the baseline with --update");
       }
     }
   }
