@@ -285,6 +285,7 @@ void to_json(nlohmann::json& out, const RunSummary& s) {
            {"ik", std::string(to_string(r.ik_method))},
            {"tool", pose_json(r.tool)},
            {"joints", joints_json(r.joints)},
+           {"notes", r.notes},
            {"timestep_s", r.timestep},
            {"start_q_deg", values(r.start_q, 1 / kDeg)},
            {"torque_limits_nm", values(r.limits.torque)},

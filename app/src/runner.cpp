@@ -11,6 +11,7 @@
 #include "blendbench/core/format.hpp"
 #include "blendbench/corner/blend.hpp"
 #include "blendbench/io/urdf_chain.hpp"
+#include "blendbench/io/urdf_model.hpp"
 #include "blendbench/report/csv.hpp"
 #include "blendbench/report/output.hpp"
 #include "blendbench/report/process.hpp"
@@ -379,22 +380,46 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
 
   // the robot: kinematics, dynamics (checked against robot.model), the start pose, the servo
   Robot robot;
-  robot.chain = load_urdf_chain(scenario.robot.urdf, scenario.robot.base_link, scenario.robot.tip_link);
-  // the tool on the flange: the chain, the solver and the trace all follow its centre point
-  robot.chain.tcp = robot.chain.tcp * scenario.robot.tool;
-  robot.ik = std::make_unique<IkSolver>(robot.chain);
+  std::vector<std::string> robot_notes;
+  std::string mjcf = scenario.robot.mjcf;
+  ArmModel arm_model = scenario.robot.model;
   if (scenario.robot.estimate_total_mass > 0 && !scenario.robot.mjcf_from_urdf) {
     fail_at(scenario, scenario.robot.estimate_where, "robot.estimate_inertia",
             "estimate_inertia applies only to a URDF run without an MJCF; " + scenario.robot.mjcf +
                 " states the dynamics");
   }
-  robot.sim = std::make_unique<Simulator>(scenario.robot.mjcf);
-  const bool want_elastic = scenario.robot.model == ArmModel::kElastic;
-  if (robot.sim->elastic() != want_elastic) {
-    fail_at(scenario, scenario.robot.model_where, "robot.model",
-            std::string("robot.model is ") + (want_elastic ? "elastic" : "rigid") + " but " + scenario.robot.mjcf +
-                " has " + (robot.sim->elastic() ? "elastic" : "rigid") + " joints");
+  if (scenario.robot.mjcf_from_urdf) {
+    // a URDF alone: its dynamics built from it (rigid joints: a URDF states no gear stiffness),
+    // written into the run folder for the reader
+    if (scenario.robot.model == ArmModel::kElastic && scenario.robot.model_where.line > 0) {
+      fail_at(scenario, scenario.robot.model_where, "robot.model",
+              "elastic joints need gear stiffnesses a URDF does not state: give robot.mjcf, or robot.model: rigid");
+    }
+    UrdfModel built = model_from_urdf(scenario.robot.urdf, scenario.robot.base_link, scenario.robot.tip_link,
+                                      scenario.robot.estimate_total_mass);
+    robot.chain = std::move(built.chain);
+    robot_notes = std::move(built.notes);
+    std::filesystem::create_directories(request.out_dir);
+    mjcf = (request.out_dir / "robot_from_urdf.xml").string();
+    write_file_atomic(mjcf, built.mjcf);
+    robot.sim = std::make_unique<Simulator>(mjcf);
+    arm_model = ArmModel::kRigid;
+    if (request.progress) {
+      for (const std::string& note : robot_notes) request.progress("robot: " + note);
+    }
+  } else {
+    robot.chain = load_urdf_chain(scenario.robot.urdf, scenario.robot.base_link, scenario.robot.tip_link);
+    robot.sim = std::make_unique<Simulator>(scenario.robot.mjcf);
+    const bool want_elastic = scenario.robot.model == ArmModel::kElastic;
+    if (robot.sim->elastic() != want_elastic) {
+      fail_at(scenario, scenario.robot.model_where, "robot.model",
+              std::string("robot.model is ") + (want_elastic ? "elastic" : "rigid") + " but " + scenario.robot.mjcf +
+                  " has " + (robot.sim->elastic() ? "elastic" : "rigid") + " joints");
+    }
   }
+  // the tool on the flange: the chain, the solver and the trace all follow its centre point
+  robot.chain.tcp = robot.chain.tcp * scenario.robot.tool;
+  robot.ik = std::make_unique<IkSolver>(robot.chain);
   const double steps = 1 / (scenario.servo.rate_hz * robot.sim->timestep());
   if (std::abs(steps - std::round(steps)) > 1e-9 * steps || std::round(steps) < 1) {
     fail_at(scenario, scenario.servo.rate_where, "servo.rate_hz",
@@ -416,8 +441,9 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
   summary.scenario = scenario.name;
   summary.file = scenario.file;
   summary.description = scenario.description;
-  summary.robot.model = scenario.robot.model;
-  summary.robot.mjcf = scenario.robot.mjcf;
+  summary.robot.model = arm_model;
+  summary.robot.mjcf = mjcf;
+  summary.robot.notes = robot_notes;
   summary.robot.urdf = scenario.robot.urdf;
   summary.robot.ik_method = robot.ik->method();
   summary.robot.tool = scenario.robot.tool;

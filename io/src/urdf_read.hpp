@@ -3,6 +3,7 @@
 // chain reader (urdf_chain.cpp) and the MuJoCo model builder (urdf_model.cpp).
 
 #include <urdf_model/model.h>
+#include <urdf_parser/urdf_parser.h>
 
 #include <string>
 #include <vector>

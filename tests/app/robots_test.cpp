@@ -116,6 +116,28 @@ TEST_F(Robots, AtTableHeightTheWristPassesNearItsSingularityAndBelowItCrossesIt)
   EXPECT_LT(c.branch_changes.front().before * c.branch_changes.front().after, 0);
 }
 
+TEST_F(Robots, AUrdfAloneRuns) {
+  // scenarios/urdf_only.yaml: a kinematics-only URDF without a closed form, the dynamics built
+  // from it with the stated estimate, the notes in the summary
+  const RunResult r = run(load_scenario(test::source_path("scenarios/urdf_only.yaml")), {"exact_stop"});
+  EXPECT_TRUE(r.all_ok);
+  EXPECT_EQ(r.summary.robot.ik_method, IkMethod::kNumeric);
+  EXPECT_EQ(r.summary.robot.model, ArmModel::kRigid);
+  EXPECT_EQ(fs::path(r.summary.robot.mjcf), dir_ / "robot_from_urdf.xml");
+  EXPECT_TRUE(fs::is_regular_file(r.summary.robot.mjcf));
+  ASSERT_GE(r.summary.robot.notes.size(), 3u);
+  EXPECT_NE(r.summary.robot.notes[0].find("estimated masses"), std::string::npos) << r.summary.robot.notes[0];
+  for (const JointSpec& j : r.summary.robot.joints) EXPECT_GT(j.effort_limit, 0) << j.name;
+  ASSERT_EQ(r.summary.variants.size(), 1u);
+  ASSERT_TRUE(r.summary.variants[0].metrics.has_value());
+  EXPECT_LT(r.summary.variants[0].metrics->tracking_error_max, kTrackingBound);
+  // elastic joints cannot come from a URDF: named at the key
+  Scenario elastic = load_scenario(test::source_path("scenarios/urdf_only.yaml"));
+  elastic.robot.model_where.line = 13;
+  test::expect_input_error([&] { (void)run(elastic, {"exact_stop"}); },
+                           {.line = 13, .field = "robot.model", .message = "elastic joints need gear stiffnesses"});
+}
+
 TEST_F(Robots, ToolFrameCarriesTheTcp) {
   // a 100 mm tool along the flange's z: the path is the tool's, the flange runs 100 mm above it
   const char* const text = R"(name: tool

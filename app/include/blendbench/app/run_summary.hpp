@@ -90,6 +90,7 @@ struct RobotInfo {
   IkMethod ik_method = IkMethod::kAuto;  // the solver the chain's geometry chose
   Eigen::Isometry3d tool = Eigen::Isometry3d::Identity();  // the TCP in the flange frame
   std::vector<JointSpec> joints;  // the chain's joints: names and URDF limits
+  std::vector<std::string> notes;  // what was estimated or replaced (a model built from the URDF)
   double timestep = 0;  // s
   JointVector start_q = JointVector::Zero();  // rad, link angles at the program's start
   JointLimits limits;
