@@ -268,6 +268,13 @@ void to_json(nlohmann::json& out, const VariantSummary& v) {
   if (v.metrics) out["metrics"] = metrics_json(*v.metrics);
   if (v.health) out["health"] = health_json(*v.health);
   if (v.comparison) out["comparison"] = comparison_json(*v.comparison);
+  if (v.joint_usage) {
+    const JointUsage& u = *v.joint_usage;
+    out["joint_limits_used"] = {{"velocity_share", values(u.velocity_share)},
+                                {"acceleration_share", values(u.acceleration_share)},
+                                {"torque_share", values(u.torque_share)},
+                                {"position_margin_deg", values(u.position_margin, 1 / kDeg)}};
+  }
   out["singularities"] = singularities_json(v.singularities);
   if (!v.branch_changes.empty()) out["branch_changes"] = branch_changes_json(v.branch_changes);
 }

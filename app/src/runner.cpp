@@ -1,9 +1,11 @@
 #include "blendbench/core/units.hpp"
 #include "blendbench/app/runner.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <numbers>
 #include <optional>
@@ -69,6 +71,22 @@ std::size_t move_at(const Path& path, double s) {
 
 [[noreturn]] void fail_at(const Scenario& sc, const SourceRef& where, const std::string& field, const std::string& what) {
   throw InputError(where.file.empty() ? sc.file : where.file, where.line, where.column, field, what);
+}
+
+// The share of each joint limit a run used and its closest approach to the position range.
+JointUsage joint_usage(const Metrics& m, const Trace& trace, const JointLimits& limits, const KinematicChain& chain) {
+  JointUsage u;
+  const auto share = [](double peak, double limit) { return std::isfinite(limit) && limit > 0 ? peak / limit : 0.0; };
+  for (int i = 0; i < 6; ++i) {
+    u.velocity_share[i] = share(m.velocity_peak[i], limits.velocity[i]);
+    u.acceleration_share[i] = share(m.acceleration_peak[i], limits.acceleration[i]);
+    u.torque_share[i] = share(m.torque_peak[i], limits.torque[i]);
+    const JointSpec& joint = chain.joints[static_cast<std::size_t>(i)];
+    double margin = std::numeric_limits<double>::infinity();
+    for (const TraceSample& s : trace.samples) margin = std::min({margin, s.q[i] - joint.lower, joint.upper - s.q[i]});
+    u.position_margin[i] = margin;
+  }
+  return u;
 }
 
 // Everything shared by the variants of one scenario: robot models, solvers and the servo.
@@ -319,6 +337,7 @@ class VariantRun {
     out.message = status_message(m, health);
     out.metrics = m;
     out.health = health;
+    out.joint_usage = joint_usage(m, trace, robot_.sim->limits(), robot_.chain);
     if (request_.variant_files) {
       write_file_atomic(dir_ / "trace.csv", trace_csv(trace, timing, m));
       write_file_atomic(dir_ / "path.csv", path_csv(path, kCsvStep));

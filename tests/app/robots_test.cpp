@@ -80,6 +80,20 @@ TEST_F(Robots, SecondArmRunsTheDefaultProgram) {
     // placed where its wrist stays well away from the singularity
     EXPECT_TRUE(v.singularities.empty()) << v.singularities.size() << " passages";
     EXPECT_TRUE(v.branch_changes.empty());
+    // the joint-space limits of this arm, used within bounds: shares of its own limits, and the
+    // URDF's position range never left
+    ASSERT_TRUE(v.joint_usage.has_value());
+    const JointUsage& u = *v.joint_usage;
+    for (int i = 0; i < 6; ++i) {
+      EXPECT_NEAR(u.velocity_share[i], v.metrics->velocity_peak[i] / r.summary.robot.limits.velocity[i], 1e-15) << i;
+      EXPECT_NEAR(u.torque_share[i], v.metrics->torque_peak[i] / r.summary.robot.joints[static_cast<std::size_t>(i)].effort_limit,
+                  1e-12) << i;
+      EXPECT_GT(u.velocity_share[i], 0) << i;
+      EXPECT_LE(u.velocity_share[i], 1) << i;
+      EXPECT_LE(u.acceleration_share[i], 1) << i;
+      EXPECT_LE(u.torque_share[i], 1) << i;
+      EXPECT_GT(u.position_margin[i], 0) << i;
+    }
   }
   // the blend saves cycle time on this arm as on the other
   EXPECT_LT(*r.summary.variants[1].metrics->cycle_time, *r.summary.variants[0].metrics->cycle_time);

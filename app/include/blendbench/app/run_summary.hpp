@@ -63,6 +63,17 @@ struct ExactStopComparison {
   std::vector<std::pair<std::string, std::optional<double>>> ratios;  // key (ends in _ratio), value
 };
 
+// How much of the robot's joint-space limits a variant used, per joint: the peak velocity,
+// acceleration and torque of the run over the model's limits (0 where a limit is infinite), and
+// the smallest margin of the actual joint angles to the URDF's position range (rad; +inf for a
+// continuous joint).
+struct JointUsage {
+  JointVector velocity_share = JointVector::Zero();
+  JointVector acceleration_share = JointVector::Zero();
+  JointVector torque_share = JointVector::Zero();
+  JointVector position_margin = JointVector::Zero();
+};
+
 struct VariantSummary {
   std::string name;
   Method method = Method::kNone;  // the variant's transition method (or the first move's)
@@ -80,6 +91,7 @@ struct VariantSummary {
   // allowed to make (robot.allow_branch_change), in time order
   std::vector<SingularityPassage> singularities;
   std::vector<BranchChange> branch_changes;
+  std::optional<JointUsage> joint_usage;  // with the metrics
 };
 
 // The arm that ran: its model, timestep and natural frequencies at the start pose.
