@@ -195,6 +195,8 @@ UrdfModel model_from_urdf(const std::string& urdf_path, const std::string& base_
                     "  <visual><global offwidth=\"1280\" offheight=\"720\"/>"
                     "<headlight ambient=\"0.35 0.35 0.35\" diffuse=\"0.45 0.45 0.45\" specular=\"0.1 0.1 0.1\"/></visual>\n"
                     "  <asset>\n"
+                    "    <texture name=\"sky\" type=\"skybox\" builtin=\"gradient\" rgb1=\"0.78 0.84 0.9\" rgb2=\"0.32 0.36 0.42\" "
+                    "width=\"256\" height=\"256\"/>\n"
                     "    <texture name=\"grid\" type=\"2d\" builtin=\"checker\" rgb1=\"0.86 0.86 0.84\" rgb2=\"0.76 0.76 0.74\" "
                     "width=\"512\" height=\"512\"/>\n"
                     "    <material name=\"floor\" texture=\"grid\" texrepeat=\"10 10\" texuniform=\"true\"/>\n"
@@ -213,6 +215,11 @@ UrdfModel model_from_urdf(const std::string& urdf_path, const std::string& base_
   const Vec3 up = right.cross(forward);
   xml += "    <camera name=\"overview\" pos=\"" + numbers(eye) + "\" xyaxes=\"" + numbers(right) + " " + numbers(up) +
          "\" fovy=\"45\"/>\n";
+  // the fixed base: from the base frame to the first joint
+  if (chain.joints[0].origin.translation().norm() > 1e-3) {
+    xml += "    <geom name=\"base\" type=\"capsule\" fromto=\"0 0 0 " + numbers(chain.joints[0].origin.translation()) +
+           "\" size=\"" + num(1.5 * kRodRadius) + "\"/>\n";
+  }
   std::string indent = "    ";
   for (std::size_t i = 0; i < 6; ++i) {
     const JointSpec& j = chain.joints[i];
@@ -230,7 +237,7 @@ UrdfModel model_from_urdf(const std::string& urdf_path, const std::string& base_
            " " + num(I(0, 2)) + " " + num(I(1, 2)) + "\"/>\n";
     if (extent[i].norm() > 1e-3) {
       xml += indent + "<geom type=\"capsule\" fromto=\"0 0 0 " + numbers(extent[i]) + "\" size=\"" +
-             format_value(0.5 * kRodRadius) + "\"/>\n";
+             num(kRodRadius) + "\"/>\n";
     } else {
       xml += indent + "<geom type=\"sphere\" size=\"" + format_value(0.6 * kRodRadius) + "\"/>\n";
     }
