@@ -18,6 +18,52 @@ nlohmann::json values(const JointVector& v, double scale = 1) {
   return out;
 }
 
+// A pose as position (mm) and roll, pitch, yaw (deg, fixed axes as in URDF).
+nlohmann::json pose_json(const Eigen::Isometry3d& pose) {
+  const Vec3 p = pose.translation() / kMm;
+  const Vec3 rpy = rpy_from_rotation(pose.linear()) / kDeg;
+  return {{"position_mm", {p.x(), p.y(), p.z()}}, {"rpy_deg", {rpy.x(), rpy.y(), rpy.z()}}};
+}
+
+nlohmann::json singularities_json(const std::vector<SingularityPassage>& passages) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const SingularityPassage& p : passages) {
+    out.push_back({{"kind", std::string(to_string(p.kind))},
+                   {"t_s", p.t},
+                   {"t_start_s", p.t_start},
+                   {"t_end_s", p.t_end},
+                   {"pose", pose_json(p.pose)},
+                   {"measure", p.measure},
+                   {"threshold", p.threshold}});
+  }
+  return out;
+}
+
+nlohmann::json branch_changes_json(const std::vector<BranchChange>& changes) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const BranchChange& c : changes) {
+    out.push_back({{"kind", std::string(to_string(c.kind))},
+                   {"t_s", c.t},
+                   {"pose", pose_json(c.pose)},
+                   {"measure_before", c.before},
+                   {"measure_after", c.after}});
+  }
+  return out;
+}
+
+// The chain's joints with their URDF limits (deg, deg/s, N*m; null where unlimited).
+nlohmann::json joints_json(const std::vector<JointSpec>& joints) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const JointSpec& j : joints) {
+    out.push_back({{"name", j.name},
+                   {"lower_deg", finite_or_null(j.lower / kDeg)},
+                   {"upper_deg", finite_or_null(j.upper / kDeg)},
+                   {"velocity_deg_s", finite_or_null(j.velocity_limit / kDeg)},
+                   {"effort_nm", finite_or_null(j.effort_limit)}});
+  }
+  return out;
+}
+
 nlohmann::json vibration_json(const Vibration& v) {
   return {{"t_start_s", v.t_start},
           {"t_end_s", v.t_end},
@@ -245,6 +291,15 @@ void to_json(nlohmann::json& out, const VariantSummary& v) {
   if (v.health) out["health"] = health_json(*v.health);
   if (v.workspace) out["workspace"] = workspace_json(*v.workspace);
   if (v.comparison) out["comparison"] = comparison_json(*v.comparison);
+  if (v.joint_usage) {
+    const JointUsage& u = *v.joint_usage;
+    out["joint_limits_used"] = {{"velocity_share", values(u.velocity_share)},
+                                {"acceleration_share", values(u.acceleration_share)},
+                                {"torque_share", values(u.torque_share)},
+                                {"position_margin_deg", values(u.position_margin, 1 / kDeg)}};
+  }
+  out["singularities"] = singularities_json(v.singularities);
+  if (!v.branch_changes.empty()) out["branch_changes"] = branch_changes_json(v.branch_changes);
 }
 
 void to_json(nlohmann::json& out, const RunSummary& s) {
@@ -256,6 +311,11 @@ void to_json(nlohmann::json& out, const RunSummary& s) {
          {"robot",
           {{"model", r.model == ArmModel::kElastic ? "elastic" : "rigid"},
            {"mjcf", r.mjcf},
+           {"urdf", r.urdf},
+           {"ik", std::string(to_string(r.ik_method))},
+           {"tool", pose_json(r.tool)},
+           {"joints", joints_json(r.joints)},
+           {"notes", r.notes},
            {"timestep_s", r.timestep},
            {"start_q_deg", values(r.start_q, 1 / kDeg)},
            {"torque_limits_nm", values(r.limits.torque)},

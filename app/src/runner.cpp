@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <numbers>
 #include <optional>
@@ -13,6 +14,7 @@
 #include "blendbench/core/interrupt.hpp"
 #include "blendbench/corner/blend.hpp"
 #include "blendbench/io/urdf_chain.hpp"
+#include "blendbench/io/urdf_model.hpp"
 #include "blendbench/report/csv.hpp"
 #include "blendbench/report/output.hpp"
 #include "blendbench/report/process.hpp"
@@ -97,6 +99,22 @@ void check_video_frames(const Scenario& sc, double duration) {
           "the video would have " + format_value(frames, 3) + " frames (" + format_value(duration, 3) + " s at " +
               format_value(sc.video.fps, 3) + " fps); limit " + format_value(kMaxVideoFrames, 3) +
               " frames; lower `fps` or run with --no-video");
+}
+
+// The share of each joint limit a run used and its closest approach to the position range.
+JointUsage joint_usage(const Metrics& m, const Trace& trace, const JointLimits& limits, const KinematicChain& chain) {
+  JointUsage u;
+  const auto share = [](double peak, double limit) { return std::isfinite(limit) && limit > 0 ? peak / limit : 0.0; };
+  for (int i = 0; i < 6; ++i) {
+    u.velocity_share[i] = share(m.velocity_peak[i], limits.velocity[i]);
+    u.acceleration_share[i] = share(m.acceleration_peak[i], limits.acceleration[i]);
+    u.torque_share[i] = share(m.torque_peak[i], limits.torque[i]);
+    const JointSpec& joint = chain.joints[static_cast<std::size_t>(i)];
+    double margin = std::numeric_limits<double>::infinity();
+    for (const TraceSample& s : trace.samples) margin = std::min({margin, s.q[i] - joint.lower, joint.upper - s.q[i]});
+    u.position_margin[i] = margin;
+  }
+  return u;
 }
 
 // Everything shared by the variants of one scenario: robot models, solvers and the servo.
@@ -315,6 +333,8 @@ class VariantRun {
     ExecutionOptions options;
     options.tool_rotation = sc_.robot.tool_rotation;
     options.q0 = robot_.q0;
+    options.mapping.allow_branch_change = sc_.robot.allow_branch_change;
+    options.run.tool = sc_.robot.tool;
     options.servo = robot_.servo;
     options.run.settle_time = sc_.simulation.settle_time;
     options.metrics.settle_tolerance = sc_.simulation.settle_tolerance;
@@ -333,13 +353,20 @@ class VariantRun {
     const Execution run = execute(*robot_.sim, *robot_.ik, program, path, timing, options);
     // a variant whose path leaves the reach fails alone (the start was checked for all)
     if (!run.joints.outcome.ok()) {
-      const double s = timing.samples[run.joints.failed_index].s;
+      const TimedSample& at = timing.samples[run.joints.failed_index];
       return failed(std::move(out), VariantStatus::kFailed,
-                    at_move(sc_, program, move_at(path, s),
-                            "the path leaves the robot's reach or limits at " + run.joints.outcome.message));
+                    at_move(sc_, program, move_at(path, at.s),
+                            "the path leaves the robot's reach or limits at t = " + format_fixed(at.t, 3) +
+                                " s: " + run.joints.outcome.message));
     }
     const Trace& trace = run.trace;
     plan.corner_times = run.corners;
+    out.singularities = run.singularities;
+    out.branch_changes = run.joints.branch_changes;
+    for (const SingularityPassage& p : run.singularities) {
+      say("near a " + std::string(to_string(p.kind)) + " singularity at t = " + format_fixed(p.t, 3) + " s, " +
+          describe_pose(p.pose) + " (measure " + format_value(p.measure) + ", threshold " + format_value(p.threshold) + ")");
+    }
     out.timings.inverse_kinematics = run.ik_seconds;
     out.timings.simulated = trace.samples.empty() ? 0.0 : trace.samples.back().t;
     out.timings.simulation = run.simulation_seconds;
@@ -382,6 +409,7 @@ class VariantRun {
       say("warning: the TCP enters the robot's base (" + format_fixed(workspace.base_distance_min / kMm, 1) +
           " mm from its axis, from t = " + format_fixed(workspace.into_base_t, 3) + " s); the model has no contacts");
     }
+    out.joint_usage = joint_usage(m, trace, robot_.sim->limits(), robot_.chain);
     if (request_.variant_files) {
       write_file_atomic(dir_ / "trace.csv", trace_csv(trace, timing, m));
       write_file_atomic(dir_ / "path.csv", path_csv(path, kCsvStep));
@@ -506,15 +534,46 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
 
   // the robot: kinematics, dynamics (checked against robot.model), the start pose, the servo
   Robot robot;
-  robot.chain = load_urdf_chain(scenario.robot.urdf, scenario.robot.base_link, scenario.robot.tip_link);
-  robot.ik = std::make_unique<IkSolver>(robot.chain);
-  robot.sim = std::make_unique<Simulator>(scenario.robot.mjcf);
-  const bool want_elastic = scenario.robot.model == ArmModel::kElastic;
-  if (robot.sim->elastic() != want_elastic) {
-    fail_at(scenario, scenario.robot.model_where, "robot.model",
-            std::string("robot.model is ") + (want_elastic ? "elastic" : "rigid") + " but " + scenario.robot.mjcf +
-                " has " + (robot.sim->elastic() ? "elastic" : "rigid") + " joints");
+  std::vector<std::string> robot_notes;
+  std::string mjcf = scenario.robot.mjcf;
+  ArmModel arm_model = scenario.robot.model;
+  if (scenario.robot.estimate_total_mass > 0 && !scenario.robot.mjcf_from_urdf) {
+    fail_at(scenario, scenario.robot.estimate_where, "robot.estimate_inertia",
+            "estimate_inertia applies only to a URDF run without an MJCF; " + scenario.robot.mjcf +
+                " states the dynamics");
   }
+  if (scenario.robot.mjcf_from_urdf) {
+    // a URDF alone: its dynamics built from it (rigid joints: a URDF states no gear stiffness),
+    // written into the run folder for the reader
+    if (scenario.robot.model == ArmModel::kElastic && scenario.robot.model_where.line > 0) {
+      fail_at(scenario, scenario.robot.model_where, "robot.model",
+              "elastic joints need gear stiffnesses a URDF does not state: give robot.mjcf, or robot.model: rigid");
+    }
+    UrdfModel built = model_from_urdf(scenario.robot.urdf, scenario.robot.base_link, scenario.robot.tip_link,
+                                      scenario.robot.estimate_total_mass);
+    robot.chain = std::move(built.chain);
+    robot_notes = std::move(built.notes);
+    std::filesystem::create_directories(request.out_dir);
+    mjcf = (request.out_dir / "robot_from_urdf.xml").string();
+    write_file_atomic(mjcf, built.mjcf);
+    robot.sim = std::make_unique<Simulator>(mjcf);
+    arm_model = ArmModel::kRigid;
+    if (request.progress) {
+      for (const std::string& note : robot_notes) request.progress("robot: " + note);
+    }
+  } else {
+    robot.chain = load_urdf_chain(scenario.robot.urdf, scenario.robot.base_link, scenario.robot.tip_link);
+    robot.sim = std::make_unique<Simulator>(scenario.robot.mjcf);
+    const bool want_elastic = scenario.robot.model == ArmModel::kElastic;
+    if (robot.sim->elastic() != want_elastic) {
+      fail_at(scenario, scenario.robot.model_where, "robot.model",
+              std::string("robot.model is ") + (want_elastic ? "elastic" : "rigid") + " but " + scenario.robot.mjcf +
+                  " has " + (robot.sim->elastic() ? "elastic" : "rigid") + " joints");
+    }
+  }
+  // the tool on the flange: the chain, the solver and the trace all follow its centre point
+  robot.chain.tcp = robot.chain.tcp * scenario.robot.tool;
+  robot.ik = std::make_unique<IkSolver>(robot.chain);
   const double steps = 1 / (scenario.servo.rate_hz * robot.sim->timestep());
   if (std::abs(steps - std::round(steps)) > 1e-9 * steps || std::round(steps) < 1) {
     fail_at(scenario, scenario.servo.rate_where, "servo.rate_hz",
@@ -539,8 +598,13 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
   summary.scenario = scenario.name;
   summary.file = scenario.file;
   summary.description = scenario.description;
-  summary.robot.model = scenario.robot.model;
-  summary.robot.mjcf = scenario.robot.mjcf;
+  summary.robot.model = arm_model;
+  summary.robot.mjcf = mjcf;
+  summary.robot.notes = robot_notes;
+  summary.robot.urdf = scenario.robot.urdf;
+  summary.robot.ik_method = robot.ik->method();
+  summary.robot.tool = scenario.robot.tool;
+  summary.robot.joints = robot.chain.joints;
   summary.robot.timestep = robot.sim->timestep();
   summary.robot.start_q = robot.q0;
   summary.robot.limits = robot.sim->limits();

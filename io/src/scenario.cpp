@@ -270,19 +270,40 @@ void read_robot(const Reader& r, const Field& root, Scenario& sc) {
   const Field model = r.value(robot, "model");
   sc.robot.model = r.choice(model) == "rigid" ? ArmModel::kRigid : ArmModel::kElastic;
   const Field mjcf = r.child(robot, "mjcf");
-  sc.robot.mjcf = mjcf.node.defined() ? r.existing_file(mjcf) : data_file(model_file(sc.robot.model));
+  const Field urdf = r.child(robot, "urdf");
+  sc.robot.urdf = r.existing_file(r.value(robot, "urdf"));
+  // without an MJCF: the URDF's own MJCF beside it (model_file), else dynamics built from the URDF
+  if (mjcf.node.defined()) {
+    sc.robot.mjcf = r.existing_file(mjcf);
+  } else if (const std::string beside = model_file(sc.robot.urdf, sc.robot.model); std::filesystem::is_regular_file(beside)) {
+    sc.robot.mjcf = beside;
+  } else {
+    sc.robot.mjcf_from_urdf = true;
+  }
   // where the model was chosen, for later errors: `model`, else `mjcf`, else nowhere
   if (const Field given = r.child(robot, "model"); given.node.defined()) {
     sc.robot.model_where = r.where(given);
   } else if (mjcf.node.defined()) {
     sc.robot.model_where = r.where(mjcf);
   }
-  sc.robot.urdf = r.existing_file(r.value(robot, "urdf"));
   sc.robot.base_link = r.text(r.value(robot, "base_link"));
   sc.robot.tip_link = r.text(r.value(robot, "tip_link"));
   sc.robot.tool_rotation = rpy_deg(radians(r.numbers(r.value(robot, "tool_rpy_deg"))));
   const std::vector<double> q = radians(r.numbers(r.value(robot, "q_seed_deg")));
   for (int i = 0; i < 6; ++i) sc.robot.q_seed[i] = q[static_cast<std::size_t>(i)];
+  // the tool on the flange, and what the joint reference may do
+  if (const Field tool = r.child(robot, "tool"); tool.node.defined()) {
+    r.check_keys(tool);
+    sc.robot.tool.translation() = r.vec3(r.value(tool, "offset"));
+    sc.robot.tool.linear() = rpy_deg(radians(r.numbers(r.value(tool, "rpy_deg"))));
+  }
+  sc.robot.allow_branch_change = r.flag(r.value(robot, "allow_branch_change"));
+  sc.robot.urdf_where = r.where(urdf.node.defined() ? urdf : robot);
+  if (const Field estimate = r.child(robot, "estimate_inertia"); estimate.node.defined()) {
+    r.check_keys(estimate);
+    sc.robot.estimate_total_mass = r.number(r.require(estimate, "total_mass_kg"));
+    sc.robot.estimate_where = r.where(estimate);
+  }
 }
 
 // Whether `a` is a whole multiple of `b` (both > 0), to 1e-9 of the ratio.
@@ -451,8 +472,10 @@ std::string folder_name_problem(const std::string& name) {
   return {};
 }
 
-std::string model_file(ArmModel model) {
-  return model == ArmModel::kElastic ? "models/ur5e_like.xml" : "models/ur5e_like_rigid.xml";
+std::string model_file(const std::string& urdf, ArmModel model) {
+  const std::filesystem::path path(urdf);
+  const std::string stem = path.stem().string() + (model == ArmModel::kElastic ? ".xml" : "_rigid.xml");
+  return (path.parent_path() / stem).string();
 }
 
 Scenario parse_scenario(const std::string& text, const std::string& file, const std::string& base_dir) {

@@ -4,15 +4,16 @@
 #include <urdf_parser/urdf_parser.h>
 
 #include <algorithm>
-#include <cstdio>
 #include <fstream>
 #include <limits>
 #include <sstream>
 
 #include "blendbench/core/format.hpp"
 #include "blendbench/core/input_error.hpp"
+#include "urdf_read.hpp"
 
 namespace blendbench {
+namespace urdf_read {
 namespace {
 
 // Collects what urdfdom reports through console_bridge while it parses, so the InputError can
@@ -36,17 +37,9 @@ class CapturedLog : public console_bridge::OutputHandler {
   std::string text_;
 };
 
-Eigen::Isometry3d to_isometry(const urdf::Pose& pose) {
-  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
-  t.linear() = Eigen::Quaterniond(pose.rotation.w, pose.rotation.x, pose.rotation.y, pose.rotation.z)
-                   .normalized()
-                   .toRotationMatrix();
-  t.translation() << pose.position.x, pose.position.y, pose.position.z;
-  return t;
-}
-
 // One revolute or continuous joint with its limits checked.
-JointSpec to_joint_spec(const std::string& path, const urdf::Joint& joint, const Eigen::Isometry3d& origin) {
+JointSpec to_joint_spec(const std::string& path, const urdf::Joint& joint, const Eigen::Isometry3d& origin,
+                        bool require_effort) {
   const auto fail = [&](const std::string& what) { throw InputError(path, 0, 0, joint.name, what); };
   JointSpec spec;
   spec.name = joint.name;
@@ -69,50 +62,89 @@ JointSpec to_joint_spec(const std::string& path, const urdf::Joint& joint, const
   spec.velocity_limit = joint.limits->velocity;
   spec.effort_limit = joint.limits->effort;
   if (!(spec.velocity_limit > 0)) fail("velocity limit must be positive, got " + format_value(spec.velocity_limit) + " rad/s");
-  if (!(spec.effort_limit > 0)) fail("effort limit must be positive, got " + format_value(spec.effort_limit) + " N*m");
+  if (require_effort && !(spec.effort_limit > 0)) {
+    fail("effort limit must be positive, got " + format_value(spec.effort_limit) +
+         " N*m (a kinematics-only URDF: robot.estimate_inertia estimates it)");
+  }
   return spec;
+}
+
+// The links without children at or below `link`, in the file's order.
+void collect_leaves(const urdf::Link& link, std::vector<std::string>& out) {
+  if (link.child_links.empty()) out.push_back(link.name);
+  for (const urdf::LinkSharedPtr& child : link.child_links) collect_leaves(*child, out);
 }
 
 }  // namespace
 
-KinematicChain load_urdf_chain(const std::string& path, const std::string& base_link, const std::string& tip_link) {
-  // read and parse the file
+urdf::ModelInterfaceSharedPtr parse(const std::string& path) {
   std::ifstream file(path);
   if (!file) throw InputError(path, 0, 0, "", "cannot open the URDF file");
   std::stringstream text;
   text << file.rdbuf();
-  urdf::ModelInterfaceSharedPtr model;
-  {
-    const CapturedLog log;
-    model = urdf::parseURDF(text.str());
-    if (!model) throw InputError(path, 0, 0, "", "not a valid URDF: " + (log.text().empty() ? "parse failed" : log.text()));
+  const CapturedLog log;
+  urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(text.str());
+  if (!model) throw InputError(path, 0, 0, "", "not a valid URDF: " + (log.text().empty() ? "parse failed" : log.text()));
+  return model;
+}
+
+Eigen::Isometry3d to_isometry(const urdf::Pose& pose) {
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.linear() = Eigen::Quaterniond(pose.rotation.w, pose.rotation.x, pose.rotation.y, pose.rotation.z)
+                   .normalized()
+                   .toRotationMatrix();
+  t.translation() << pose.position.x, pose.position.y, pose.position.z;
+  return t;
+}
+
+ChainPath find_chain(const urdf::ModelInterface& model, const std::string& path, const std::string& base,
+                     const std::string& tip) {
+  ChainPath out;
+  // the base: the given link, else the root
+  out.base = base.empty() ? model.getRoot()->name : base;
+  const urdf::LinkConstSharedPtr base_link = model.getLink(out.base);
+  if (!base_link) throw InputError(path, 0, 0, "base_link", "no link named '" + out.base + "'");
+  // the tip: the given link, else the one leaf below the base
+  out.tip = tip;
+  if (out.tip.empty()) {
+    std::vector<std::string> leaves;
+    collect_leaves(*base_link, leaves);
+    if (leaves.size() != 1) {
+      std::string list;
+      for (const std::string& leaf : leaves) list += (list.empty() ? "'" : ", '") + leaf + "'";
+      throw InputError(path, 0, 0, "tip_link",
+                       "the URDF branches below '" + out.base + "' into " + std::to_string(leaves.size()) + " ends (" +
+                           list + "): name the chain's end with robot.tip_link");
+    }
+    out.tip = leaves.front();
   }
-  if (!model->getLink(base_link)) throw InputError(path, 0, 0, "base_link", "no link named '" + base_link + "'");
-  if (!model->getLink(tip_link)) throw InputError(path, 0, 0, "tip_link", "no link named '" + tip_link + "'");
+  if (!model.getLink(out.tip)) throw InputError(path, 0, 0, "tip_link", "no link named '" + out.tip + "'");
 
   // the joints from the tip up to the base, then in base-to-tip order
-  std::vector<urdf::JointConstSharedPtr> joints;
-  urdf::LinkConstSharedPtr link = model->getLink(tip_link);
-  while (link && link->name != base_link) {
+  urdf::LinkConstSharedPtr link = model.getLink(out.tip);
+  while (link && link->name != out.base) {
     if (!link->parent_joint) break;
-    joints.push_back(link->parent_joint);
+    out.joints.push_back(link->parent_joint);
     link = link->getParent();
   }
-  if (!link || link->name != base_link) {
-    throw InputError(path, 0, 0, "tip_link", "link '" + tip_link + "' is not below link '" + base_link + "'");
+  if (!link || link->name != out.base) {
+    throw InputError(path, 0, 0, "tip_link", "link '" + out.tip + "' is not below link '" + out.base + "'");
   }
-  std::reverse(joints.begin(), joints.end());
+  std::reverse(out.joints.begin(), out.joints.end());
+  return out;
+}
 
+KinematicChain chain_of(const std::string& path, const ChainPath& chain_path, bool require_effort) {
   // fold fixed joints into the next movable joint's origin, or into the TCP after the last one
   KinematicChain chain;
   Eigen::Isometry3d pending = Eigen::Isometry3d::Identity();
-  for (const urdf::JointConstSharedPtr& joint : joints) {
+  for (const urdf::JointConstSharedPtr& joint : chain_path.joints) {
     const Eigen::Isometry3d origin = pending * to_isometry(joint->parent_to_joint_origin_transform);
     switch (joint->type) {
       case urdf::Joint::FIXED: pending = origin; break;
       case urdf::Joint::REVOLUTE:
       case urdf::Joint::CONTINUOUS:
-        chain.joints.push_back(to_joint_spec(path, *joint, origin));
+        chain.joints.push_back(to_joint_spec(path, *joint, origin, require_effort));
         pending = Eigen::Isometry3d::Identity();
         break;
       default:
@@ -122,10 +154,17 @@ KinematicChain load_urdf_chain(const std::string& path, const std::string& base_
   chain.tcp = pending;
   if (chain.joints.size() != 6) {
     throw InputError(path, 0, 0, "tip_link",
-                     "the chain from '" + base_link + "' to '" + tip_link + "' has " +
+                     "the chain from '" + chain_path.base + "' to '" + chain_path.tip + "' has " +
                          std::to_string(chain.joints.size()) + " movable joints; a six-axis arm needs 6");
   }
   return chain;
+}
+
+}  // namespace urdf_read
+
+KinematicChain load_urdf_chain(const std::string& path, const std::string& base_link, const std::string& tip_link) {
+  const urdf::ModelInterfaceSharedPtr model = urdf_read::parse(path);
+  return urdf_read::chain_of(path, urdf_read::find_chain(*model, path, base_link, tip_link), true);
 }
 
 }  // namespace blendbench

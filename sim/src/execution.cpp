@@ -48,9 +48,10 @@ Execution execute(const Simulator& sim, const IkSolver& ik, const Program& progr
     pose.translation() = path.point(s.s);
     poses.push_back(pose);
   }
-  out.joints = map_to_joints(ik, poses, timing.dt, options.q0);
+  out.joints = map_to_joints(ik, poses, timing.dt, options.q0, options.mapping);
   out.ik_seconds = seconds_since(start);
   if (!out.joints.outcome.ok()) return out;
+  out.singularities = scan_singularities(ik, out.joints.joints.q, timing.dt);
 
   // the run
   start = Clock::now();

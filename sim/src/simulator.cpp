@@ -330,10 +330,19 @@ class LinkModel {
   std::array<int, 6> motor_qpos_, motor_dof_;
 };
 
-// The orientation of site `site` in d (mju_mat2Quat writes w, x, y, z).
-Eigen::Quaterniond site_rotation(const mjData& d, int site) {
+// The pose of `tool` (given in the frame of site `site`) in d.
+Eigen::Isometry3d tool_pose(const mjData& d, int site, const Eigen::Isometry3d& tool) {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(d.site_xmat + 9 * site);
+  pose.translation() = Eigen::Map<const Vec3>(d.site_xpos + 3 * site);
+  return pose * tool;
+}
+
+// A rotation as MuJoCo's quaternion of it (mju_mat2Quat writes w, x, y, z).
+Eigen::Quaterniond mujoco_quaternion(const Mat3& r) {
+  const Eigen::Matrix<double, 3, 3, Eigen::RowMajor> row_major = r;
   double wxyz[4];
-  mju_mat2Quat(wxyz, d.site_xmat + 9 * site);
+  mju_mat2Quat(wxyz, row_major.data());
   return {wxyz[0], wxyz[1], wxyz[2], wxyz[3]};
 }
 
@@ -569,8 +578,9 @@ Trace Simulator::run(const JointTrajectory& reference, const ServoConfig& servo,
                                     coulomb_[i] * std::tanh(p.qd[i] / kCoulombSmoothing);
       }
     }
-    p.tcp = Vec3(ref_links.data().site_xpos + 3 * tcp_site_);
-    p.rotation = site_rotation(ref_links.data(), tcp_site_);
+    const Eigen::Isometry3d tcp = tool_pose(ref_links.data(), tcp_site_, options.tool);
+    p.tcp = tcp.translation();
+    p.rotation = mujoco_quaternion(tcp.linear());
     return p;
   };
 
@@ -707,9 +717,10 @@ Trace Simulator::run(const JointTrajectory& reference, const ServoConfig& servo,
         sample.q = link;
         sample.qd = link_speed;
         sample.tau = tau;
-        sample.tcp = Vec3(d->site_xpos + 3 * tcp_site_);
+        const Eigen::Isometry3d tcp = tool_pose(*d, tcp_site_, options.tool);
+        sample.tcp = tcp.translation();
         sample.tcp_cmd = current.tcp;
-        sample.rotation = site_rotation(*d, tcp_site_);
+        sample.rotation = mujoco_quaternion(tcp.linear());
         sample.rotation_cmd = current.rotation;
       }
     }

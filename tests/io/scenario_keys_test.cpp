@@ -60,7 +60,7 @@ Yaml base() {
   return M({{"name", S("all")},
             {"units", S("mm")},
             {"frame", M({{"origin", S("[0, 0, 0]")}})},
-            {"robot", M({})},
+            {"robot", M({{"tool", M({})}, {"estimate_inertia", M({{"total_mass_kg", S("20")}})}})},
             {"servo", M({})},
             {"simulation", M({})},
             {"video", M({{"camera", M({})}})},
@@ -120,7 +120,8 @@ std::string signature(const Scenario& sc) {
   out << sc.name << '|' << sc.description << '|' << sc.frame.matrix() << '|' << sc.start.transpose() << '|';
   const auto flag = [](const std::optional<bool>& b) { return b ? (*b ? 1 : 0) : -1; };
   out << static_cast<int>(sc.robot.model) << sc.robot.urdf << sc.robot.mjcf << sc.robot.base_link << sc.robot.tip_link
-      << sc.robot.tool_rotation << sc.robot.q_seed.transpose() << '|';
+      << sc.robot.tool_rotation << sc.robot.q_seed.transpose() << sc.robot.tool.matrix() << sc.robot.allow_branch_change
+      << sc.robot.mjcf_from_urdf << sc.robot.estimate_total_mass << '|';
   const ServoSettings& s = sc.servo;
   out << static_cast<int>(s.controller) << ' ' << s.rate_hz << ' ' << s.setpoint_rate_hz << ' ' << s.measurement_delay_ticks
       << ' ' << s.encoder_counts_per_turn << ' ' << flag(s.velocity_feedforward) << flag(s.acceleration_feedforward)

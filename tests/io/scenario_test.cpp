@@ -495,5 +495,39 @@ TEST(Scenario, RobotServoAndSimulationSettings) {
                "must be at least the settle window");
 }
 
+// robot.tool in the file's units from the flange, the branch switch, the chain's ends and a
+// URDF without an MJCF (the dynamics built from it; estimate_inertia only then).
+TEST(Scenario, ToolFrameBranchChangeAndUrdfOnlySettings) {
+  const Scenario d = parse(kValid);
+  EXPECT_TRUE(d.robot.tool.isApprox(Eigen::Isometry3d::Identity()));
+  EXPECT_FALSE(d.robot.allow_branch_change);
+  EXPECT_EQ(d.robot.base_link, "");  // the URDF's root
+  EXPECT_EQ(d.robot.tip_link, "");   // its one leaf
+  EXPECT_FALSE(d.robot.mjcf_from_urdf);
+  const std::string at = "units: mm\n";
+  const Scenario t = parse(replaced(kValid, at, at + "robot: {tool: {offset: [10, 0, 150], rpy_deg: [0, 90, 0]}, allow_branch_change: true}\n"));
+  EXPECT_TRUE(t.robot.tool.translation().isApprox(Vec3(0.010, 0, 0.150), 1e-15));
+  EXPECT_TRUE(t.robot.tool.linear().col(2).isApprox(Vec3(1, 0, 0), 1e-15));  // pitch 90: z onto x
+  EXPECT_TRUE(t.robot.allow_branch_change);
+  const Scenario m = parse(replaced(kValid, at, "units: m\nrobot: {tool: {offset: [0, 0.2, 0]}}\n"));
+  EXPECT_TRUE(m.robot.tool.translation().isApprox(Vec3(0, 0.2, 0), 1e-15));
+  // another URDF runs with the MJCF beside it, of the model asked for
+  const Scenario k = parse(replaced(kValid, at, at + "robot: {urdf: models/kr6_like.urdf, model: rigid}\n"));
+  EXPECT_TRUE(k.robot.mjcf.ends_with("models/kr6_like_rigid.xml")) << k.robot.mjcf;
+  EXPECT_FALSE(k.robot.mjcf_from_urdf);
+  // a URDF alone (no MJCF beside it): the dynamics from the URDF, with an inertia estimate if asked
+  const std::string alone = ::testing::TempDir() + "alone.urdf";
+  std::filesystem::copy_file(test::source_path("models/kr6_like.urdf"), alone, std::filesystem::copy_options::overwrite_existing);
+  const Scenario u = parse(replaced(kValid, at, at + "robot: {urdf: " + alone + ", estimate_inertia: {total_mass_kg: 30}}\n"));
+  EXPECT_TRUE(u.robot.mjcf_from_urdf);
+  EXPECT_EQ(u.robot.mjcf, "");
+  EXPECT_EQ(u.robot.estimate_total_mass, 30);
+  EXPECT_EQ(u.robot.estimate_where.line, 3);
+  expect_error(replaced(kValid, at, at + "robot: {tool: {length: 3}}\n"), 3, "robot.tool.length", "unknown key 'length'");
+  expect_error(replaced(kValid, at, at + "robot: {tool: {offset: [1, 2]}}\n"), 3, "robot.tool.offset", "3");
+  expect_error(replaced(kValid, at, at + "robot: {urdf: models/kr6_like.urdf, estimate_inertia: {total_mass_kg: 0}}\n"), 3,
+               "robot.estimate_inertia.total_mass_kg", "must be");
+}
+
 }  // namespace
 }  // namespace blendbench

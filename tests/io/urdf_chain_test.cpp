@@ -107,7 +107,7 @@ TEST(UrdfChain, ReadsTheModelArm) {
 }
 
 TEST(UrdfChain, FoldsFixedJointsAndReadsContinuousJoints) {
-  const KinematicChain chain = load_urdf_chain(write_file("arm", arm_urdf()));
+  const KinematicChain chain = load_urdf_chain(write_file("arm", arm_urdf()), "base_link");
   ASSERT_EQ(chain.joints.size(), 6u);
   // base_link is the base: the mount above it is not part of the chain
   EXPECT_TRUE(chain.joints[0].origin.translation().isApprox(Vec3(0, 0, 0.2), kExact));
@@ -127,6 +127,26 @@ TEST(UrdfChain, FoldsFixedJointsAndReadsContinuousJoints) {
   EXPECT_TRUE(chain.tcp.translation().isApprox(Vec3(0, 0, 0.15), kExact));
   // starting at l1 leaves five movable joints: not a six-axis arm
   EXPECT_THROW((void)load_urdf_chain(write_file("arm", arm_urdf()), "l1", "tcp"), InputError);
+}
+
+TEST(UrdfChain, FindsTheChainFromTheRootToTheOneLeafByDefault) {
+  // the root "world" is the base: the mount (1, 2, 3) folds into the first joint's origin
+  const KinematicChain chain = load_urdf_chain(write_file("arm", arm_urdf()));
+  EXPECT_TRUE(chain.joints[0].origin.translation().isApprox(Vec3(1, 2, 3.2), kExact));
+  EXPECT_TRUE(chain.tcp.translation().isApprox(Vec3(0, 0, 0.15), kExact));
+  // ROS-Industrial's tool0 is found without being named
+  const KinematicChain kr6 = load_urdf_chain(test::source_path("models/kr6_like.urdf"));
+  EXPECT_EQ(kr6.joints.back().name, "joint_a6");
+  EXPECT_TRUE(kr6.tcp.translation().isApprox(Vec3(0.02, 0, 0), kExact));
+  // a second branch (a camera fixed to l2) leaves two ends: an error listing both, unless
+  // tip_link names one
+  std::string text = arm_urdf();
+  text.replace(text.rfind("</robot>"), 8, R"(<link name="camera"/>
+  <joint name="camera_mount" type="fixed"><parent link="l2"/><child link="camera"/></joint>
+</robot>)");
+  const std::string branched = write_file("branched", text);
+  expect_input_error(branched, "tip_link", "branches below 'base_link' into 2 ends ('tcp', 'camera')", "base_link", "");
+  EXPECT_EQ(load_urdf_chain(branched, "", "tcp").joints.size(), 6u);
 }
 
 TEST(UrdfChain, RejectsUnreadableAndInvalidFiles) {

@@ -1,12 +1,14 @@
-// models/ur5e_like.urdf (kinematic truth, read with urdfdom) and the two MuJoCo models,
-// models/ur5e_like.xml (elastic joints) and models/ur5e_like_rigid.xml (rigid), describe the same
-// arm: same TCP pose at every configuration (gears undeflected), same joint limits, torque limits
-// equal to the URDF efforts, velocity limits equal to the URDF's, same masses, inertias and
-// friction; and the two MJCF files agree on everything but the gears.
+// For each shipped arm (models/ur5e_like.*, the UR-type arm, and models/kr6_like.*, the offset
+// shoulder with a spherical wrist) the URDF (kinematic truth, read with urdfdom) and the two
+// MuJoCo models (elastic joints and rigid) describe the same arm: same TCP pose at every
+// configuration (gears undeflected), same joint limits, torque limits equal to the URDF efforts,
+// velocity limits equal to the URDF's, same masses, inertias and friction; and the two MJCF
+// files agree on everything but the gears.
 
 #include <gtest/gtest.h>
 #include <mujoco/mujoco.h>
 
+#include <algorithm>
 #include <array>
 #include <memory>
 #include <stdexcept>
@@ -70,11 +72,39 @@ class ModelConsistency : public ::testing::Test {
   }
 };
 
-const char* const kModels[] = {"models/ur5e_like.xml", "models/ur5e_like_rigid.xml"};
+// One shipped arm: its files, the URDF links and joints of the chain (the MJCF's motor hinges
+// have the joints' names, the gear hinges `gears`), the torque limits its header states, the
+// keyframe "ready" and a pose to hold.
+struct Arm {
+  const char* urdf;
+  const char* elastic;
+  const char* rigid;
+  std::array<const char*, 6> links, joints, gears;
+  std::array<double, 6> effort, ready, hold;
+  [[nodiscard]] std::array<const char*, 2> models() const { return {elastic, rigid}; }
+};
+
+const Arm kArms[] = {
+    {"models/ur5e_like.urdf", "models/ur5e_like.xml", "models/ur5e_like_rigid.xml",
+     {"shoulder_link", "upper_arm_link", "forearm_link", "wrist_1_link", "wrist_2_link", "wrist_3_link"},
+     {"shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint", "wrist_1_joint", "wrist_2_joint", "wrist_3_joint"},
+     {"shoulder_pan_gear", "shoulder_lift_gear", "elbow_gear", "wrist_1_gear", "wrist_2_gear", "wrist_3_gear"},
+     {150, 150, 150, 28, 28, 28},  // the UR5e's
+     {mjPI, -mjPI / 2, mjPI / 2, -mjPI / 2, -mjPI / 2, 0},
+     {0.2, -1.4, 1.6, -1.8, -1.57, 0.3}},
+    {"models/kr6_like.urdf", "models/kr6_like.xml", "models/kr6_like_rigid.xml",
+     {"link_1", "link_2", "link_3", "link_4", "link_5", "link_6"},
+     {"joint_a1", "joint_a2", "joint_a3", "joint_a4", "joint_a5", "joint_a6"},
+     {"joint_a1_gear", "joint_a2_gear", "joint_a3_gear", "joint_a4_gear", "joint_a5_gear", "joint_a6_gear"},
+     {333, 333, 157, 54, 54, 28},  // the strain-wave gears' repeated peak torques
+     {0, -mjPI / 2, mjPI / 2, 0, mjPI / 2, 0},
+     {0.3, -1.2, 1.3, 0.4, 1.0, -0.5}},
+};
 
 TEST_F(ModelConsistency, TcpPoseAgreesAtRandomConfigurations) {
-  const KinematicChain chain = load_urdf_chain(test::source_path("models/ur5e_like.urdf"));
-  for (const char* file : kModels) {
+  for (const Arm& arm : kArms) {
+  const KinematicChain chain = load_urdf_chain(test::source_path(arm.urdf));
+  for (const char* file : arm.models()) {
   SCOPED_TRACE(file);
   const ModelPtr m = load(file);
   ASSERT_TRUE(m);
@@ -101,11 +131,13 @@ TEST_F(ModelConsistency, TcpPoseAgreesAtRandomConfigurations) {
     ASSERT_LT(error.tail<3>().norm(), kPoseTol) << test::seed_text(seed) << " case " << n << " q " << q.transpose();
   }
   }
+  }
 }
 
 TEST_F(ModelConsistency, JointAndTorqueLimitsAgree) {
-  const KinematicChain chain = load_urdf_chain(test::source_path("models/ur5e_like.urdf"));
-  for (const char* file : kModels) {
+  for (const Arm& arm : kArms) {
+  const KinematicChain chain = load_urdf_chain(test::source_path(arm.urdf));
+  for (const char* file : arm.models()) {
   SCOPED_TRACE(file);
   const ModelPtr m = load(file);
   ASSERT_TRUE(m);
@@ -130,24 +162,23 @@ TEST_F(ModelConsistency, JointAndTorqueLimitsAgree) {
     EXPECT_NEAR(m->numeric_data[m->numeric_adr[velocity] + static_cast<int>(i)], joint.velocity_limit, kValueTol) << joint.name;
   }
   }
-  // the UR5e's torque limits, read from the URDF
-  const std::array<double, 6> effort = {150, 150, 150, 28, 28, 28};
-  for (std::size_t i = 0; i < 6; ++i) EXPECT_EQ(chain.joints[i].effort_limit, effort[i]) << chain.joints[i].name;
+  // the torque limits the model's header states, read from the URDF
+  for (std::size_t i = 0; i < 6; ++i) EXPECT_EQ(chain.joints[i].effort_limit, arm.effort[i]) << chain.joints[i].name;
+  }
 }
 
 TEST_F(ModelConsistency, MassesInertiasAndFrictionAgree) {
   // MuJoCo reads URDF too: compare the bodies it builds from it with the MJCF's (the URDF's
   // root link becomes MuJoCo's world body, so the fixed base is not compared); the URDF's joint
   // damping and friction are the motor hinges' viscous and Coulomb friction
-  const ModelPtr urdf = load("models/ur5e_like.urdf");
+  for (const Arm& arm : kArms) {
+  const ModelPtr urdf = load(arm.urdf);
   ASSERT_TRUE(urdf);
-  const std::array<std::string, 6> links = {"shoulder_link", "upper_arm_link", "forearm_link",
-                                            "wrist_1_link",  "wrist_2_link",   "wrist_3_link"};
-  for (const char* file : kModels) {
+  for (const char* file : arm.models()) {
     SCOPED_TRACE(file);
     const ModelPtr mjcf = load(file);
     ASSERT_TRUE(mjcf);
-    for (const std::string& link : links) {
+    for (const std::string link : arm.links) {
       const int a = id(urdf.get(), mjOBJ_BODY, link);
       const int b = id(mjcf.get(), mjOBJ_BODY, link);
       EXPECT_NEAR(urdf->body_mass[a], mjcf->body_mass[b], kValueTol) << link;
@@ -164,11 +195,14 @@ TEST_F(ModelConsistency, MassesInertiasAndFrictionAgree) {
       EXPECT_GT(mjcf->dof_frictionloss[dof_mjcf], 0) << name;
     }
   }
+  }
 }
 
 TEST_F(ModelConsistency, ElasticAndRigidModelsDifferOnlyInTheGears) {
-  const ModelPtr elastic = load("models/ur5e_like.xml");
-  const ModelPtr rigid = load("models/ur5e_like_rigid.xml");
+  for (const Arm& arm : kArms) {
+  SCOPED_TRACE(arm.elastic);
+  const ModelPtr elastic = load(arm.elastic);
+  const ModelPtr rigid = load(arm.rigid);
   ASSERT_TRUE(elastic && rigid);
   EXPECT_EQ(elastic->nq, 12);
   EXPECT_EQ(rigid->nq, 6);
@@ -185,7 +219,9 @@ TEST_F(ModelConsistency, ElasticAndRigidModelsDifferOnlyInTheGears) {
     EXPECT_EQ(elastic->jnt_range[2 * e], rigid->jnt_range[2 * j]) << name;
     EXPECT_EQ(elastic->jnt_range[2 * e + 1], rigid->jnt_range[2 * j + 1]) << name;
     // the gear hinge follows the motor hinge in the same body, on the same axis
-    const int gear = id(elastic.get(), mjOBJ_JOINT, name.substr(0, name.size() - 6) + "_gear");
+    const auto motor = std::find(arm.joints.begin(), arm.joints.end(), name);
+    ASSERT_NE(motor, arm.joints.end()) << name;
+    const int gear = id(elastic.get(), mjOBJ_JOINT, arm.gears[static_cast<std::size_t>(motor - arm.joints.begin())]);
     EXPECT_EQ(gear, e + 1) << name;
     EXPECT_EQ(elastic->jnt_bodyid[gear], elastic->jnt_bodyid[e]) << name;
     EXPECT_GT(elastic->jnt_stiffness[gear], 0) << name;
@@ -204,10 +240,12 @@ TEST_F(ModelConsistency, ElasticAndRigidModelsDifferOnlyInTheGears) {
   for (int i = 0; i < 6; ++i) {
     EXPECT_EQ(elastic->numeric_data[elastic->numeric_adr[ve] + i], rigid->numeric_data[rigid->numeric_adr[vr] + i]) << i;
   }
+  }
 }
 
 TEST_F(ModelConsistency, SimulationSettingsAreThoseTheServoLoopExpects) {
-  for (const char* file : kModels) {
+  for (const Arm& arm : kArms) {
+  for (const char* file : arm.models()) {
     SCOPED_TRACE(file);
     const ModelPtr m = load(file);
     ASSERT_TRUE(m);
@@ -219,14 +257,11 @@ TEST_F(ModelConsistency, SimulationSettingsAreThoseTheServoLoopExpects) {
     EXPECT_EQ(m->vis.global.offheight, 720);
     // keyframe "ready": facing +x, elbow up, tool down (the motor hinges; gears undeflected)
     const int ready = id(m.get(), mjOBJ_KEY, "ready");
-    const std::array<double, 6> q_ready = {mjPI, -mjPI / 2, mjPI / 2, -mjPI / 2, -mjPI / 2, 0};
-    const std::array<std::string, 6> names = {"shoulder_pan_joint", "shoulder_lift_joint", "elbow_joint",
-                                              "wrist_1_joint",      "wrist_2_joint",       "wrist_3_joint"};
     for (std::size_t i = 0; i < 6; ++i) {
-      const int j = id(m.get(), mjOBJ_JOINT, names[i]);
-      EXPECT_NEAR(m->key_qpos[m->nq * ready + m->jnt_qposadr[j]], q_ready[i], kValueTol) << names[i];
+      const int j = id(m.get(), mjOBJ_JOINT, arm.joints[i]);
+      EXPECT_NEAR(m->key_qpos[m->nq * ready + m->jnt_qposadr[j]], arm.ready[i], kValueTol) << arm.joints[i];
       // the reflected rotor inertia on the motor hinge
-      EXPECT_GT(m->dof_armature[m->jnt_dofadr[j]], 0) << names[i];
+      EXPECT_GT(m->dof_armature[m->jnt_dofadr[j]], 0) << arm.joints[i];
     }
     // no arm geom takes part in contacts
     for (int g = 0; g < m->ngeom; ++g) {
@@ -235,15 +270,18 @@ TEST_F(ModelConsistency, SimulationSettingsAreThoseTheServoLoopExpects) {
       EXPECT_EQ(m->geom_conaffinity[g], 0) << g;
     }
   }
+  }
 }
 
 TEST_F(ModelConsistency, RigidArmHoldsStillUnderBiasCompensationWithoutWarnings) {
   // a short physics smoke test: ctrl = bias forces keeps the rigid arm at rest for a second
   // (friction holds the rest), and the elastic arm runs a second without warnings
-  const ModelPtr m = load("models/ur5e_like_rigid.xml");
+  for (const Arm& arm : kArms) {
+  SCOPED_TRACE(arm.rigid);
+  const ModelPtr m = load(arm.rigid);
   ASSERT_TRUE(m);
   const DataPtr d(mj_makeData(m.get()));
-  const std::array<double, 6> q0 = {0.2, -1.4, 1.6, -1.8, -1.57, 0.3};
+  const std::array<double, 6>& q0 = arm.hold;
   for (int i = 0; i < 6; ++i) d->qpos[i] = q0[static_cast<std::size_t>(i)];
   for (int step = 0; step < 8000; ++step) {
     mj_forward(m.get(), d.get());
@@ -252,11 +290,12 @@ TEST_F(ModelConsistency, RigidArmHoldsStillUnderBiasCompensationWithoutWarnings)
   }
   for (int i = 0; i < 6; ++i) EXPECT_NEAR(d->qpos[i], q0[static_cast<std::size_t>(i)], 1e-6) << i;
   for (int w = 0; w < mjNWARNING; ++w) EXPECT_EQ(d->warning[w].number, 0) << "warning " << w;
-  const ModelPtr elastic = load("models/ur5e_like.xml");
+  const ModelPtr elastic = load(arm.elastic);
   ASSERT_TRUE(elastic);
   const DataPtr e(mj_makeData(elastic.get()));
   for (int step = 0; step < 8000; ++step) mj_step(elastic.get(), e.get());
   for (int w = 0; w < mjNWARNING; ++w) EXPECT_EQ(e->warning[w].number, 0) << "warning " << w;
+  }
 }
 
 }  // namespace

@@ -210,6 +210,29 @@ TEST_F(SimulatorTest, RecordedTcpIsTheForwardKinematicsOfTheRecordedJoints) {
   mj_deleteData(d);
 }
 
+TEST_F(SimulatorTest, TraceFollowsTheToolCentrePoint) {
+  // a tool 0.15 m out along the flange's z and 0.02 m along its x, turned 30 deg about its x:
+  // the same run traces the point and frame the tool carries, commanded and actual
+  const JointTrajectory reference = cosine_reference(q0_, 0.3, 4.0, 0.3, 0.001);
+  const Trace flange = sim_.run(reference, servo_at(sim_, q0_), {});
+  RunOptions options;
+  options.tool.translation() = Vec3(0.02, 0, 0.15);
+  options.tool.linear() = Eigen::AngleAxisd(std::numbers::pi / 6, Vec3::UnitX()).toRotationMatrix();
+  const Trace tool = sim_.run(reference, servo_at(sim_, q0_), options);
+  ASSERT_EQ(flange.samples.size(), tool.samples.size());
+  const Eigen::Quaterniond turn(options.tool.linear());
+  for (std::size_t k = 0; k < tool.samples.size(); k += 23) {
+    const TraceSample& a = flange.samples[k];
+    const TraceSample& b = tool.samples[k];
+    EXPECT_LT((a.tcp + a.rotation * options.tool.translation() - b.tcp).norm(), kPoseTolerance) << "t=" << a.t;
+    EXPECT_LT((a.tcp_cmd + a.rotation_cmd * options.tool.translation() - b.tcp_cmd).norm(), kPoseTolerance) << "t=" << a.t;
+    EXPECT_LT((a.rotation * turn).angularDistance(b.rotation), kPoseTolerance) << "t=" << a.t;
+    EXPECT_LT((a.rotation_cmd * turn).angularDistance(b.rotation_cmd), kPoseTolerance) << "t=" << a.t;
+    // the tool moves the point, not the joints
+    EXPECT_EQ(a.q, b.q) << "t=" << a.t;
+  }
+}
+
 TEST_F(SimulatorTest, EncoderReportsTheMotorAngleDelayedAndQuantised) {
   // a 3-tick delay and 2^12 counts per turn: measured(k) = round(motor(k - 3) / q) q
   ServoTuning tuning;

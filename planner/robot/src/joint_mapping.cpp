@@ -53,7 +53,7 @@ void differentiate(JointTrajectory& traj) {
 }  // namespace
 
 JointMapping map_to_joints(const IkSolver& ik, const std::vector<Eigen::Isometry3d>& tcp_poses, double dt,
-                           const JointVector& q_seed) {
+                           const JointVector& q_seed, const JointMappingOptions& options) {
   if (!(dt > 0) || !std::isfinite(dt)) {
     throw InputError("", 0, 0, "dt", "the servo period must be positive and finite, got " + format_value(dt) + " s");
   }
@@ -100,6 +100,20 @@ JointMapping map_to_joints(const IkSolver& ik, const std::vector<Eigen::Isometry
                 "IK branch flip: joint '" + ik.chain().joints[joint].name + "' jumps by " + format_value(step) +
                     " rad in one sample (more than " + format_value(kMaxJointStep) + " rad) at " + describe_pose(pose) +
                     "; the path crosses a singularity or leaves the reachable branch");
+  }
+
+  // a continuous crossing of a singularity changes the branch: an error unless allowed
+  mapping.branch_changes = branch_changes(ik, traj.q, dt);
+  if (!mapping.branch_changes.empty() && !options.allow_branch_change) {
+    const BranchChange change = mapping.branch_changes.front();
+    traj.q.resize(change.index);
+    const std::size_t index = change.index;
+    const std::string kind(to_string(change.kind));
+    mapping.branch_changes.clear();
+    return fail(index, Status::kSingular,
+                "IK branch change: the " + kind + " measure changes sign (" + format_value(change.before) + " -> " +
+                    format_value(change.after) + ") at " + describe_pose(change.pose) + ", the path crosses a " + kind +
+                    " singularity; robot.allow_branch_change: true lets it through (reported)");
   }
   differentiate(traj);
   return mapping;

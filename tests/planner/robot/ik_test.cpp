@@ -328,7 +328,8 @@ TEST(Ik, PolishingAbsorbsASmallDeviationFromTheUrPattern) {
 }
 
 void expect_not_ur(const KinematicChain& chain, const std::string& why) {
-  test::expect_input_error([&] { const IkSolver ik(chain); }, {.field = "urdf", .message = why}, "not UR-type: " + why);
+  test::expect_input_error([&] { const IkSolver ik(chain, IkMethod::kUrClosedForm); }, {.field = "urdf", .message = why},
+                           "not UR-type: " + why);
 }
 
 TEST(Ik, RejectsChainsThatAreNotUrType) {

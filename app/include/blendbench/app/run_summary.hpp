@@ -15,6 +15,7 @@
 #include "blendbench/io/scenario.hpp"
 #include "blendbench/program/path.hpp"
 #include "blendbench/report/report.hpp"
+#include "blendbench/robot/singularity.hpp"
 #include "blendbench/sim/metrics.hpp"
 #include "blendbench/sim/servo.hpp"
 #include "blendbench/sim/workspace.hpp"
@@ -72,6 +73,17 @@ struct WorkspaceFigures {
   WorkspaceReport report;
 };
 
+// How much of the robot's joint-space limits a variant used, per joint: the peak velocity,
+// acceleration and torque of the run over the model's limits (0 where a limit is infinite), and
+// the smallest margin of the actual joint angles to the URDF's position range (rad; +inf for a
+// continuous joint).
+struct JointUsage {
+  JointVector velocity_share = JointVector::Zero();
+  JointVector acceleration_share = JointVector::Zero();
+  JointVector torque_share = JointVector::Zero();
+  JointVector position_margin = JointVector::Zero();
+};
+
 struct VariantSummary {
   std::string name;
   Method method = Method::kNone;  // the variant's transition method (or the first move's)
@@ -86,12 +98,22 @@ struct VariantSummary {
   std::optional<WorkspaceFigures> workspace;  // with the metrics
   Timings timings;
   std::optional<ExactStopComparison> comparison;
+  // where the joint reference passes near a singularity, and the IK branch changes it was
+  // allowed to make (robot.allow_branch_change), in time order
+  std::vector<SingularityPassage> singularities;
+  std::vector<BranchChange> branch_changes;
+  std::optional<JointUsage> joint_usage;  // with the metrics
 };
 
 // The arm that ran: its model, timestep and natural frequencies at the start pose.
 struct RobotInfo {
   ArmModel model = ArmModel::kElastic;
   std::string mjcf;
+  std::string urdf;
+  IkMethod ik_method = IkMethod::kAuto;  // the solver the chain's geometry chose
+  Eigen::Isometry3d tool = Eigen::Isometry3d::Identity();  // the TCP in the flange frame
+  std::vector<JointSpec> joints;  // the chain's joints: names and URDF limits
+  std::vector<std::string> notes;  // what was estimated or replaced (a model built from the URDF)
   double timestep = 0;  // s
   JointVector start_q = JointVector::Zero();  // rad, link angles at the program's start
   JointLimits limits;

@@ -16,17 +16,25 @@
 namespace blendbench {
 
 // `robot.model`: which dynamics model runs, elastic joints (models/ur5e_like.xml, the default)
-// or rigid ones (models/ur5e_like_rigid.xml).
+// or rigid ones (models/ur5e_like_rigid.xml); for another URDF the MJCF beside it (model_file).
 enum class ArmModel { kElastic, kRigid };
 
 struct RobotSettings {
   ArmModel model = ArmModel::kElastic;
   std::string urdf;  // absolute path of the kinematic model
   std::string mjcf;  // absolute path of the MuJoCo model (the model's file unless `mjcf` is given)
-  std::string base_link = "base_link";
-  std::string tip_link = "tcp";
+  std::string base_link;  // empty: the URDF's root link
+  std::string tip_link;   // empty: the URDF's one leaf below the base
   Eigen::Matrix3d tool_rotation = Eigen::Matrix3d::Identity();  // fixed TCP orientation, base frame
   JointVector q_seed = JointVector::Zero();  // rad, IK seed at the start
+  Eigen::Isometry3d tool = Eigen::Isometry3d::Identity();  // the TCP in the flange frame (m, rad)
+  bool allow_branch_change = false;  // the joint reference may cross a singularity (reported)
+  // no MJCF given and none beside the URDF (model_file): the dynamics are built from the URDF
+  // (mjcf is empty)
+  bool mjcf_from_urdf = false;
+  double estimate_total_mass = 0;  // kg; 0 = no estimate (the URDF must carry inertias and efforts)
+  SourceRef estimate_where;        // where `estimate_inertia` was given
+  SourceRef urdf_where;   // where `urdf` was given (or the robot map), for the URDF's errors
   SourceRef model_where;  // where `model` (or, when absent, `mjcf`) was given, for later errors
 };
 
@@ -146,7 +154,8 @@ const Variant& find_variant(const Scenario& scenario, const std::string& name);
 // such a name, or an empty string when it is.
 std::string folder_name_problem(const std::string& name);
 
-// The MJCF file of a dynamics model, relative to the data root (data_root.hpp).
-std::string model_file(ArmModel model);
+// The MJCF file of a dynamics model beside its URDF: X.urdf -> X.xml (elastic) or X_rigid.xml
+// (rigid), in the URDF's folder (it may not exist).
+std::string model_file(const std::string& urdf, ArmModel model);
 
 }  // namespace blendbench

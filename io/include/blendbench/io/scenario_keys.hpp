@@ -45,6 +45,7 @@ inline constexpr KeyUnit kAngularJerk{"deg/s^3", 0};
 inline constexpr KeyUnit kSeconds{"s", 0};
 inline constexpr KeyUnit kHertz{"Hz", 0};
 inline constexpr KeyUnit kPixels{"px", 0};
+inline constexpr KeyUnit kKilograms{"kg", 0};
 
 // The values a number (every element of a list of numbers) may take, as written in the file.
 // Bounds of keys whose unit scales with `units` are 0 or infinite, so they hold in mm and m.

@@ -23,6 +23,7 @@ struct ExecutionOptions {
   // path gives every sample its own (Path::orientation)
   Eigen::Matrix3d tool_rotation = Eigen::Matrix3d::Identity();
   JointVector q0 = JointVector::Zero();  // the IK branch at the path's start (link angles, rad)
+  JointMappingOptions mapping;           // whether the reference may change IK branch
   ServoConfig servo;                     // its setpoint period must be the timing's dt
   RunOptions run;                        // settle time and frames
   MetricsOptions metrics;                // corners and end point are filled in from the path
@@ -32,6 +33,8 @@ struct ExecutionOptions {
 // no metrics. Otherwise metrics and health describe the run. Wall-clock times in s.
 struct Execution {
   JointMapping joints;
+  // the joint reference's passages near a singularity (scanned before the run), in time order
+  std::vector<SingularityPassage> singularities;
   std::vector<CornerTiming> corners;
   Trace trace;
   std::optional<Metrics> metrics;

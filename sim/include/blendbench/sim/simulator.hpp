@@ -48,6 +48,9 @@ struct RunOptions {
   // Called with the model, the data (kinematics current: poses describe the state at t) and t in
   // s, starting at t = 0; d.ctrl holds the control applied from t to the next physics step.
   std::function<void(const mjModel&, const mjData&, double t)> on_frame;
+  // The tool centre point in the frame of site "tcp" (the flange when the model has no tool):
+  // the trace's commanded and actual TCP positions and orientations are those of this point.
+  Eigen::Isometry3d tool = Eigen::Isometry3d::Identity();
 };
 
 // The bound on omega_max * timestep the simulator accepts (omega_max: the model's highest mode

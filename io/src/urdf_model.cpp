@@ -1,0 +1,262 @@
+// The MuJoCo model of a URDF (urdf_model.hpp).
+
+#include "blendbench/io/urdf_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "blendbench/core/format.hpp"
+#include "blendbench/core/input_error.hpp"
+#include "urdf_read.hpp"
+
+namespace blendbench {
+namespace {
+
+constexpr double kGravity = 9.81;  // m/s^2
+
+// A body's rigid inertia: mass (kg), centre (m, body frame), tensor about the centre (kg*m^2).
+struct Inertia {
+  double mass = 0;
+  Vec3 centre = Vec3::Zero();
+  Mat3 tensor = Mat3::Zero();
+};
+
+// The sum of two inertias in one frame (parallel-axis theorem about the joint centre).
+Inertia combined(const Inertia& a, const Inertia& b) {
+  Inertia out;
+  out.mass = a.mass + b.mass;
+  if (out.mass <= 0) return out;
+  out.centre = (a.mass * a.centre + b.mass * b.centre) / out.mass;
+  const auto shifted = [&](const Inertia& i) {
+    const Vec3 d = i.centre - out.centre;
+    return Mat3(i.tensor + i.mass * (d.squaredNorm() * Mat3::Identity() - d * d.transpose()));
+  };
+  out.tensor = shifted(a) + shifted(b);
+  return out;
+}
+
+// A link's <inertial> in the frame `frame` maps it into.
+Inertia inertia_of(const urdf::Inertial& in, const Eigen::Isometry3d& frame) {
+  const Eigen::Isometry3d at = frame * urdf_read::to_isometry(in.origin);
+  Mat3 local;
+  local << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
+  return {in.mass, at.translation(), at.linear() * local * at.linear().transpose()};
+}
+
+// A uniform solid rod of mass m from 0 to `end` (radius kRodRadius).
+Inertia rod(double m, const Vec3& end) {
+  const double l = end.norm();
+  const Vec3 u = l > 1e-9 ? Vec3(end / l) : Vec3::UnitZ();
+  const double axial = m * kRodRadius * kRodRadius / 2;
+  const double across = m * (3 * kRodRadius * kRodRadius + l * l) / 12;
+  return {m, end / 2, Mat3(across * Mat3::Identity() + (axial - across) * u * u.transpose())};
+}
+
+// A number in full precision (the model must reproduce the URDF's kinematics to 1e-9).
+std::string num(double v) { return format_value(v, 17); }
+
+std::string numbers(const Vec3& v) { return num(v.x()) + " " + num(v.y()) + " " + num(v.z()); }
+
+// pos="..." quat="w x y z" of a transform.
+std::string placement(const Eigen::Isometry3d& t) {
+  const Eigen::Quaterniond q(t.linear());
+  return "pos=\"" + numbers(t.translation()) + "\" quat=\"" + num(q.w()) + " " + num(q.x()) + " " +
+         num(q.y()) + " " + num(q.z()) + "\"";
+}
+
+std::string list_of(const std::vector<std::string>& names) {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "'" : ", '") + n + "'";
+  return out;
+}
+
+}  // namespace
+
+UrdfModel model_from_urdf(const std::string& urdf_path, const std::string& base_link, const std::string& tip_link,
+                          double total_mass) {
+  const urdf::ModelInterfaceSharedPtr model = urdf_read::parse(urdf_path);
+  const urdf_read::ChainPath path = urdf_read::find_chain(*model, urdf_path, base_link, tip_link);
+  UrdfModel out;
+  out.chain = urdf_read::chain_of(urdf_path, path, false);
+  KinematicChain& chain = out.chain;
+
+  // each moving body's inertia from the links it carries (itself and the links fixed to it),
+  // in its joint frame; which bodies carry no <inertial> at all
+  std::vector<Inertia> body(6);
+  std::vector<bool> given(6, false);
+  std::vector<double> damping(6, 0), friction(6, 0);
+  int current = -1;
+  Eigen::Isometry3d frame = Eigen::Isometry3d::Identity();  // the link's frame in the current body's
+  for (const urdf::JointConstSharedPtr& joint : path.joints) {
+    if (joint->type == urdf::Joint::FIXED) {
+      frame = frame * urdf_read::to_isometry(joint->parent_to_joint_origin_transform);
+    } else {
+      ++current;
+      frame = Eigen::Isometry3d::Identity();
+      if (joint->dynamics) {
+        damping[static_cast<std::size_t>(current)] = std::max(0.0, joint->dynamics->damping);
+        friction[static_cast<std::size_t>(current)] = std::max(0.0, joint->dynamics->friction);
+      }
+    }
+    if (current < 0) continue;
+    const urdf::LinkConstSharedPtr link = model->getLink(joint->child_link_name);
+    if (link && link->inertial && link->inertial->mass > 0) {
+      const auto i = static_cast<std::size_t>(current);
+      body[i] = combined(body[i], inertia_of(*link->inertial, frame));
+      given[i] = true;
+    }
+  }
+  // each body's extent: to the next joint, the last to the tip
+  std::vector<Vec3> extent(6);
+  for (std::size_t i = 0; i < 6; ++i) extent[i] = i + 1 < 6 ? chain.joints[i + 1].origin.translation() : chain.tcp.translation();
+
+  // links without <inertial>: refused, or the stated estimate
+  std::vector<std::string> missing;
+  for (std::size_t i = 0; i < 6; ++i) {
+    if (!given[i]) missing.push_back(chain.joints[i].name);
+  }
+  if (!missing.empty()) {
+    if (!(total_mass > 0)) {
+      throw InputError(urdf_path, 0, 0, "inertial",
+                       "the links moved by joints " + list_of(missing) +
+                           " have no <inertial> (a kinematics-only URDF): give robot.mjcf, or robot.estimate_inertia: "
+                           "{total_mass_kg: M} for an estimate");
+    }
+    double length = 0;
+    for (std::size_t i = 0; i < 6; ++i) {
+      if (!given[i]) length += std::max(kMinLinkLength, extent[i].norm());
+    }
+    for (std::size_t i = 0; i < 6; ++i) {
+      if (given[i]) continue;
+      const double m = total_mass * std::max(kMinLinkLength, extent[i].norm()) / length;
+      body[i] = rod(m, extent[i]);
+    }
+    out.notes.push_back("estimated masses and inertias (robot.estimate_inertia, " + format_value(total_mass) +
+                        " kg shared by length; uniform rods of radius " + format_value(kRodRadius * 1e3) +
+                        " mm) for the links of " + list_of(missing));
+  }
+
+  // joints without a usable effort: refused, or twice the stretched arm's gravity bound
+  std::vector<std::string> no_effort;
+  for (const JointSpec& j : chain.joints) {
+    if (!(j.effort_limit > 0)) no_effort.push_back(j.name);
+  }
+  if (!no_effort.empty()) {
+    if (!(total_mass > 0)) {
+      throw InputError(urdf_path, 0, 0, "effort",
+                       "joints " + list_of(no_effort) +
+                           " have no positive effort limit (a kinematics-only URDF): give robot.mjcf, or "
+                           "robot.estimate_inertia: {total_mass_kg: M} for an estimate");
+    }
+    // joint origins and body centres in the base frame at q = 0
+    std::vector<Eigen::Isometry3d> at(6);
+    Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+    for (std::size_t i = 0; i < 6; ++i) at[i] = t = t * chain.joints[i].origin;
+    for (std::size_t i = 0; i < 6; ++i) {
+      if (chain.joints[i].effort_limit > 0) continue;
+      double bound = 0;
+      for (std::size_t k = i; k < 6; ++k) bound += body[k].mass * (at[k] * body[k].centre - at[i].translation()).norm();
+      chain.joints[i].effort_limit = std::max(kMinEffort, kEffortMargin * kGravity * bound);
+    }
+    out.notes.push_back("estimated torque limits (" + format_value(kEffortMargin) +
+                        " x the stretched arm's gravity torque) for " + list_of(no_effort));
+  }
+  out.notes.push_back("built from the URDF: rigid joints without rotor inertia, no acceleration limits, the links "
+                      "drawn as capsules between the joints");
+  // the URDF's meshes are not drawn: say which, and whether their files are there at all
+  std::vector<std::string> meshes;
+  for (const auto& [name, link] : model->links_) {
+    for (const urdf::VisualSharedPtr& visual : link->visual_array) {
+      if (visual && visual->geometry && visual->geometry->type == urdf::Geometry::MESH) {
+        meshes.push_back(static_cast<const urdf::Mesh&>(*visual->geometry).filename);
+      }
+    }
+  }
+  if (!meshes.empty()) {
+    std::size_t missing_files = 0;
+    for (const std::string& m : meshes) {
+      if (m.starts_with("package://") || !std::filesystem::is_regular_file(m)) ++missing_files;
+    }
+    out.notes.push_back(std::to_string(meshes.size()) + " visual meshes replaced by simple shapes (" +
+                        std::to_string(missing_files) + " of them missing here, e.g. '" + meshes.front() + "')");
+  }
+
+  // the arm's size, for the floor and the camera
+  double reach = 0;
+  for (std::size_t i = 0; i < 6; ++i) reach += extent[i].norm();
+  reach = std::max(reach, 0.3);
+
+  // the MJCF: options as the shipped models have them (8 kHz semi-implicit Euler), world, bodies
+  std::string xml = "<mujoco model=\"" + model->getName() + "_from_urdf\">\n"
+                    "  <compiler angle=\"radian\" autolimits=\"true\"/>\n"
+                    "  <option timestep=\"0.000125\" integrator=\"Euler\"/>\n"
+                    "  <visual><global offwidth=\"1280\" offheight=\"720\"/>"
+                    "<headlight ambient=\"0.35 0.35 0.35\" diffuse=\"0.45 0.45 0.45\" specular=\"0.1 0.1 0.1\"/></visual>\n"
+                    "  <asset>\n"
+                    "    <texture name=\"sky\" type=\"skybox\" builtin=\"gradient\" rgb1=\"0.78 0.84 0.9\" rgb2=\"0.32 0.36 0.42\" "
+                    "width=\"256\" height=\"256\"/>\n"
+                    "    <texture name=\"grid\" type=\"2d\" builtin=\"checker\" rgb1=\"0.86 0.86 0.84\" rgb2=\"0.76 0.76 0.74\" "
+                    "width=\"512\" height=\"512\"/>\n"
+                    "    <material name=\"floor\" texture=\"grid\" texrepeat=\"10 10\" texuniform=\"true\"/>\n"
+                    "    <material name=\"link\" rgba=\"0.55 0.6 0.7 1\"/>\n"
+                    "  </asset>\n"
+                    "  <default><geom contype=\"0\" conaffinity=\"0\" material=\"link\"/></default>\n"
+                    "  <worldbody>\n"
+                    "    <light name=\"sun\" directional=\"true\" pos=\"0 0 4\" dir=\"-0.3 0.25 -1\" diffuse=\"0.6 0.6 0.6\"/>\n";
+  xml += "    <geom name=\"floor\" type=\"plane\" size=\"" + format_value(2 * reach) + " " + format_value(2 * reach) +
+         " 0.05\" material=\"floor\"/>\n";
+  // the camera in front of the arm, to its right and above, looking at the middle of its reach
+  const Vec3 eye(1.6 * reach, -1.0 * reach, 1.1 * reach);
+  const Vec3 target(0.3 * reach, 0, 0.35 * reach);
+  const Vec3 forward = (target - eye).normalized();
+  const Vec3 right = forward.cross(Vec3::UnitZ()).normalized();
+  const Vec3 up = right.cross(forward);
+  xml += "    <camera name=\"overview\" pos=\"" + numbers(eye) + "\" xyaxes=\"" + numbers(right) + " " + numbers(up) +
+         "\" fovy=\"45\"/>\n";
+  // the fixed base: from the base frame to the first joint
+  if (chain.joints[0].origin.translation().norm() > 1e-3) {
+    xml += "    <geom name=\"base\" type=\"capsule\" fromto=\"0 0 0 " + numbers(chain.joints[0].origin.translation()) +
+           "\" size=\"" + num(1.5 * kRodRadius) + "\"/>\n";
+  }
+  std::string indent = "    ";
+  for (std::size_t i = 0; i < 6; ++i) {
+    const JointSpec& j = chain.joints[i];
+    const Inertia& b = body[i];
+    xml += indent + "<body name=\"" + j.name + "_body\" " + placement(j.origin) + ">\n";
+    indent += "  ";
+    xml += indent + "<joint name=\"" + j.name + "\" type=\"hinge\" axis=\"" + numbers(j.axis.normalized()) + "\"";
+    if (std::isfinite(j.lower) && std::isfinite(j.upper)) {
+      xml += " range=\"" + num(j.lower) + " " + num(j.upper) + "\"";
+    }
+    xml += " damping=\"" + num(damping[i]) + "\" frictionloss=\"" + num(friction[i]) + "\"/>\n";
+    const Mat3& I = b.tensor;
+    xml += indent + "<inertial pos=\"" + numbers(b.centre) + "\" mass=\"" + num(b.mass) + "\" fullinertia=\"" +
+           num(I(0, 0)) + " " + num(I(1, 1)) + " " + num(I(2, 2)) + " " + num(I(0, 1)) +
+           " " + num(I(0, 2)) + " " + num(I(1, 2)) + "\"/>\n";
+    if (extent[i].norm() > 1e-3) {
+      xml += indent + "<geom type=\"capsule\" fromto=\"0 0 0 " + numbers(extent[i]) + "\" size=\"" +
+             num(kRodRadius) + "\"/>\n";
+    } else {
+      xml += indent + "<geom type=\"sphere\" size=\"" + format_value(0.6 * kRodRadius) + "\"/>\n";
+    }
+  }
+  xml += indent + "<site name=\"tcp\" " + placement(chain.tcp) + " size=\"0.008\" rgba=\"0.9 0.15 0.1 1\"/>\n";
+  for (std::size_t i = 0; i < 6; ++i) {
+    indent.resize(indent.size() - 2);
+    xml += indent + "</body>\n";
+  }
+  xml += "  </worldbody>\n  <actuator>\n";
+  for (const JointSpec& j : chain.joints) {
+    xml += "    <motor name=\"" + j.name + "\" joint=\"" + j.name + "\" gear=\"1\" ctrlrange=\"" +
+           num(-j.effort_limit) + " " + num(j.effort_limit) + "\"/>\n";
+  }
+  xml += "  </actuator>\n  <custom>\n    <numeric name=\"velocity_limits\" data=\"";
+  for (std::size_t i = 0; i < 6; ++i) xml += (i ? " " : "") + num(chain.joints[i].velocity_limit);
+  xml += "\"/>\n  </custom>\n</mujoco>\n";
+  out.mjcf = std::move(xml);
+  return out;
+}
+
+}  // namespace blendbench
