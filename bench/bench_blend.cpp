@@ -13,6 +13,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "blendbench/core/units.hpp"
 #include "blendbench/geometry/arc_construction.hpp"
 #include "blendbench/corner/corner.hpp"
 #include "blendbench/geometry/fresnel.hpp"
@@ -22,7 +23,6 @@
 namespace blendbench {
 namespace {
 
-constexpr double kMm = 1e-3;
 
 Arc xy_arc(const Vec3& start, const Vec3& end, const Vec3& centre, bool clockwise) {
   const ArcBuild built = arc_from_center(start, end, centre, Vec3::UnitZ(), !clockwise);

@@ -1,5 +1,5 @@
 // Speed of off-screen rendering: render + read back one 640x480 frame of the test arm (the read
-// waits for llvmpipe, PLATFORM.md), alone and with H.264 encoding through ffmpeg.
+// waits for llvmpipe: mjr_render returns before it draws), alone and with H.264 encoding through ffmpeg.
 
 #include <benchmark/benchmark.h>
 

@@ -1,5 +1,5 @@
-// Planning time of plan_timing per path piece on long programs (issue 4: 10^4 and 10^5
-// segments, linear in size). Run by hand: build/bench/bench_timing.
+// Planning time of plan_timing per path piece on long programs (10^4 and 10^5
+// segments: the cost must be linear in size). Run by hand: build/bench/bench_timing.
 
 #include <benchmark/benchmark.h>
 

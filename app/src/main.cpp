@@ -71,7 +71,7 @@ int cmd_run(std::string scenario_path, std::string out_dir, bool no_video, bool 
   std::cout << "blendbench: scenario '" << scenario.name << "' (" << scenario_path << ") -> " << out_dir << std::endl;
   const bb::RunResult result = bb::run_scenario(scenario, request);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::cout << "done in " << bb::format_number(wall, 3) << " s: " << (std::filesystem::path(out_dir) / "summary.json").string()
+  std::cout << "done in " << bb::format_value(wall, 3) << " s: " << (std::filesystem::path(out_dir) / "summary.json").string()
             << std::endl;
   for (const bb::VariantSummary& v : result.summary.variants) {
     std::cout << "  " << v.name << ": ";
@@ -80,10 +80,10 @@ int cmd_run(std::string scenario_path, std::string out_dir, bool no_video, bool 
       continue;
     }
     const bb::Metrics& m = *v.metrics;
-    std::cout << "cycle " << (m.cycle_time ? bb::format_number(*m.cycle_time, 4) + " s" : "not settled") << ", tracking max "
-              << bb::format_number(m.tracking_error_max * 1e3, 3) << " mm, contour (planned path) max "
-              << bb::format_number(m.contour_error_planned_max * 1e3, 3) << " mm, residual vibration "
-              << bb::format_number(m.vibration_final.peak_to_peak * 1e6, 3) << " um";
+    std::cout << "cycle " << (m.cycle_time ? bb::format_value(*m.cycle_time, 4) + " s" : "not settled") << ", tracking max "
+              << bb::format_value(m.tracking_error_max * 1e3, 3) << " mm, contour (planned path) max "
+              << bb::format_value(m.contour_error_planned_max * 1e3, 3) << " mm, residual vibration "
+              << bb::format_value(m.vibration_final.peak_to_peak * 1e6, 3) << " um";
     if (v.status != bb::VariantStatus::kOk) std::cout << " [" << bb::to_string(v.status) << ": " << v.message << "]";
     std::cout << std::endl;
   }
@@ -202,13 +202,13 @@ int cmd_path(const std::string& input, const ProgramFlags& flags, const std::str
   // the rows are counted before any is sampled: a tiny spacing is refused, not an overflow
   if (const double rows = bb::path_sample_count(path, ds_mm * 1e-3); rows > bb::kMaxPathSamples) {
     throw bb::InputError("", 0, 0, "--ds",
-                         "sampling the " + bb::format_number(path.length() * 1e3, 6) + " mm path every " +
-                             bb::format_number(ds_mm, 6) + " mm would write " + bb::format_number(rows, 3) +
-                             " rows; the limit is " + bb::format_number(bb::kMaxPathSamples, 3) + " (raise --ds)");
+                         "sampling the " + bb::format_value(path.length() * 1e3, 6) + " mm path every " +
+                             bb::format_value(ds_mm, 6) + " mm would write " + bb::format_value(rows, 3) +
+                             " rows; the limit is " + bb::format_value(bb::kMaxPathSamples, 3) + " (raise --ds)");
   }
   bb::write_file_atomic(csv, bb::path_csv(path, ds_mm * 1e-3));
   if (!report.empty()) bb::write_file_atomic(report, bb::corners_json(path, loaded.program).dump(2) + "\n");
-  std::cout << "path: " << bb::format_number(path.length() * 1e3, 6) << " mm, " << path.pieces().size() << " pieces, "
+  std::cout << "path: " << bb::format_value(path.length() * 1e3, 6) << " mm, " << path.pieces().size() << " pieces, "
             << path.corners.size() << " corners -> " << csv << std::endl;
   return kExitOk;
 }
@@ -237,8 +237,8 @@ int cmd_plan(const std::string& input, const ProgramFlags& flags, const TimingFl
   j["planning_wall_time_s"] = wall;
   bb::write_file_atomic(csv, bb::timed_csv(path, timing));
   bb::write_file_atomic(summary, j.dump(2) + "\n");
-  std::cout << "plan: " << bb::format_number(path.length() * 1e3, 6) << " mm in " << bb::format_number(timing.cycle_time, 6)
-            << " s, " << path.corners.size() << " corners, planned in " << bb::format_number(wall * 1e3, 3) << " ms -> "
+  std::cout << "plan: " << bb::format_value(path.length() * 1e3, 6) << " mm in " << bb::format_value(timing.cycle_time, 6)
+            << " s, " << path.corners.size() << " corners, planned in " << bb::format_value(wall * 1e3, 3) << " ms -> "
             << csv << ", " << summary << std::endl;
   for (const std::string& line : loaded.ignored) std::cout << "  ignored: " << line << std::endl;
   return kExitOk;

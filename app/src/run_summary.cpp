@@ -1,3 +1,4 @@
+#include "blendbench/core/units.hpp"
 #include "blendbench/app/run_summary.hpp"
 
 #include <cmath>
@@ -8,9 +9,7 @@
 namespace blendbench {
 namespace {
 
-constexpr double kMm = 1e3;     // mm per m
 constexpr double kMrad = 1e3;   // mrad per rad
-constexpr double kDeg = 180 / std::numbers::pi;
 constexpr double kTwoPi = 2 * std::numbers::pi;
 
 nlohmann::json values(const JointVector& v, double scale = 1) {
@@ -19,22 +18,10 @@ nlohmann::json values(const JointVector& v, double scale = 1) {
   return out;
 }
 
-std::string_view baseline_name(TimingOptions::Baseline b) {
-  switch (b) {
-    case TimingOptions::Baseline::kNone:
-      return "none";
-    case TimingOptions::Baseline::kExactStop:
-      return "exact_stop";
-    case TimingOptions::Baseline::kJunctionSlowdown:
-      return "junction_slowdown";
-  }
-  return "none";
-}
-
 nlohmann::json vibration_json(const Vibration& v) {
   return {{"t_start_s", v.t_start},
           {"t_end_s", v.t_end},
-          {"peak_to_peak_mm", v.peak_to_peak * kMm},
+          {"peak_to_peak_mm", v.peak_to_peak / kMm},
           {"frequency_hz", v.frequency}};
 }
 
@@ -54,24 +41,24 @@ nlohmann::json metrics_json(const Metrics& m) {
   return {
       {"cycle_time_s", m.cycle_time ? nlohmann::json(*m.cycle_time) : nlohmann::json()},
       {"settled", m.cycle_time.has_value()},
-      {"tracking_error_max_mm", m.tracking_error_max * kMm},
-      {"tracking_error_rms_mm", m.tracking_error_rms * kMm},
-      {"orientation_error_max_deg", m.orientation_error_max * kDeg},
-      {"contour_error_programmed_max_mm", m.contour_error_programmed_max * kMm},
-      {"contour_error_planned_max_mm", m.contour_error_planned_max * kMm},
-      {"jerk_actual_peak_mm_s3", m.jerk_actual_peak * kMm},
-      {"jerk_actual_rms_mm_s3", m.jerk_actual_rms * kMm},
-      {"jerk_commanded_peak_mm_s3", m.jerk_commanded_peak * kMm},
-      {"jerk_commanded_rms_mm_s3", m.jerk_commanded_rms * kMm},
-      {"residual_vibration_final_mm", m.vibration_final.peak_to_peak * kMm},
+      {"tracking_error_max_mm", m.tracking_error_max / kMm},
+      {"tracking_error_rms_mm", m.tracking_error_rms / kMm},
+      {"orientation_error_max_deg", m.orientation_error_max / kDeg},
+      {"contour_error_programmed_max_mm", m.contour_error_programmed_max / kMm},
+      {"contour_error_planned_max_mm", m.contour_error_planned_max / kMm},
+      {"jerk_actual_peak_mm_s3", m.jerk_actual_peak / kMm},
+      {"jerk_actual_rms_mm_s3", m.jerk_actual_rms / kMm},
+      {"jerk_commanded_peak_mm_s3", m.jerk_commanded_peak / kMm},
+      {"jerk_commanded_rms_mm_s3", m.jerk_commanded_rms / kMm},
+      {"residual_vibration_final_mm", m.vibration_final.peak_to_peak / kMm},
       {"residual_vibration_final_frequency_hz", m.vibration_final.frequency},
       {"residual_vibration_final", vibration_json(m.vibration_final)},
-      {"residual_vibration_corner_max_mm", corner_vibration_max(m) * kMm},
+      {"residual_vibration_corner_max_mm", corner_vibration_max(m) / kMm},
       {"residual_vibration_corners", corners},
       // process figures on the actual TCP between the first and the last move (metrics.hpp)
       {"path_share_below_90pct_speed", m.process ? nlohmann::json(m.process->share_below_90pct_speed) : nlohmann::json()},
-      {"min_speed_mm_s", m.process ? nlohmann::json(m.process->min_speed * kMm) : nlohmann::json()},
-      {"process_window_mm", m.process ? nlohmann::json::array({m.process->s_start * kMm, m.process->s_end * kMm})
+      {"min_speed_mm_s", m.process ? nlohmann::json(m.process->min_speed / kMm) : nlohmann::json()},
+      {"process_window_mm", m.process ? nlohmann::json::array({m.process->s_start / kMm, m.process->s_end / kMm})
                                       : nlohmann::json()},
       {"joints",
        {{"following_error_max_mrad", values(m.following_error_max, kMrad)},
@@ -109,10 +96,10 @@ nlohmann::json health_json(const Health& h) {
 }
 
 nlohmann::json plan_json(const PlanFigures& p) {
-  nlohmann::json out = {{"path_length_mm", p.path_length * kMm},
+  nlohmann::json out = {{"path_length_mm", p.path_length / kMm},
                         {"planned_cycle_time_s", p.planned_cycle_time},
                         {"feed_share", p.feed_share},
-                        {"path_deviation_max_mm", p.path_deviation_max * kMm},
+                        {"path_deviation_max_mm", p.path_deviation_max / kMm},
                         {"corners", corners_json(p)},
                         {"pieces", p.pieces}};
   add_plan_figures(out, p.limits, p.moves_merged, p.merge_tolerance, p.planned_cycle_time, p.bound_cycle_time);
@@ -230,7 +217,7 @@ void compare_with_exact_stop(RunSummary& summary) {
 void to_json(nlohmann::json& out, const VariantSummary& v) {
   out = {{"name", v.name},
          {"method", std::string(to_string(v.method))},
-         {"parameter_mm", v.parameter * kMm},
+         {"parameter_mm", v.parameter / kMm},
          {"baseline", std::string(baseline_name(v.baseline))},
          {"status", std::string(to_string(v.status))},
          {"plan", plan_json(v.plan)},
@@ -252,7 +239,7 @@ void to_json(nlohmann::json& out, const RunSummary& s) {
           {{"model", r.model == ArmModel::kElastic ? "elastic" : "rigid"},
            {"mjcf", r.mjcf},
            {"timestep_s", r.timestep},
-           {"start_q_deg", values(r.start_q, kDeg)},
+           {"start_q_deg", values(r.start_q, 1 / kDeg)},
            {"torque_limits_nm", values(r.limits.torque)},
            {"velocity_limits_rad_s", values(r.limits.velocity)},
            {"acceleration_limits_rad_s2", values(r.limits.acceleration)},
@@ -260,8 +247,8 @@ void to_json(nlohmann::json& out, const RunSummary& s) {
            {"natural_frequency_arm_hz", values(r.natural_frequency_arm)}}},
          {"servo", servo_json(s.controller, s.servo)},
          {"simulation",
-          {{"settle_tolerance_mm", sim.settle_tolerance * kMm},
-           {"settle_speed_tolerance_mm_s", sim.settle_speed_tolerance * kMm},
+          {{"settle_tolerance_mm", sim.settle_tolerance / kMm},
+           {"settle_speed_tolerance_mm_s", sim.settle_speed_tolerance / kMm},
            {"settle_window_s", sim.settle_window},
            {"settle_time_s", sim.settle_time},
            {"vibration_window_s", sim.vibration_window},

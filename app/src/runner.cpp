@@ -1,3 +1,4 @@
+#include "blendbench/core/units.hpp"
 #include "blendbench/app/runner.hpp"
 
 #include <chrono>
@@ -25,8 +26,6 @@ namespace blendbench {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-constexpr double kMm = 1e3;
-constexpr double kDeg = 180 / std::numbers::pi;
 // Path sampling for path.csv / program.csv (m): fine enough for plots, small enough for files.
 constexpr double kCsvStep = 0.5e-3;
 
@@ -49,7 +48,7 @@ Eigen::Isometry3d tool_pose(const Vec3& position, const Eigen::Matrix3d& rotatio
 
 std::string pose_text(const Vec3& p) {
   char buffer[96];
-  std::snprintf(buffer, sizeof buffer, "(%.1f, %.1f, %.1f) mm", p.x() * kMm, p.y() * kMm, p.z() * kMm);
+  std::snprintf(buffer, sizeof buffer, "(%.1f, %.1f, %.1f) mm", p.x() / kMm, p.y() / kMm, p.z() / kMm);
   return buffer;
 }
 
@@ -131,25 +130,25 @@ std::string trace_csv(const Trace& trace, const Timing& timing, const Metrics& m
     const bool moving = k < timing.samples.size();
     const TimedSample& p = moving ? timing.samples[k] : rest_end;
     const double head[] = {s.t,
-                           p.s * kMm,
-                           (moving ? p.v : 0.0) * kMm,
-                           (moving ? p.a : 0.0) * kMm,
-                           (moving ? p.j : 0.0) * kMm,
-                           s.tcp_cmd.x() * kMm,
-                           s.tcp_cmd.y() * kMm,
-                           s.tcp_cmd.z() * kMm,
-                           s.tcp.x() * kMm,
-                           s.tcp.y() * kMm,
-                           s.tcp.z() * kMm,
-                           m.tracking_error[k] * kMm,
-                           m.orientation_error[k] * kDeg,
-                           m.contour_error_programmed[k] * kMm,
-                           m.contour_error_planned[k] * kMm,
-                           m.tcp_speed[k] * kMm,
-                           m.jerk_actual[k] * kMm,
-                           m.vibration[k].x() * kMm,
-                           m.vibration[k].y() * kMm,
-                           m.vibration[k].z() * kMm};
+                           p.s / kMm,
+                           (moving ? p.v : 0.0) / kMm,
+                           (moving ? p.a : 0.0) / kMm,
+                           (moving ? p.j : 0.0) / kMm,
+                           s.tcp_cmd.x() / kMm,
+                           s.tcp_cmd.y() / kMm,
+                           s.tcp_cmd.z() / kMm,
+                           s.tcp.x() / kMm,
+                           s.tcp.y() / kMm,
+                           s.tcp.z() / kMm,
+                           m.tracking_error[k] / kMm,
+                           m.orientation_error[k] / kDeg,
+                           m.contour_error_programmed[k] / kMm,
+                           m.contour_error_planned[k] / kMm,
+                           m.tcp_speed[k] / kMm,
+                           m.jerk_actual[k] / kMm,
+                           m.vibration[k].x() / kMm,
+                           m.vibration[k].y() / kMm,
+                           m.vibration[k].z() / kMm};
     std::size_t c = 0;
     for (const double v : head) row[c++] = v;
     const JointVector following = s.following_error * 1e3;
@@ -192,7 +191,7 @@ std::string status_message(const Metrics& m, const Health& h) {
                                     std::pair{&h.actual_acceleration, "actual acceleration"}}) {
     if (check->exceeded) {
       return std::string(what) + " beyond the limit of " + joint(check->joint) + " at t = " + format_fixed(check->t, 3) +
-             " s (" + format_number(check->value, 4) + " > " + format_number(check->limit, 4) + ")";
+             " s (" + format_value(check->value, 4) + " > " + format_value(check->limit, 4) + ")";
     }
   }
   if (!m.cycle_time) return "did not settle within the simulated time";
@@ -239,7 +238,7 @@ class VariantRun {
     plan.merge_tolerance = path.merge_tolerance;
     plan.corner_steps = timing.corner_steps;
     if (!timing.outcome.ok()) return failed(std::move(out), VariantStatus::kPlanningFailed, "planning failed: " + timing.outcome.message);
-    say("planned " + format_fixed(path.length() * kMm, 1) + " mm in " + format_fixed(timing.cycle_time, 3) + " s (" +
+    say("planned " + format_fixed(path.length() / kMm, 1) + " mm in " + format_fixed(timing.cycle_time, 3) + " s (" +
         format_fixed(out.timings.planning * 1e3, 1) + " ms)");
 
     // execute: IK, the simulation (rendering frames on the way), metrics and health
@@ -317,9 +316,9 @@ class VariantRun {
       write_file_atomic(dir_ / "corners.json", corners_json(plan).dump(2) + "\n");
     }
     const std::string cycle = m.cycle_time ? format_fixed(*m.cycle_time, 3) + " s" : std::string("not settled");
-    say("cycle " + cycle + ", tracking error max " + format_fixed(m.tracking_error_max * kMm, 3) +
-        " mm, contour error (planned path) max " + format_fixed(m.contour_error_planned_max * kMm, 3) +
-        " mm, residual vibration " + format_fixed(m.vibration_final.peak_to_peak * kMm * 1e3, 1) + " um");
+    say("cycle " + cycle + ", tracking error max " + format_fixed(m.tracking_error_max / kMm, 3) +
+        " mm, contour error (planned path) max " + format_fixed(m.contour_error_planned_max / kMm, 3) +
+        " mm, residual vibration " + format_fixed(m.vibration_final.peak_to_peak / kMm * 1e3, 1) + " um");
     if (out.status != VariantStatus::kOk) say(std::string(to_string(out.status)) + ": " + out.message);
     return out;
   }
@@ -383,8 +382,8 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
   const double steps = 1 / (scenario.servo.rate_hz * robot.sim->timestep());
   if (std::abs(steps - std::round(steps)) > 1e-9 * steps || std::round(steps) < 1) {
     fail_at(scenario, scenario.servo.rate_where, "servo.rate_hz",
-            "the servo period 1/" + format_number(scenario.servo.rate_hz, 6) + " s is not a multiple of the model's timestep " +
-                format_number(robot.sim->timestep(), 6) + " s (" + format_number(1 / robot.sim->timestep(), 6) +
+            "the servo period 1/" + format_value(scenario.servo.rate_hz, 6) + " s is not a multiple of the model's timestep " +
+                format_value(robot.sim->timestep(), 6) + " s (" + format_value(1 / robot.sim->timestep(), 6) +
                 " Hz physics: use a rate that divides it)");
   }
   const Program first = program_for(scenario, *selected.front());

@@ -49,7 +49,7 @@ void append_csv_line(std::string& out, const std::vector<std::string>& cells) {
   out += '\n';
 }
 
-std::string number_cell(double value) { return std::isnan(value) ? std::string() : format_number(value, 10); }
+std::string number_cell(double value) { return std::isnan(value) ? std::string() : format_value(value, 10); }
 
 nlohmann::json number_json(double value) { return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(); }
 

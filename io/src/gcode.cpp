@@ -67,7 +67,6 @@ PlaneAxes axes_of(Plane plane) {
   return {};
 }
 
-std::string format_number(double value) { return format_value(value, 10); }
 
 class Reader {
  public:
@@ -137,7 +136,7 @@ class Reader {
                                                                    {options_.limits.jerk, "limits.jerk"}}};
     for (const auto& [value, field] : limits) {
       if (!std::isfinite(value) || value <= 0) {
-        throw InputError(file_, 0, 0, field, std::string("G-code options: ") + field + " must be positive, got " + format_number(value));
+        throw InputError(file_, 0, 0, field, std::string("G-code options: ") + field + " must be positive, got " + format_value(value, 10));
       }
     }
     if (!std::isfinite(options_.rapid_velocity) || options_.rapid_velocity < 0) {
@@ -406,7 +405,7 @@ class Reader {
       if (std::round(p->value) != p->value || p->value < 1 || p->value > kMaxArcTurns) {
         fail(line, p->column, p->text,
              "the number of turns P of G2/G3 must be an integer from 1 to " + std::to_string(kMaxArcTurns) +
-                 " (the limit bounds the work per arc), got " + format_number(p->value));
+                 " (the limit bounds the work per arc), got " + format_value(p->value, 10));
       }
       turns = static_cast<int>(p->value);
     }
@@ -434,7 +433,7 @@ class Reader {
     const double chord = (e2 - s2).norm();
     const bool full_circle = chord <= kSamePoint;
     const std::string units = unit_name();
-    const auto in_units = [&](double metres) { return format_number(metres / scale()) + " " + units; };
+    const auto in_units = [&](double metres) { return format_value(metres / scale(), 10) + " " + units; };
 
     Vec2 c2;
     if (r_word) {
@@ -475,7 +474,7 @@ class Reader {
       if (abs_err > tol_abs || rel_err > kSpiralRelativeTol) {
         fail(line, where.column, word,
              "radius to end of arc differs from radius to start: r1 = " + in_units(r1) + ", r2 = " + in_units(r2) +
-                 " (difference " + in_units(abs_err) + ", " + format_number(100 * rel_err) + "%; allowed " +
+                 " (difference " + in_units(abs_err) + ", " + format_value(100 * rel_err, 10) + "%; allowed " +
                  in_units(tol_abs) + " and 0.1%)");
       }
       if (!full_circle && abs_err > 0) {
@@ -537,10 +536,10 @@ class Reader {
     if (!(deviation <= tol_abs)) {
       const double s = inch_ ? kMetresPerInch : kMetresPerMm;
       fail(where.line, where.column, word,
-           "the end point is within LinuxCNC's radius tolerance (r1 = " + format_number(r1 / s) + " " + units +
-               ", r2 = " + format_number(r2 / s) + " " + units +
-               "), but no circle through both end points stays within " + format_number(tol_abs / s) + " " + units +
-               " of the spiral LinuxCNC would cut (it departs by " + format_number(deviation / s) + " " + units +
+           "the end point is within LinuxCNC's radius tolerance (r1 = " + format_value(r1 / s, 10) + " " + units +
+               ", r2 = " + format_value(r2 / s, 10) + " " + units +
+               "), but no circle through both end points stays within " + format_value(tol_abs / s, 10) + " " + units +
+               " of the spiral LinuxCNC would cut (it departs by " + format_value(deviation / s, 10) + " " + units +
                "); correct the end point or the centre");
     }
     return c_new;

@@ -2,6 +2,7 @@
 // (yaml_document.hpp), walked map by map by the reader (scenario_reader.hpp) against the
 // format's table (scenario_keys.hpp), and turned into a Scenario here.
 
+#include "blendbench/core/units.hpp"
 #include "blendbench/io/scenario.hpp"
 
 #include <algorithm>
@@ -22,7 +23,6 @@ namespace {
 
 using namespace scenario_detail;  // the reader private to the scenario loader
 
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 Eigen::Matrix3d rpy_deg(const std::vector<double>& rpy) {
   // fixed-axis roll (x), pitch (y), yaw (z), as in URDF: R = Rz(yaw) Ry(pitch) Rx(roll); the
@@ -357,7 +357,7 @@ void read_variants(const Reader& r, const Field& root, Scenario& sc) {
     if (!names.insert(v.name).second) r.fail(name, "duplicate variant name '" + v.name + "'");
     if (const Field t = r.child(f, "transition"); t.node.defined()) v.transition = read_transition(r, t);
     if (const Field b = r.child(f, "buffer"); b.node.defined()) v.buffer = read_buffer(r, b);
-    v.baseline = r.choice(r.value(f, "baseline"));
+    v.baseline = *baseline_from_string(r.choice(r.value(f, "baseline")));
     sc.variants.push_back(std::move(v));
   }
 }
@@ -439,8 +439,7 @@ TimingOptions timing_options(const Scenario& scenario, const Variant& variant) {
   options.dt = 1.0 / scenario.servo.setpoint_rate_hz;
   options.limits = scenario.limits;
   options.axis_limits = scenario.axis_limits;
-  if (variant.baseline == "exact_stop") options.baseline = TimingOptions::Baseline::kExactStop;
-  if (variant.baseline == "junction_slowdown") options.baseline = TimingOptions::Baseline::kJunctionSlowdown;
+  options.baseline = variant.baseline;
   return options;
 }
 

@@ -42,13 +42,13 @@ namespace {
 // A number as the paper prints it.
 std::string paper_text(const Figure& f) {
   if (!std::isfinite(f.paper)) return "—";
-  return f.printed_step > 0 ? fixed(f.paper, decimals_of(f.printed_step)) : format_number(f.paper, 4);
+  return f.printed_step > 0 ? fixed(f.paper, decimals_of(f.printed_step)) : format_value(f.paper, 4);
 }
 
 // Ours with two digits more than the paper prints (counts as integers).
 std::string ours_text(const Figure& f) {
   if (f.printed_step >= 1) return fixed(f.ours, 0);
-  return f.printed_step > 0 ? fixed(f.ours, decimals_of(f.printed_step) + 2) : format_number(f.ours, 4);
+  return f.printed_step > 0 ? fixed(f.ours, decimals_of(f.printed_step) + 2) : format_value(f.ours, 4);
 }
 
 }  // namespace
@@ -120,7 +120,7 @@ std::string markdown_margins_section(const std::vector<PlannedRun>& runs) {
         " **The axis columns exceed 1** (largest: acceleration " + fixed(axis_a, 3) + ", jerk " + fixed(axis_j, 3) +
         " in `" + worst_axis_jerk->name + "` at t = " + fixed(worst_axis_jerk->margins.axis_jerk_time, 3) +
         " s, s = " + fixed(worst_axis_jerk->margins.axis_jerk_s / kMm, 2) +
-        " mm). The planner bounds the tangential and normal parts separately (issue 4's contract and 004 eq. 23-24, "
+        " mm). The planner bounds the tangential and normal parts separately (the path-limits model and 004 eq. 23-24, "
         "which assume a constant path speed), while an axis sees their sum: on a curve the path jerk is "
         "(j_t − κ²v³)·T + (3κ·v·a_t + κ'·v³)·N, so wherever the speed changes on a curve (an arc or a fillet; in "
         "Listing 1, speeding up from rest on the first arc and braking on the last) the term 3κ·v·a_t adds to j_t, and at a junction slow-down the direction "

@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "blendbench/core/units.hpp"
 #include "blendbench/papers/reproduce.hpp"
 
 namespace blendbench::papers_detail {
@@ -17,9 +18,8 @@ namespace blendbench::papers_detail {
 inline constexpr double kPi = std::numbers::pi;
 inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // Unit conversions for the paper's units.
-inline constexpr double kMm = 1e-3;          // m per mm
 inline constexpr double kPerMin = 60.0;      // s per min
-inline constexpr double kServoPeriod = 1e-3;  // s: the planner's servo period (issue 4: <= 1 ms)
+inline constexpr double kServoPeriod = 1e-3;  // s: the planner's sample period (at most 1 ms)
 
 // Rows of the sampled profiles written for the plots: every n-th servo sample (results/papers
 // stays small).

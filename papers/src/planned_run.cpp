@@ -88,7 +88,7 @@ std::pair<int, int> fillet_pieces_at_feed(const PlannedRun& run) {
   for (const PieceTiming& p : run.timing.pieces) {
     if (run.path.pieces()[p.piece].corner < 0) continue;
     ++all;
-    if (p.binding == "feed") ++at_feed;
+    if (p.binding == Binding::kFeed) ++at_feed;
   }
   return {at_feed, all};
 }

@@ -14,6 +14,7 @@
 #include "blendbench/core/input_error.hpp"
 #include "blendbench/io/data_root.hpp"
 #include "blendbench/papers/paper_002.hpp"
+#include "blendbench/report/json.hpp"
 #include "blendbench/report/output.hpp"
 #include "blendbench/report/process.hpp"
 #include "blendbench/report/report.hpp"
@@ -25,8 +26,6 @@ namespace {
 
 // Runs with more corners than this list a summary instead of every corner report.
 constexpr std::size_t kCornersListed = 12;
-
-nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(); }
 
 nlohmann::json table_json(const FigureTable& t) {
   nlohmann::json rows = nlohmann::json::array();
@@ -83,7 +82,7 @@ std::string csv_row(std::initializer_list<double> values) {
   std::string row;
   for (const double v : values) {
     if (!row.empty()) row += ',';
-    row += format_number(v, 7);
+    row += format_value(v, 7);
   }
   row += '\n';
   return row;
@@ -135,9 +134,9 @@ std::string table2_fillets_csv(const Paper004& r) {
       const double len = length(piece.segment);
       for (int i = 0; i <= kSamples; ++i) {
         const double s = len * i / kSamples;
-        out += std::string(name) + "," + format_number((offset + s) / kMm, 7) + "," +
-               format_number(curvature_vector(piece.segment, s).norm() * kMm, 7) + "," +
-               format_number(sharpness(piece.segment, s) * kMm * kMm, 7) + "\n";
+        out += std::string(name) + "," + format_value((offset + s) / kMm, 7) + "," +
+               format_value(curvature_vector(piece.segment, s).norm() * kMm, 7) + "," +
+               format_value(sharpness(piece.segment, s) * kMm * kMm, 7) + "\n";
       }
       offset += len;
     }

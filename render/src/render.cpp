@@ -19,7 +19,7 @@ constexpr int kMaxPolylineSegments = 400;
 // Headlight floor: without a skybox the background is black, so the arm needs this much light.
 constexpr float kMinHeadlightAmbient = 0.3f;
 constexpr float kMinHeadlightDiffuse = 0.5f;
-// Shadow map size when shadows are on (PLATFORM.md: 4096 is slower than 2048).
+// Shadow map size when shadows are on (measured with llvmpipe: 4096 renders slower than 2048).
 constexpr int kShadowSize = 2048;
 // Polylines are simplified to this tolerance before drawing (m): far below what a frame shows.
 constexpr double kDrawTolerance = 0.2e-3;
@@ -169,7 +169,7 @@ OffscreenRenderer::OffscreenRenderer(const mjModel& m, RenderOptions options) : 
   r.tcp_site = mj_name2id(r.model, mjOBJ_SITE, "tcp");
   r.draw_floor = !has_plane(*r.model);
 
-  // OSMesa context, current before MuJoCo makes its GL objects (PLATFORM.md)
+  // OSMesa context, current before MuJoCo makes its GL objects (mjr_makeContext needs one)
   r.gl = OSMesaCreateContextExt(OSMESA_RGBA, 24, 8, 8, nullptr);
   if (r.gl == nullptr) throw std::runtime_error("OSMesaCreateContextExt failed");
   r.gl_buffer.assign(static_cast<std::size_t>(o.width) * static_cast<std::size_t>(o.height) * 4, 0);

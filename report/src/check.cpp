@@ -5,6 +5,7 @@
 #include <map>
 #include <utility>
 
+#include "blendbench/core/format.hpp"
 #include "blendbench/core/input_error.hpp"
 #include "blendbench/report/output.hpp"
 
@@ -26,8 +27,8 @@ const nlohmann::json* at_path(const nlohmann::json& v, const std::string& path) 
 }
 
 std::string line(const std::string& variant, const MetricTolerance& t, double value, double base, double bound) {
-  return variant + ": " + t.metric + " = " + format_number(value, 6) + " (baseline " + format_number(base, 6) +
-         (t.higher_is_better ? ", allowed down to " : ", allowed up to ") + format_number(bound, 6) + ")";
+  return variant + ": " + t.metric + " = " + format_value(value, 6) + " (baseline " + format_value(base, 6) +
+         (t.higher_is_better ? ", allowed down to " : ", allowed up to ") + format_value(bound, 6) + ")";
 }
 
 std::string verdict_name(CheckRow::Verdict v) {
@@ -148,8 +149,8 @@ CheckReport check_run(const nlohmann::json& summary, const nlohmann::json& basel
         report.regressions.push_back(line(name, t, row.value, b, row.bound));
       } else if (-worse > slack) {
         row.verdict = CheckRow::Verdict::kImproved;
-        report.notes.push_back(name + ": " + t.metric + " improved to " + format_number(row.value, 6) + " from " +
-                               format_number(b, 6) + "; update the baseline with --update");
+        report.notes.push_back(name + ": " + t.metric + " improved to " + format_value(row.value, 6) + " from " +
+                               format_value(b, 6) + "; update the baseline with --update");
       } else if (row.value != b) {
         row.verdict = CheckRow::Verdict::kWithin;
       }
@@ -167,10 +168,10 @@ std::string moved_table(const CheckReport& report) {
   for (const CheckRow& r : report.rows) {
     if (r.verdict == CheckRow::Verdict::kUnchanged) continue;
     const std::string change = r.baseline != 0 && std::isfinite(r.value)
-                                   ? format_number(100 * (r.value - r.baseline) / std::abs(r.baseline), 3) + " %"
+                                   ? format_value(100 * (r.value - r.baseline) / std::abs(r.baseline), 3) + " %"
                                    : std::string("-");
-    cells.push_back({r.variant, r.metric, format_number(r.baseline, 6), std::isfinite(r.value) ? format_number(r.value, 6) : "missing",
-                     change, format_number(r.bound, 6), verdict_name(r.verdict)});
+    cells.push_back({r.variant, r.metric, format_value(r.baseline, 6), std::isfinite(r.value) ? format_value(r.value, 6) : "missing",
+                     change, format_value(r.bound, 6), verdict_name(r.verdict)});
   }
   if (cells.size() == 1) return "nothing moved\n";
   std::vector<std::size_t> width(cells[0].size(), 0);

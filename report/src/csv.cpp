@@ -20,7 +20,7 @@ void CsvWriter::row(std::span<const double> values) {
   assert(values.size() == columns_);
   for (std::size_t i = 0; i < values.size(); ++i) {
     if (i > 0) text_ += ',';
-    text_ += format_number(values[i], kCsvDigits);
+    text_ += format_value(values[i], kCsvDigits);
   }
   text_ += '\n';
 }

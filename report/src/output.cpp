@@ -43,16 +43,9 @@ void write_file_atomic(const std::filesystem::path& path, std::string_view conte
 }
 
 std::string format_fixed(double value, int decimals) {
-  if (!std::isfinite(value)) return format_number(value);
+  if (!std::isfinite(value)) return format_value(value, 10);
   char buffer[64];
   std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
-  return buffer;
-}
-
-std::string format_number(double value, int digits) {
-  if (!std::isfinite(value)) return std::isnan(value) ? "nan" : (value > 0 ? "inf" : "-inf");
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.*g", digits, value);
   return buffer;
 }
 

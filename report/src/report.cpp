@@ -1,3 +1,4 @@
+#include "blendbench/core/units.hpp"
 #include "blendbench/report/report.hpp"
 
 #include <algorithm>
@@ -12,7 +13,6 @@ namespace blendbench {
 namespace {
 
 // mm from m, for output
-constexpr double kMm = 1e3;
 
 // Intervals a piece of length `len` is sampled in (a double: len / ds may exceed any integer).
 double intervals(double len, double ds) { return std::max(1.0, std::ceil(len / ds - 1e-9)); }
@@ -25,7 +25,7 @@ void check_rows(double rows, double length, double ds) {
                        " rows; the limit is " + format_value(kMaxPathSamples) + " (a larger spacing)");
 }
 
-nlohmann::json mm(const Vec3& p) { return nlohmann::json::array({p.x() * kMm, p.y() * kMm, p.z() * kMm}); }
+nlohmann::json mm(const Vec3& p) { return nlohmann::json::array({p.x() / kMm, p.y() / kMm, p.z() / kMm}); }
 
 }  // namespace
 
@@ -50,7 +50,7 @@ std::string path_csv(const Path& path, double ds) {
       const Vec3 p = point(seg, s);
       const Vec3 t = tangent(seg, s);
       const double kappa = curvature_vector(seg, s).norm();
-      out.row({(path.offset(k) + s) * kMm, p.x() * kMm, p.y() * kMm, p.z() * kMm, t.x(), t.y(), t.z(), kappa / kMm});
+      out.row({(path.offset(k) + s) / kMm, p.x() / kMm, p.y() / kMm, p.z() / kMm, t.x(), t.y(), t.z(), kappa * kMm});
     }
   }
   return out.text();
@@ -74,7 +74,7 @@ std::string program_csv(const Program& program, double ds) {
     for (int i = 0; i <= last; ++i) {
       const double s = len * i / n;
       const Vec3 p = point(g, s);
-      out.row({(offset + s) * kMm, p.x() * kMm, p.y() * kMm, p.z() * kMm});
+      out.row({(offset + s) / kMm, p.x() / kMm, p.y() / kMm, p.z() / kMm});
     }
     offset += len;
   }
@@ -88,14 +88,14 @@ nlohmann::json corner_json(const CornerReport& c) {
         {"case", std::string(to_string(c.corner_case))},
         {"fallback", std::string(to_string(c.fallback))},
         {"note", c.note},
-        {"parameter_mm", c.parameter * kMm},
-        {"length_mm", c.length * kMm},
-        {"deviation_mm", c.deviation * kMm},
-        {"kappa_max_per_mm", c.kappa_max / kMm},
-        {"sharpness_max_per_mm2", c.sharpness_max / (kMm * kMm)},
-        {"feed_max_mm_per_min", finite_or_null(c.feed_max * kMm * 60.0)},
-        {"trim_in_mm", c.trim_in * kMm},
-        {"trim_out_mm", c.trim_out * kMm},
+        {"parameter_mm", c.parameter / kMm},
+        {"length_mm", c.length / kMm},
+        {"deviation_mm", c.deviation / kMm},
+        {"kappa_max_per_mm", c.kappa_max * kMm},
+        {"sharpness_max_per_mm2", c.sharpness_max * kMm * kMm},
+        {"feed_max_mm_per_min", finite_or_null(c.feed_max / kMm * 60.0)},
+        {"trim_in_mm", c.trim_in / kMm},
+        {"trim_out_mm", c.trim_out / kMm},
         {"stop", c.stop},
   };
 }
@@ -103,9 +103,9 @@ nlohmann::json corner_json(const CornerReport& c) {
 nlohmann::json corner_json(const CornerReport& c, const CornerPlacement& where) {
   nlohmann::json out = corner_json(c);
   out["point_mm"] = mm(where.point);
-  out["s_programmed_mm"] = where.s_programmed * kMm;
-  out["s_start_mm"] = where.s_start * kMm;
-  out["s_end_mm"] = where.s_end * kMm;
+  out["s_programmed_mm"] = where.s_programmed / kMm;
+  out["s_start_mm"] = where.s_start / kMm;
+  out["s_end_mm"] = where.s_end / kMm;
   return out;
 }
 
@@ -129,8 +129,8 @@ std::string timed_csv(const Path& path, const Timing& timing) {
   for (const TimedSample& sample : timing.samples) {
     const Vec3 p = path.point(sample.s);
     const double kappa = path.curvature_vector(sample.s).norm();
-    out.row({sample.t, sample.s * kMm, p.x() * kMm, p.y() * kMm, p.z() * kMm, sample.v * kMm, sample.a * kMm,
-             sample.j * kMm, kappa / kMm});
+    out.row({sample.t, sample.s / kMm, p.x() / kMm, p.y() / kMm, p.z() / kMm, sample.v / kMm, sample.a / kMm,
+             sample.j / kMm, kappa * kMm});
   }
   return out.text();
 }
@@ -142,25 +142,25 @@ nlohmann::json pieces_json(const Path& path, const Timing& timing) {
     pieces.push_back({{"index", p.piece},
                       {"move", piece.move},
                       {"corner", piece.corner},
-                      {"length_mm", length(piece.segment) * kMm},
-                      {"v_peak_mm_s", p.v_peak * kMm},
-                      {"binding", p.binding}});
+                      {"length_mm", length(piece.segment) / kMm},
+                      {"v_peak_mm_s", p.v_peak / kMm},
+                      {"binding", std::string(binding_name(p.binding))}});
   }
   return pieces;
 }
 
 void add_corner_step(nlohmann::json& corner, const CornerReport& report, const Timing::CornerStep& step) {
   corner["curvature_steps"] = std::string(to_string(report.curvature_steps));
-  corner["curvature_step_per_mm"] = step.dk / kMm;
-  corner["curvature_step_velocity_mm_s"] = step.velocity * kMm;
-  corner["curvature_step_jerk_mm_s3"] = step.jerk * kMm;
+  corner["curvature_step_per_mm"] = step.dk * kMm;
+  corner["curvature_step_velocity_mm_s"] = step.velocity / kMm;
+  corner["curvature_step_jerk_mm_s3"] = step.jerk / kMm;
 }
 
 void add_plan_figures(nlohmann::json& out, LimitsMode limits, int moves_merged, double merge_tolerance,
                       double cycle_time, double bound_cycle_time) {
   out["limits"] = std::string(to_string(limits));
   out["moves_merged"] = moves_merged;
-  out["merge_tolerance_mm"] = merge_tolerance * kMm;
+  out["merge_tolerance_mm"] = merge_tolerance / kMm;
   out["bound_cycle_time_s"] = bound_cycle_time;
   out["planned_to_bound_ratio"] = finite_or_null(bound_cycle_time > 0 ? cycle_time / bound_cycle_time : 1.0);
 }
@@ -171,7 +171,7 @@ nlohmann::json plan_summary_json(const Path& path, const Timing& timing, const P
     add_corner_step(corners[k], path.corners[k], k < timing.corner_steps.size() ? timing.corner_steps[k] : Timing::CornerStep{});
   }
   nlohmann::json out = {{"cycle_time_s", timing.cycle_time},
-                        {"path_length_mm", path.length() * kMm},
+                        {"path_length_mm", path.length() / kMm},
                         {"feed_share", timing.feed_share},
                         {"servo_period_s", timing.dt},
                         {"corners", corners},

@@ -15,6 +15,7 @@
 
 #include "support/chain_distance.hpp"
 #include "support/property.hpp"
+#include "blendbench/core/units.hpp"
 #include "blendbench/corner/blend.hpp"
 #include "blendbench/io/scenario.hpp"
 
@@ -22,7 +23,6 @@ namespace blendbench {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-constexpr double kMm = 1e-3;
 constexpr double kG1 = 1e-9;               // rad: tangent jump at a smooth junction
 constexpr double kKinkAngle = 1e-12;       // rad: a reported kink angle against the hand-derived one
 constexpr double kPosition = 1e-9;         // junction gap / path length

@@ -1,3 +1,4 @@
+#include "blendbench/core/units.hpp"
 #include "blendbench/io/gcode.hpp"
 
 #include <gtest/gtest.h>
@@ -17,7 +18,6 @@ namespace blendbench {
 namespace {
 
 constexpr double kTol = 1e-12;   // m: geometry derived by hand
-constexpr double kMm = 1e-3;     // m per mm
 constexpr double kInch = 0.0254; // m per inch
 constexpr double kPi = std::numbers::pi;
 

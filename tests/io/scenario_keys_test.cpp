@@ -135,7 +135,7 @@ std::string signature(const Scenario& sc) {
     transition(m.transition);
   }
   for (const Variant& v : sc.variants) {
-    out << v.name << ' ' << v.baseline << ' ' << (v.buffer ? static_cast<int>(*v.buffer) : -1) << ' ';
+    out << v.name << ' ' << baseline_name(v.baseline) << ' ' << (v.buffer ? static_cast<int>(*v.buffer) : -1) << ' ';
     if (v.transition) transition(*v.transition);
   }
   return out.str();

@@ -1,3 +1,4 @@
+#include "blendbench/core/units.hpp"
 #include "blendbench/papers/reproduce.hpp"
 
 #include <gtest/gtest.h>
@@ -20,8 +21,7 @@ constexpr double kTable2Feed = 0.001;    // relative
 constexpr double kCycleTime = 0.015;     // relative: planned vs the machine's measured biclothoid runs
 constexpr double kExactStop000 = 0.05;   // relative: our comparable program vs the paper's total
 constexpr double kRatio000 = 0.10;       // relative: with/without ratio, tangential limits only
-constexpr double kPathLevel = 1 + 1e-9;  // issue 4: no limit exceeded by more than 1e-9 relative
-constexpr double kMm = 1e-3;
+constexpr double kPathLevel = 1 + 1e-9;  // the planner's contract: no limit exceeded by more than 1e-9 relative
 
 // The reproductions run once per test program (about a second each).
 const Paper004& paper004() {

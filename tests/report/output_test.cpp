@@ -97,10 +97,10 @@ TEST_F(OutputTest, FailsWhenTheTargetIsADirectory) {
   EXPECT_EQ(entries, 0) << "the temporary file must be removed";
 }
 
-TEST(FormatNumber, ShortestFormAndNonFinite) {
-  EXPECT_EQ(format_number(0.125), "0.125");
-  EXPECT_EQ(format_number(1.0 / 3.0, 4), "0.3333");
-  EXPECT_EQ(format_number(std::nan("")), "nan");
+TEST(FormatValue, TenDigitsShortestFormAndNonFinite) {
+  EXPECT_EQ(format_value(0.125, 10), "0.125");
+  EXPECT_EQ(format_value(1.0 / 3.0, 4), "0.3333");
+  EXPECT_EQ(format_value(std::nan(""), 10), "nan");
 }
 
 TEST(FormatFixed, DecimalsAfterThePointAndNonFinite) {

@@ -1,5 +1,5 @@
 #pragma once
-// Checks a timed profile against its path: every limit of issue 4 on the sampled result
+// Checks a timed profile against its path: every limit of the planner on the sampled result
 // (v <= v_lim(s) with 004 eq. 25-27, kappa v^2 <= a, |a_t|, |j_t|, also by finite differences of
 // the samples) and v = 0 at every stop. Shared by the timing tests and the scenario tests; the
 // limits at a sample and the path-level margins come from the planner's profile checker
@@ -24,7 +24,7 @@
 
 namespace blendbench::test {
 
-inline constexpr double kRel = 1e-9;  // relative slack on every limit (issue 4)
+inline constexpr double kRel = 1e-9;  // relative slack on every limit (the planner's contract)
 inline constexpr double kEps = std::numeric_limits<double>::epsilon();
 
 // Margins of a sampled profile: the largest ratio value/limit seen (<= 1 + kRel required).

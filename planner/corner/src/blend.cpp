@@ -12,8 +12,6 @@
 namespace blendbench {
 namespace {
 
-// Angle (rad) below which two tangents count as continuous (G1) at a junction.
-constexpr double kG1Angle = 1e-9;
 // The corner report's deviation is exact to this share of the corner's size (the longer of the
 // transition and the path it replaces): hausdorff_within, closest.hpp.
 constexpr double kDeviationTolerance = 1e-9;

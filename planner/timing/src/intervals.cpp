@@ -30,8 +30,6 @@ namespace {
 
 // Sub-intervals per piece of varying curvature (step 1 of the method, timing.cpp).
 constexpr int kSubdivisions = 16;
-// Angle (rad) below which a junction counts as tangent (as the blender decides, blend.cpp).
-constexpr double kG1Angle = 1e-9;
 // Relative margin on the scanned maximum curvature and sharpness of a Bezier (segment.hpp
 // gives them to a relative error below 1e-9).
 constexpr double kBezierScanMargin = 4e-9;

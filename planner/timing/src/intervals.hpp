@@ -36,8 +36,8 @@ struct CapTerms {
   double curvature = kInf;
   double sharpness = kInf;
   [[nodiscard]] double min() const { return std::min({feed, curvature, sharpness}); }
-  [[nodiscard]] const char* binding() const {
-    return feed <= min() ? "feed" : curvature <= min() ? "curvature" : "sharpness";
+  [[nodiscard]] Binding binding() const {
+    return feed <= min() ? Binding::kFeed : curvature <= min() ? Binding::kCurvature : Binding::kSharpness;
   }
 };
 

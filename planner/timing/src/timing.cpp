@@ -13,7 +13,7 @@
 #include "intervals.hpp"
 #include "spans.hpp"
 
-// The method (issue 4), and where it is conservative:
+// The method (every limit held on the sampled profile), and where it is conservative:
 //
 // 1. The path is cut into intervals at every piece junction, at the ends of hand-over zones
 //    (below) and, on pieces whose curvature varies along s (clothoids with non-zero sharpness,
@@ -177,10 +177,10 @@ std::vector<PieceTiming> piece_reports(const Path& path, const std::vector<Inter
                                        const std::vector<Span>& spans) {
   const auto& pieces = path.pieces();
   std::vector<PieceTiming> reports(pieces.size());
-  for (std::size_t k = 0; k < pieces.size(); ++k) reports[k] = {k, 0.0, "stop"};
+  for (std::size_t k = 0; k < pieces.size(); ++k) reports[k] = {k, 0.0, Binding::kStop};
   struct Seen {
     bool any = false, at_cap = false, holds_peak = false, acceleration = false;
-    const char* cap_binding = "feed";
+    Binding cap_binding = Binding::kFeed;
   };
   std::vector<Seen> seen(pieces.size());
   for (const Span& sp : spans) {
@@ -209,7 +209,10 @@ std::vector<PieceTiming> piece_reports(const Path& path, const std::vector<Inter
   for (std::size_t k = 0; k < pieces.size(); ++k) {
     const Seen& s = seen[k];
     if (!s.any) continue;
-    reports[k].binding = s.at_cap ? s.cap_binding : s.holds_peak ? "length" : s.acceleration ? "acceleration" : "jerk";
+    reports[k].binding = s.at_cap        ? s.cap_binding
+                         : s.holds_peak  ? Binding::kLength
+                         : s.acceleration ? Binding::kAcceleration
+                                          : Binding::kJerk;
   }
   return reports;
 }
@@ -230,10 +233,9 @@ std::vector<double> piece_times(const Path& path, const std::vector<Span>& spans
 // Refuses a plan of `cycle_time` (s) as too long for options.max_samples (timing.hpp): an
 // InputError at the move of `piece`, naming the limit its binding constraint makes the one to
 // raise.
-[[noreturn]] void refuse_work(const PathPiece& piece, const std::string& binding, double cycle_time,
-                              const TimingOptions& options) {
-  const bool feed = binding == "feed" || binding == "stop";
-  const bool jerk = binding == "sharpness" || binding == "jerk";
+[[noreturn]] void refuse_work(const PathPiece& piece, Binding binding, double cycle_time, const TimingOptions& options) {
+  const bool feed = binding == Binding::kFeed || binding == Binding::kStop;
+  const bool jerk = binding == Binding::kSharpness || binding == Binding::kJerk;
   const char* field = feed ? "velocity" : jerk ? "jerk" : "acceleration";
   const double value = feed ? piece.limits.velocity : jerk ? piece.limits.jerk : piece.limits.acceleration;
   const char* unit = feed ? " mm/s" : jerk ? " mm/s^3" : " mm/s^2";
@@ -288,6 +290,24 @@ std::vector<Timing::CornerStep> corner_steps(const Path& path, const std::vector
   return out;
 }
 
+// Steps 1 and 2 of the method on a validated path: each piece's model with its budgets, the
+// junctions and the capped intervals (before merging), shared by the plan and the bound.
+struct Prepared {
+  std::vector<PieceModel> models;
+  std::vector<Junction> joints;
+  std::vector<Interval> intervals;
+  std::vector<double> knot_cap;
+};
+
+Prepared prepare(const Path& path, const TimingOptions& options) {
+  Prepared p;
+  p.models = piece_models(path, options);
+  p.joints = junctions(path, options, p.models);
+  share_budgets(path, options, p.joints, p.models);
+  build_intervals(path, options, p.models, p.joints, all_zones(path, p.joints, p.models), p.intervals, p.knot_cap);
+  return p;
+}
+
 }  // namespace
 
 std::vector<HandoverZone> handover_zones(const Path& path, const TimingOptions& options) {
@@ -300,13 +320,38 @@ std::vector<HandoverZone> handover_zones(const Path& path, const TimingOptions& 
 
 double time_optimal_bound(const Path& path, const TimingOptions& options) {
   validate(path, options);
-  std::vector<PieceModel> models = piece_models(path, options);
-  const std::vector<Junction> joints = junctions(path, options, models);
-  share_budgets(path, options, joints, models);
-  std::vector<Interval> intervals;
-  std::vector<double> knot_cap;
-  build_intervals(path, options, models, joints, all_zones(path, joints, models), intervals, knot_cap);
-  return timing_detail::time_optimal_bound(path, options, models, joints, intervals);
+  const Prepared p = prepare(path, options);
+  return timing_detail::time_optimal_bound(path, options, p.models, p.joints, p.intervals);
+}
+
+std::string_view baseline_name(TimingOptions::Baseline baseline) {
+  switch (baseline) {
+    case TimingOptions::Baseline::kNone: return "none";
+    case TimingOptions::Baseline::kExactStop: return "exact_stop";
+    case TimingOptions::Baseline::kJunctionSlowdown: return "junction_slowdown";
+  }
+  return "none";
+}
+
+std::optional<TimingOptions::Baseline> baseline_from_string(std::string_view name) {
+  for (auto b : {TimingOptions::Baseline::kNone, TimingOptions::Baseline::kExactStop,
+                 TimingOptions::Baseline::kJunctionSlowdown}) {
+    if (baseline_name(b) == name) return b;
+  }
+  return std::nullopt;
+}
+
+std::string_view binding_name(Binding binding) {
+  switch (binding) {
+    case Binding::kFeed: return "feed";
+    case Binding::kCurvature: return "curvature";
+    case Binding::kSharpness: return "sharpness";
+    case Binding::kLength: return "length";
+    case Binding::kAcceleration: return "acceleration";
+    case Binding::kJerk: return "jerk";
+    case Binding::kStop: return "stop";
+  }
+  return "stop";
 }
 
 Timing plan_timing(const Path& path, const TimingOptions& options) {
@@ -315,17 +360,16 @@ Timing plan_timing(const Path& path, const TimingOptions& options) {
   timing.dt = options.dt;
   timing.limits = options.limits;
   timing.corner_steps.resize(path.corners.size());
-  std::vector<PieceModel> models = piece_models(path, options);
-  const std::vector<Junction> joints = junctions(path, options, models);
-  share_budgets(path, options, joints, models);
-  std::vector<Interval> intervals;
-  std::vector<double> knot_cap;
-  build_intervals(path, options, models, joints, all_zones(path, joints, models), intervals, knot_cap);
+  Prepared prepared = prepare(path, options);
+  const std::vector<PieceModel>& models = prepared.models;
+  const std::vector<Junction>& joints = prepared.joints;
+  std::vector<Interval>& intervals = prepared.intervals;
+  std::vector<double>& knot_cap = prepared.knot_cap;
   timing.bound_cycle_time = timing_detail::time_optimal_bound(path, options, models, joints, intervals);
   merge_intervals(path, intervals, knot_cap);
   if (intervals.empty()) {
     timing.samples.push_back({0, path.length(), 0, 0, 0});
-    for (std::size_t k = 0; k < path.pieces().size(); ++k) timing.pieces.push_back({k, 0.0, "stop"});
+    for (std::size_t k = 0; k < path.pieces().size(); ++k) timing.pieces.push_back({k, 0.0, Binding::kStop});
     return timing;
   }
 

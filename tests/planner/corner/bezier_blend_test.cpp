@@ -12,6 +12,7 @@
 
 #include "support/property.hpp"
 #include "support/random_geometry.hpp"
+#include "blendbench/core/units.hpp"
 #include "blendbench/corner/blend.hpp"
 #include "blendbench/corner/corner.hpp"
 
@@ -19,7 +20,6 @@ namespace blendbench {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-constexpr double kMm = 1e-3;
 // Exact-arithmetic identities evaluated in double (control points, lengths), relative.
 constexpr double kExact = 1e-12;
 // Position continuity at a junction, relative to the corner size (transition length).

@@ -1,3 +1,4 @@
+#include "blendbench/core/units.hpp"
 #include "blendbench/corner/biclothoid.hpp"
 
 #include <gtest/gtest.h>
@@ -17,7 +18,6 @@ namespace blendbench {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-constexpr double kMm = 1e-3;
 // The deviation measured independently may exceed the tolerance only by this (relative).
 constexpr double kDeviationSlack = 1e-9;
 // Algorithm 2 stops with tolerance (1 - 1e-4) <= deviation <= tolerance.
@@ -437,8 +437,8 @@ TEST(Biclothoid, RandomCornersAreG2AndWithinTolerance) {
             << ", curvature jump " << worst_curvature << ", deviation / tolerance " << worst_ratio << "\n";
 }
 
-// A corner sized by start distance instead of tolerance (DESIGN: "maximum deviation, or a
-// start distance").
+// A corner sized by start distance instead of tolerance (seed 004, Shahzadeh et al.,
+// Algorithm 1 takes where the fillet starts; the tolerance is found by Algorithm 2).
 CornerInput by_start_distance(CornerInput c, double start_distance) {
   c.spec.parameter = 0;
   c.spec.start_distance = start_distance;

@@ -1,3 +1,4 @@
+#include "blendbench/core/units.hpp"
 #include "blendbench/corner/clothoid_blend.hpp"
 
 #include <gtest/gtest.h>
@@ -16,7 +17,6 @@ namespace blendbench {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-constexpr double kMm = 1e-3;
 constexpr double kDeviationSlack = 1e-9;
 
 CornerInput line_corner(double alpha, double tolerance, double kappa_max = 0, double length = 1.0) {

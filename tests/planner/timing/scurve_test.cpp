@@ -12,7 +12,7 @@
 namespace blendbench {
 namespace {
 
-constexpr double kRel = 1e-9;  // relative slack on every limit (issue 4)
+constexpr double kRel = 1e-9;  // relative slack on every limit (the planner's contract)
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 constexpr double kDistanceTol = 8 * kEps;  // relative, on s(time_at_distance(x)) - x
 

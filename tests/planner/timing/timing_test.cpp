@@ -44,7 +44,7 @@ TEST(Timing, SingleLineIsTheAnalyticScurve) {
   EXPECT_NEAR(timing.cycle_time, 0.35 + 1.65 + 0.35, 1e-12);
   EXPECT_EQ(timing.samples.size(), 2351u);
   ASSERT_EQ(timing.pieces.size(), 1u);
-  EXPECT_EQ(timing.pieces[0].binding, "feed");
+  EXPECT_EQ(timing.pieces[0].binding, Binding::kFeed);
   EXPECT_DOUBLE_EQ(timing.pieces[0].v_peak, 0.5);
   // at or above 99.9 % of the feed: the cruise plus the last tau of each ramp, where the
   // jerk phase leaves v = vp - j tau^2 / 2
@@ -77,7 +77,7 @@ TEST(Timing, ArcPieceIsCappedByItsCurvature) {
   options.limits = LimitsMode::kPath;
   const Timing timing = plan_timing(path, options);
   ASSERT_EQ(timing.pieces.size(), 1u);
-  EXPECT_EQ(timing.pieces[0].binding, "curvature");
+  EXPECT_EQ(timing.pieces[0].binding, Binding::kCurvature);
   EXPECT_NEAR(timing.pieces[0].v_peak, 0.1, 1e-12);
   EXPECT_EQ(timing.feed_share, 0.0);
   expect_valid(path, timing, "arc", options);
@@ -236,8 +236,8 @@ TEST(Timing, BaselinesOnAStopFreePath) {
   EXPECT_NEAR(plan_timing(path, options).cycle_time, slowdown.cycle_time, 1e-12);
   // from the junction caps sqrt(j dt / kappa) = 0.032 m/s the arc is too short to reach
   // its cap sqrt(a / kappa) = 0.32 m/s
-  EXPECT_EQ(slowdown.pieces[0].binding, "feed");
-  EXPECT_EQ(slowdown.pieces[1].binding, "length");
+  EXPECT_EQ(slowdown.pieces[0].binding, Binding::kFeed);
+  EXPECT_EQ(slowdown.pieces[1].binding, Binding::kLength);
 }
 
 TEST(Timing, JunctionSlowdownIgnoresExactStopsExceptBuffered) {

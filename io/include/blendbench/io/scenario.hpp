@@ -70,7 +70,7 @@ struct Variant {
   std::string name;
   std::optional<Transition> transition;
   std::optional<BufferMode> buffer;
-  std::string baseline = "none";  // "none", "exact_stop" or "junction_slowdown"
+  TimingOptions::Baseline baseline = TimingOptions::Baseline::kNone;
   SourceRef where;
 };
 

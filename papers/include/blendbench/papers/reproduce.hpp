@@ -1,5 +1,5 @@
 #pragma once
-// The source papers' published numbers reproduced (issue 4, results/papers/): each reproduction
+// The source papers' published numbers reproduced (results/papers/): each reproduction
 // computes our figures in-process next to the paper's, and can write them as a Markdown report
 // with the CSV/JSON (and PNG) it used. The numbers come from the planner as it is (blend(),
 // plan_timing()); the only inputs read are the repository's part program

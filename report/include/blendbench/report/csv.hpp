@@ -1,7 +1,7 @@
 #pragma once
 // The one CSV writer for result files (path.csv, program.csv, the timed profile, trace.csv): a
 // header of column names, then rows of numbers, each with kCsvDigits significant digits in the
-// shortest form (format_number), "nan"/"inf" for non-finite values.
+// shortest form (format_value, core/format.hpp), "nan"/"inf" for non-finite values.
 
 #include <initializer_list>
 #include <span>

@@ -6,6 +6,8 @@
 #include <string>
 #include <string_view>
 
+#include "blendbench/core/format.hpp"
+
 namespace blendbench {
 
 // Writes `content` to `path` atomically; creates missing parent directories. Throws
@@ -15,9 +17,6 @@ void write_file_atomic(const std::filesystem::path& path, std::string_view conte
 // A temporary path next to `path` for writers that produce the file themselves (ffmpeg); the
 // caller renames it to `path` when complete and removes it on failure.
 std::filesystem::path temporary_path_for(const std::filesystem::path& path);
-
-// Formats a double for CSV/JSON with up to `digits` significant digits (shortest form).
-std::string format_number(double value, int digits = 10);
 
 // Fixed-point text with `decimals` digits after the point (progress lines, tables); a
 // non-finite value as "nan", "inf" or "-inf".

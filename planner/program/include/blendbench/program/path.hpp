@@ -33,6 +33,10 @@ struct CornerReport {
 };
 
 // One piece of the path.
+// Angle (rad) below which two tangents count as continuous (G1) at a junction: the blender
+// inserts no transition there and the velocity planner sees no kink.
+inline constexpr double kG1Angle = 1e-9;
+
 struct PathPiece {
   Segment segment;
   int move = -1;    // index of the programmed move this piece comes from, -1 for a transition

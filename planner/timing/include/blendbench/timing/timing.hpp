@@ -4,6 +4,7 @@
 
 #include <cstddef>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <optional>
@@ -16,9 +17,9 @@ namespace blendbench {
 
 struct TimingOptions {
   double dt = 1e-3;  // s, output sample period (the servo period); > 0
-  // The two "without transitions" baselines of issue 4: kExactStop stops at every junction
-  // between pieces; kJunctionSlowdown ignores exact stops that the blender set (except at
-  // Buffered kinks) and slows down at every kink and curvature jump as a controller does.
+  // The two "without transitions" baselines: kExactStop stops at every junction between
+  // pieces; kJunctionSlowdown ignores exact stops that the blender set (except at Buffered
+  // kinks) and slows down at every kink and curvature jump as a controller does.
   enum class Baseline { kNone, kExactStop, kJunctionSlowdown } baseline = Baseline::kNone;
   // true: one S-curve may span several intervals of a curved stretch, carrying acceleration
   // through the knots between them (timing.cpp); false: zero tangential acceleration at every
@@ -52,11 +53,20 @@ struct TimedSample {
 //   "acceleration", "jerk": the profile ramps through the piece without reaching v_lim, with
 //       the tangential acceleration limit reached on it, or only the jerk limit;
 //   "stop": the piece is pinned at rest (zero length at a stop).
+enum class Binding { kFeed, kCurvature, kSharpness, kLength, kAcceleration, kJerk, kStop };
+
 struct PieceTiming {
   std::size_t piece;
   double v_peak;
-  std::string binding;
+  Binding binding;
 };
+
+// The names of the baselines and bindings in scenarios and summaries ("none", "exact_stop",
+// "junction_slowdown"; "feed", "curvature", "sharpness", "length", "acceleration", "jerk",
+// "stop"), and back (nullopt when unknown).
+std::string_view baseline_name(TimingOptions::Baseline baseline);
+std::optional<TimingOptions::Baseline> baseline_from_string(std::string_view name);
+std::string_view binding_name(Binding binding);
 
 struct Timing {
   Outcome outcome;
