@@ -53,7 +53,7 @@ std::optional<double> max_samples_flag(const TimingFlags& flags) {
   return flags.max_samples;
 }
 
-int cmd_run(std::string scenario_path, std::string out_dir, bool no_video, bool no_plots,
+int cmd_run(std::string scenario_path, std::string out_dir, bool no_video, bool no_plots, bool compare,
             const std::vector<std::string>& variants, const TimingFlags& timing_flags) {
   const auto start = std::chrono::steady_clock::now();
   // no scenario given: the default one in the data root (data_root.hpp)
@@ -63,6 +63,7 @@ int cmd_run(std::string scenario_path, std::string out_dir, bool no_video, bool 
   bb::RunRequest request;
   request.out_dir = out_dir;
   request.video = !no_video;
+  request.compare = compare;
   request.plots = !no_plots;
   request.variants = variants;
   request.limits = limits_flag(timing_flags);
@@ -339,12 +340,16 @@ int main(int argc, char** argv) {
   std::string out_dir;
   bool no_video = false;
   bool no_plots = false;
+  bool compare = false;
   std::vector<std::string> variants;
   CLI::App* run = app.add_subcommand("run", "Run a scenario: plan, simulate, write metrics, plots and videos");
   run->add_option("scenario", scenario_path, "Scenario YAML file (default: scenarios/default.yaml)");
   run->add_option("--out", out_dir, "Output folder (default: results/runs/<scenario name>)");
   run->add_flag("--no-video", no_video, "Do not render videos");
   run->add_flag("--no-plots", no_plots, "Do not draw plots");
+  run->add_flag("--compare", compare,
+                "Also render DIR/compare.mp4: every variant side by side, synchronised, then the worst corner in slow "
+                "motion (with --no-video: the comparison alone)");
   run->add_option("--variant", variants, "Run only this variant (repeatable)");
   TimingFlags timing_flags;
   const auto add_timing_flags = [&](CLI::App* cmd) {
@@ -441,7 +446,7 @@ int main(int argc, char** argv) {
   }
 
   try {
-    if (*run) return cmd_run(scenario_path, out_dir, no_video, no_plots, variants, timing_flags);
+    if (*run) return cmd_run(scenario_path, out_dir, no_video, no_plots, compare, variants, timing_flags);
     if (*path) return cmd_path(input, flags, csv, report, ds_mm);
     if (*plan) return cmd_plan(input, flags, timing_flags, csv, summary);
     if (*check) return cmd_check(run_dir, baseline, tolerances, update);

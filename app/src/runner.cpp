@@ -1,6 +1,7 @@
 #include "blendbench/core/units.hpp"
 #include "blendbench/app/runner.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -18,8 +19,7 @@
 #include "blendbench/sim/execution.hpp"
 #include "blendbench/timing/timing.hpp"
 #ifdef BLENDBENCH_HAS_RENDER
-#include "blendbench/render/render.hpp"
-#include "blendbench/render/video.hpp"
+#include "run_video.hpp"
 #endif
 
 namespace blendbench {
@@ -198,10 +198,21 @@ std::string status_message(const Metrics& m, const Health& h) {
   return {};
 }
 
+#ifdef BLENDBENCH_HAS_RENDER
+// What the variants' videos share and record: the settings, and one film per variant.
+struct Videos {
+  FilmSettings settings;
+  std::vector<VariantFilm> films;
+};
+#else
+struct Videos {};
+#endif
+
 class VariantRun {
  public:
-  VariantRun(const Scenario& sc, const Robot& robot, const RunRequest& request, const Variant& variant)
-      : sc_(sc), robot_(robot), request_(request), variant_(variant), dir_(request.out_dir / variant.name) {}
+  // `videos` is null when no video is made.
+  VariantRun(const Scenario& sc, const Robot& robot, const RunRequest& request, const Variant& variant, Videos* videos)
+      : sc_(sc), robot_(robot), request_(request), variant_(variant), dir_(request.out_dir / variant.name), videos_(videos) {}
 
   VariantSummary run() {
     const Program program = program_for(sc_, variant_);
@@ -253,29 +264,11 @@ class VariantRun {
     options.metrics.vibration_window = sc_.simulation.vibration_window;
     options.metrics.vibration_highpass = sc_.simulation.vibration_highpass;
     options.metrics.jerk_lowpass = sc_.simulation.jerk_lowpass;
-    double video_seconds = 0;
 #ifdef BLENDBENCH_HAS_RENDER
-    std::unique_ptr<OffscreenRenderer> renderer;
-    std::unique_ptr<VideoWriter> video;
-    if (request_.video) {
-      RenderOptions ropt;
-      ropt.width = sc_.video.width;
-      ropt.height = sc_.video.height;
-      for (const Move& m : program.moves) {
-        const int n = std::max(2, static_cast<int>(std::ceil(length(m.geometry) / 2e-3)));
-        for (int i = 0; i <= n; ++i) ropt.path_polyline.push_back(point(m.geometry, length(m.geometry) * i / n));
-      }
-      const int n = std::max(2, static_cast<int>(std::ceil(path.length() / 2e-3)));
-      for (int i = 0; i <= n; ++i) ropt.planned_polyline.push_back(path.point(path.length() * i / n));
-      renderer = std::make_unique<OffscreenRenderer>(robot_.sim->model(), ropt);
-      std::filesystem::create_directories(dir_);
-      video = std::make_unique<VideoWriter>((dir_ / "video.mp4").string(), ropt.width, ropt.height, sc_.video.fps);
-      options.run.frame_rate = sc_.video.fps;
-      options.run.on_frame = [&](const mjModel&, const mjData& d, double) {
-        const auto frame_start = Clock::now();
-        video->write(renderer->render(d));
-        video_seconds += seconds_since(frame_start);
-      };
+    // the arm's pose at the video's rate, for rendering after the run
+    if (videos_ != nullptr) {
+      record_poses(film(), options.run, pose_rate(sc_, request_.compare), timing.cycle_time + options.run.settle_time,
+                   robot_.sim->model().nq);
     }
 #endif
     const Execution run = execute(*robot_.sim, *robot_.ik, program, path, timing, options);
@@ -287,24 +280,31 @@ class VariantRun {
     plan.corner_times = run.corners;
     out.timings.inverse_kinematics = run.ik_seconds;
     out.timings.simulated = trace.samples.empty() ? 0.0 : trace.samples.back().t;
-    out.timings.video = video_seconds;
-    out.timings.simulation = run.simulation_seconds - video_seconds;
+    out.timings.simulation = run.simulation_seconds;
     out.warning = trace.warning;
     say("inverse kinematics for " + std::to_string(timing.samples.size()) + " poses (" +
         format_fixed(out.timings.inverse_kinematics * 1e3, 1) + " ms)");
     if (trace.diverged) return failed(std::move(out), VariantStatus::kDiverged, "the simulation diverged: " + trace.warning);
+    // the video, rendered from the recorded poses (the metrics give the overlay its numbers)
+    const Metrics& m = run.metrics.value();
+    const Health& health = run.health.value();
 #ifdef BLENDBENCH_HAS_RENDER
-    if (video) video->finish();
+    if (videos_ != nullptr) {
+      record_run(film(), trace, m, run.corners);
+      film().planned = film_polyline(path);
+      if (request_.video) {
+        std::filesystem::create_directories(dir_);
+        out.timings.video = render_variant_video(robot_.sim->model(), film(), videos_->settings, dir_ / "video.mp4");
+      }
+    }
 #endif
     say("simulated " + format_fixed(out.timings.simulated, 2) + " s in " + format_fixed(out.timings.simulation, 2) +
         " s wall (" + format_fixed(out.timings.real_time_factor(), 1) + "x real time)" +
-        (request_.video ? "; video " + format_fixed(video_seconds, 2) + " s (" +
+        (request_.video ? "; video " + format_fixed(out.timings.video, 2) + " s (" +
                               format_fixed(out.timings.real_time_factor_with_video(), 1) + "x real time with it)"
                         : std::string()));
 
     // status and files (a sweep keeps only summary.json)
-    const Metrics& m = run.metrics.value();
-    const Health& health = run.health.value();
     out.status = status_of(m, health);
     out.message = status_message(m, health);
     out.metrics = m;
@@ -328,18 +328,37 @@ class VariantRun {
     if (request_.progress) request_.progress("  " + variant_.name + ": " + line);
   }
 
-  VariantSummary failed(VariantSummary out, VariantStatus status, const std::string& message) const {
+  VariantSummary failed(VariantSummary out, VariantStatus status, const std::string& message) {
     out.status = status;
     out.message = message;
     say(message);
+#ifdef BLENDBENCH_HAS_RENDER
+    // nothing to show but why
+    if (videos_ != nullptr) {
+      film().qpos.clear();
+      film().failure = std::string(to_string(status)) + ": " + message;
+    }
+#endif
     return out;
   }
+
+#ifdef BLENDBENCH_HAS_RENDER
+  // This variant's film (the last one of the run's videos).
+  VariantFilm& film() {
+    if (videos_->films.empty() || videos_->films.back().name != variant_.name) {
+      videos_->films.emplace_back();
+      videos_->films.back().name = variant_.name;
+    }
+    return videos_->films.back();
+  }
+#endif
 
   const Scenario& sc_;
   const Robot& robot_;
   const RunRequest& request_;
   const Variant& variant_;
   std::filesystem::path dir_;
+  Videos* videos_;
 };
 
 }  // namespace
@@ -355,6 +374,9 @@ bool video_supported() {
 RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
   if (request.video && !video_supported()) {
     throw InputError("", 0, 0, "--no-video", "this build has no rendering (BLENDBENCH_RENDER=OFF): pass --no-video");
+  }
+  if (request.compare && !video_supported()) {
+    throw InputError("", 0, 0, "--compare", "this build has no rendering (BLENDBENCH_RENDER=OFF)");
   }
   std::vector<const Variant*> selected;
   for (const std::string& name : request.variants) selected.push_back(&find_variant(scenario, name));
@@ -411,6 +433,11 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
   summary.controller = scenario.servo.controller;
   summary.servo = robot.servo;
   summary.simulation = scenario.simulation;
+  Videos videos;
+  Videos* with_videos = request.video || request.compare ? &videos : nullptr;
+#ifdef BLENDBENCH_HAS_RENDER
+  if (with_videos != nullptr) videos.settings = film_settings(scenario, first);
+#endif
   std::size_t index = 0;
   for (const Variant* variant : selected) {
     ++index;
@@ -418,10 +445,27 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
       request.progress(std::string("[") + std::to_string(index) + "/" + std::to_string(selected.size()) + "] " +
                        variant->name);
     }
-    summary.variants.push_back(VariantRun(scenario, robot, request, *variant).run());
+    summary.variants.push_back(VariantRun(scenario, robot, request, *variant, with_videos).run());
     result.all_ok = result.all_ok && summary.variants.back().status == VariantStatus::kOk;
   }
   compare_with_exact_stop(summary);
+#ifdef BLENDBENCH_HAS_RENDER
+  // every variant side by side (the corners are the programmed ones: the same in every variant)
+  if (request.compare) {
+    for (const VariantSummary& v : summary.variants) {
+      for (const CornerPlacement& p : v.plan.placements) {
+        const auto same = [&](const CornerPlacement& q) { return q.index == p.index; };
+        if (std::none_of(videos.settings.corners.begin(), videos.settings.corners.end(), same)) videos.settings.corners.push_back(p);
+      }
+    }
+    std::filesystem::create_directories(request.out_dir);
+    const double seconds = render_compare_video(robot.sim->model(), videos.films, videos.settings, request.out_dir / "compare.mp4");
+    if (request.progress) {
+      request.progress("comparison of " + std::to_string(videos.films.size()) + " variants written (" + format_fixed(seconds, 1) +
+                       " s): " + (request.out_dir / "compare.mp4").string());
+    }
+  }
+#endif
   write_file_atomic(request.out_dir / "summary.json", nlohmann::json(summary).dump(2) + "\n");
 
   if (request.plots) {

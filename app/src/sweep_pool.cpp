@@ -20,6 +20,7 @@
 #include "blendbench/io/scenario.hpp"
 #include "blendbench/report/output.hpp"
 #include "blendbench/report/process.hpp"
+#include "progress_bar.hpp"
 
 namespace blendbench::sweep_detail {
 namespace {
@@ -42,17 +43,6 @@ std::string last_line(const fs::path& log) {
     if (line.find_first_not_of(" \t\r") != std::string::npos) last = line;
   }
   return last;
-}
-
-std::string format_duration(double seconds) {
-  const long s = std::lround(std::max(0.0, seconds));
-  char buffer[32];
-  if (s >= 3600) {
-    std::snprintf(buffer, sizeof buffer, "%ldh%02ldm", s / 3600, (s / 60) % 60);
-  } else {
-    std::snprintf(buffer, sizeof buffer, "%ldm%02lds", s / 60, s % 60);
-  }
-  return buffer;
 }
 
 // Runs one point in its folder and records how it ended in status.json.
@@ -96,40 +86,28 @@ PointOutcome run_one(const SweepPlan& plan, const SweepPoint& point, const fs::p
   return outcome;
 }
 
-// The progress bar: drawn in place on a terminal, silent otherwise.
+// The progress bar of the points: drawn in place on a terminal, silent otherwise.
 class Progress {
  public:
-  Progress(std::size_t total, std::size_t resumed)
-      : total_(total), resumed_(resumed), tty_(::isatty(STDERR_FILENO) == 1), start_(Clock::now()) {}
+  Progress(std::size_t total, std::size_t resumed) : total_(total), resumed_(resumed) {}
 
   void draw(std::size_t ran, std::size_t not_ok, std::size_t running) const {
-    if (!tty_) return;
-    constexpr int kWidth = 30;
     const std::size_t done = ran + resumed_;
-    const int filled = total_ == 0 ? kWidth : static_cast<int>(kWidth * done / total_);
-    const double elapsed = std::chrono::duration<double>(Clock::now() - start_).count();
-    const std::size_t left = total_ - done;
-    const std::string eta = ran == 0 ? "--" : format_duration(elapsed / static_cast<double>(ran) * static_cast<double>(left));
-    std::fprintf(stderr, "\r[%s%s] %zu/%zu points, %zu running, %zu not ok, ETA %s   ", std::string(filled, '#').c_str(),
-                 std::string(kWidth - filled, '.').c_str(), done, total_, running, not_ok, eta.c_str());
-    std::fflush(stderr);
+    bar_.draw(done, total_,
+              std::to_string(done) + "/" + std::to_string(total_) + " points, " + std::to_string(running) + " running, " +
+                  std::to_string(not_ok) + " not ok",
+              ran);
   }
 
   // A line above the bar (a failed point).
-  void say(const std::string& line) const {
-    if (tty_) std::fprintf(stderr, "\r%*s\r", 100, "");
-    std::fprintf(stderr, "%s\n", line.c_str());
-  }
+  void say(const std::string& line) const { bar_.say(line); }
 
-  void finish() const {
-    if (tty_) std::fprintf(stderr, "\n");
-  }
+  void finish() const { bar_.finish(); }
 
  private:
   std::size_t total_;
   std::size_t resumed_;
-  bool tty_;
-  Clock::time_point start_;
+  ProgressBar bar_;
 };
 
 }  // namespace

@@ -311,6 +311,7 @@ void read_simulation(const Reader& r, const Field& root, Scenario& sc) {
   }
 }
 
+// `video`: size, rate and camera; each camera mode takes its own keys of the `camera` map.
 void read_video(const Reader& r, const Field& root, Scenario& sc) {
   const Field video = r.child(root, "video");
   if (video.node.defined()) r.check_keys(video);
@@ -319,6 +320,35 @@ void read_video(const Reader& r, const Field& root, Scenario& sc) {
     const Field f = r.value(video, key);
     *target = r.integer(f);
     if (*target % 2 != 0) r.fail(f, "must be an even number of pixels, got " + f.node.scalar());
+  }
+  const Field camera = r.child(video, "camera");
+  if (!camera.node.defined()) return;
+  r.check_keys(camera);
+  VideoCamera& c = sc.video.camera;
+  const std::string mode = r.choice(r.value(camera, "mode"));
+  c.mode = mode == "fixed" ? CameraMode::kFixed : mode == "tcp" ? CameraMode::kTcp : CameraMode::kPart;
+  // a key of another mode is named as such
+  const std::vector<std::string_view> keys = c.mode == CameraMode::kPart    ? std::vector<std::string_view>{"mode", "fill", "azimuth_deg", "elevation_deg"}
+                                             : c.mode == CameraMode::kFixed ? std::vector<std::string_view>{"mode", "position", "look_at", "fovy_deg"}
+                                                                            : std::vector<std::string_view>{"mode", "distance", "azimuth_deg", "elevation_deg", "fovy_deg"};
+  for (std::size_t i = 0; i < camera.node.size(); ++i) {
+    const std::string& key = camera.node.key(i).scalar();
+    if (std::find(keys.begin(), keys.end(), key) != keys.end()) continue;
+    std::string list;
+    for (const std::string_view k : keys) list.append(list.empty() ? "" : ", ").append(k);
+    r.fail(r.child(camera, key), "not used with camera mode " + mode + " (its keys: " + list + ")");
+  }
+  c.fill = r.number(r.value(camera, "fill"));
+  if (const Field f = r.child(camera, "azimuth_deg"); f.node.defined()) c.azimuth_deg = r.number(f);
+  if (const Field f = r.child(camera, "elevation_deg"); f.node.defined()) c.elevation_deg = r.number(f);
+  // defaults of the keys only some modes take: VideoCamera's
+  if (const Field f = r.child(camera, "fovy_deg"); f.node.defined()) c.fovy_deg = r.number(f);
+  if (const Field f = r.child(camera, "distance"); f.node.defined()) c.distance = r.number(f);
+  if (c.mode == CameraMode::kFixed) {
+    c.position = r.vec3(r.require(camera, "position"));
+    const Field look = r.require(camera, "look_at");
+    c.look_at = r.vec3(look);
+    if ((c.look_at - c.position).norm() < 1e-6) r.fail(look, "the camera must look at a point other than its position");
   }
 }
 

@@ -73,6 +73,16 @@ constexpr std::array kKeys = {
     ScenarioKey{.map = "video", .name = "fps", .type = K::kNumber, .unit = {"1/s", 0}, .fallback = "30", .range = {24, 120}, .meaning = "frames per second"},
     ScenarioKey{.map = "video", .name = "width", .type = K::kInteger, .unit = kPixels, .fallback = "640", .range = {64, 1920}, .meaning = "frame width, even"},
     ScenarioKey{.map = "video", .name = "height", .type = K::kInteger, .unit = kPixels, .fallback = "480", .range = {64, 1920}, .meaning = "frame height, even"},
+    ScenarioKey{.map = "video", .name = "camera", .type = K::kMap, .opens = "camera", .meaning = "where the camera stands (default: framed on the part)"},
+
+    ScenarioKey{.map = "camera", .name = "mode", .type = K::kChoice, .fallback = "part", .choices = "part|fixed|tcp", .meaning = "part: framed on the programmed path, seen obliquely from its plane, away from the robot base; fixed: at position, looking at look_at; tcp: following the actual TCP from distance (each mode takes only its own keys)"},
+    ScenarioKey{.map = "camera", .name = "fill", .type = K::kNumber, .fallback = "0.6", .range = {0.1, 1}, .meaning = "part: the share of the frame the programmed path's projected bounding box spans (its larger relative side)"},
+    ScenarioKey{.map = "camera", .name = "azimuth_deg", .type = K::kNumber, .unit = kDegrees, .range = {-360, 360}, .meaning = "part, tcp: the camera's direction seen from what it looks at, in the base x-y plane from +x towards +y (default: the part view's)"},
+    ScenarioKey{.map = "camera", .name = "elevation_deg", .type = K::kNumber, .unit = kDegrees, .range = {-89, 89}, .meaning = "part, tcp: the camera's height above the horizontal seen from what it looks at, positive looking down (default: the part view's)"},
+    ScenarioKey{.map = "camera", .name = "position", .type = K::kNumbers, .count = 3, .unit = kLength, .meaning = "fixed, required: the camera's position in the base frame"},
+    ScenarioKey{.map = "camera", .name = "look_at", .type = K::kNumbers, .count = 3, .unit = kLength, .meaning = "fixed, required: the point the camera looks at, in the base frame (not its position)"},
+    ScenarioKey{.map = "camera", .name = "distance", .type = K::kNumber, .unit = kLength, .range = kPositive, .meaning = "tcp: how far the camera stays from the TCP (default: 350 mm)"},
+    ScenarioKey{.map = "camera", .name = "fovy_deg", .type = K::kNumber, .unit = kDegrees, .range = {5, 120}, .meaning = "fixed, tcp: the vertical field of view (default: 45 deg; the part camera chooses its own to meet fill)"},
 
     ScenarioKey{.map = "defaults", .name = "velocity", .type = K::kNumber, .unit = kVelocity, .required = true, .range = kPositive, .meaning = "the programmed path speed"},
     ScenarioKey{.map = "defaults", .name = "acceleration", .type = K::kNumber, .unit = kAcceleration, .required = true, .range = kPositive, .meaning = "the acceleration limit along the path"},

@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cmath>
 #include <cstring>
+#include <numbers>
 #include <stdexcept>
 #include <utility>
 
@@ -13,22 +15,24 @@
 namespace blendbench {
 namespace {
 
-// At most this many capsules per polyline (longer ones are subsampled), so that the scene keeps
-// room for the model's own geoms.
-constexpr int kMaxPolylineSegments = 400;
+// Room in the scene beyond the model's own geoms (a floor).
+constexpr int kMaxDecorations = 16;
 // Headlight floor: without a skybox the background is black, so the arm needs this much light.
 constexpr float kMinHeadlightAmbient = 0.3f;
 constexpr float kMinHeadlightDiffuse = 0.5f;
-// Shadow map size when shadows are on (measured with llvmpipe: 4096 renders slower than 2048).
+// Shadow map size when shadows are on (measured: 4096 is slower than 2048).
 constexpr int kShadowSize = 2048;
-// Polylines are simplified to this tolerance before drawing (m): far below what a frame shows.
-constexpr double kDrawTolerance = 0.2e-3;
-// Segments shorter than this are skipped (a connector needs a direction).
-constexpr double kMinSegmentLength = 1e-9;  // m
-
-constexpr float kPathRgba[4] = {0.15f, 0.45f, 1.0f, 1.0f};
-constexpr float kPlannedRgba[4] = {1.0f, 0.55f, 0.1f, 1.0f};
-constexpr float kTrailRgba[4] = {0.2f, 0.9f, 0.3f, 1.0f};
+// Points closer to the eye than this are not drawn (m): the near plane is ~1 cm.
+constexpr double kNearest = 1e-3;
+// A line's aliased core is this much narrower than its antialiased full width (pixels).
+constexpr double kCoreInset = 2;
+// The TCP marker's disc: segments of its rim, and the rim's share of the radius.
+constexpr int kDiscSegments = 24;
+constexpr double kRimShare = 0.3;
+// Text panels: padding inside a legend box and the length of a colour bar (in text heights).
+constexpr int kPad = 5;  // pixels
+constexpr double kBarLength = 1.8;
+constexpr Rgba kPanelColour{0, 0, 0, 0.55f};
 constexpr float kFloorRgba[4] = {0.35f, 0.37f, 0.4f, 1.0f};
 
 bool has_plane(const mjModel& m) {
@@ -48,70 +52,89 @@ mjvGeom* new_decor(mjvScene& scn) {
   return g;
 }
 
-// Douglas-Peucker simplification: the fewest points of `points` (end points kept) such that
-// every dropped point lies within `tolerance` (m) of the simplified polyline. Software
-// rendering pays per capsule, and a programmed path is mostly straight lines and arcs.
-std::vector<Eigen::Vector3d> simplified(const std::vector<Eigen::Vector3d>& points, double tolerance) {
-  if (points.size() < 3) return points;
-  std::vector<bool> keep(points.size(), false);
-  keep.front() = keep.back() = true;
-  std::vector<std::pair<std::size_t, std::size_t>> spans = {{0, points.size() - 1}};
-  while (!spans.empty()) {
-    const auto [a, b] = spans.back();
-    spans.pop_back();
-    const Eigen::Vector3d d = points[b] - points[a];
-    const double len2 = d.squaredNorm();
-    double worst = 0;
-    std::size_t worst_i = a;
-    for (std::size_t i = a + 1; i < b; ++i) {
-      const Eigen::Vector3d r = points[i] - points[a];
-      const double t = len2 > 0 ? std::clamp(r.dot(d) / len2, 0.0, 1.0) : 0.0;
-      const double dist = (r - t * d).norm();
-      if (dist > worst) {
-        worst = dist;
-        worst_i = i;
+// Lines and discs over a rendered view, in its pixels (GL's window coordinates, origin at the
+// view's bottom left; `project` measures rows from the top).
+void draw_overlay(const mjrRect& view, const CameraPose& camera, std::span<const Polyline> lines, std::span<const Marker> markers) {
+  glViewport(view.left, view.bottom, view.width, view.height);
+  glScissor(view.left, view.bottom, view.width, view.height);
+  glEnable(GL_SCISSOR_TEST);
+  glMatrixMode(GL_PROJECTION);
+  glLoadIdentity();
+  glOrtho(0, view.width, 0, view.height, -1, 1);
+  glMatrixMode(GL_MODELVIEW);
+  glLoadIdentity();
+  for (const GLenum cap : {GL_DEPTH_TEST, GL_LIGHTING, GL_TEXTURE_2D, GL_FOG, GL_CULL_FACE}) glDisable(cap);
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  glHint(GL_LINE_SMOOTH_HINT, GL_NICEST);
+  const auto vertex = [&](const Vec3& p) {
+    const Projection q = project(camera, p, view.width, view.height);
+    if (!(q.depth > kNearest) || !std::isfinite(q.u) || !std::isfinite(q.v)) return false;
+    glVertex2d(q.u, view.height - q.v);
+    return true;
+  };
+  // a strip, broken where a point lies behind the eye
+  const auto strip = [&](const Polyline& line) {
+    glBegin(GL_LINE_STRIP);
+    const auto add = [&](const Vec3& p) {
+      if (!vertex(p)) {
+        glEnd();
+        glBegin(GL_LINE_STRIP);
       }
-    }
-    if (worst > tolerance) {
-      keep[worst_i] = true;
-      spans.emplace_back(a, worst_i);
-      spans.emplace_back(worst_i, b);
+    };
+    for (const Vec3& p : line.points) add(p);
+    if (line.tip) add(*line.tip);
+    glEnd();
+  };
+  for (const Polyline& line : lines) {
+    glColor4f(line.colour.r, line.colour.g, line.colour.b, line.colour.a);
+    // antialiased at full width (llvmpipe's smooth lines blend even their middle a little), then
+    // an aliased core kCoreInset pixels narrower that carries the exact colour
+    glEnable(GL_LINE_SMOOTH);
+    glLineWidth(static_cast<GLfloat>(line.width_px));
+    strip(line);
+    glDisable(GL_LINE_SMOOTH);
+    glLineWidth(static_cast<GLfloat>(std::max(1.0, line.width_px - kCoreInset)));
+    strip(line);
+  }
+  for (const Marker& m : markers) {
+    const Projection c = project(camera, m.position, view.width, view.height);
+    if (!(c.depth > kNearest)) continue;
+    // a dark disc, then the coloured one inside it: a rim that shows on any background
+    for (const auto& [radius, rgba] : {std::pair{m.radius_px, Rgba{0.05f, 0.05f, 0.05f, 1}},
+                                       std::pair{m.radius_px * (1 - kRimShare), m.colour}}) {
+      glColor4f(rgba.r, rgba.g, rgba.b, rgba.a);
+      glBegin(GL_TRIANGLE_FAN);
+      glVertex2d(c.u, view.height - c.v);
+      for (int i = 0; i <= kDiscSegments; ++i) {
+        const double a = 2 * std::numbers::pi * i / kDiscSegments;
+        glVertex2d(c.u + radius * std::cos(a), view.height - c.v + radius * std::sin(a));
+      }
+      glEnd();
     }
   }
-  std::vector<Eigen::Vector3d> out;
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    if (keep[i]) out.push_back(points[i]);
-  }
-  return out;
+  glDisable(GL_BLEND);
+  glDisable(GL_SCISSOR_TEST);
+  glLineWidth(1);
 }
 
-// Capsules along a polyline, subsampled to at most kMaxPolylineSegments (the end points kept).
-void add_polyline(mjvScene& scn, const std::vector<Eigen::Vector3d>& points, const float rgba[4], double radius) {
-  if (points.size() < 2) return;
-  const std::size_t segments = points.size() - 1;
-  const std::size_t stride = (segments + kMaxPolylineSegments - 1) / kMaxPolylineSegments;
-  std::size_t a = 0;
-  while (a < segments) {
-    const std::size_t b = std::min(a + stride, segments);
-    const Eigen::Vector3d& p = points[a];
-    const Eigen::Vector3d& q = points[b];
-    a = b;
-    if ((q - p).norm() < kMinSegmentLength || !p.allFinite() || !q.allFinite()) continue;
-    mjvGeom* g = new_decor(scn);
-    if (g == nullptr) return;
-    std::copy(rgba, rgba + 4, g->rgba);
-    g->emission = 0.3f;
-    mjv_makeConnector(g, mjGEOM_CAPSULE, radius, p.x(), p.y(), p.z(), q.x(), q.y(), q.z());
-    ++scn.ngeom;
+// Removes the arm from the scene: every geom of a body other than the world.
+void remove_arm(const mjModel& m, mjvScene& scn) {
+  int kept = 0;
+  for (int i = 0; i < scn.ngeom; ++i) {
+    const mjvGeom& g = scn.geoms[i];
+    if (g.objtype == mjOBJ_GEOM && g.objid >= 0 && m.geom_bodyid[g.objid] != 0) continue;
+    scn.geoms[kept++] = g;
   }
+  scn.ngeom = kept;
 }
 
 }  // namespace
 
 struct OffscreenRenderer::Impl {
-  RenderOptions options;
+  int width = 0, height = 0;
   mjModel* model = nullptr;  // the renderer's copy
-  mjData* data = nullptr;    // scratch copy of the state being drawn
+  mjData* data = nullptr;    // the state being drawn
   OSMesaContext gl = nullptr;
   std::vector<std::uint8_t> gl_buffer;  // OSMesa's default framebuffer (RGBA)
   mjvScene scene{};
@@ -120,18 +143,17 @@ struct OffscreenRenderer::Impl {
   mjrContext context{};
   bool scene_made = false, context_made = false;
   std::vector<std::uint8_t> raw, rgb;  // bottom-up as read, top-down as returned
-  std::vector<Eigen::Vector3d> trail;
-  std::vector<Eigen::Vector3d> path;     // options.path_polyline, simplified once
-  std::vector<Eigen::Vector3d> planned;  // options.planned_polyline, simplified once
-  int tcp_site = -1;
   bool draw_floor = false;
 
   bool try_make_current() {
-    return OSMesaMakeCurrent(gl, gl_buffer.data(), GL_UNSIGNED_BYTE, options.width, options.height) != 0;
+    return OSMesaMakeCurrent(gl, gl_buffer.data(), GL_UNSIGNED_BYTE, width, height) != 0;
   }
   void make_current() {
     if (!try_make_current()) throw std::runtime_error("OSMesaMakeCurrent failed");
+    mjr_setBuffer(mjFB_OFFSCREEN, &context);
   }
+  // A frame rectangle in GL's window coordinates (origin at the bottom left).
+  [[nodiscard]] mjrRect gl_rect(const PixelRect& r) const { return {r.left, height - r.top - r.height, r.width, r.height}; }
 
   ~Impl() {
     // GL resources go while their context is current
@@ -143,99 +165,98 @@ struct OffscreenRenderer::Impl {
   }
 };
 
-OffscreenRenderer::OffscreenRenderer(const mjModel& m, RenderOptions options) : impl_(std::make_unique<Impl>()) {
-  if (options.width <= 0 || options.height <= 0) throw std::invalid_argument("render size must be positive");
-  if (options.samples < 0) throw std::invalid_argument("render samples must be >= 0");
+OffscreenRenderer::OffscreenRenderer(const mjModel& m, int width, int height, RenderQuality quality, int font_scale)
+    : impl_(std::make_unique<Impl>()) {
+  if (width <= 0 || height <= 0) throw std::invalid_argument("render size must be positive");
+  if (quality.samples < 0) throw std::invalid_argument("render samples must be >= 0");
+  if (font_scale < 50 || font_scale > 300 || font_scale % 50 != 0)
+    throw std::invalid_argument("font scale must be one of 50, 100, ..., 300, got " + std::to_string(font_scale));
   install_mujoco_handlers();
   Impl& r = *impl_;
-  r.options = std::move(options);
-  const RenderOptions& o = r.options;
-  r.path = simplified(o.path_polyline, kDrawTolerance);
-  r.planned = simplified(o.planned_polyline, kDrawTolerance);
+  r.width = width;
+  r.height = height;
 
   // the renderer's model: off-screen buffer of the requested size, quality, minimum headlight
   r.model = mj_copyModel(nullptr, &m);
   r.data = mj_makeData(r.model);
+  mj_kinematics(r.model, r.data);
   mjVisual& vis = r.model->vis;
-  vis.global.offwidth = std::max(vis.global.offwidth, o.width);
-  vis.global.offheight = std::max(vis.global.offheight, o.height);
-  vis.quality.offsamples = o.samples;
+  vis.global.offwidth = std::max(vis.global.offwidth, width);
+  vis.global.offheight = std::max(vis.global.offheight, height);
+  vis.quality.offsamples = quality.samples;
   vis.quality.shadowsize = kShadowSize;
   vis.headlight.active = 1;
   for (int c = 0; c < 3; ++c) {
     vis.headlight.ambient[c] = std::max(vis.headlight.ambient[c], kMinHeadlightAmbient);
     vis.headlight.diffuse[c] = std::max(vis.headlight.diffuse[c], kMinHeadlightDiffuse);
   }
-  r.tcp_site = mj_name2id(r.model, mjOBJ_SITE, "tcp");
   r.draw_floor = !has_plane(*r.model);
 
-  // OSMesa context, current before MuJoCo makes its GL objects (mjr_makeContext needs one)
+  // OSMesa context, current before MuJoCo makes its GL objects
   r.gl = OSMesaCreateContextExt(OSMESA_RGBA, 24, 8, 8, nullptr);
   if (r.gl == nullptr) throw std::runtime_error("OSMesaCreateContextExt failed");
-  r.gl_buffer.assign(static_cast<std::size_t>(o.width) * static_cast<std::size_t>(o.height) * 4, 0);
-  r.make_current();
+  r.gl_buffer.assign(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 4, 0);
+  if (!r.try_make_current()) throw std::runtime_error("OSMesaMakeCurrent failed");
   GLint max_size = 0;
   glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size);
-  if (o.width > max_size || o.height > max_size)
-    throw std::runtime_error("render size " + std::to_string(o.width) + "x" + std::to_string(o.height) +
+  if (width > max_size || height > max_size)
+    throw std::runtime_error("render size " + std::to_string(width) + "x" + std::to_string(height) +
                              " exceeds this GL's largest off-screen buffer (" + std::to_string(max_size) + ")");
 
   // MuJoCo's scene, camera and render context
   mjv_defaultScene(&r.scene);
-  mjv_makeScene(r.model, &r.scene, r.model->ngeom + r.model->nsite + 1000 + 3 * kMaxPolylineSegments + 1);
+  mjv_makeScene(r.model, &r.scene, r.model->ngeom + r.model->nsite + 1000 + kMaxDecorations);
   r.scene_made = true;
-  r.scene.flags[mjRND_SHADOW] = o.shadows ? 1 : 0;
+  r.scene.flags[mjRND_SHADOW] = quality.shadows ? 1 : 0;
   r.scene.flags[mjRND_REFLECTION] = 0;
   mjv_defaultOption(&r.option);
-  mjv_defaultCamera(&r.camera);
-  const int camera_id = o.camera.empty() ? -1 : mj_name2id(r.model, mjOBJ_CAMERA, o.camera.c_str());
-  if (camera_id >= 0) {
-    r.camera.type = mjCAMERA_FIXED;
-    r.camera.fixedcamid = camera_id;
-  } else {
-    mjv_defaultFreeCamera(r.model, &r.camera);
-    r.camera.azimuth = 135;
-    r.camera.elevation = -25;
-  }
+  for (mjtByte& group : r.option.sitegroup) group = 0;  // markers are drawn at a size in pixels
+  mjv_defaultFreeCamera(r.model, &r.camera);
   mjr_defaultContext(&r.context);
   r.context_made = true;  // mjr_freeContext also frees a partly made context
   try {
-    mjr_makeContext(r.model, &r.context, mjFONTSCALE_100);
+    mjr_makeContext(r.model, &r.context, font_scale);
   } catch (const std::runtime_error& e) {
-    throw std::runtime_error("cannot create MuJoCo's render context for " + std::to_string(o.width) + "x" +
-                             std::to_string(o.height) + ": " + e.what());
+    throw std::runtime_error("cannot create MuJoCo's render context for " + std::to_string(width) + "x" +
+                             std::to_string(height) + ": " + e.what());
   }
   mjr_setBuffer(mjFB_OFFSCREEN, &r.context);
   if (r.context.currentBuffer != mjFB_OFFSCREEN) throw std::runtime_error("MuJoCo has no off-screen buffer");
-  if (r.context.offWidth < o.width || r.context.offHeight < o.height)
+  if (r.context.offWidth < width || r.context.offHeight < height)
     throw std::runtime_error("off-screen buffer is " + std::to_string(r.context.offWidth) + "x" +
                              std::to_string(r.context.offHeight) + ", smaller than the requested " +
-                             std::to_string(o.width) + "x" + std::to_string(o.height));
-  const std::size_t bytes = static_cast<std::size_t>(o.width) * static_cast<std::size_t>(o.height) * 3;
+                             std::to_string(width) + "x" + std::to_string(height));
+  const std::size_t bytes = static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3;
   r.raw.resize(bytes);
   r.rgb.resize(bytes);
 }
 
 OffscreenRenderer::~OffscreenRenderer() = default;
 
-int OffscreenRenderer::width() const { return impl_->options.width; }
-int OffscreenRenderer::height() const { return impl_->options.height; }
+int OffscreenRenderer::width() const { return impl_->width; }
+int OffscreenRenderer::height() const { return impl_->height; }
+const mjData& OffscreenRenderer::data() const { return *impl_->data; }
 
-void OffscreenRenderer::clear_trail() { impl_->trail.clear(); }
-
-const std::vector<std::uint8_t>& OffscreenRenderer::render(const mjData& d) {
+void OffscreenRenderer::pose(std::span<const double> qpos) {
   Impl& r = *impl_;
-  const RenderOptions& o = r.options;
-  assert(d.nbuffer == r.data->nbuffer && "mjData of another model");
+  assert(static_cast<int>(qpos.size()) == r.model->nq && "qpos of another model");
+  std::copy(qpos.begin(), qpos.end(), r.data->qpos);
+  mj_kinematics(r.model, r.data);
+  mj_camlight(r.model, r.data);
+}
+
+void OffscreenRenderer::pose(const mjData& d) {
+  pose(std::span<const double>(d.qpos, static_cast<std::size_t>(impl_->model->nq)));
+}
+
+void OffscreenRenderer::draw_scene(const PixelRect& where, const CameraPose& camera, std::span<const Polyline> lines,
+                                   std::span<const Marker> markers, SceneStyle style) {
+  Impl& r = *impl_;
   r.make_current();
-  mjr_setBuffer(mjFB_OFFSCREEN, &r.context);
 
-  // the state on the renderer's own data (mjv_updateScene takes it non-const)
-  mj_copyData(r.data, r.model, &d);
-  if (o.draw_tcp_trail && r.tcp_site >= 0) r.trail.emplace_back(r.data->site_xpos + 3 * r.tcp_site);
-
-  // the model's geoms, then floor, paths and trail as decorations
+  // the model's geoms (perhaps without the arm), then a floor where the model has none
   mjv_updateScene(r.model, r.data, &r.option, nullptr, &r.camera, mjCAT_ALL, &r.scene);
+  if (style.hide_arm) remove_arm(*r.model, r.scene);
   if (r.draw_floor) {
     if (mjvGeom* g = new_decor(r.scene)) {
       const mjtNum size[3] = {2, 2, 0.1};
@@ -245,19 +266,160 @@ const std::vector<std::uint8_t>& OffscreenRenderer::render(const mjData& d) {
       ++r.scene.ngeom;
     }
   }
-  add_polyline(r.scene, r.path, kPathRgba, o.line_radius);
-  add_polyline(r.scene, r.planned, kPlannedRgba, o.line_radius);
-  if (o.draw_tcp_trail) add_polyline(r.scene, simplified(r.trail, kDrawTolerance), kTrailRgba, o.line_radius);
 
-  // draw and read back (the read waits for llvmpipe), then flip to top-down rows
-  const mjrRect viewport{0, 0, o.width, o.height};
-  mjr_render(viewport, &r.scene, &r.context);
-  mjr_readPixels(r.raw.data(), nullptr, viewport, &r.context);
-  const std::size_t row = static_cast<std::size_t>(o.width) * 3;
-  const auto rows = static_cast<std::size_t>(o.height);
-  for (std::size_t y = 0; y < rows; ++y)
-    std::memcpy(r.rgb.data() + y * row, r.raw.data() + (rows - 1 - y) * row, row);
+  // our pinhole replaces MuJoCo's free camera: pose, then a symmetric frustum of the field of view
+  const double tan_half = std::tan(0.5 * camera.fovy_deg * std::numbers::pi / 180);
+  for (mjvGLCamera& c : r.scene.camera) {
+    for (int i = 0; i < 3; ++i) {
+      c.pos[i] = static_cast<float>(camera.eye[i]);
+      c.forward[i] = static_cast<float>(camera.forward[i]);
+      c.up[i] = static_cast<float>(camera.up[i]);
+    }
+    c.frustum_center = 0;
+    c.frustum_top = static_cast<float>(static_cast<double>(c.frustum_near) * tan_half);
+    c.frustum_bottom = -c.frustum_top;
+  }
+  mjr_render(r.gl_rect(where), &r.scene, &r.context);
+  draw_overlay(r.gl_rect(where), camera, lines, markers);
+}
+
+void OffscreenRenderer::fill(const PixelRect& where, const Rgba& colour) {
+  impl_->make_current();
+  mjr_rectangle(impl_->gl_rect(where), colour.r, colour.g, colour.b, colour.a);
+}
+
+void OffscreenRenderer::draw_panel(const PixelRect& where, Corner corner, const std::vector<TextRow>& rows) {
+  Impl& r = *impl_;
+  r.make_current();
+  std::string labels, values;
+  for (const TextRow& row : rows) {
+    labels += (labels.empty() ? "" : "\n") + row.label;
+    values += (values.empty() ? "" : "\n") + row.value;
+  }
+  const int grid = corner == Corner::kTopLeft      ? mjGRID_TOPLEFT
+                   : corner == Corner::kTopRight   ? mjGRID_TOPRIGHT
+                   : corner == Corner::kBottomLeft ? mjGRID_BOTTOMLEFT
+                                                   : mjGRID_BOTTOMRIGHT;
+  mjr_overlay(mjFONT_NORMAL, grid, r.gl_rect(where), labels.c_str(), values.c_str(), &r.context);
+}
+
+PixelRect OffscreenRenderer::draw_legend(const PixelRect& where, Corner corner, const std::vector<LegendEntry>& entries) {
+  const int line = text_height();
+  const int bar = static_cast<int>(kBarLength * line);
+  int text = 0;
+  for (const LegendEntry& e : entries) text = std::max(text, text_width(e.text));
+  const int row = line + kPad;
+  PixelRect box;
+  box.width = kPad + bar + kPad + text + 2 * kPad;
+  box.height = kPad + static_cast<int>(entries.size()) * row;
+  const bool left = corner == Corner::kTopLeft || corner == Corner::kBottomLeft;
+  const bool top = corner == Corner::kTopLeft || corner == Corner::kTopRight;
+  box.left = left ? where.left + kPad : where.left + where.width - kPad - box.width;
+  box.top = top ? where.top + kPad : where.top + where.height - kPad - box.height;
+  fill(box, kPanelColour);
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    const int y = box.top + kPad + static_cast<int>(i) * row;
+    // the bar as thick as the widest line drawn in the scene, centred on the text
+    const int thickness = std::max(3, line / 4);
+    fill({box.left + kPad, y + (line - thickness) / 2, bar, thickness}, entries[i].colour);
+    draw_text(box.left + 2 * kPad + bar, y, entries[i].text, {1, 1, 1, 1});
+  }
+  return box;
+}
+
+void OffscreenRenderer::draw_label(const PixelRect& rect, const std::string& text, const Rgba& background,
+                                   const Rgba& text_colour) {
+  Impl& r = *impl_;
+  r.make_current();
+  mjr_label(r.gl_rect(rect), mjFONT_NORMAL, text.c_str(), background.r, background.g, background.b, background.a,
+            text_colour.r, text_colour.g, text_colour.b, &r.context);
+}
+
+void OffscreenRenderer::draw_text(int x, int y, const std::string& text, const Rgba& colour) {
+  Impl& r = *impl_;
+  r.make_current();
+  // mjr_text places the baseline-left of the text at a position relative to the viewport
+  glViewport(0, 0, r.width, r.height);
+  const int descent = r.context.charHeight / 5;
+  const double gl_y = r.height - y - r.context.charHeight + descent;
+  mjr_text(mjFONT_NORMAL, text.c_str(), &r.context, static_cast<float>(x) / static_cast<float>(r.width),
+           static_cast<float>(gl_y / r.height), colour.r, colour.g, colour.b);
+}
+
+int OffscreenRenderer::text_width(const std::string& text) const {
+  int w = 0;
+  for (const char c : text) {
+    const auto i = static_cast<unsigned char>(c);
+    if (i < 127) w += impl_->context.charWidth[i];
+  }
+  return w;
+}
+
+int OffscreenRenderer::text_height() const { return impl_->context.charHeight; }
+
+const std::vector<std::uint8_t>& OffscreenRenderer::read() {
+  Impl& r = *impl_;
+  r.make_current();
+  // the read waits for llvmpipe to finish drawing; then flip to top-down rows
+  mjr_readPixels(r.raw.data(), nullptr, {0, 0, r.width, r.height}, &r.context);
+  const std::size_t row = static_cast<std::size_t>(r.width) * 3;
+  const auto rows = static_cast<std::size_t>(r.height);
+  for (std::size_t y = 0; y < rows; ++y) std::memcpy(r.rgb.data() + y * row, r.raw.data() + (rows - 1 - y) * row, row);
   return r.rgb;
+}
+
+int font_scale_for(int height) { return height <= 540 ? 100 : height <= 900 ? 150 : 200; }
+
+std::vector<std::size_t> simplify(std::span<const Vec3> points, double tolerance) {
+  if (points.size() < 3) {
+    std::vector<std::size_t> all(points.size());
+    for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
+    return all;
+  }
+  std::vector<bool> keep(points.size(), false);
+  keep.front() = keep.back() = true;
+  // split each span at its farthest point until every dropped point is within the tolerance
+  std::vector<std::pair<std::size_t, std::size_t>> spans = {{0, points.size() - 1}};
+  while (!spans.empty()) {
+    const auto [a, b] = spans.back();
+    spans.pop_back();
+    const Vec3 d = points[b] - points[a];
+    const double len2 = d.squaredNorm();
+    double worst = 0;
+    std::size_t worst_i = a;
+    for (std::size_t i = a + 1; i < b; ++i) {
+      const Vec3 rel = points[i] - points[a];
+      const double t = len2 > 0 ? std::clamp(rel.dot(d) / len2, 0.0, 1.0) : 0.0;
+      const double dist = (rel - t * d).norm();
+      if (dist > worst) {
+        worst = dist;
+        worst_i = i;
+      }
+    }
+    if (worst > tolerance) {
+      keep[worst_i] = true;
+      spans.emplace_back(a, worst_i);
+      spans.emplace_back(worst_i, b);
+    }
+  }
+  std::vector<std::size_t> out;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (keep[i]) out.push_back(i);
+  }
+  return out;
+}
+
+std::optional<CameraPose> model_camera(const mjModel& m, const mjData& d, const std::string& name) {
+  const int cam = mj_name2id(&m, mjOBJ_CAMERA, name.c_str());
+  if (cam < 0) return std::nullopt;
+  // a MuJoCo camera looks along its frame's -z with +y up; cam_xmat is row-major
+  const mjtNum* x = d.cam_xmat + 9 * cam;
+  CameraPose c;
+  c.eye = Vec3(d.cam_xpos[3 * cam], d.cam_xpos[3 * cam + 1], d.cam_xpos[3 * cam + 2]);
+  c.forward = -Vec3(x[2], x[5], x[8]);
+  c.up = Vec3(x[1], x[4], x[7]);
+  c.fovy_deg = m.cam_fovy[cam];
+  return c;
 }
 
 }  // namespace blendbench

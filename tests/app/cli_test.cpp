@@ -9,6 +9,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -399,6 +400,46 @@ TEST_F(Cli, RunWritesSummaryTracesPlotsReportAndAPlayableVideo) {
   for (const char* file : {"compare_speed.png", "compare_path.png", "compare_metrics.png", "report.html"}) {
     EXPECT_TRUE(fs::exists(out / file)) << file;
   }
+}
+
+// Occurrences of `what` in `text`.
+std::size_t occurrences(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+  return n;
+}
+
+// --compare --no-video: compare.mp4 alone, a grid of the two 320x240 variants below the header
+// (640x292), its frames at the scenario's rate; with stderr not a terminal, one summary line and
+// no progress bar (no carriage return).
+TEST_F(Cli, RunCompareWritesOneGridVideoAndOneSummaryLineWhenNotATerminal) {
+  const fs::path out = dir_ / "run";
+  const Result r = run("run " + blendbench::test::source_path("tests/data/tiny.yaml") + " --compare --no-video --no-plots --out " +
+                       out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(out / "compare.mp4"));
+  EXPECT_FALSE(fs::exists(out / "exact" / "video.mp4"));
+  EXPECT_FALSE(fs::exists(out / "arc" / "video.mp4"));
+  const Result probe = run_shell("ffprobe -v error -select_streams v:0 -show_entries stream=width,height,avg_frame_rate,nb_frames -of compact '" +
+                                 (out / "compare.mp4").string() + "'");
+  EXPECT_EQ(probe.exit_code, 0) << probe.output;
+  EXPECT_NE(probe.output.find("width=640|height=292|avg_frame_rate=24/1"), std::string::npos) << probe.output;
+  EXPECT_EQ(occurrences(r.output, "comparison: "), 1u) << r.output;
+  EXPECT_EQ(occurrences(r.output, " frames 640x292 in "), 1u) << r.output;
+  EXPECT_EQ(r.output.find('\r'), std::string::npos) << "a progress bar was drawn into a pipe";
+}
+
+// On a terminal (a pseudo-terminal from script(1)) the render draws its bar in place.
+TEST_F(Cli, RunDrawsAProgressBarOnATerminal) {
+  if (std::system("script --version > /dev/null 2>&1") != 0) GTEST_SKIP() << "script(1) is not installed";
+  const fs::path out = dir_ / "run";
+  const Result r = run_shell("script -qec \"" + std::string(BLENDBENCH_BINARY) + " run " +
+                             blendbench::test::source_path("tests/data/tiny.yaml") + " --variant arc --no-plots --out " +
+                             out.string() + "\" /dev/null");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("\r[#"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("video arc: frame "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("video arc: "), std::string::npos) << r.output;
 }
 
 // --no-plots: no report, and the program says so.

@@ -63,7 +63,7 @@ Yaml base() {
             {"robot", M({})},
             {"servo", M({})},
             {"simulation", M({})},
-            {"video", M({})},
+            {"video", M({{"camera", M({})}})},
             {"axis_limits", M({{"a", S("[1000, 1000, 1000]")}, {"j", S("[10000, 10000, 10000]")}})},
             {"defaults", M({{"velocity", S("100")}, {"acceleration", S("1000")}, {"jerk", S("10000")}})},
             {"program", M({{"moves", L({M({{"arc", M({{"end", S("[20, 0, 0]")}, {"center", S("[10, 0, 0]")}, {"direction", S("ccw")}})},
@@ -128,6 +128,9 @@ std::string signature(const Scenario& sc) {
   out << sim.settle_tolerance << ' ' << sim.settle_speed_tolerance << ' ' << sim.settle_window << ' ' << sim.settle_time
       << ' ' << sim.vibration_window << ' ' << sim.vibration_highpass << ' ' << sim.jerk_lowpass << '|';
   out << sc.video.fps << ' ' << sc.video.width << ' ' << sc.video.height << '|';
+  const VideoCamera& c = sc.video.camera;
+  out << static_cast<int>(c.mode) << ' ' << c.fill << ' ' << c.azimuth_deg.value_or(-1e9) << ' ' << c.elevation_deg.value_or(-1e9)
+      << ' ' << c.position.transpose() << ' ' << c.look_at.transpose() << ' ' << c.distance << ' ' << c.fovy_deg << '|';
   for (const Move& m : sc.program.moves) {
     out << length(m.geometry) << ' ' << point(m.geometry, length(m.geometry) / 3).transpose() << ' ' << m.limits.velocity
         << ' ' << m.limits.acceleration << ' ' << m.limits.deceleration << ' ' << m.limits.jerk << ' '

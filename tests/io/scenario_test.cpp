@@ -267,6 +267,44 @@ TEST(Scenario, RangeChecksCarryTheirPosition) {
                "defaults.acceleration", "must be > 0 m/s^2, got 0");
 }
 
+// video.camera: the part camera by default; each mode reads its own keys (lengths in the file's
+// unit, in the base frame) and refuses another mode's by name.
+TEST(Scenario, VideoCameraModesReadTheirOwnKeys) {
+  const VideoCamera part = parse(kValid).video.camera;
+  EXPECT_EQ(part.mode, CameraMode::kPart);
+  EXPECT_EQ(part.fill, 0.6);
+  EXPECT_FALSE(part.azimuth_deg);
+  const VideoCamera framed =
+      parse(std::string(kValid) + "video: {camera: {fill: 0.8, azimuth_deg: -30, elevation_deg: 50}}\n").video.camera;
+  EXPECT_EQ(framed.fill, 0.8);
+  EXPECT_EQ(framed.azimuth_deg.value_or(0), -30);
+  EXPECT_EQ(framed.elevation_deg.value_or(0), 50);
+  const VideoCamera fixed =
+      parse(std::string(kValid) + "video: {camera: {mode: fixed, position: [1200, -800, 900], look_at: [400, 0, 200], fovy_deg: 30}}\n")
+          .video.camera;
+  EXPECT_EQ(fixed.mode, CameraMode::kFixed);
+  EXPECT_TRUE(fixed.position.isApprox(Vec3(1.2, -0.8, 0.9), 1e-12));
+  EXPECT_TRUE(fixed.look_at.isApprox(Vec3(0.4, 0, 0.2), 1e-12));
+  EXPECT_EQ(fixed.fovy_deg, 30);
+  const VideoCamera tcp = parse(std::string(kValid) + "video: {camera: {mode: tcp, distance: 250}}\n").video.camera;
+  EXPECT_EQ(tcp.mode, CameraMode::kTcp);
+  EXPECT_NEAR(tcp.distance, 0.25, 1e-15);
+  EXPECT_EQ(tcp.fovy_deg, 45);
+
+  expect_error(std::string(kValid) + "video: {camera: {mode: part, distance: 250}}\n", 16, "video.camera.distance",
+               "not used with camera mode part (its keys: mode, fill, azimuth_deg, elevation_deg)");
+  expect_error(std::string(kValid) + "video: {camera: {mode: tcp, look_at: [0, 0, 0]}}\n", 16, "video.camera.look_at",
+               "not used with camera mode tcp");
+  expect_error(std::string(kValid) + "video: {camera: {mode: fixed, look_at: [0, 0, 0]}}\n", 16, "video.camera.position",
+               "missing required field");
+  expect_error(std::string(kValid) + "video: {camera: {mode: fixed, position: [1, 2, 3], look_at: [1, 2, 3]}}\n", 16,
+               "video.camera.look_at", "the camera must look at a point other than its position");
+  expect_error(std::string(kValid) + "video: {camera: {fill: 0.05}}\n", 16, "video.camera.fill", "must be in [0.1, 1]");
+  expect_error(std::string(kValid) + "video: {camera: {mode: orbit}}\n", 16, "video.camera.mode", "unknown value 'orbit'");
+  expect_error(std::string(kValid) + "video: {camera: {elevaton_deg: 10}}\n", 16, "video.camera.elevaton_deg",
+               "did you mean 'elevation_deg'");
+}
+
 // The servo's rates: a rate given alone keeps 500 Hz setpoints when it can, its own otherwise.
 TEST(Scenario, SetpointRateFollowsTheServoRateWhenNotGiven) {
   EXPECT_EQ(parse(kValid).servo.setpoint_rate_hz, 500);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <string>
 
+#include "support/property.hpp"
 #include "support/test_arm.hpp"
 #include "blendbench/sim/simulator.hpp"
 
@@ -14,37 +15,33 @@ namespace {
 constexpr int kWidth = 320;
 constexpr int kHeight = 240;
 // A rendered scene has structure; a blank or uniform frame has (near) zero variance.
-constexpr double kMinVariance = 100;  // (8-bit levels)²
-// Two pixels differ when some channel differs by more than this (antialiasing-free renders are
-// deterministic, so this only absorbs shading noise).
+constexpr double kMinVariance = 100;  // (8-bit levels)^2
+// Two pixels differ when some channel differs by more than this (renders without multisampling
+// are deterministic, so this only absorbs shading noise).
 constexpr int kPixelDifference = 8;
-// How far (pixels) the centroid of changed pixels may lie from where the projection puts them.
-constexpr double kCentroidTolerance = 6;
+// A pixel has a line's colour when every channel is within this of it (the cores of
+// antialiased lines keep the exact colour).
+constexpr int kColourTolerance = 3;
+// How far (pixels) a centroid of drawn pixels may lie from where the projection puts it.
+constexpr double kCentroidTolerance = 3;
 
 struct Pixel {
-  double u, v;  // column, row (top-down), pixels
+  double u = 0, v = 0;  // column, row (top-down), pixels
 };
 
 // The model state at the bent pose, kinematics current.
 struct ArmState {
-  explicit ArmState(const std::string& xml) : sim(Simulator::from_xml_string(xml)), d(mj_makeData(&sim.model())) {
+  explicit ArmState(Simulator s) : sim(std::move(s)), d(mj_makeData(&sim.model())) {
     const JointVector q = test::test_arm_bent_pose();
     for (int i = 0; i < 6; ++i) d->qpos[i] = q[i];
     mj_forward(&sim.model(), d);
   }
+  ArmState() : ArmState(Simulator::from_xml_string(test::kTestArmXml)) {}
   ~ArmState() { mj_deleteData(d); }
   ArmState(const ArmState&) = delete;
   ArmState& operator=(const ArmState&) = delete;
 
-  // Pinhole projection through the model camera `name` (MuJoCo: the camera looks along its -z,
-  // y up, cam_fovy is the vertical field of view in degrees).
-  [[nodiscard]] Pixel project(const std::string& name, const Eigen::Vector3d& p, int width, int height) const {
-    const int cam = mj_name2id(&sim.model(), mjOBJ_CAMERA, name.c_str());
-    const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> r(d->cam_xmat + 9 * cam);
-    const Eigen::Vector3d local = r.transpose() * (p - Eigen::Vector3d(d->cam_xpos + 3 * cam));
-    const double f = 0.5 * height / std::tan(0.5 * sim.model().cam_fovy[cam] * M_PI / 180);
-    return {0.5 * width + f * local.x() / -local.z(), 0.5 * height - f * local.y() / -local.z()};
-  }
+  [[nodiscard]] CameraPose overview() const { return model_camera(sim.model(), *d, "overview").value(); }
 
   Simulator sim;
   mjData* d;
@@ -60,21 +57,26 @@ double variance(const std::vector<std::uint8_t>& rgb) {
   return sum2 / n - (sum / n) * (sum / n);
 }
 
-// Pixels where the two frames differ: their count and centroid.
-struct Difference {
+// Pixels that match a predicate: their count, centroid and bounding box.
+struct Found {
   int count = 0;
-  Pixel centroid{0, 0};
+  Pixel centroid;
+  int u0 = 1 << 30, u1 = -1, v0 = 1 << 30, v1 = -1;
 };
 
-Difference difference(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b, int width) {
-  Difference out;
-  for (std::size_t i = 0; i < a.size(); i += 3) {
-    bool differs = false;
-    for (std::size_t c = 0; c < 3; ++c) differs = differs || std::abs(int{a[i + c]} - int{b[i + c]}) > kPixelDifference;
-    if (!differs) continue;
+template <class Predicate>
+Found find_pixels(const std::vector<std::uint8_t>& rgb, int width, Predicate match) {
+  Found out;
+  for (std::size_t i = 0; i + 2 < rgb.size(); i += 3) {
+    if (!match(i)) continue;
     const auto pixel = static_cast<int>(i / 3);
-    out.centroid.u += pixel % width;
-    out.centroid.v += pixel / width;
+    const int u = pixel % width, v = pixel / width;
+    out.centroid.u += u;
+    out.centroid.v += v;
+    out.u0 = std::min(out.u0, u);
+    out.u1 = std::max(out.u1, u);
+    out.v0 = std::min(out.v0, v);
+    out.v1 = std::max(out.v1, v);
     ++out.count;
   }
   if (out.count > 0) {
@@ -84,140 +86,243 @@ Difference difference(const std::vector<std::uint8_t>& a, const std::vector<std:
   return out;
 }
 
-// The test arm with its links hidden (geom group 3 is not drawn by default) but the floor kept.
-std::string hidden_arm_xml() {
-  std::string xml = test::kTestArmXml;
-  const std::string link_default = "<geom type=\"capsule\" rgba=\"0.75 0.78 0.82 1\"";
-  const std::string floor = "name=\"floor\"";
-  const std::string base = "<geom type=\"cylinder\" size=\"0.075 0.04\"";
-  xml.insert(xml.find(link_default) + link_default.size(), " group=\"3\"");
-  xml.insert(xml.find(floor) + floor.size(), " group=\"0\"");
-  xml.insert(xml.find(base) + base.size(), " group=\"0\"");
-  return xml;
+Found differing(const std::vector<std::uint8_t>& a, const std::vector<std::uint8_t>& b, int width) {
+  return find_pixels(a, width, [&](std::size_t i) {
+    for (std::size_t c = 0; c < 3; ++c)
+      if (std::abs(int{a[i + c]} - int{b[i + c]}) > kPixelDifference) return true;
+    return false;
+  });
 }
 
-RenderOptions small() {
-  RenderOptions options;
-  options.width = kWidth;
-  options.height = kHeight;
-  options.draw_tcp_trail = false;
-  options.line_radius = 0.01;  // 320x240 pixels are ~6 mm wide here
-  return options;
+Found coloured(const std::vector<std::uint8_t>& rgb, int width, const Rgba& colour) {
+  const int want[3] = {static_cast<int>(std::lround(colour.r * 255)), static_cast<int>(std::lround(colour.g * 255)),
+                       static_cast<int>(std::lround(colour.b * 255))};
+  return find_pixels(rgb, width, [&](std::size_t i) {
+    for (std::size_t c = 0; c < 3; ++c)
+      if (std::abs(int{rgb[i + c]} - want[c]) > kColourTolerance) return false;
+    return true;
+  });
+}
+
+// One frame of the posed arm through `camera` with `lines`, read back.
+std::vector<std::uint8_t> frame(OffscreenRenderer& r, const CameraPose& camera, std::span<const Polyline> lines = {},
+                                SceneStyle style = {}) {
+  r.draw_scene({0, 0, r.width(), r.height()}, camera, lines, {}, style);
+  return r.read();
 }
 
 TEST(OffscreenRenderer, FrameOfTheArmIsNotBlankAndShowsTheArmWhereItStands) {
-  const ArmState arm(test::kTestArmXml);
-  const ArmState hidden(hidden_arm_xml());
-  OffscreenRenderer with(arm.sim.model(), small());
-  OffscreenRenderer without(hidden.sim.model(), small());
-  const std::vector<std::uint8_t> frame = with.render(*arm.d);
-  const std::vector<std::uint8_t> background = without.render(*hidden.d);
-  ASSERT_EQ(frame.size(), static_cast<std::size_t>(kWidth * kHeight * 3));
-  EXPECT_GT(variance(frame), kMinVariance);
+  const ArmState arm;
+  OffscreenRenderer r(arm.sim.model(), kWidth, kHeight);
+  r.pose(*arm.d);
+  const std::vector<std::uint8_t> with = frame(r, arm.overview());
+  const std::vector<std::uint8_t> without = frame(r, arm.overview(), {}, {.hide_arm = true});
+  ASSERT_EQ(with.size(), static_cast<std::size_t>(kWidth * kHeight * 3));
+  EXPECT_GT(variance(with), kMinVariance);
 
   // the arm covers a few percent of the frame, around the projection of its middle (the elbow)
-  const Difference arm_pixels = difference(frame, background, kWidth);
+  const Found arm_pixels = differing(with, without, kWidth);
   EXPECT_GT(arm_pixels.count, kWidth * kHeight / 50);
   EXPECT_LT(arm_pixels.count, kWidth * kHeight / 2);
   const int forearm = mj_name2id(&arm.sim.model(), mjOBJ_BODY, "forearm");
-  const Pixel elbow = arm.project("overview", Eigen::Vector3d(arm.d->xpos + 3 * forearm), kWidth, kHeight);
+  const Projection elbow = project(arm.overview(), Vec3(arm.d->xpos + 3 * forearm), kWidth, kHeight);
   EXPECT_LT(std::hypot(arm_pixels.centroid.u - elbow.u, arm_pixels.centroid.v - elbow.v), 0.15 * kWidth)
-      << "centroid " << arm_pixels.centroid.u << "," << arm_pixels.centroid.v << " elbow " << elbow.u << ","
-      << elbow.v;
+      << "centroid " << arm_pixels.centroid.u << "," << arm_pixels.centroid.v << " elbow " << elbow.u << "," << elbow.v;
   EXPECT_EQ(take_mujoco_warnings(), "");
 }
 
-TEST(OffscreenRenderer, PathPolylineIsDrawnWhereItProjects) {
-  // a short straight path in front of the arm, away from it, near the floor
-  const ArmState arm(test::kTestArmXml);
-  RenderOptions options = small();
-  const Eigen::Vector3d a(0.45, -0.35, 0.05), b(0.45, 0.05, 0.05);
-  OffscreenRenderer plain(arm.sim.model(), options);
-  options.path_polyline = {a, 0.5 * (a + b), b};
-  OffscreenRenderer with_path(arm.sim.model(), options);
-  const Difference path_pixels = difference(plain.render(*arm.d), with_path.render(*arm.d), kWidth);
-  const Pixel pa = arm.project("overview", a, kWidth, kHeight);
-  const Pixel pb = arm.project("overview", b, kWidth, kHeight);
+TEST(OffscreenRenderer, PolylineIsDrawnInItsColourWhereItProjectsEvenBehindTheArm) {
+  // a straight line through the arm's elbow: drawn over the arm, in its exact colour
+  const ArmState arm;
+  OffscreenRenderer r(arm.sim.model(), kWidth, kHeight);
+  r.pose(*arm.d);
+  const int forearm = mj_name2id(&arm.sim.model(), mjOBJ_BODY, "forearm");
+  const Vec3 elbow(arm.d->xpos + 3 * forearm);
+  const Vec3 a = elbow - Vec3(0, 0.3, 0), b = elbow + Vec3(0, 0.3, 0);
+  const std::vector<Vec3> points = {a, 0.5 * (a + b), b};
+  const Polyline line{points, std::nullopt, kProgrammedColour, 4};
+  const Found drawn = coloured(frame(r, arm.overview(), {&line, 1}), kWidth, kProgrammedColour);
+  const Projection pa = project(arm.overview(), a, kWidth, kHeight), pb = project(arm.overview(), b, kWidth, kHeight);
   const double length = std::hypot(pb.u - pa.u, pb.v - pa.v);
-  EXPECT_GT(path_pixels.count, static_cast<int>(2 * length));  // a few pixels wide along its length
-  EXPECT_LT(path_pixels.count, static_cast<int>(10 * length));
-  EXPECT_NEAR(path_pixels.centroid.u, 0.5 * (pa.u + pb.u), kCentroidTolerance);
-  EXPECT_NEAR(path_pixels.centroid.v, 0.5 * (pa.v + pb.v), kCentroidTolerance);
+  EXPECT_GT(drawn.count, static_cast<int>(2 * length));  // a few pixels wide along its whole length
+  EXPECT_LT(drawn.count, static_cast<int>(6 * length));
+  EXPECT_NEAR(drawn.centroid.u, 0.5 * (pa.u + pb.u), kCentroidTolerance);
+  EXPECT_NEAR(drawn.centroid.v, 0.5 * (pa.v + pb.v), kCentroidTolerance);
 }
 
-TEST(OffscreenRenderer, PlannedPathAndTrailAddPixelsAndClearTrailRemovesThem) {
-  const ArmState arm(test::kTestArmXml);
-  RenderOptions options = small();
-  options.draw_tcp_trail = true;
-  OffscreenRenderer renderer(arm.sim.model(), options);
-  const std::vector<std::uint8_t> first = renderer.render(*arm.d);
-
-  // move the arm a little: the second frame carries a trail segment between the two TCPs
-  mjData* d = arm.d;
-  d->qpos[0] += 0.3;
-  mj_forward(&arm.sim.model(), d);
-  const std::vector<std::uint8_t> trail = renderer.render(*d);
-  renderer.clear_trail();
-  const std::vector<std::uint8_t> no_trail = renderer.render(*d);
-  EXPECT_GT(difference(trail, no_trail, kWidth).count, 10);
-  EXPECT_GT(difference(first, no_trail, kWidth).count, 10);
-
-  options.draw_tcp_trail = false;
-  options.planned_polyline = {Eigen::Vector3d(0.4, -0.3, 0.3), Eigen::Vector3d(0.4, 0.3, 0.3)};
-  OffscreenRenderer planned(arm.sim.model(), options);
-  options.planned_polyline.clear();
-  OffscreenRenderer plain(arm.sim.model(), options);
-  EXPECT_GT(difference(planned.render(*d), plain.render(*d), kWidth).count, 50);
+TEST(OffscreenRenderer, CoincidingLinesAllShowAndATipExtendsALine) {
+  // programmed, planned and trail on the same segment, each narrower: three colours show
+  const ArmState arm;
+  OffscreenRenderer r(arm.sim.model(), kWidth, kHeight);
+  r.pose(*arm.d);
+  const std::vector<Vec3> segment = {Vec3(0.45, -0.35, 0.05), Vec3(0.45, 0.05, 0.05)};
+  const std::vector<Vec3> start = {segment[0]};
+  const std::array<Polyline, 3> lines = {Polyline{segment, std::nullopt, kProgrammedColour, 8},
+                                         Polyline{segment, std::nullopt, kPlannedColour, 5},
+                                         Polyline{start, segment[1], kTrailColour, 2}};
+  const std::vector<std::uint8_t> rgb = frame(r, arm.overview(), lines);
+  for (const Rgba& c : {kProgrammedColour, kPlannedColour, kTrailColour}) {
+    EXPECT_GT(coloured(rgb, kWidth, c).count, 50) << c.r << " " << c.g << " " << c.b;
+  }
 }
 
-TEST(OffscreenRenderer, MissingCameraFallsBackToAFreeCameraAndLargerSizesWork) {
-  // 800x600 exceeds the model's 640x480 off-screen buffer: the renderer's copy is enlarged
-  const ArmState arm(test::kTestArmXml);
-  RenderOptions options;
-  options.width = 800;
-  options.height = 600;
-  options.camera = "no_such_camera";
-  OffscreenRenderer renderer(arm.sim.model(), options);
-  const std::vector<std::uint8_t>& frame = renderer.render(*arm.d);
-  EXPECT_EQ(frame.size(), 800u * 600u * 3u);
-  EXPECT_GT(variance(frame), kMinVariance);
+TEST(OffscreenRenderer, AMarkerIsADiscWhereItsPointProjects) {
+  const ArmState arm;
+  OffscreenRenderer r(arm.sim.model(), kWidth, kHeight);
+  r.pose(*arm.d);
+  const Vec3 p(0.5, -0.2, 0.05);
+  const Marker m{p, kTrailColour, 6};
+  r.draw_scene({0, 0, kWidth, kHeight}, arm.overview(), {}, {&m, 1});
+  const Found disc = coloured(r.read(), kWidth, kTrailColour);
+  const Projection q = project(arm.overview(), p, kWidth, kHeight);
+  EXPECT_NEAR(disc.centroid.u, q.u, 1);
+  EXPECT_NEAR(disc.centroid.v, q.v, 1);
+  // the coloured inside of a 6-pixel disc with its rim: radius 4.2, area ~55
+  EXPECT_NEAR(disc.count, 55, 15);
+}
+
+TEST(OffscreenRenderer, PointsBehindTheEyeBreakALineInsteadOfWrappingAround) {
+  const ArmState arm;
+  OffscreenRenderer r(arm.sim.model(), kWidth, kHeight);
+  r.pose(*arm.d);
+  const CameraPose c = arm.overview();
+  // from a point in view to one behind the camera: nothing may be drawn for that segment
+  const std::vector<Vec3> points = {Vec3(0.4, 0, 0.1), c.eye - 0.5 * c.forward};
+  const Polyline line{points, std::nullopt, kPlannedColour, 4};
+  EXPECT_EQ(coloured(frame(r, c, {&line, 1}), kWidth, kPlannedColour).count, 0);
+}
+
+TEST(OffscreenRenderer, ViewsSideBySideAreDrawnIntoTheirRectanglesAndReadOnce) {
+  const ArmState arm;
+  OffscreenRenderer r(arm.sim.model(), 2 * kWidth, kHeight);
+  OffscreenRenderer single(arm.sim.model(), kWidth, kHeight);
+  r.pose(*arm.d);
+  single.pose(*arm.d);
+  r.draw_scene({0, 0, kWidth, kHeight}, arm.overview(), {});
+  r.draw_scene({kWidth, 0, kWidth, kHeight}, arm.overview(), {}, {}, {.hide_arm = true});
+  const std::vector<std::uint8_t> both = r.read();
+  const std::vector<std::uint8_t> alone = frame(single, arm.overview());
+  // the left half is the single view, pixel for pixel; the right half lacks the arm
+  std::vector<std::uint8_t> left(alone.size()), right(alone.size());
+  for (int y = 0; y < kHeight; ++y) {
+    const auto row = static_cast<std::size_t>(kWidth) * 3;
+    std::copy_n(both.begin() + static_cast<std::ptrdiff_t>(y * 2 * row), row, left.begin() + static_cast<std::ptrdiff_t>(y * row));
+    std::copy_n(both.begin() + static_cast<std::ptrdiff_t>(y * 2 * row + row), row, right.begin() + static_cast<std::ptrdiff_t>(y * row));
+  }
+  EXPECT_EQ(differing(left, alone, kWidth).count, 0);
+  EXPECT_GT(differing(right, alone, kWidth).count, kWidth * kHeight / 50);
+}
+
+TEST(OffscreenRenderer, PanelLegendAndLabelDrawReadableTextAndTheLegendColours) {
+  const ArmState arm;
+  OffscreenRenderer r(arm.sim.model(), 640, 480);
+  r.pose(*arm.d);
+  r.draw_scene({0, 0, 640, 480}, arm.overview(), {});
+  r.draw_panel({0, 0, 640, 480}, Corner::kTopLeft, {{"time", "1.23 s"}, {"tracking error", "41.0 um"}});
+  const PixelRect box = r.draw_legend({0, 0, 640, 480}, Corner::kBottomRight,
+                                      {{kProgrammedColour, "programmed path"}, {kPlannedColour, "planned path"}});
+  const std::vector<std::uint8_t> rgb = r.read();
+  // the panel: white text on a dark box in the top left (the box darkens whatever is behind it)
+  const auto in = [&](std::size_t i, int u0, int v0, int u1, int v1) {
+    const auto pixel = static_cast<int>(i / 3);
+    return pixel % 640 >= u0 && pixel % 640 < u1 && pixel / 640 >= v0 && pixel / 640 < v1;
+  };
+  const Found text = find_pixels(rgb, 640, [&](std::size_t i) {
+    return in(i, 0, 0, 200, 60) && rgb[i] > 200 && rgb[i + 1] > 200 && rgb[i + 2] > 200;
+  });
+  EXPECT_GT(text.count, 60);
+  EXPECT_EQ(r.text_height(), 18);
+  // the legend: in the bottom right, its colour bars inside its box
+  EXPECT_GT(box.left, 320);
+  EXPECT_GT(box.top, 240);
+  for (const Rgba& c : {kProgrammedColour, kPlannedColour}) {
+    const Found bar = coloured(rgb, 640, c);
+    EXPECT_GT(bar.count, 20);
+    EXPECT_GE(bar.u0, box.left);
+    EXPECT_LE(bar.u1, box.left + box.width);
+    EXPECT_GE(bar.v0, box.top);
+    EXPECT_LE(bar.v1, box.top + box.height);
+  }
 }
 
 TEST(OffscreenRenderer, ModelWithoutFloorGetsOne) {
   std::string xml = test::kTestArmXml;
   const auto p = xml.find("<geom name=\"floor\"");
   xml.erase(p, xml.find("/>", p) + 2 - p);
-  const ArmState arm(xml);
-  RenderOptions options = small();
-  OffscreenRenderer renderer(arm.sim.model(), options);
+  const ArmState arm(Simulator::from_xml_string(xml));
+  OffscreenRenderer r(arm.sim.model(), kWidth, kHeight);
+  r.pose(*arm.d);
   // the floor fills the bottom row (the camera looks down on it)
-  const std::vector<std::uint8_t>& frame = renderer.render(*arm.d);
+  const std::vector<std::uint8_t> rgb = frame(r, arm.overview());
   const std::size_t bottom = static_cast<std::size_t>((kHeight - 1) * kWidth + kWidth / 2) * 3;
-  EXPECT_GT(frame[bottom] + frame[bottom + 1] + frame[bottom + 2], 60);
+  EXPECT_GT(rgb[bottom] + rgb[bottom + 1] + rgb[bottom + 2], 60);
 }
 
-TEST(OffscreenRenderer, SizeBeyondTheGlLimitIsAClearError) {
-  const ArmState arm(test::kTestArmXml);
-  RenderOptions options;
-  options.width = 40000;
-  options.height = 8;
+TEST(OffscreenRenderer, SizesBeyondTheModelsBufferWorkAndBeyondTheGlLimitAreAClearError) {
+  // 800x600 exceeds the test model's 640x480 off-screen buffer: the renderer's copy is enlarged
+  const ArmState arm;
+  OffscreenRenderer large(arm.sim.model(), 800, 600);
+  large.pose(*arm.d);
+  EXPECT_GT(variance(frame(large, arm.overview())), kMinVariance);
   try {
-    OffscreenRenderer renderer(arm.sim.model(), options);
+    OffscreenRenderer renderer(arm.sim.model(), 40000, 8);
     FAIL() << "expected std::runtime_error";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("40000x8 exceeds"), std::string::npos) << e.what();
   }
   // the failed renderer left nothing behind that breaks the next one
-  options.width = 64;
-  options.height = 48;
-  EXPECT_EQ(OffscreenRenderer(arm.sim.model(), options).render(*arm.d).size(), 64u * 48u * 3u);
+  OffscreenRenderer small(arm.sim.model(), 64, 48);
+  small.pose(*arm.d);
+  EXPECT_EQ(frame(small, arm.overview()).size(), 64u * 48u * 3u);
 }
 
-TEST(OffscreenRenderer, NonPositiveSizeIsRejected) {
-  const ArmState arm(test::kTestArmXml);
-  RenderOptions options;
-  options.width = 0;
-  EXPECT_THROW(OffscreenRenderer(arm.sim.model(), options), std::invalid_argument);
+TEST(OffscreenRenderer, BadSizesAndFontScalesAreRejected) {
+  const ArmState arm;
+  EXPECT_THROW(OffscreenRenderer(arm.sim.model(), 0, 10), std::invalid_argument);
+  EXPECT_THROW(OffscreenRenderer(arm.sim.model(), 10, 10, {.shadows = false, .samples = -1}), std::invalid_argument);
+  EXPECT_THROW(OffscreenRenderer(arm.sim.model(), 10, 10, {}, 120), std::invalid_argument);
+}
+
+TEST(OffscreenRenderer, ModelCameraIsNamedOrAbsent) {
+  const ArmState arm;
+  EXPECT_FALSE(model_camera(arm.sim.model(), *arm.d, "no_such_camera"));
+  const CameraPose c = arm.overview();
+  EXPECT_NEAR(c.forward.norm(), 1, 1e-9);
+  EXPECT_NEAR(c.forward.dot(c.up), 0, 1e-9);
+  EXPECT_NEAR(c.fovy_deg, 45, 1e-9);  // MuJoCo's default
+}
+
+// Douglas-Peucker on random wiggly polylines: ends kept, indices ascending, every dropped point
+// within the tolerance of the kept polyline.
+TEST(Simplify, KeepsEveryDroppedPointWithinTheTolerance) {
+  const int cases = test::property_cases(200);
+  for (int k = 0; k < cases; ++k) {
+    const auto seed = static_cast<std::uint64_t>(k) + 1;
+    auto rng = test::make_rng(seed);
+    std::vector<Vec3> points;
+    Vec3 p = Vec3::Zero();
+    const int n = static_cast<int>(test::uniform(rng, 0, 400));
+    for (int i = 0; i < n; ++i) {
+      p += Vec3(test::uniform(rng, 0, 1e-3), test::uniform(rng, -1e-3, 1e-3), test::uniform(rng, -2e-4, 2e-4));
+      points.push_back(p);
+    }
+    const double tolerance = test::log_uniform(rng, 1e-6, 1e-3);
+    const std::vector<std::size_t> kept = simplify(points, tolerance);
+    if (points.empty()) {
+      EXPECT_TRUE(kept.empty());
+      continue;
+    }
+    ASSERT_EQ(kept.front(), 0u) << test::seed_text(seed);
+    ASSERT_EQ(kept.back(), points.size() - 1) << test::seed_text(seed);
+    for (std::size_t j = 1; j < kept.size(); ++j) {
+      ASSERT_LT(kept[j - 1], kept[j]) << test::seed_text(seed);
+      const Vec3 a = points[kept[j - 1]], d = points[kept[j]] - a;
+      for (std::size_t i = kept[j - 1] + 1; i < kept[j]; ++i) {
+        const double t = std::clamp((points[i] - a).dot(d) / d.squaredNorm(), 0.0, 1.0);
+        EXPECT_LE((points[i] - a - t * d).norm(), tolerance * (1 + 1e-9)) << test::seed_text(seed);
+      }
+    }
+  }
 }
 
 }  // namespace

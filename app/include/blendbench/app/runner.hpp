@@ -1,8 +1,10 @@
 #pragma once
 // The whole pipeline for one scenario: per variant, blend -> time -> IK ->
 // simulate -> metrics, then results on disk (summary.json, per-variant trace.csv, path.csv,
-// program.csv, corners.json, plots, video.mp4, and report.html). Used by `blendbench run` and
-// the end-to-end test.
+// program.csv, corners.json, plots, video.mp4, and report.html; compare.mp4 on request). Used by
+// `blendbench run` and the end-to-end test. Videos are rendered after each variant's simulation
+// from its recorded poses; each render draws a progress bar on stderr when it is a terminal and
+// prints one summary line there.
 
 #include <filesystem>
 #include <functional>
@@ -18,6 +20,7 @@ namespace blendbench {
 struct RunRequest {
   std::filesystem::path out_dir;      // created if missing; files in it are replaced atomically
   bool video = true;                  // render video.mp4 per variant (needs BLENDBENCH_RENDER)
+  bool compare = false;               // render compare.mp4: every variant side by side (needs BLENDBENCH_RENDER)
   bool plots = true;                  // run the matplotlib script after the summary is written
   bool variant_files = true;          // per variant trace.csv, path.csv, program.csv, corners.json (a sweep keeps only summary.json)
   std::vector<std::string> variants;  // names to run; empty = all

@@ -58,10 +58,29 @@ struct SimulationSettings {
   double jerk_lowpass = 50;              // Hz
 };
 
+// `video.camera`: where the videos' camera stands (render/camera.hpp states the framing rule and
+// the angle convention: the camera's azimuth and elevation seen from what it looks at).
+//   part:  framed on the programmed path so that its bounding box spans `fill` of the frame,
+//          at an oblique view from the path's plane unless azimuth / elevation are given;
+//   fixed: at `position`, looking at `look_at` (robot base frame);
+//   tcp:   following the actual TCP from `distance`, at azimuth / elevation (default: the
+//          part camera's).
+enum class CameraMode { kPart, kFixed, kTcp };
+
+struct VideoCamera {
+  CameraMode mode = CameraMode::kPart;
+  double fill = 0.6;                                 // part: 0.1 .. 1
+  std::optional<double> azimuth_deg, elevation_deg;  // part, tcp: deg, -360 .. 360 / -89 .. 89
+  Vec3 position = Vec3::Zero(), look_at = Vec3::Zero();  // fixed: m, base frame, distinct
+  double distance = 0.35;                            // tcp: m, > 0
+  double fovy_deg = 45;                              // fixed, tcp: vertical field of view, 5 .. 120
+};
+
 struct VideoSettings {
-  double fps = 30;
-  int width = 640;
-  int height = 480;
+  double fps = 30;    // 24 .. 120
+  int width = 640;    // even, 64 .. 1920
+  int height = 480;   // even, 64 .. 1920
+  VideoCamera camera;
 };
 
 // One variant: the transition applied to every move that does not set its own, an optional

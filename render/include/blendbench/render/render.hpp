@@ -1,56 +1,130 @@
 #pragma once
-// Headless rendering of a MuJoCo model with OSMesa (software GL, no display or GPU needed), with
-// the programmed path, the planned (blended) path and the trail of the actual TCP drawn into the
-// scene. One renderer per video; frames come out as RGB rows, top row first.
+// Headless rendering of a MuJoCo model with OSMesa (software GL, no display or GPU needed) into
+// one frame of RGB pixels: the model posed from a qpos vector, seen through a CameraPose, with
+// polylines (paths, trails) drawn into the 3D scene and 2D overlays (text panels, a legend,
+// labels) drawn over it with MuJoCo's bitmap fonts. A frame may hold several views (a grid of
+// variants): draw each into its rectangle, then read the frame once.
 
 #include <mujoco/mujoco.h>
 
-#include <Eigen/Core>
 #include <cstdint>
 #include <memory>
+#include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
+#include "blendbench/render/camera.hpp"
+
 namespace blendbench {
 
-struct RenderOptions {
-  int width = 640, height = 480;  // pixels, > 0
-  // A named camera of the model; when it is absent (or empty) a free camera looks at the model's
-  // centre from the front-right and above.
-  std::string camera = "overview";
-  std::vector<Eigen::Vector3d> path_polyline;     // programmed path, world frame, m (blue)
-  std::vector<Eigen::Vector3d> planned_polyline;  // blended path, world frame, m (orange), optional
-  bool draw_tcp_trail = true;                     // trail of the actual TCP (green), one point per frame
-  // m, radius of the capsules drawing the polylines and the trail; without multisampling a line
-  // thinner than a pixel may vanish (at 640x480 a workspace seen from 2 m has ~3 mm pixels)
-  double line_radius = 0.004;
-  // Cost drivers of software rendering (measured with Mesa llvmpipe on 2 vCPUs: ~120 fps at
-  // 640x480 without either, ~25 fps with MuJoCo's defaults of shadows and 4 samples).
-  bool shadows = false;
-  int samples = 0;  // multisamples of the off-screen buffer
+// A colour, components in [0, 1].
+struct Rgba {
+  float r = 0, g = 0, b = 0, a = 1;
 };
 
-// An OSMesa context plus MuJoCo's scene and render context for one model. The renderer keeps its
-// own copy of the model whose off-screen buffer is enlarged to the requested size (so a model's
-// small <visual><global offwidth offheight> is not an error) and whose headlight is raised to a
-// minimum so the arm is clearly lit; when the model has no plane geom a grey floor is drawn at
-// z = 0. Non-copyable; not thread-safe (it makes its context current on the calling thread).
+// The video's colours, from the Okabe-Ito palette (told apart with the common colour-vision
+// deficiencies); lines are drawn unlit, so their pixels carry exactly these colours.
+inline constexpr Rgba kProgrammedColour{0.0f, 0.45f, 0.70f, 1};  // blue: the programmed path
+inline constexpr Rgba kPlannedColour{0.90f, 0.62f, 0.0f, 1};     // orange: the planned (blended) path
+inline constexpr Rgba kTrailColour{0.0f, 0.62f, 0.45f, 1};       // bluish green: the actual TCP so far
+
+// A polyline drawn over the scene as a line of constant width on screen (so a zoomed view shows
+// millimetres as clearly as an overview shows the part), never hidden by the arm: the paths are
+// what the video is about. Drawn in the order given, later lines over earlier ones.
+struct Polyline {
+  std::span<const Vec3> points;  // world frame, m (not owned)
+  std::optional<Vec3> tip;       // an extra last point (a trail's current TCP)
+  Rgba colour;
+  double width_px = 2;
+};
+
+// A disc over the scene, `radius_px` pixels wide, with a dark rim: the TCP. (MuJoCo's own site
+// would be a ball of fixed size, which a zoomed view blows up over what it should show.)
+struct Marker {
+  Vec3 position;  // world frame, m
+  Rgba colour;
+  double radius_px = 4;
+};
+
+// How the model itself is drawn: whole, or without the arm (every geom of a body other than the
+// world), for a close-up of the path where the tool would only be in the way.
+struct SceneStyle {
+  bool hide_arm = false;
+};
+
+// A rectangle of the frame in pixels, measured from its top-left corner.
+struct PixelRect {
+  int left = 0, top = 0, width = 0, height = 0;
+};
+
+enum class Corner { kTopLeft, kTopRight, kBottomLeft, kBottomRight };
+
+// One row of a text panel: a label (drawn grey) and its value (white).
+struct TextRow {
+  std::string label, value;
+};
+
+struct LegendEntry {
+  Rgba colour;
+  std::string text;
+};
+
+// Cost drivers of software rendering (measured: ~120 fps at 640x480 without either, ~25 fps with
+// MuJoCo's defaults of shadows and 4 samples).
+struct RenderQuality {
+  bool shadows = false;
+  int samples = 0;  // multisamples of the off-screen buffer, >= 0
+};
+
+// An OSMesa context plus MuJoCo's scene and render context for one model and one frame size. The
+// renderer keeps its own copy of the model whose off-screen buffer is enlarged to the frame (so a
+// model's small <visual><global offwidth offheight> is not an error) and whose headlight is
+// raised to a minimum so the arm is clearly lit; when the model has no plane geom a grey floor is
+// drawn at z = 0. Non-copyable; not thread-safe (it makes its context current on the calling
+// thread, before every drawing call).
 class OffscreenRenderer {
  public:
-  // Throws std::invalid_argument for a non-positive size, std::runtime_error when OSMesa or
-  // MuJoCo's render context cannot be created (e.g. a size beyond the GL limits).
-  OffscreenRenderer(const mjModel& m, RenderOptions options);
+  // `font_scale` is one of MuJoCo's font scales (50, 100, 150, 200, 250, 300 percent; 100 is a
+  // font 18 pixels high, 150 is 28). Throws std::invalid_argument for a non-positive size, negative samples or an
+  // unknown font scale, std::runtime_error when OSMesa or MuJoCo's render context cannot be
+  // created (e.g. a size beyond the GL limits).
+  OffscreenRenderer(const mjModel& m, int width, int height, RenderQuality quality = {}, int font_scale = 100);
   ~OffscreenRenderer();
   OffscreenRenderer(const OffscreenRenderer&) = delete;
   OffscreenRenderer& operator=(const OffscreenRenderer&) = delete;
 
-  // Renders the state in d (which must belong to the model given to the constructor, with
-  // current kinematics, e.g. from RunOptions::on_frame) and appends its TCP to the trail.
-  // Returns width*height*3 bytes of RGB, rows top-down; valid until the next call.
-  const std::vector<std::uint8_t>& render(const mjData& d);
+  // Poses the renderer's copy of the model: `qpos` (the model's nq values) and forward
+  // kinematics. Asserts the size.
+  void pose(std::span<const double> qpos);
+  // The state of `d` (which must belong to the model given to the constructor): its qpos.
+  void pose(const mjData& d);
+  // The renderer's posed state (positions of bodies, sites and cameras are current).
+  [[nodiscard]] const mjData& data() const;
 
-  // Forgets the TCP trail (e.g. between two runs rendered with one renderer).
-  void clear_trail();
+  // Draws the posed model (without its sites), seen through `camera`, into `where` (cleared
+  // first), then `lines` and `markers` over it. Points behind the camera break a line.
+  void draw_scene(const PixelRect& where, const CameraPose& camera, std::span<const Polyline> lines,
+                  std::span<const Marker> markers = {}, SceneStyle style = {});
+  // Fills `where` with a colour (blended by its alpha).
+  void fill(const PixelRect& where, const Rgba& colour);
+  // A two-column panel of rows (labels grey, values white) on a translucent dark box, in the
+  // given corner of `where`.
+  void draw_panel(const PixelRect& where, Corner corner, const std::vector<TextRow>& rows);
+  // A legend: one row per entry, a short bar of its colour and its text, on a translucent dark
+  // box in the given corner of `where`. Returns the box drawn.
+  PixelRect draw_legend(const PixelRect& where, Corner corner, const std::vector<LegendEntry>& entries);
+  // A filled rectangle with the text centred in it.
+  void draw_label(const PixelRect& rect, const std::string& text, const Rgba& background, const Rgba& text_colour);
+  // Text with its top-left corner at (x, y) pixels.
+  void draw_text(int x, int y, const std::string& text, const Rgba& colour);
+  // Pixel width of `text` and the height of a line of text in this renderer's font.
+  [[nodiscard]] int text_width(const std::string& text) const;
+  [[nodiscard]] int text_height() const;
+
+  // Reads the frame drawn so far: width*height*3 bytes of RGB, rows top-down; valid until the
+  // next call (the buffer is reused: no allocation per frame).
+  const std::vector<std::uint8_t>& read();
 
   [[nodiscard]] int width() const;
   [[nodiscard]] int height() const;
@@ -59,5 +133,17 @@ class OffscreenRenderer {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+// The font scale that keeps text readable in a view `height` pixels tall (100 up to 540, then
+// 150 up to 900, then 200).
+int font_scale_for(int height);
+
+// Douglas-Peucker simplification: the indices (ascending, both ends kept) of the fewest points
+// such that every dropped point lies within `tolerance` (m) of the simplified polyline.
+std::vector<std::size_t> simplify(std::span<const Vec3> points, double tolerance);
+
+// The named camera of the model at the state `d` (its current pose and field of view), or none
+// when the model has no camera of that name.
+std::optional<CameraPose> model_camera(const mjModel& m, const mjData& d, const std::string& name);
 
 }  // namespace blendbench
