@@ -44,6 +44,9 @@ nlohmann::json metrics_json(const Metrics& m) {
       {"tracking_error_max_mm", m.tracking_error_max / kMm},
       {"tracking_error_rms_mm", m.tracking_error_rms / kMm},
       {"orientation_error_max_deg", m.orientation_error_max / kDeg},
+      {"orientation_error_rms_deg", m.orientation_error_rms / kDeg},
+      {"angular_velocity_peak_deg_s", m.angular_velocity_peak / kDeg},
+      {"angular_velocity_commanded_peak_deg_s", m.angular_velocity_commanded_peak / kDeg},
       {"contour_error_programmed_max_mm", m.contour_error_programmed_max / kMm},
       {"contour_error_planned_max_mm", m.contour_error_planned_max / kMm},
       {"jerk_actual_peak_mm_s3", m.jerk_actual_peak / kMm},
@@ -166,6 +169,7 @@ nlohmann::json corners_json(const PlanFigures& p) {
       c["t_end_s"] = p.corner_times[k].t_end;
     }
     add_corner_step(c, p.corners[k], k < p.corner_steps.size() ? p.corner_steps[k] : Timing::CornerStep{});
+    if (p.oriented) add_orientation_change(c, p.corners[k]);
     corners.push_back(std::move(c));
   }
   return corners;

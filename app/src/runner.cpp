@@ -107,6 +107,14 @@ std::string trace_csv(const Trace& trace, const Timing& timing, const Metrics& m
                                       "act_x",
                                       "act_y",
                                       "act_z",
+                                      "cmd_qw",
+                                      "cmd_qx",
+                                      "cmd_qy",
+                                      "cmd_qz",
+                                      "act_qw",
+                                      "act_qx",
+                                      "act_qy",
+                                      "act_qz",
                                       "tracking_error_mm",
                                       "orientation_error_deg",
                                       "contour_error_programmed_mm",
@@ -124,8 +132,17 @@ std::string trace_csv(const Trace& trace, const Timing& timing, const Metrics& m
   out.reserve(trace.samples.size());
   std::vector<double> row(columns.size());
   const TimedSample rest_end = timing.samples.back();
+  // quaternions on one hemisphere from row to row (q and -q are the same rotation), the actual
+  // on the commanded one's, so the columns plot without sign flips
+  Eigen::Quaterniond cmd_q = Eigen::Quaterniond::Identity();
+  const auto same_side = [](Eigen::Quaterniond q, const Eigen::Quaterniond& ref) {
+    if (q.dot(ref) < 0) q.coeffs() *= -1;
+    return q;
+  };
   for (std::size_t k = 0; k < trace.samples.size(); ++k) {
     const TraceSample& s = trace.samples[k];
+    cmd_q = same_side(s.rotation_cmd, k == 0 ? s.rotation_cmd : cmd_q);
+    const Eigen::Quaterniond act_q = same_side(s.rotation, cmd_q);
     // after the planned motion the reference holds the end point at rest
     const bool moving = k < timing.samples.size();
     const TimedSample& p = moving ? timing.samples[k] : rest_end;
@@ -140,6 +157,14 @@ std::string trace_csv(const Trace& trace, const Timing& timing, const Metrics& m
                            s.tcp.x() / kMm,
                            s.tcp.y() / kMm,
                            s.tcp.z() / kMm,
+                           cmd_q.w(),
+                           cmd_q.x(),
+                           cmd_q.y(),
+                           cmd_q.z(),
+                           act_q.w(),
+                           act_q.x(),
+                           act_q.y(),
+                           act_q.z(),
                            m.tracking_error[k] / kMm,
                            m.orientation_error[k] / kDeg,
                            m.contour_error_programmed[k] / kMm,
@@ -240,6 +265,7 @@ class VariantRun {
     plan.planned_cycle_time = timing.cycle_time;
     plan.feed_share = timing.feed_share;
     plan.corners = path.corners;
+    plan.oriented = path.oriented();
     for (const CornerReport& c : path.corners) plan.path_deviation_max = std::max(plan.path_deviation_max, c.deviation);
     plan.placements = corner_placements(path, program);
     plan.pieces = pieces_json(path, timing);

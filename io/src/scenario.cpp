@@ -117,8 +117,38 @@ Arc transformed(const Arc& arc, const Eigen::Isometry3d& frame) {
 // Limits and buffer mode every move starts from.
 struct MoveDefaults {
   Limits limits;
+  AngularLimits angular;
   BufferMode buffer = BufferMode::kBlendingLow;
 };
+
+// The angular limits of a map (defaults or a move) over `base`, in rad/s, rad/s^2, rad/s^3.
+AngularLimits read_angular(const Reader& r, const Field& f, AngularLimits base, bool with_fallback) {
+  for (auto [key, target] : {std::pair{"angular_velocity", &base.velocity}, std::pair{"angular_acceleration", &base.acceleration},
+                             std::pair{"angular_jerk", &base.jerk}}) {
+    const Field v = with_fallback ? r.value(f, key) : r.child(f, key);
+    if (v.node.defined()) *target = r.number(v) * kDeg;
+  }
+  return base;
+}
+
+// `orientation: {rpy_deg: [..]}` or `{quaternion: [w, x, y, z]}` in the program frame, as a
+// unit quaternion in the base frame.
+Quat read_orientation(const Reader& r, const Field& f, const Scenario& sc) {
+  r.check_keys(f);
+  const Field rpy = r.child(f, "rpy_deg");
+  const Field quaternion = r.child(f, "quaternion");
+  // each value checked where it stands first, then that exactly one is given
+  Eigen::Matrix3d program = Eigen::Matrix3d::Identity();
+  if (rpy.node.defined()) program = rpy_deg(radians(r.numbers(rpy)));
+  if (quaternion.node.defined()) {
+    const std::vector<double> q = r.numbers(quaternion);
+    const Quat given(q[0], q[1], q[2], q[3]);
+    if (!(given.norm() > 1e-9)) r.fail(quaternion, "a quaternion must not be zero");
+    program = given.normalized().toRotationMatrix();
+  }
+  if (rpy.node.defined() == quaternion.node.defined()) r.fail(f, "an orientation needs exactly one of 'rpy_deg' or 'quaternion'");
+  return Quat(sc.frame.linear() * program).normalized();
+}
 
 MoveDefaults read_defaults(const Reader& r, const Field& root) {
   const Field defaults = r.require(root, "defaults");
@@ -130,6 +160,7 @@ MoveDefaults read_defaults(const Reader& r, const Field& root) {
   d.limits.deceleration = dec.node.defined() ? r.number(dec) : d.limits.acceleration;
   d.limits.jerk = r.number(r.require(defaults, "jerk"));
   d.buffer = read_buffer(r, r.value(defaults, "buffer"));
+  d.angular = read_angular(r, defaults, {}, true);
   return d;
 }
 
@@ -147,6 +178,7 @@ void read_gcode_program(const Reader& r, const Field& gcode, const Field& start,
   sc.ignored = parsed.ignored;
   sc.program.moves.reserve(parsed.program.moves.size());
   for (Move move : parsed.program.moves) {
+    move.angular = defaults.angular;
     if (Line* line = std::get_if<Line>(&move.geometry)) {
       line->p0 = sc.frame * line->p0;
       line->p1 = sc.frame * line->p1;
@@ -186,6 +218,8 @@ Move read_move(const Reader& r, const Field& m, std::size_t i, const MoveDefault
   for (const auto& [key, target] : limits) {
     if (const Field v = r.child(m, key); v.node.defined()) *target = r.number(v);
   }
+  move.angular = read_angular(r, m, defaults.angular, false);
+  if (const Field o = r.child(m, "orientation"); o.node.defined()) move.orientation = read_orientation(r, o, sc);
   move.buffer = defaults.buffer;
   if (const Field b = r.child(m, "buffer"); b.node.defined()) move.buffer = read_buffer(r, b);
   if (const Field t = r.child(m, "transition"); t.node.defined()) move.transition = read_transition(r, t);
@@ -199,6 +233,8 @@ void read_program(const Reader& r, const Field& root, Scenario& sc) {
   const Field gcode = r.child(program, "gcode");
   const MoveDefaults defaults = read_defaults(r, root);
   const Field start = r.value(program, "start");
+  // the tool starts as the robot holds it (used only when a move sets an orientation)
+  sc.program.start_orientation = Quat(sc.robot.tool_rotation).normalized();
   if (gcode.node.defined()) {
     if (moves.node.defined()) r.fail(moves, "give either 'moves' or 'gcode', not both");
     read_gcode_program(r, gcode, start, defaults, sc);

@@ -88,6 +88,9 @@ constexpr std::array kKeys = {
     ScenarioKey{.map = "defaults", .name = "acceleration", .type = K::kNumber, .unit = kAcceleration, .required = true, .range = kPositive, .meaning = "the acceleration limit along the path"},
     ScenarioKey{.map = "defaults", .name = "deceleration", .type = K::kNumber, .unit = kAcceleration, .range = kPositive, .meaning = "the deceleration limit along the path (default: the acceleration)"},
     ScenarioKey{.map = "defaults", .name = "jerk", .type = K::kNumber, .unit = kJerk, .required = true, .range = kPositive, .meaning = "the jerk limit along the path"},
+    ScenarioKey{.map = "defaults", .name = "angular_velocity", .type = K::kNumber, .unit = kAngularVelocity, .fallback = "180", .range = kPositive, .meaning = "the tool's angular velocity limit where a move turns it (default: the model's wrist joint speed, 180 deg/s as on the UR5e)"},
+    ScenarioKey{.map = "defaults", .name = "angular_acceleration", .type = K::kNumber, .unit = kAngularAcceleration, .fallback = "720", .range = kPositive, .meaning = "the tool's angular acceleration limit (default: 180 deg/s reached in 0.25 s; a chosen value, not a datasheet's)"},
+    ScenarioKey{.map = "defaults", .name = "angular_jerk", .type = K::kNumber, .unit = kAngularJerk, .fallback = "7200", .range = kPositive, .meaning = "the tool's angular jerk limit (default: 720 deg/s^2 reached in 0.1 s; a chosen value)"},
     ScenarioKey{.map = "defaults", .name = "buffer", .type = K::kChoice, .fallback = "BlendingLow", .choices = kBufferModes, .meaning = "how a move hands over to the next (PLCopen buffer modes)"},
 
     ScenarioKey{.map = "program", .name = "start", .type = K::kNumbers, .count = 3, .unit = kLength, .fallback = "[0, 0, 0]", .meaning = "where the first move starts, in the program frame (with gcode: the position before the first line)"},
@@ -101,6 +104,10 @@ constexpr std::array kKeys = {
     ScenarioKey{.map = "move", .name = "deceleration", .type = K::kNumber, .unit = kAcceleration, .range = kPositive, .meaning = "this move's deceleration limit (default: defaults.deceleration)"},
     ScenarioKey{.map = "move", .name = "jerk", .type = K::kNumber, .unit = kJerk, .range = kPositive, .meaning = "this move's jerk limit (default: defaults.jerk)"},
     ScenarioKey{.map = "move", .name = "buffer", .type = K::kChoice, .choices = kBufferModes, .meaning = "this move's buffer mode (default: defaults.buffer, or the variant's)"},
+    ScenarioKey{.map = "move", .name = "orientation", .type = K::kMap, .opens = "orientation", .meaning = "the tool orientation at the end of this move, in the program frame, reached with the end point (default: the orientation it starts with; the first move starts with robot.tool_rpy_deg)"},
+    ScenarioKey{.map = "move", .name = "angular_velocity", .type = K::kNumber, .unit = kAngularVelocity, .range = kPositive, .meaning = "this move's angular velocity limit on the tool (default: defaults.angular_velocity)"},
+    ScenarioKey{.map = "move", .name = "angular_acceleration", .type = K::kNumber, .unit = kAngularAcceleration, .range = kPositive, .meaning = "this move's angular acceleration limit (default: defaults.angular_acceleration)"},
+    ScenarioKey{.map = "move", .name = "angular_jerk", .type = K::kNumber, .unit = kAngularJerk, .range = kPositive, .meaning = "this move's angular jerk limit (default: defaults.angular_jerk)"},
     ScenarioKey{.map = "move", .name = "transition", .type = K::kMap, .opens = "transition", .meaning = "the transition at the corner at the end of this move, whatever the variant sets"},
 
     ScenarioKey{.map = "arc", .name = "end", .type = K::kNumbers, .count = 3, .unit = kLength, .required = true, .meaning = "the end point"},
@@ -110,6 +117,9 @@ constexpr std::array kKeys = {
     ScenarioKey{.map = "arc", .name = "direction", .type = K::kChoice, .choices = "cw|ccw", .meaning = "the turning sense about normal (required with center or radius)"},
     ScenarioKey{.map = "arc", .name = "normal", .type = K::kNumbers, .count = 3, .fallback = "[0, 0, 1]", .meaning = "the axis the arc turns about (not zero; with center or radius)"},
     ScenarioKey{.map = "arc", .name = "turns", .type = K::kInteger, .fallback = "0", .range = {0, kMaxArcTurns}, .meaning = "extra full turns (a helix when the end lies off the start's plane; with center)"},
+
+    ScenarioKey{.map = "orientation", .name = "rpy_deg", .type = K::kNumbers, .count = 3, .unit = kDegrees, .meaning = "roll, pitch, yaw about the fixed x, y, z axes, read as robot.tool_rpy_deg (give this or quaternion)"},
+    ScenarioKey{.map = "orientation", .name = "quaternion", .type = K::kNumbers, .count = 4, .meaning = "[w, x, y, z], normalised on reading; not zero (give this or rpy_deg)"},
 
     ScenarioKey{.map = "transition", .name = "method", .type = K::kChoice, .required = true, .choices = kMethods, .meaning = "none (exact stop), arc, bezier, clothoid or biclothoid"},
     ScenarioKey{.map = "transition", .name = "parameter", .type = K::kNumber, .unit = kLength, .range = kNonNegative, .meaning = "corner distance (arc), TP (bezier), maximum deviation (clothoid, biclothoid); required but for none, or a biclothoid's start_distance"},

@@ -109,16 +109,26 @@ nlohmann::json corner_json(const CornerReport& c, const CornerPlacement& where) 
   return out;
 }
 
+void add_orientation_change(nlohmann::json& corner, const CornerReport& report) {
+  corner["orientation_change_deg"] = report.orientation_change / kDeg;
+}
+
 nlohmann::json corners_json(const Path& path) {
   nlohmann::json out = nlohmann::json::array();
-  for (const CornerReport& c : path.corners) out.push_back(corner_json(c));
+  for (const CornerReport& c : path.corners) {
+    out.push_back(corner_json(c));
+    if (path.oriented()) add_orientation_change(out.back(), c);
+  }
   return out;
 }
 
 nlohmann::json corners_json(const Path& path, const Program& program) {
   const std::vector<CornerPlacement> where = corner_placements(path, program);
   nlohmann::json out = nlohmann::json::array();
-  for (std::size_t k = 0; k < path.corners.size(); ++k) out.push_back(corner_json(path.corners[k], where[k]));
+  for (std::size_t k = 0; k < path.corners.size(); ++k) {
+    out.push_back(corner_json(path.corners[k], where[k]));
+    if (path.oriented()) add_orientation_change(out.back(), path.corners[k]);
+  }
   return out;
 }
 

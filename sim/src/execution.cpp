@@ -43,7 +43,8 @@ Execution execute(const Simulator& sim, const IkSolver& ik, const Program& progr
   poses.reserve(timing.samples.size());
   for (const TimedSample& s : timing.samples) {
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-    pose.linear() = options.tool_rotation;
+    // the path's orientation where the program sets one, else the fixed tool orientation
+    pose.linear() = path.oriented() ? path.orientation(s.s).toRotationMatrix() : options.tool_rotation;
     pose.translation() = path.point(s.s);
     poses.push_back(pose);
   }

@@ -54,12 +54,6 @@ class ChainDistance {
   std::vector<Item> items_;
 };
 
-// Rotation angle between two orientations (rad), accurate near zero.
-double rotation_angle(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) {
-  const Eigen::Quaterniond d = a.conjugate() * b;
-  return 2 * std::atan2(d.vec().norm(), std::abs(d.w()));
-}
-
 // Component c of a list of vectors.
 std::vector<double> component(const std::vector<Vec3>& v, int c) {
   std::vector<double> out(v.size());
@@ -197,6 +191,7 @@ Metrics compute_metrics(const Trace& trace, const Program& program, const Path& 
   std::vector<double> t(n);
   std::vector<Vec3> actual(n), commanded(n), error(n);
   double sum_sq = 0;
+  double orientation_sq = 0;
   JointVector following_sq = JointVector::Zero(), torque_sq = JointVector::Zero();
   std::size_t motion = 0;
   for (std::size_t k = 0; k < n; ++k) {
@@ -221,11 +216,21 @@ Metrics compute_metrics(const Trace& trace, const Program& program, const Path& 
     m.tracking_error_max = std::max(m.tracking_error_max, m.tracking_error[k]);
     sum_sq += m.tracking_error[k] * m.tracking_error[k];
     m.orientation_error_max = std::max(m.orientation_error_max, m.orientation_error[k]);
+    orientation_sq += m.orientation_error[k] * m.orientation_error[k];
+    // the tool's angular velocity by central differences of its orientation
+    if (k > 0 && k + 1 < n) {
+      const TraceSample& a = trace.samples[k - 1];
+      const TraceSample& b = trace.samples[k + 1];
+      m.angular_velocity_peak = std::max(m.angular_velocity_peak, rotation_angle(a.rotation, b.rotation) / (b.t - a.t));
+      m.angular_velocity_commanded_peak =
+          std::max(m.angular_velocity_commanded_peak, rotation_angle(a.rotation_cmd, b.rotation_cmd) / (b.t - a.t));
+    }
     m.following_error_max = m.following_error_max.cwiseMax(s.following_error.cwiseAbs());
     following_sq += s.following_error.cwiseAbs2();
   }
   if (motion > 0) {
     m.tracking_error_rms = std::sqrt(sum_sq / static_cast<double>(motion));
+    m.orientation_error_rms = std::sqrt(orientation_sq / static_cast<double>(motion));
     m.following_error_rms = (following_sq / static_cast<double>(motion)).cwiseSqrt();
   }
   m.torque_rms = (torque_sq / static_cast<double>(n)).cwiseSqrt();

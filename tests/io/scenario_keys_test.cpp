@@ -54,8 +54,8 @@ std::string text_of(const Yaml& root) {
   return out;
 }
 
-// A valid scenario in which every map of the table is present (an arc with a centre, both
-// transitions), so any key can be set in it.
+// A valid scenario in which every map of the table is present (an arc with a centre and an
+// orientation, both transitions), so any key can be set in it.
 Yaml base() {
   return M({{"name", S("all")},
             {"units", S("mm")},
@@ -67,6 +67,7 @@ Yaml base() {
             {"axis_limits", M({{"a", S("[1000, 1000, 1000]")}, {"j", S("[10000, 10000, 10000]")}})},
             {"defaults", M({{"velocity", S("100")}, {"acceleration", S("1000")}, {"jerk", S("10000")}})},
             {"program", M({{"moves", L({M({{"arc", M({{"end", S("[20, 0, 0]")}, {"center", S("[10, 0, 0]")}, {"direction", S("ccw")}})},
+                                           {"orientation", M({{"rpy_deg", S("[180, 0, 0]")}})},
                                            {"transition", M({{"method", S("arc")}, {"parameter", S("1")}})}}),
                                         M({{"line", S("[20, 10, 0]")}})})}})},
             {"variants", L({M({{"name", S("a")}, {"transition", M({{"method", S("none")}})}})})}});

@@ -60,6 +60,35 @@ TEST(Scenario, ConvertsToSiAndPlacesTheProgramInTheFrame) {
   EXPECT_EQ(sc.program.moves[1].where.line, 9);
 }
 
+// Orientation targets in the program frame: rpy as robot.tool_rpy_deg reads it, or a
+// quaternion [w, x, y, z] (normalised); the frame's rotation applies; the first move starts at
+// the robot's tool orientation; angular limits in degrees, defaults from `defaults`.
+TEST(Scenario, OrientationTargetsAndAngularLimits) {
+  std::string text = replaced(kValid, "    - line: [100, 0, 0]\n",
+                              "    - line: [100, 0, 0]\n      orientation: {rpy_deg: [180, 0, 0]}\n      angular_velocity: 90\n");
+  text = replaced(text, "    - line: [0, 100, 0]\n", "    - line: [0, 100, 0]\n      orientation: {quaternion: [0, 0, 0, 2]}\n");
+  text = replaced(text, "buffer: Buffered}", "buffer: Buffered, angular_acceleration: 360}");
+  const Scenario sc = parse(text);
+  const double deg = std::numbers::pi / 180;
+  // frame yaw 90 degrees: R_base = Rz(90) Rx(180)
+  const Quat first(Eigen::AngleAxisd(std::numbers::pi / 2, Vec3::UnitZ()) * Eigen::AngleAxisd(std::numbers::pi, Vec3::UnitX()));
+  ASSERT_TRUE(sc.program.moves[0].orientation.has_value());
+  EXPECT_LE(rotation_angle(*sc.program.moves[0].orientation, first), 1e-12);
+  EXPECT_FALSE(sc.program.moves[1].orientation.has_value());
+  // 180 degrees about program z, in a frame turned 90 degrees about z: 270 degrees about base z
+  EXPECT_LE(rotation_angle(*sc.program.moves[2].orientation, Quat(Eigen::AngleAxisd(-std::numbers::pi / 2, Vec3::UnitZ()))), 1e-12);
+  EXPECT_NEAR(sc.program.moves[0].angular.velocity, 90 * deg, 1e-15);
+  EXPECT_NEAR(sc.program.moves[1].angular.velocity, 180 * deg, 1e-15);
+  EXPECT_NEAR(sc.program.moves[1].angular.acceleration, 360 * deg, 1e-15);
+  EXPECT_NEAR(sc.program.moves[1].angular.jerk, 7200 * deg, 1e-12);
+  EXPECT_LE(rotation_angle(sc.program.start_orientation, Quat(Eigen::AngleAxisd(std::numbers::pi, Vec3::UnitX()))), 1e-12);
+  // bad input names the line and the field
+  expect_error(replaced(text, "{rpy_deg: [180, 0, 0]}", "{rpy_deg: [180, 0, 0], quaternion: [1, 0, 0, 0]}"), 9,
+               "program.moves[0].orientation", "exactly one of 'rpy_deg' or 'quaternion'");
+  expect_error(replaced(text, "[0, 0, 0, 2]", "[0, 0, 0, 0]"), 15, "program.moves[2].orientation.quaternion", "must not be zero");
+  expect_error(replaced(text, "angular_velocity: 90", "angular_velocity: -1"), 10, "program.moves[0].angular_velocity", "");
+}
+
 TEST(Scenario, VariantTransitionAppliesOnlyWhereTheMoveSetsNone) {
   const Scenario sc = parse(kValid);
   const Program p = program_for(sc, find_variant(sc, "arc5"));
@@ -371,6 +400,43 @@ TEST(Scenario, EveryShippedScenarioLoadsAndBlends) {
     }
   }
   EXPECT_GT(count, 10);
+}
+
+// The two orientation scenarios do what their headers say, for every variant: on the seam's
+// arc the torch keeps its angle to the tangent (its axis, projected on the seam's plane, turns
+// with the tangent; its tilt stays 30 degrees), and the pick-and-place gripper has turned by 150
+// degrees where the traverse ends and back where the return ends.
+TEST(Scenario, OrientationScenariosHoldTheTorchAngleAndTurnTheGripper) {
+  const Scenario seam = load_scenario(test::source_path("scenarios/torch_seam.yaml"));
+  for (const Variant& v : seam.variants) {
+    const Path path = blend(program_for(seam, v));
+    ASSERT_TRUE(path.oriented()) << v.name;
+    for (std::size_t k = 0; k < path.pieces().size(); ++k) {
+      const PathPiece& piece = path.pieces()[k];
+      if (piece.move != 1) continue;  // the arc
+      for (int i = 0; i <= 20; ++i) {
+        const double s = length(piece.segment) * i / 20;
+        const Vec3 axis = orientation_at(*piece.orientation, s).toRotationMatrix().col(2);
+        const Vec3 t = tangent(piece.segment, s);
+        const Vec3 flat(axis.x(), axis.y(), 0);
+        // the torch's lean lies along the tangent (pitch about the seam's normal) at 30 degrees
+        EXPECT_NEAR(std::abs(flat.normalized().dot(t)), 1.0, 1e-9) << v.name << " s = " << s;
+        EXPECT_NEAR(std::atan2(flat.norm(), -axis.z()), 30 * std::numbers::pi / 180, 1e-9) << v.name << " s = " << s;
+      }
+    }
+  }
+  const Scenario pick = load_scenario(test::source_path("scenarios/reorient_pick_place.yaml"));
+  const Quat down(Eigen::AngleAxisd(std::numbers::pi, Vec3::UnitX()));
+  const Quat turned = Quat(Eigen::AngleAxisd(150 * std::numbers::pi / 180, Vec3::UnitZ())) * down;
+  for (const Variant& v : pick.variants) {
+    const Path path = blend(program_for(pick, v));
+    // the place descent (move 3) and the final descent (move 6) run at the targets
+    for (const PathPiece& piece : path.pieces()) {
+      if (piece.move != 2 && piece.move != 5) continue;
+      const Quat expected = piece.move == 2 ? turned : down;
+      EXPECT_LE(rotation_angle(orientation_at(*piece.orientation, 0.5 * length(piece.segment)), expected), 1e-9) << v.name;
+    }
+  }
 }
 
 // The execution settings: defaults as documented (elastic arm, cascade at 2 kHz under 500 Hz

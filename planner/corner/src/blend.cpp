@@ -288,7 +288,7 @@ bool mergeable(const Move& a, const Move& b) {
   };
   return std::holds_alternative<Line>(a.geometry) && std::holds_alternative<Line>(b.geometry) &&
          a.transition.method != Method::kNone && a.transition.merge_tolerance > 0 && same(a.limits, b.limits) &&
-         a.buffer == b.buffer;
+         a.buffer == b.buffer && !a.orientation && !b.orientation;
 }
 
 }  // namespace
@@ -329,7 +329,7 @@ MergedProgram merge_collinear(const Program& program) {
 Path blend(const Program& program) {
   validate(program);
   const MergedProgram merged = merge_collinear(program);
-  if (merged.moves_merged == 0) return blend_moves(program);
+  if (merged.moves_merged == 0) return oriented(program) ? orient_path(blend_moves(program), program) : blend_moves(program);
   const Path blended = blend_moves(merged.program);
   // the pieces and reports with the program's own move and corner indices
   Path path;
@@ -342,7 +342,7 @@ Path blend(const Program& program) {
   for (CornerReport& r : path.corners) r.index = static_cast<int>(merged.last[static_cast<std::size_t>(r.index)]);
   path.moves_merged = merged.moves_merged;
   path.merge_tolerance = merged.tolerance;
-  return path;
+  return oriented(program) ? orient_path(path, program) : path;
 }
 
 }  // namespace blendbench

@@ -40,4 +40,16 @@ Vec3 Path::curvature_vector(double s) const {
   return blendbench::curvature_vector(pieces_[at.piece].segment, at.s);
 }
 
+Quat Path::orientation(double s) const {
+  if (!oriented()) return Quat::Identity();
+  const Location at = locate(s);
+  return orientation_at(*pieces_[at.piece].orientation, at.s);
+}
+
+Vec3 Path::angular_rate(double s) const {
+  if (!oriented()) return Vec3::Zero();
+  const Location at = locate(s);
+  return angular_rate_at(*pieces_[at.piece].orientation, at.s);
+}
+
 }  // namespace blendbench

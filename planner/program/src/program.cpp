@@ -91,6 +91,10 @@ std::optional<Method> method_from_string(std::string_view name) {
   return std::nullopt;
 }
 
+bool oriented(const Program& program) {
+  return std::any_of(program.moves.begin(), program.moves.end(), [](const Move& m) { return m.orientation.has_value(); });
+}
+
 void validate(const Program& program) {
   if (program.moves.empty()) throw InputError("", 0, 0, "moves", "the program has no moves");
   if (program.moves.size() > kMaxMoves) {
@@ -189,6 +193,17 @@ void validate(const Program& program) {
     if (!std::isfinite(move.transition.merge_tolerance) || move.transition.merge_tolerance < 0) {
       fail_at(move.where, "transition.merge_tolerance",
               who + ": the merge tolerance must be >= 0, got " + format_mm(move.transition.merge_tolerance));
+    }
+    if (move.orientation && (!move.orientation->coeffs().allFinite() || std::abs(move.orientation->norm() - 1) > 1e-9)) {
+      fail_at(move.where, "orientation", who + ": the orientation must be a unit quaternion, got norm " +
+                                             format_value(move.orientation->norm()));
+    }
+    for (const auto& [value, field] : {std::pair{move.angular.velocity, "angular_velocity"},
+                                       std::pair{move.angular.acceleration, "angular_acceleration"},
+                                       std::pair{move.angular.jerk, "angular_jerk"}}) {
+      if (std::isnan(value) || value <= 0) {
+        fail_at(move.where, field, who + ": " + field + " must be positive, got " + format_value(value));
+      }
     }
     if (!std::isfinite(move.transition.velocity) || move.transition.velocity < 0) {
       fail_at(move.where, "transition.velocity", who + ": the transition velocity must be >= 0, got " + format_mm_per_s(move.transition.velocity));

@@ -24,6 +24,23 @@
 // at the end of the zone at the latest. v_J is first lowered to the kink and curvature-jump
 // bounds above, so a zone never lets a piece run faster than the junction allows. The
 // curvature and sharpness terms are never relaxed.
+//
+// Rotation (orientation.hpp). With rho(s) = dtheta/ds the tool's angular rate per unit path
+// length, the angular velocity, acceleration and jerk are, by the chain rule as for the TCP
+// (cartesian.hpp),
+//   omega = rho v,   alpha = rho a_t + rho' v^2,   eta = rho j_t + 3 rho' v a_t + rho'' v^3,
+// so with the piece's bounds |rho| <= R0, |rho'| <= R1, |rho''| <= R2 (rotation_bounds) and the
+// tangential limits |a_t| <= A_t, |j_t| <= J_t of the S-curve, the conditions
+//   (R1)  R0 v <= Omega,
+//   (R2)  R0 A_t + R1 v^2 <= Alpha,
+//   (R3)  R0 J_t + 3 R1 v A_t + R2 v^3 <= Eta
+// at the largest speed on the piece hold the angular limits (Omega, Alpha, Eta: the piece's
+// angular velocity, acceleration and jerk) everywhere on it. On a move piece (a slerp: R1 = R2 =
+// 0) they are exact: A_t <= Alpha / R0, J_t <= Eta / R0, v <= Omega / R0. On a transition the
+// tangential limits get kRotationShare of what the rotation allows and the speed is capped by
+// the rest (rotation_budgets): a sound choice, not a tuned one. A junction where rho jumps (a
+// kink left without transition, or the junction slow-down baseline) is bounded like a kink:
+// the step v |d rho| of the angular velocity within one period within min(Alpha dt, Eta dt^2).
 
 namespace blendbench::timing_detail {
 namespace {
@@ -43,6 +60,13 @@ constexpr double kBezierScanMargin = 4e-9;
 // physics.
 constexpr std::array<double, 6> kCurveSpeedShares = {0.5, 0.6, 0.7, 0.8, 0.9, 0.95};
 constexpr double kConstantSpeedShare = 0.99;
+// The share of each angular budget a transition leaves to the tangential terms ((R2), (R3) above).
+constexpr double kRotationShare = 0.5;
+// A jump of rho below this share of its size is rounding (the orientation model is C2 in s
+// wherever a transition joins two moves).
+constexpr double kRateJumpShare = 1e-9;
+// Bisection steps on (R3): to the last bit of a double.
+constexpr int kRotationBisections = 200;
 
 // Maximum curvature and (spatial) sharpness over [s0, s1] of a piece, with the Bezier scan
 // margin.
@@ -61,6 +85,7 @@ CapTerms cap_terms(const PathPiece& piece, const PieceModel& model, double s0, d
   const auto [kappa, c] = max_terms(piece.segment, s0, s1, mode);
   CapTerms terms;
   terms.feed = feed;
+  terms.rotation = model.rotation_cap;
   if (mode == LimitsMode::kCartesian) {
     const CartesianCap cap = cartesian_speed_limit(kappa, c, model.vector, model.tangential);
     terms.curvature = cap.acceleration;
@@ -107,7 +132,65 @@ Junction make_junction(const Path& path, std::size_t k_prev, std::size_t k_next,
   out.cap = kInf;
   if (kink) out.cap = std::min(j * dt * dt, a * dt) / (2.0 * std::sin(0.5 * out.theta));
   if (out.dk > 0 && !next.curvature_step_allowed) out.cap = std::min(out.cap, std::sqrt(j * dt / out.dk));
+  // a jump of the rotation rate: the angular velocity steps by v |d rho| in one period
+  if (prev.orientation && next.orientation) {
+    const Vec3 r0 = angular_rate_at(*prev.orientation, length(prev.segment));
+    const Vec3 r1 = angular_rate_at(*next.orientation, 0.0);
+    const double jump = (r1 - r0).norm();
+    if (jump > kRateJumpShare * std::max(r0.norm(), r1.norm())) {
+      const double alpha = std::min(prev.orientation->limits.acceleration, next.orientation->limits.acceleration);
+      const double eta = std::min(prev.orientation->limits.jerk, next.orientation->limits.jerk);
+      out.cap = std::min(out.cap, std::min(alpha * dt, eta * dt * dt) / jump);
+    }
+  }
   return out;
+}
+
+// The rotation budget of one piece ((R1)-(R3) above): its tangential limits lowered and its
+// rotation cap.
+void rotation_budget(const PathPiece& piece, PieceModel& m) {
+  const double len = length(piece.segment);
+  if (!piece.orientation || len <= 0) return;
+  const RotationBounds b = rotation_bounds(*piece.orientation, len, 0.0, len);
+  const AngularLimits& lim = piece.orientation->limits;
+  TangentialLimits& t = m.tangential;
+  const bool varying = b.rate_d1 > 0 || b.rate_d2 > 0;
+  double cap = kInf;
+  if (b.rate > 0) {
+    cap = lim.velocity / b.rate;  // (R1)
+    // for the time-optimal bound, which must not be slower than the truth: a transition's rate
+    // without the sampling margin (its sampled maximum is at most the true one)
+    const bool sampled = std::holds_alternative<BlendOrientation>(piece.orientation->law);
+    m.rotation_speed = sampled ? cap * kBoundMargin : cap;
+    // (R2), (R3): the tangential terms' share
+    const double share = varying ? kRotationShare : 1.0;
+    t.acceleration = std::min(t.acceleration, share * lim.acceleration / b.rate);
+    t.deceleration = std::min(t.deceleration, share * lim.acceleration / b.rate);
+    t.jerk = std::min(t.jerk, share * lim.jerk / b.rate);
+  }
+  const double a_t = std::max(t.acceleration, t.deceleration);
+  // (R2): R1 v^2 <= Alpha - R0 A_t
+  if (b.rate_d1 > 0 && std::isfinite(lim.acceleration)) {
+    cap = std::min(cap, std::sqrt(std::max(0.0, lim.acceleration - b.rate * a_t) / b.rate_d1));
+  }
+  // (R3): 3 R1 A_t v + R2 v^3 <= Eta - R0 J_t, increasing in v: bisection below each term's root
+  if (varying && std::isfinite(lim.jerk)) {
+    const double room = std::max(0.0, lim.jerk - b.rate * t.jerk);
+    const auto f = [&](double v) { return 3 * b.rate_d1 * a_t * v + b.rate_d2 * v * v * v; };
+    double hi = kInf;
+    if (b.rate_d1 > 0 && a_t > 0) hi = std::min(hi, room / (3 * b.rate_d1 * a_t));
+    if (b.rate_d2 > 0) hi = std::min(hi, std::cbrt(room / b.rate_d2));
+    if (std::isfinite(hi)) {
+      double lo = 0;
+      for (int i = 0; i < kRotationBisections && hi - lo > 0; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        if (mid <= lo || mid >= hi) break;
+        (f(mid) <= room ? lo : hi) = mid;
+      }
+      cap = std::min(cap, lo);
+    }
+  }
+  m.rotation_cap = cap;
 }
 
 // The design-speed share of a curved piece (length len, maximum curvature kappa and spatial
@@ -151,8 +234,11 @@ std::vector<PieceModel> piece_models(const Path& path, const TimingOptions& opti
   return models;
 }
 
-void share_budgets(const Path& path, const TimingOptions& options, const std::vector<Junction>& joints,
-                   std::vector<PieceModel>& models) {
+namespace {
+
+// kCartesian: the tangential limits of every curved piece (share_budgets).
+void cartesian_shares(const Path& path, const TimingOptions& options, const std::vector<Junction>& joints,
+                      std::vector<PieceModel>& models) {
   if (options.limits != LimitsMode::kCartesian) return;
   const auto& pieces = path.pieces();
   // the junction bounds at both ends of every piece (0 at the ends of the path)
@@ -174,6 +260,16 @@ void share_budgets(const Path& path, const TimingOptions& options, const std::ve
     const double share = constant_speed ? kConstantSpeedShare : share_for_piece(len, kappa, g, m.vector, v_in[k], v_out[k]);
     m.tangential = cartesian_tangential_limits(kappa, g, m.vector, share);
   }
+}
+
+}  // namespace
+
+void share_budgets(const Path& path, const TimingOptions& options, const std::vector<Junction>& joints,
+                   std::vector<PieceModel>& models) {
+  cartesian_shares(path, options, joints, models);
+  // the rotation budgets after the cartesian shares, which they only lower further
+  if (!path.oriented()) return;
+  for (std::size_t k = 0; k < path.pieces().size(); ++k) rotation_budget(path.pieces()[k], models[k]);
 }
 
 std::vector<Junction> junctions(const Path& path, const TimingOptions& options, const std::vector<PieceModel>& models) {
@@ -292,7 +388,7 @@ void merge_intervals(const Path& path, std::vector<Interval>& intervals, std::ve
     const Limits& b = path.pieces()[iv.piece].limits;
     const bool same = a.velocity == b.velocity && a.acceleration == b.acceleration &&
                       a.deceleration == b.deceleration && a.jerk == b.jerk && iv.terms.feed == last.terms.feed &&
-                      iv.terms.curvature == last.terms.curvature && iv.terms.sharpness == last.terms.sharpness &&
+                      iv.terms.curvature == last.terms.curvature && iv.terms.sharpness == last.terms.sharpness && iv.terms.rotation == last.terms.rotation &&
                       iv.limits.acceleration == last.limits.acceleration &&
                       iv.limits.deceleration == last.limits.deceleration && iv.limits.jerk == last.limits.jerk;
     if (same && knot_cap[i] == kInf) {

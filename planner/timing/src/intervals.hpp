@@ -17,9 +17,14 @@ inline const double kInf = std::numeric_limits<double>::infinity();
 // piece's own in kPath; lowered by the axis limits in kCartesian: effective_vector_limits) and
 // the S-curve's tangential limits on it (the piece's own in kPath; cartesian_tangential_limits
 // on a curved piece in kCartesian).
+// On a piece where the tool rotates (rotation_budgets, intervals.cpp) the tangential limits are
+// lowered and the speed capped so that the angular limits hold as well: rotation_cap is that
+// cap (m/s), rotation_speed its part from the angular velocity limit alone (omega / |rho|).
 struct PieceModel {
   Limits vector;
   TangentialLimits tangential;
+  double rotation_cap = kInf;
+  double rotation_speed = kInf;
 };
 
 // The model of every piece with its vector limits and, as tangential limits, the same (the
@@ -31,13 +36,16 @@ std::vector<PieceModel> piece_models(const Path& path, const TimingOptions& opti
 // curvature and sharpness terms: eq. 25 and eq. 26 of 004 with the maximum curvature and
 // sharpness there (kPath), or the acceleration and jerk conditions (C1) and (C2) of
 // cartesian.hpp with the maximum curvature and spatial sharpness there (kCartesian).
+// `rotation`: the piece's rotation cap (PieceModel::rotation_cap), infinity where the tool does
+// not rotate.
 struct CapTerms {
   double feed = kInf;
   double curvature = kInf;
   double sharpness = kInf;
-  [[nodiscard]] double min() const { return std::min({feed, curvature, sharpness}); }
+  double rotation = kInf;
+  [[nodiscard]] double min() const { return std::min({feed, curvature, sharpness, rotation}); }
   [[nodiscard]] Binding binding() const {
-    return feed <= min() ? Binding::kFeed : curvature <= min() ? Binding::kCurvature : Binding::kSharpness;
+    return feed <= min() ? Binding::kFeed : curvature <= min() ? Binding::kCurvature : sharpness <= min() ? Binding::kSharpness : Binding::kRotation;
   }
 };
 
@@ -71,7 +79,8 @@ struct Junction {
 std::vector<Junction> junctions(const Path& path, const TimingOptions& options, const std::vector<PieceModel>& models);
 
 // kCartesian: the tangential limits of every curved piece, chosen knowing the junction bounds at
-// its ends (`joints`, from junctions()).
+// its ends (`joints`, from junctions()); then, in either mode, the rotation budgets of every
+// piece where the tool rotates (intervals.cpp).
 void share_budgets(const Path& path, const TimingOptions& options, const std::vector<Junction>& joints,
                    std::vector<PieceModel>& models);
 

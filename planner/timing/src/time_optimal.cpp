@@ -176,7 +176,9 @@ double time_optimal_bound(const Path& path, const TimingOptions& options, const 
       Cell c;
       c.length = parts[static_cast<std::size_t>(i)].length;
       c.kappa = min_curvature(piece.segment, parts[static_cast<std::size_t>(i)], c_max);
-      c.mvc = std::min(iv.terms.feed * iv.terms.feed, c.kappa > 0 ? a_n / c.kappa : kInf);
+      // the angular velocity limit is a velocity limit too (R1, intervals.cpp)
+      const double v_rot = models[iv.piece].rotation_speed;
+      c.mvc = std::min({iv.terms.feed * iv.terms.feed, c.kappa > 0 ? a_n / c.kappa : kInf, v_rot * v_rot});
       c.acceleration = lim.acceleration;
       c.deceleration = lim.deceleration;
       c.cartesian = cartesian;

@@ -7,6 +7,7 @@
 
 #include "blendbench/corner/blend.hpp"
 #include "blendbench/core/format.hpp"
+#include "blendbench/core/units.hpp"
 #include "blendbench/core/input_error.hpp"
 #include "blendbench/timing/scurve.hpp"
 #include "blendbench/timing/time_optimal.hpp"
@@ -234,6 +235,15 @@ std::vector<double> piece_times(const Path& path, const std::vector<Span>& spans
 // InputError at the move of `piece`, naming the limit its binding constraint makes the one to
 // raise.
 [[noreturn]] void refuse_work(const PathPiece& piece, Binding binding, double cycle_time, const TimingOptions& options) {
+  if (binding == Binding::kRotation && piece.orientation) {
+    const std::string at = piece.move >= 0 ? " on move " + std::to_string(piece.move + 1) : " on corner " + std::to_string(piece.corner + 1);
+    throw InputError(piece.where.file, piece.where.line, piece.where.column, "angular_velocity",
+                     "the plan would take " + format_value(cycle_time, 3) + " s = " +
+                         format_value(cycle_time / options.dt, 3) + " samples; limit " +
+                         format_value(options.max_samples, 3) + " samples; the tool's rotation binds" + at +
+                         ": raise `angular_velocity`, `angular_acceleration` or `angular_jerk` (" +
+                         format_value(piece.orientation->limits.velocity / kDeg, 3) + " deg/s)");
+  }
   const bool feed = binding == Binding::kFeed || binding == Binding::kStop;
   const bool jerk = binding == Binding::kSharpness || binding == Binding::kJerk;
   const char* field = feed ? "velocity" : jerk ? "jerk" : "acceleration";
@@ -350,6 +360,7 @@ std::string_view binding_name(Binding binding) {
     case Binding::kAcceleration: return "acceleration";
     case Binding::kJerk: return "jerk";
     case Binding::kStop: return "stop";
+    case Binding::kRotation: return "rotation";
   }
   return "stop";
 }

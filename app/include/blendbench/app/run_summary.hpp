@@ -42,6 +42,7 @@ struct PlanFigures {
   int moves_merged = 0;                              // collinear lines merged before blending (G64 Q)
   double merge_tolerance = 0;                        // m
   std::vector<Timing::CornerStep> corner_steps;      // one per corner (Timing::corner_steps)
+  bool oriented = false;                             // the program sets tool orientations
 };
 
 // Wall-clock figures of one variant (s) and the real-time factors of the simulation.

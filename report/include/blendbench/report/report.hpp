@@ -37,6 +37,10 @@ nlohmann::json corner_json(const CornerReport& corner, const CornerPlacement& wh
 
 // Every corner of `path` as corner_json, without and with the placement (`program` is the
 // program `path` was blended from).
+// Adds "orientation_change_deg" (the rotation the corner's transition takes, orientation.hpp)
+// to a corner's JSON; the corners_json functions add it on paths that carry orientation, so
+// the reports of programs without one stay as they were.
+void add_orientation_change(nlohmann::json& corner, const CornerReport& report);
 nlohmann::json corners_json(const Path& path);
 nlohmann::json corners_json(const Path& path, const Program& program);
 

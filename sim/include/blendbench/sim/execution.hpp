@@ -19,7 +19,9 @@ namespace blendbench {
 std::vector<CornerTiming> corner_timings(const std::vector<CornerPlacement>& placements, const Timing& timing);
 
 struct ExecutionOptions {
-  Eigen::Matrix3d tool_rotation = Eigen::Matrix3d::Identity();  // fixed TCP orientation, base frame
+  // the TCP orientation (base frame) on paths that carry none (Path::oriented); an oriented
+  // path gives every sample its own (Path::orientation)
+  Eigen::Matrix3d tool_rotation = Eigen::Matrix3d::Identity();
   JointVector q0 = JointVector::Zero();  // the IK branch at the path's start (link angles, rad)
   ServoConfig servo;                     // its setpoint period must be the timing's dt
   RunOptions run;                        // settle time and frames
@@ -37,7 +39,8 @@ struct Execution {
   double ik_seconds = 0, simulation_seconds = 0;
 };
 
-// Maps every sample of `timing` on `path` to the joints (tool_rotation, seeded with q0), runs
+// Maps every sample of `timing` on `path` to the joints (the path's orientation, or
+// tool_rotation where it has none; seeded with q0), runs
 // the reference on `sim` and takes the metrics against `program` (programmed) and `path`
 // (planned), with the corners' times from the plan. Throws InputError as Simulator::run does.
 Execution execute(const Simulator& sim, const IkSolver& ik, const Program& program, const Path& path,

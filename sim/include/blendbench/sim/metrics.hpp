@@ -84,6 +84,10 @@ struct Metrics {
   double tracking_error_max = 0;     // m: |actual TCP - commanded TCP| at the same instant
   double tracking_error_rms = 0;     // m
   double orientation_error_max = 0;  // rad: rotation angle between actual and commanded TCP
+  double orientation_error_rms = 0;  // rad
+  // rad/s: the tool's peak angular velocity, actual and commanded (central differences of the
+  // orientation on the setpoint grid)
+  double angular_velocity_peak = 0, angular_velocity_commanded_peak = 0;
   // over the whole run: actual TCP to the closest point of the programmed path (the designed
   // deviation plus the servo's error) and of the planned (blended) path (the servo's own)
   double contour_error_programmed_max = 0;  // m

@@ -16,11 +16,19 @@ namespace blendbench {
 // (e.g. tolerance 0 at a tangent discontinuity).
 // First merges runs of collinear lines (merge_collinear); the path's move and corner indices
 // are those of `program`.
+// A program that sets orientations (oriented(program)) gets them on every piece (orient_path);
+// merging never joins a move that sets one.
 Path blend(const Program& program);
 
+// `blended` (the blend of `program`) with the tool orientation of every piece and each
+// transition's orientation change in its report, by the model of orientation.hpp: the slerp of
+// every move by its arc length, the quintic blend of the two moves' rotations over each
+// transition's arc length, the corner's target at a corner without a transition.
+Path orient_path(const Path& blended, const Program& program);
+
 // LinuxCNC's G64 Q ("naive CAM detector") on a program: consecutive moves k..m are merged into
-// one line from the start of k to the end of m when they are all lines with the same limits
-// and buffer mode, the corners k..m-1 (each at the end of its move) have a transition other
+// one line from the start of k to the end of m when they are all lines, none setting an
+// orientation, with the same limits and buffer mode, the corners k..m-1 (each at the end of its move) have a transition other
 // than none with merge_tolerance > 0, and every inner vertex lies within the smallest of those
 // tolerances of that line and ahead of the previous one along it; the merged line keeps move
 // k's name, source and limits and move m's transition. Runs are grown greedily, at most

@@ -3,6 +3,7 @@
 // transition curves) plus a report per corner.
 
 #include <algorithm>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,7 @@ struct CornerReport {
   double trim_out = 0;                // m removed from the start of the outgoing move
   bool stop = false;                  // the path velocity must reach zero here
   CurvatureSteps curvature_steps = CurvatureSteps::kLimit;  // the transition's (program.hpp)
+  double orientation_change = 0;      // rad: the tool's rotation from the transition's start to its end (0 without one)
 };
 
 // One piece of the path.
@@ -53,6 +55,9 @@ struct PathPiece {
   // Where the move it comes from was written (a transition: the move its limits come from, the
   // outgoing one unless the incoming one sets its velocity), for errors.
   SourceRef where = {};
+  // The tool orientation along the piece (orientation.hpp); none when the program sets no
+  // orientation (the tool keeps the robot's fixed orientation).
+  std::optional<PieceOrientation> orientation = {};
 };
 
 class Path {
@@ -90,6 +95,12 @@ class Path {
   [[nodiscard]] Vec3 point(double s) const;
   [[nodiscard]] Vec3 tangent(double s) const;
   [[nodiscard]] Vec3 curvature_vector(double s) const;
+  // Whether the pieces carry an orientation (the program sets one); the orientation (unit
+  // quaternion, base frame) and dtheta/ds (rad/m, base frame) at arc length s; identity and
+  // zero on a path without orientation.
+  [[nodiscard]] bool oriented() const { return !pieces_.empty() && pieces_.front().orientation.has_value(); }
+  [[nodiscard]] Quat orientation(double s) const;
+  [[nodiscard]] Vec3 angular_rate(double s) const;
 
   std::vector<CornerReport> corners;
   // Collinear lines merged before blending (Transition::merge_tolerance, G64 Q): how many moves

@@ -9,6 +9,7 @@
 
 #include "blendbench/core/input_error.hpp"
 #include "blendbench/geometry/segment.hpp"
+#include "blendbench/program/orientation.hpp"
 
 namespace blendbench {
 
@@ -80,11 +81,21 @@ struct Move {
   Transition transition;  // applies to the corner at the end of this move
   SourceRef where;        // where the move was written, for error messages
   std::string name;       // e.g. "move 3" or "N120 G1", for reports
+  // The tool orientation at the end of the move (unit quaternion, base frame), reached together
+  // with the end point (orientation.hpp); none: the move keeps the orientation it starts with.
+  std::optional<Quat> orientation;
+  AngularLimits angular;  // on the tool's rotation along this move
 };
 
 struct Program {
   std::vector<Move> moves;
+  // The tool orientation at the start (unit quaternion, base frame); used only when a move sets
+  // an orientation (a program without any keeps the robot's fixed tool orientation).
+  Quat start_orientation = Quat::Identity();
 };
+
+// Whether any move of `program` sets an orientation.
+bool oriented(const Program& program);
 
 // The most moves a program may have: 10^6, ten times the largest program the loaders are
 // benchmarked on; it bounds the work of blending and planning before any is done. Readers refuse
@@ -94,7 +105,8 @@ inline constexpr std::size_t kMaxMoves = 1'000'000;
 // Checks what the blender assumes: at least one move and at most kMaxMoves; finite coordinates; arcs of positive
 // radius and sweep; no zero-length move; consecutive moves joined (end of move k equals start
 // of move k+1 within 1e-9 of the program size); positive finite limits; finite non-negative
-// transition values, a start distance only on a biclothoid and not with a parameter. Throws
+// transition values, a start distance only on a biclothoid and not with a parameter; unit
+// quaternions (to 1e-9) and angular limits > 0 (infinity: none). Throws
 // InputError located at the move (at move k+1 for a gap), naming it and the field; a move's own
 // geometry is reported before its join to the previous move.
 void validate(const Program& program);

@@ -6,7 +6,9 @@
 // conservatism cost.
 //
 // Constraints (the plan's, without every term that comes from the jerk limit):
-//   v <= feed(s) (the piece's velocity, or the junction velocity of a hand-over zone);
+//   v <= feed(s) (the piece's velocity, or the junction velocity of a hand-over zone), and
+//     v <= Omega / |rho| where the tool rotates (the angular velocity limit; the angular
+//     acceleration and jerk limits are left out);
 //   kappa v^2 <= a_n: the acceleration limit (mode path) or the smaller of acceleration and
 //     deceleration (mode cartesian: the vector limit at a_t = 0);
 //   speeding up: a_t <= A (path), a_t <= sqrt(A^2 - (kappa v^2)^2) (cartesian); slowing down

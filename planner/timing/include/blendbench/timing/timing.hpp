@@ -52,8 +52,10 @@ struct TimedSample {
 //       the velocities at its ends;
 //   "acceleration", "jerk": the profile ramps through the piece without reaching v_lim, with
 //       the tangential acceleration limit reached on it, or only the jerk limit;
+//   "rotation": the piece reaches its rotation cap, the speed at which the tool's angular
+//       velocity, acceleration or jerk limit binds (orientation.hpp; intervals.cpp derives it);
 //   "stop": the piece is pinned at rest (zero length at a stop).
-enum class Binding { kFeed, kCurvature, kSharpness, kLength, kAcceleration, kJerk, kStop };
+enum class Binding { kFeed, kCurvature, kSharpness, kLength, kAcceleration, kJerk, kStop, kRotation };
 
 struct PieceTiming {
   std::size_t piece;
@@ -63,7 +65,7 @@ struct PieceTiming {
 
 // The names of the baselines and bindings in scenarios and summaries ("none", "exact_stop",
 // "junction_slowdown"; "feed", "curvature", "sharpness", "length", "acceleration", "jerk",
-// "stop"), and back (nullopt when unknown).
+// "stop", "rotation"), and back (nullopt when unknown).
 std::string_view baseline_name(TimingOptions::Baseline baseline);
 std::optional<TimingOptions::Baseline> baseline_from_string(std::string_view name);
 std::string_view binding_name(Binding binding);
@@ -124,7 +126,9 @@ std::vector<HandoverZone> handover_zones(const Path& path, const TimingOptions& 
 // cbrt(j/sqrt(c(s)^2 + kappa(s)^4))) (004 eq. 25-27, a and j the piece's acceleration and
 // jerk limits; feed(s) the piece's velocity, or the junction velocity in a hand-over zone):
 // 0 <= v <= v_lim(s), |a_t| <= acceleration (speeding up) or deceleration (slowing down),
-// |j_t| <= jerk, kappa v^2 <= acceleration, and v = 0 at every stop_before. With
+// |j_t| <= jerk, kappa v^2 <= acceleration, and v = 0 at every stop_before. Where the pieces
+// carry an orientation, the tool's angular velocity rho v, acceleration and jerk hold the
+// pieces' angular limits too (intervals.cpp: (R1)-(R3)). With
 // options.limits = kCartesian (the default) the TCP's acceleration and jerk vectors hold the
 // limits as well (cartesian.hpp: |a| <= acceleration or deceleration, |j| <= jerk, and every
 // axis limit), also while the speed changes on a curve.
