@@ -336,26 +336,38 @@ nlohmann::json read_json(const std::string& path, const std::string& what) {
   }
 }
 
-int cmd_check(const std::string& run_dir, std::string baseline_file, bool update) {
-  const nlohmann::json summary = read_json((std::filesystem::path(run_dir) / "summary.json").string(), "run summary");
+// `blendbench check`: the run against its scenario's baseline under the one tolerance file.
+int cmd_check(const std::string& run_dir, std::string baseline_file, std::string tolerance_file, bool update) {
+  const std::string summary_file = (std::filesystem::path(run_dir) / "summary.json").string();
+  const nlohmann::json summary = read_json(summary_file, "run summary");
+  const std::string name = summary.value("scenario", "");
   if (baseline_file.empty()) {
     // the scenario name picks the baseline file: never a path that leaves results/baselines/
-    const std::string name = summary.value("scenario", "");
     if (const std::string problem = bb::folder_name_problem(name); !problem.empty()) {
-      throw bb::InputError((std::filesystem::path(run_dir) / "summary.json").string(), 0, 0, "scenario", "scenario " + problem);
+      throw bb::InputError(summary_file, 0, 0, "scenario", "scenario " + problem);
     }
     baseline_file = bb::data_file("results/baselines/" + name + ".json");
   }
+  if (tolerance_file.empty()) tolerance_file = bb::data_file("results/baselines/tolerances.json");
+  const std::vector<bb::MetricTolerance> tolerances =
+      bb::parse_tolerances(read_json(tolerance_file, "tolerance file"), tolerance_file);
   if (update) {
     bb::check_output_files({{"--baseline", baseline_file}});
-    bb::write_file_atomic(baseline_file, bb::make_baseline(summary).dump(2) + "\n");
+    bb::write_file_atomic(baseline_file, bb::make_baseline(summary, tolerances).dump(2) + "\n");
     std::cout << "baseline written: " << baseline_file << std::endl;
     return kExitOk;
   }
-  const bb::CheckReport report = bb::check_run(summary, read_json(baseline_file, "baseline"), baseline_file);
+  if (!std::filesystem::exists(baseline_file)) {
+    throw bb::InputError(baseline_file, 0, 0, "",
+                         "no baseline for scenario '" + name + "'; after checking the run is right, create it deliberately " +
+                             "with `blendbench check " + run_dir + " --update` and commit it");
+  }
+  const bb::CheckReport report = bb::check_run(summary, read_json(baseline_file, "baseline"), tolerances, baseline_file);
+  std::cout << bb::moved_table(report);
   for (const std::string& note : report.notes) std::cout << "note: " << note << std::endl;
   for (const std::string& r : report.regressions) std::cout << "REGRESSION: " << r << std::endl;
-  std::cout << (report.passed() ? "check passed against " : "check FAILED against ") << baseline_file << std::endl;
+  std::cout << (report.passed() ? "check passed against " : "check FAILED against ") << baseline_file << " ("
+            << report.rows.size() << " metrics compared; tolerances: " << tolerance_file << ")" << std::endl;
   return report.passed() ? kExitOk : kExitCheckFailed;
 }
 
@@ -430,10 +442,12 @@ int main(int argc, char** argv) {
 
   std::string run_dir;
   std::string baseline;
+  std::string tolerances;
   bool update = false;
   CLI::App* check = app.add_subcommand("check", "Compare a run's metrics with a committed baseline; exit 1 on regression");
   check->add_option("run_dir", run_dir, "Folder of a run (holds summary.json)")->required();
   check->add_option("--baseline", baseline, "Baseline JSON (default: results/baselines/<scenario>.json)");
+  check->add_option("--tolerances", tolerances, "Tolerance file (default: results/baselines/tolerances.json)");
   check->add_flag("--update", update, "Write the baseline from this run instead of checking");
 
   std::vector<std::string> validate_files;
@@ -479,7 +493,7 @@ int main(int argc, char** argv) {
     if (*run) return cmd_run(scenario_path, out_dir, no_video, no_plots, compare, variants, timing_flags);
     if (*path) return cmd_path(input, flags, csv, report, ds_mm);
     if (*plan) return cmd_plan(input, flags, timing_flags, csv, summary);
-    if (*check) return cmd_check(run_dir, baseline, update);
+    if (*check) return cmd_check(run_dir, baseline, tolerances, update);
     if (*validate) return cmd_validate(validate_files, schema);
     if (*reproduce) return bb::reproduce(paper, papers_out, !no_paper_plots, std::cout);
     if (*sweep) {

@@ -118,6 +118,11 @@ nlohmann::json metrics_json(const Metrics& m) {
       {"residual_vibration_final", vibration_json(m.vibration_final)},
       {"residual_vibration_corner_max_mm", corner_vibration_max(m) / kMm},
       {"residual_vibration_corners", corners},
+      // process figures on the actual TCP between the first and the last move (metrics.hpp)
+      {"path_share_below_90pct_speed", m.process ? nlohmann::json(m.process->share_below_90pct_speed) : nlohmann::json()},
+      {"min_speed_mm_s", m.process ? nlohmann::json(m.process->min_speed / kMm) : nlohmann::json()},
+      {"process_window_mm", m.process ? nlohmann::json::array({m.process->s_start / kMm, m.process->s_end / kMm})
+                                      : nlohmann::json()},
       {"joints",
        {{"following_error_max_mrad", values(m.following_error_max, kMrad)},
         {"following_error_rms_mrad", values(m.following_error_rms, kMrad)},

@@ -1,35 +1,16 @@
 #include "blendbench/report/check.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <utility>
 
+#include "blendbench/core/format.hpp"
 #include "blendbench/core/input_error.hpp"
 #include "blendbench/report/output.hpp"
 
 namespace blendbench {
 namespace {
-
-// Default tolerances: timing is deterministic to the servo period, tracking metrics depend on
-// floating-point details of the physics (few percent across compilers/CPUs), so they get
-// relative plus absolute slack. A metric is named by its path in the variant's summary entry
-// ("metrics.cycle_time_s" is v["metrics"]["cycle_time_s"]).
-struct Tolerance {
-  const char* metric;
-  double relative;
-  double absolute;
-};
-constexpr Tolerance kDefaults[] = {
-    {"metrics.cycle_time_s", 0.01, 0.005},
-    {"plan.planned_cycle_time_s", 0.005, 0.002},
-    {"metrics.tracking_error_max_mm", 0.05, 0.002},
-    {"metrics.tracking_error_rms_mm", 0.05, 0.001},
-    {"metrics.contour_error_programmed_max_mm", 0.05, 0.01},
-    {"metrics.contour_error_planned_max_mm", 0.05, 0.002},
-    {"plan.path_deviation_max_mm", 0.02, 0.001},
-    {"metrics.residual_vibration_final_mm", 0.1, 0.0005},
-    {"metrics.residual_vibration_corner_max_mm", 0.1, 0.0005},
-};
 
 // The value at a dotted path of `v`, or nullptr when absent.
 const nlohmann::json* at_path(const nlohmann::json& v, const std::string& path) {
@@ -45,36 +26,89 @@ const nlohmann::json* at_path(const nlohmann::json& v, const std::string& path) 
   }
 }
 
-std::string line(const std::string& variant, const std::string& metric, double value, double base, double bound) {
-  return variant + ": " + metric + " = " + format_value(value, 6) + " (baseline " + format_value(base, 6) +
-         ", allowed up to " + format_value(bound, 6) + ")";
+std::string line(const std::string& variant, const MetricTolerance& t, double value, double base, double bound) {
+  return variant + ": " + t.metric + " = " + format_value(value, 6) + " (baseline " + format_value(base, 6) +
+         (t.higher_is_better ? ", allowed down to " : ", allowed up to ") + format_value(bound, 6) + ")";
+}
+
+std::string verdict_name(CheckRow::Verdict v) {
+  switch (v) {
+    case CheckRow::Verdict::kUnchanged:
+      return "unchanged";
+    case CheckRow::Verdict::kWithin:
+      return "within tolerance";
+    case CheckRow::Verdict::kImproved:
+      return "improved (update the baseline)";
+    case CheckRow::Verdict::kRegressed:
+      return "REGRESSION";
+  }
+  return "?";
 }
 
 }  // namespace
 
-nlohmann::json make_baseline(const nlohmann::json& summary) {
-  nlohmann::json tolerances = nlohmann::json::object();
-  for (const Tolerance& t : kDefaults) tolerances[t.metric] = {{"relative", t.relative}, {"absolute", t.absolute}};
+std::vector<MetricTolerance> parse_tolerances(const nlohmann::json& content, const std::string& file) {
+  const auto bad = [&](const std::string& field, const std::string& message) {
+    throw InputError(file, 0, 0, field, message);
+  };
+  if (!content.is_object() || !content.contains("metrics") || !content["metrics"].is_object() ||
+      content["metrics"].empty()) {
+    bad("metrics", "a tolerance file needs a non-empty object 'metrics' (metric name -> {relative, absolute, better})");
+  }
+  std::vector<MetricTolerance> out;
+  for (const auto& [name, entry] : content["metrics"].items()) {
+    const std::string field = "metrics." + name;
+    if (!entry.is_object()) bad(field, "must be an object {relative, absolute, better, why}");
+    MetricTolerance t;
+    t.metric = name;
+    for (const char* key : {"relative", "absolute"}) {
+      if (!entry.contains(key) || !entry[key].is_number() || !(entry[key].get<double>() >= 0) ||
+          !std::isfinite(entry[key].get<double>())) {
+        bad(field + "." + key, "needs a finite number >= 0");
+      }
+    }
+    t.relative = entry["relative"].get<double>();
+    t.absolute = entry["absolute"].get<double>();
+    const std::string better = entry.value("better", "lower");
+    if (better != "lower" && better != "higher") bad(field + ".better", "must be 'lower' or 'higher', got '" + better + "'");
+    t.higher_is_better = better == "higher";
+    t.why = entry.value("why", "");
+    for (const auto& [key, value] : entry.items()) {
+      if (key != "relative" && key != "absolute" && key != "better" && key != "why") {
+        bad(field + "." + key, "unknown key (valid: relative, absolute, better, why)");
+      }
+    }
+    out.push_back(std::move(t));
+  }
+  return out;
+}
+
+nlohmann::json make_baseline(const nlohmann::json& summary, const std::vector<MetricTolerance>& tolerances) {
   nlohmann::json variants = nlohmann::json::object();
   for (const auto& v : summary.at("variants")) {
     nlohmann::json entry = {{"status", v.at("status")}};
-    for (const Tolerance& t : kDefaults) {
+    for (const MetricTolerance& t : tolerances) {
       if (const nlohmann::json* value = at_path(v, t.metric); value != nullptr && value->is_number()) entry[t.metric] = *value;
     }
     variants[v.at("name").get<std::string>()] = entry;
   }
-  return {{"scenario", summary.value("scenario", "")}, {"tolerances", tolerances}, {"variants", variants}};
+  return {{"scenario", summary.value("scenario", "")}, {"variants", variants}};
 }
 
-CheckReport check_run(const nlohmann::json& summary, const nlohmann::json& baseline, const std::string& baseline_file) {
+CheckReport check_run(const nlohmann::json& summary, const nlohmann::json& baseline,
+                      const std::vector<MetricTolerance>& tolerances, const std::string& baseline_file) {
   const auto bad = [&](const std::string& field, const std::string& message) {
     throw InputError(baseline_file, 0, 0, field, message);
   };
   if (!baseline.is_object() || !baseline.contains("variants") || !baseline["variants"].is_object()) {
     bad("variants", "a baseline needs an object 'variants'");
   }
-  if (!baseline.contains("tolerances") || !baseline["tolerances"].is_object()) {
-    bad("tolerances", "a baseline needs an object 'tolerances'");
+  const std::string scenario = summary.value("scenario", "");
+  if (!baseline.contains("scenario") || !baseline["scenario"].is_string()) bad("scenario", "a baseline needs its scenario's name");
+  if (const std::string of = baseline["scenario"].get<std::string>(); of != scenario) {
+    bad("scenario", "is the baseline of scenario '" + of + "', but the run is of scenario '" + scenario +
+                        "': check against results/baselines/" + scenario + ".json (without --baseline), or create that " +
+                        "baseline deliberately with `blendbench check RUN_DIR --update`");
   }
   CheckReport report;
   std::map<std::string, const nlohmann::json*> run;
@@ -87,35 +121,72 @@ CheckReport check_run(const nlohmann::json& summary, const nlohmann::json& basel
       continue;
     }
     const nlohmann::json& v = *it->second;
-    if (v.value("status", "") != "ok") {
-      report.regressions.push_back(name + ": status " + v.value("status", "?") + " (" + v.value("message", "") + ")");
+    const std::string status = v.value("status", "?");
+    const std::string base_status = base.value("status", "ok");
+    if (status != base_status) {
+      report.regressions.push_back(name + ": status " + status + " (baseline " + base_status + ")" +
+                                   (v.value("message", "").empty() ? "" : ": " + v.value("message", "")));
       continue;
     }
-    for (const auto& [metric, tol] : baseline["tolerances"].items()) {
-      if (!base.contains(metric)) continue;
-      if (!tol.contains("relative") || !tol.contains("absolute")) {
-        bad("tolerances." + metric, "needs 'relative' and 'absolute'");
-      }
-      const double b = base[metric].get<double>();
-      const double bound = b * (1 + tol["relative"].get<double>()) + tol["absolute"].get<double>();
-      const nlohmann::json* found = at_path(v, metric);
+    for (const MetricTolerance& t : tolerances) {
+      if (!base.contains(t.metric)) continue;
+      if (!base[t.metric].is_number()) bad("variants." + name + "." + t.metric, "must be a number");
+      const double b = base[t.metric].get<double>();
+      const double slack = std::abs(b) * t.relative + t.absolute;
+      CheckRow row{name, t.metric, b, 0, t.higher_is_better ? b - slack : b + slack, CheckRow::Verdict::kUnchanged};
+      const nlohmann::json* found = at_path(v, t.metric);
       if (found == nullptr || !found->is_number()) {
-        report.regressions.push_back(name + ": " + metric + " is missing or not a number (e.g. the run did not settle)");
+        report.regressions.push_back(name + ": " + t.metric + " is missing or not a number (e.g. the run did not settle)");
+        row.value = std::nan("");
+        row.verdict = CheckRow::Verdict::kRegressed;
+        report.rows.push_back(row);
         continue;
       }
-      const double value = found->get<double>();
-      if (!(value <= bound)) {
-        report.regressions.push_back(line(name, metric, value, b, bound));
-      } else if (value < b * (1 - tol["relative"].get<double>()) - tol["absolute"].get<double>()) {
-        report.notes.push_back(name + ": " + metric + " improved to " + format_value(value, 6) + " from " +
+      row.value = found->get<double>();
+      const double worse = t.higher_is_better ? b - row.value : row.value - b;  // > 0: worse
+      if (!(worse <= slack)) {
+        row.verdict = CheckRow::Verdict::kRegressed;
+        report.regressions.push_back(line(name, t, row.value, b, row.bound));
+      } else if (-worse > slack) {
+        row.verdict = CheckRow::Verdict::kImproved;
+        report.notes.push_back(name + ": " + t.metric + " improved to " + format_value(row.value, 6) + " from " +
                                format_value(b, 6) + "; update the baseline with --update");
+      } else if (row.value != b) {
+        row.verdict = CheckRow::Verdict::kWithin;
       }
+      report.rows.push_back(row);
     }
   }
   for (const auto& [name, v] : run) {
     if (!baseline["variants"].contains(name)) report.notes.push_back(name + ": not in the baseline");
   }
   return report;
+}
+
+std::string moved_table(const CheckReport& report) {
+  std::vector<std::vector<std::string>> cells = {{"variant", "metric", "baseline", "value", "change", "allowed", "verdict"}};
+  for (const CheckRow& r : report.rows) {
+    if (r.verdict == CheckRow::Verdict::kUnchanged) continue;
+    const std::string change = r.baseline != 0 && std::isfinite(r.value)
+                                   ? format_value(100 * (r.value - r.baseline) / std::abs(r.baseline), 3) + " %"
+                                   : std::string("-");
+    cells.push_back({r.variant, r.metric, format_value(r.baseline, 6), std::isfinite(r.value) ? format_value(r.value, 6) : "missing",
+                     change, format_value(r.bound, 6), verdict_name(r.verdict)});
+  }
+  if (cells.size() == 1) return "nothing moved\n";
+  std::vector<std::size_t> width(cells[0].size(), 0);
+  for (const auto& row : cells) {
+    for (std::size_t c = 0; c < row.size(); ++c) width[c] = std::max(width[c], row[c].size());
+  }
+  std::string out;
+  for (const auto& row : cells) {
+    for (std::size_t c = 0; c < row.size(); ++c) {
+      out += row[c];
+      if (c + 1 < row.size()) out += std::string(width[c] - row[c].size() + 2, ' ');
+    }
+    out += '\n';
+  }
+  return out;
 }
 
 }  // namespace blendbench

@@ -65,6 +65,11 @@ Execution execute(const Simulator& sim, const IkSolver& ik, const Program& progr
   const Primitive& last = program.moves.back().geometry;
   metrics.end_point = point(last, length(last));
   metrics.corners = out.corners;
+  // the reference's place on the path at each sample (the trace runs on past the reference's end)
+  metrics.reference_s.reserve(out.trace.samples.size());
+  for (std::size_t k = 0; k < out.trace.samples.size(); ++k) {
+    metrics.reference_s.push_back(timing.samples.empty() ? 0.0 : timing.samples[std::min(k, timing.samples.size() - 1)].s);
+  }
   out.metrics = compute_metrics(out.trace, program, path, metrics);
   out.health = check_health(out.trace, out.joints.joints, sim.limits());
   return out;

@@ -108,6 +108,65 @@ Vibration vibration_in(const std::vector<Vec3>& hp, const std::vector<double>& t
 
 }  // namespace
 
+std::optional<ProcessMetrics> process_metrics(const std::vector<Vec3>& actual, const std::vector<double>& speed,
+                                              const std::vector<double>& reference_s, const Path& path) {
+  const std::size_t n = actual.size();
+  if (n == 0 || speed.size() != n || reference_s.size() != n || path.pieces().empty()) return std::nullopt;
+  // the window: from the end of the first move's last piece to the start of the last move's first
+  const auto& pieces = path.pieces();
+  int first_move = -1, last_move = -1;
+  for (const PathPiece& p : pieces) {
+    if (p.move < 0) continue;
+    if (first_move < 0) first_move = p.move;
+    last_move = p.move;
+  }
+  if (first_move < 0 || first_move == last_move) return std::nullopt;
+  ProcessMetrics out;
+  out.s_start = 0;
+  out.s_end = path.length();
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    if (pieces[k].move == first_move) out.s_start = path.offset(k + 1);
+  }
+  for (std::size_t k = pieces.size(); k-- > 0;) {
+    if (pieces[k].move == last_move) out.s_end = path.offset(k);
+  }
+  out.s_end = std::max(out.s_end, out.s_start);
+  // the samples whose reference lies in the window; a window between two samples (an exact
+  // stop's corner point passed between them) takes those two
+  constexpr double kEps = 1e-12;  // m: rounding of the planned arc length
+  std::size_t lo = n, hi = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (reference_s[k] >= out.s_start - kEps && reference_s[k] <= out.s_end + kEps) {
+      lo = std::min(lo, k);
+      hi = k;
+    }
+  }
+  if (lo > hi) {
+    std::size_t after = n - 1;
+    for (std::size_t k = 0; k < n; ++k) {
+      if (reference_s[k] > out.s_end) {
+        after = k;
+        break;
+      }
+    }
+    lo = after > 0 ? after - 1 : 0;
+    hi = after;
+  }
+  // the programmed speed of the piece the reference is on
+  const auto programmed = [&](std::size_t k) { return pieces[path.locate(reference_s[k]).piece].limits.velocity; };
+  double total = 0, below = 0;
+  out.min_speed = speed[lo];
+  for (std::size_t k = lo; k <= hi; ++k) {
+    out.min_speed = std::min(out.min_speed, speed[k]);
+    if (k == hi) break;
+    const double step = (actual[k + 1] - actual[k]).norm();
+    total += step;
+    if (speed[k] < 0.9 * programmed(k)) below += step;
+  }
+  out.share_below_90pct_speed = total > 0 ? below / total : (speed[lo] < 0.9 * programmed(lo) ? 1.0 : 0.0);
+  return out;
+}
+
 Metrics compute_metrics(const Trace& trace, const Program& program, const Path& path, const MetricsOptions& options) {
   assert(!trace.diverged);
   Metrics m;
@@ -223,6 +282,7 @@ Metrics compute_metrics(const Trace& trace, const Program& program, const Path& 
     m.vibration_corners.push_back(vibration_in(m.vibration, t, options.corners[c].t_end,
                                                std::max(t1, options.corners[c].t_end), fs, options.vibration_highpass));
   }
+  if (!options.reference_s.empty()) m.process = process_metrics(actual, m.tcp_speed, options.reference_s, path);
   return m;
 }
 

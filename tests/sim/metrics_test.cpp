@@ -607,5 +607,139 @@ TEST(MetricsTest, ContourErrorBoundedByTrackingErrorPlusCommandOffset) {
   }
 }
 
+// ---- process metrics (gluing, welding): share of path below 90 % of the programmed speed and
+// the minimum speed between the first and the last move, on the actual TCP
+
+// A trace that follows s(t) along `path` exactly (actual = commanded = path point), sampled at
+// dt until the reference ends at t_end; reference_s filled in as execute() does.
+struct Followed {
+  Trace trace;
+  MetricsOptions options;
+};
+template <class Profile>
+Followed follow(const Path& path, Profile s_of_t, double t_end, double dt) {
+  Followed f;
+  f.trace = zero_trace(static_cast<std::size_t>(std::llround(t_end / dt)) + 1, dt);
+  for (TraceSample& sample : f.trace.samples) {
+    const double s = std::clamp(s_of_t(sample.t), 0.0, path.length());
+    sample.tcp = sample.tcp_cmd = path.point(s);
+    f.options.reference_s.push_back(s);
+  }
+  f.options.end_point = path.point(path.length());
+  return f;
+}
+
+// s(t) of a run-up at constant acceleration to v, cruise, and a stop at constant deceleration,
+// both ramps `ramp` long (m): the speed is v exactly from s = ramp to s = length - ramp.
+auto trapezoid(double v, double ramp, double length) {
+  const double a = v * v / (2 * ramp);
+  const double t1 = v / a, t2 = t1 + (length - 2 * ramp) / v;
+  return [=](double t) {
+    if (t <= t1) return 0.5 * a * t * t;
+    if (t <= t2) return ramp + v * (t - t1);
+    const double u = std::min(t - t2, t1);
+    return length - ramp + v * u - 0.5 * a * u * u;
+  };
+}
+
+// The constant-speed line: collinear moves at their programmed speed between run-up and stop
+// (both within the first and last move) give share 0 and min speed = feed; the ramps, slower
+// than 90 % of the feed, are outside the window.
+TEST(ProcessMetrics, AConstantSpeedLineHasNoShareBelowAndItsFeedAsMinimum) {
+  const int cases = test::property_cases(50);
+  for (int c = 0; c < cases; ++c) {
+    const auto seed = static_cast<std::uint64_t>(1000 + c);
+    auto rng = test::make_rng(seed);
+    const double v = test::uniform(rng, 0.01, 0.5);     // m/s
+    const double piece = test::uniform(rng, 0.02, 0.2);  // m
+    const int moves = 3 + static_cast<int>(rng() % 4);
+    const Vec3 dir = test::random_unit(rng);
+    Program program;
+    for (int k = 0; k < moves; ++k) {
+      Move m = move_of(Line{k * piece * dir, (k + 1) * piece * dir});
+      m.limits.velocity = v;
+      m.transition.method = Method::kNone;  // an exact stop: collinear junctions do not stop
+      program.moves.push_back(m);
+    }
+    const Path path = blend(program);
+    ASSERT_EQ(path.pieces().size(), static_cast<std::size_t>(moves)) << test::seed_text(seed);
+    for (const PathPiece& p : path.pieces()) ASSERT_FALSE(p.stop_before) << test::seed_text(seed);
+    const double length = path.length();
+    const double ramp = test::uniform(rng, 0.3, 0.9) * piece;
+    const double dt = 2e-3;
+    const double t_end = 2 * ramp / (0.5 * v) + (length - 2 * ramp) / v;
+    const Followed f = follow(path, trapezoid(v, ramp, length), t_end, dt);
+    const Metrics m = compute_metrics(f.trace, program, path, f.options);
+    ASSERT_TRUE(m.process.has_value()) << test::seed_text(seed);
+    EXPECT_NEAR(m.process->s_start, piece, 1e-12) << test::seed_text(seed);
+    EXPECT_NEAR(m.process->s_end, length - piece, 1e-12) << test::seed_text(seed);
+    EXPECT_EQ(m.process->share_below_90pct_speed, 0.0) << test::seed_text(seed);
+    // central differences of a linear s(t): exact up to rounding
+    EXPECT_NEAR(m.process->min_speed, v, 1e-9 * v) << test::seed_text(seed);
+  }
+}
+
+// An exact stop at a 90 degree corner: the window is the corner point, the TCP is at rest there.
+TEST(ProcessMetrics, AnExactStopCornerHasMinimumSpeedZero) {
+  Program program;
+  for (const auto& [a, b] : {std::pair{Vec3(0, 0, 0), Vec3(0.1, 0, 0)}, std::pair{Vec3(0.1, 0, 0), Vec3(0.1, 0.1, 0)}}) {
+    Move m = move_of(Line{a, b});
+    m.transition.method = Method::kNone;
+    program.moves.push_back(m);
+  }
+  const Path path = blend(program);
+  ASSERT_TRUE(path.pieces()[1].stop_before);
+  const double v = 0.1;
+  // rest to rest on each line (trapezoids with half-length ramps), a 20 ms dwell at the corner
+  const auto leg = trapezoid(v, 0.05, 0.1);
+  const double t_leg = 2 * 0.05 / (0.5 * v);
+  const auto s_of_t = [&](double t) {
+    if (t <= t_leg) return leg(t);
+    if (t <= t_leg + 0.02) return 0.1;
+    return 0.1 + leg(t - t_leg - 0.02);
+  };
+  const Followed f = follow(path, s_of_t, 2 * t_leg + 0.02, 2e-3);
+  const Metrics m = compute_metrics(f.trace, program, path, f.options);
+  ASSERT_TRUE(m.process.has_value());
+  EXPECT_NEAR(m.process->s_start, 0.1, 1e-12);
+  EXPECT_NEAR(m.process->s_end, 0.1, 1e-12);
+  EXPECT_LT(m.process->min_speed, 1e-9);
+  EXPECT_EQ(m.process->share_below_90pct_speed, 1.0);
+}
+
+// A slow-down to half the feed over a known stretch: the share is that stretch over the window
+// (to one sample's length at each end of the stretch).
+TEST(ProcessMetrics, AShareIsTheSlowStretchOverTheWindow) {
+  Program program;
+  for (int k = 0; k < 3; ++k) program.moves.push_back(move_of(Line{Vec3(0.1 * k, 0, 0), Vec3(0.1 * (k + 1), 0, 0)}));
+  for (Move& m : program.moves) m.transition.method = Method::kNone;
+  const Path path = blend(program);
+  const double v = 0.1, slow = 0.05, dt = 1e-3;
+  // from rest at full speed (a jump: the ramps do not matter here), half speed on s in [0.13, 0.17]
+  const auto s_of_t = [&](double t) {
+    const double t_a = 0.13 / v, t_b = t_a + 0.04 / slow;
+    if (t <= t_a) return v * t;
+    if (t <= t_b) return 0.13 + slow * (t - t_a);
+    return 0.17 + v * (t - t_b);
+  };
+  const double t_end = 0.13 / v + 0.04 / slow + 0.13 / v;
+  const Followed f = follow(path, s_of_t, t_end, dt);
+  const Metrics m = compute_metrics(f.trace, program, path, f.options);
+  ASSERT_TRUE(m.process.has_value());
+  EXPECT_NEAR(m.process->share_below_90pct_speed, 0.04 / 0.1, 2 * v * dt / 0.1);
+  EXPECT_NEAR(m.process->min_speed, slow, 1e-9);
+}
+
+// One move has no stretch between a first and a last move: no process figures, never a NaN.
+TEST(ProcessMetrics, ASingleMoveHasNone) {
+  Program program = program_of({Line{Vec3(0, 0, 0), Vec3(0.1, 0, 0)}});
+  const Path path = blend(program);
+  const Followed f = follow(path, [](double t) { return 0.1 * t; }, 1.0, 2e-3);
+  EXPECT_FALSE(compute_metrics(f.trace, program, path, f.options).process.has_value());
+  MetricsOptions none = f.options;
+  none.reference_s.clear();
+  EXPECT_FALSE(compute_metrics(f.trace, program, path, none).process.has_value());
+}
+
 }  // namespace
 }  // namespace blendbench

@@ -22,16 +22,27 @@ std::string move_name(const Program& program, std::size_t k) {
 }
 
 CornerFit fit_corner(const CornerInput& corner) {
+  const double theta = angle_between(tangent(corner.in, length(corner.in)), tangent(corner.out, 0.0));
   // near reversals by one rule for every method (corner.hpp)
   if (corner.spec.method != Method::kNone) {
-    const double theta = angle_between(tangent(corner.in, length(corner.in)), tangent(corner.out, 0.0));
     if (auto fit = near_reversal_fit(corner, theta)) return *fit;
   }
   switch (corner.spec.method) {
     case Method::kNone: {
+      // An exact stop stops where the tangent turns. Where it is continuous (a line tangent to
+      // an arc, tangent arcs, collinear lines) there is no corner to stop at: the path runs
+      // through, and the velocity planner holds the curvature step there to the jerk limit as
+      // at any G1 junction (a glue bead round a rounded rectangle keeps moving). A move that
+      // the previous transition used up whole leaves no tangent to compare: it stops there.
       CornerFit fit;
-      fit.stop = true;
-      fit.corner_case = CornerCase::kExactStop;
+      if (theta > kG1Angle || !(length(corner.in) > 0) || !(length(corner.out) > 0)) {
+        fit.stop = true;
+        fit.corner_case = CornerCase::kExactStop;
+      } else {
+        const bool lines = std::holds_alternative<Line>(corner.in) && std::holds_alternative<Line>(corner.out);
+        fit.corner_case = lines ? CornerCase::kCollinear : CornerCase::kTangent;
+        fit.note = "exact stop: the tangent is continuous here, so the path does not stop";
+      }
       return fit;
     }
     case Method::kArc: return fit_arc_corner(corner);

@@ -486,5 +486,48 @@ TEST(Timing, PropertyExactStopProgramsThroughTheBlender) {
   }
 }
 
+// A glue bead round a rounded rectangle (scenarios/process/glue_bead_rounded_rectangle.yaml in
+// SI): lines tangent to quarter arcs, method none. An exact stop stops only where the tangent
+// turns, so the path runs through every tangent junction, slowed there only by the curvature
+// step's rule (sqrt(j dt / kappa)); one real kink added at the end still stops.
+TEST(Timing, AnExactStopDoesNotStopAtTangentJunctions) {
+  const Limits lim{0.1, 2.5, 2.5, 50.0};
+  const double r = 0.02, w = 0.16, h = 0.1;
+  const auto arc_move = [&](const Vec3& center, const Vec3& u) {
+    Move m;
+    m.geometry = Arc{center, u, Vec3::UnitZ().cross(u), r, M_PI / 2, 0.0};
+    m.limits = lim;
+    m.transition.method = Method::kNone;
+    return m;
+  };
+  Program program;
+  program.moves = {line_move({r, 0, 0}, {w - r, 0, 0}, lim),     arc_move({w - r, r, 0}, -Vec3::UnitY()),
+                   line_move({w, r, 0}, {w, h - r, 0}, lim),     arc_move({w - r, h - r, 0}, Vec3::UnitX()),
+                   line_move({w - r, h, 0}, {r, h, 0}, lim),     arc_move({r, h - r, 0}, Vec3::UnitY()),
+                   line_move({0, h - r, 0}, {0, r, 0}, lim),     arc_move({r, r, 0}, -Vec3::UnitX()),
+                   line_move({r, 0, 0}, {r, -0.05, 0}, lim)};  // a 90 degree kink: a real corner
+  for (Move& m : program.moves) m.transition.method = Method::kNone;
+  const Path path = blend(program);
+  ASSERT_EQ(path.pieces().size(), program.moves.size());
+  TimingOptions options;
+  options.dt = 2e-3;
+  const Timing timing = plan_timing(path, options);
+  expect_valid(path, timing, "rounded rectangle", options);
+  const double cap = std::sqrt(lim.jerk * options.dt * r);  // 0.0447 m/s at kappa = 1 / r
+  for (std::size_t k = 1; k + 1 < path.pieces().size(); ++k) {
+    EXPECT_FALSE(path.pieces()[k].stop_before) << "junction " << k;
+    EXPECT_EQ(path.corners[k - 1].corner_case, CornerCase::kTangent) << "junction " << k;
+    const double v = velocities_around(timing, path.offset(k)).first;
+    EXPECT_GT(v, 0.9 * cap) << "junction " << k << " at s = " << path.offset(k);
+    // the sample nearest the junction is within a setpoint period of it: a dt more speed at most
+    EXPECT_LT(v, cap + lim.acceleration * options.dt) << "the curvature step's rule holds at junction " << k;
+  }
+  const std::size_t kink = path.pieces().size() - 1;
+  EXPECT_TRUE(path.pieces()[kink].stop_before);
+  EXPECT_EQ(path.corners[kink - 1].corner_case, CornerCase::kExactStop);
+  // at rest between two samples: within half a jerk-limited period of it
+  EXPECT_LT(velocities_around(timing, path.offset(kink)).first, 0.5 * lim.jerk * options.dt * options.dt);
+}
+
 }  // namespace
 }  // namespace blendbench

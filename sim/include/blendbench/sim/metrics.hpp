@@ -42,7 +42,32 @@ struct MetricsOptions {
   // taken: the arm's modes up to there count, the encoder's and integrator's noise does not
   double jerk_lowpass = 50;              // Hz
   std::vector<CornerTiming> corners;
+  // the planned arc length of the reference (m, on `path`) at each trace sample, its end after
+  // the reference has ended; empty: no process metrics (execute() fills it from the timing)
+  std::vector<double> reference_s;
 };
+
+// Process figures for gluing and welding, measured on the actual TCP (what lays the bead) over
+// the process window: the stretch of the planned path between the first and the last
+// programmed move, from where the first move's own piece ends to where the last move's own
+// piece begins, so the run-up and the final stop do not count (a corner between two moves
+// alone: the transition, or for an exact stop the corner point).
+//   share_below_90pct_speed  the share of the actual TCP's path length over the window (0..1)
+//                            travelled slower than 90 % of the programmed speed of the piece the
+//                            reference is on (a transition's: its junction velocity);
+//   min_speed                the actual TCP's lowest speed there (m/s, central differences on the
+//                            setpoint grid, as Metrics::tcp_speed).
+struct ProcessMetrics {
+  double share_below_90pct_speed = 0;
+  double min_speed = 0;            // m/s
+  double s_start = 0, s_end = 0;   // m: the window on the planned path
+};
+
+// The process figures of a sampled run: the actual TCP (m) and its speed (m/s) per sample, the
+// reference's planned arc length (m) per sample, and the planned path. Empty when the path
+// comes from a single move (no window), when the inputs are empty or differ in length.
+std::optional<ProcessMetrics> process_metrics(const std::vector<Vec3>& actual, const std::vector<double>& speed,
+                                              const std::vector<double>& reference_s, const Path& path);
 
 // Residual vibration in one window.
 struct Vibration {
@@ -73,6 +98,7 @@ struct Metrics {
   double jerk_commanded_peak = 0, jerk_commanded_rms = 0;
   Vibration vibration_final;
   std::vector<Vibration> vibration_corners;  // one per options.corners entry
+  std::optional<ProcessMetrics> process;     // empty without options.reference_s or with one move
   // per joint: the drive's following error (TraceSample::following_error, rad) over the
   // motion; motor torque peak and RMS (N*m) and energy integral |tau * motor speed| dt (J) over
   // the run; actual link velocity (rad/s) and acceleration (rad/s^2, differences) peaks
