@@ -1,7 +1,7 @@
 // Time one corner fit per corner type and method through the public fit_*_corner functions
-// (004 section 7.3 reports 5 us for line-line and 42 us for line-arc / arc-arc on a 2.4 GHz
+// (seed 004 section 7.3 reports 5 us for line-line and 42 us for line-arc / arc-arc on a 2.4 GHz
 // dual core; the targets here are 1 us and 8 us, the tolerance loop of Algorithm 2 included).
-// The corners are those of 004 listing 1 and table 2, in metres, and a spread of line-arc
+// The corners are those of seed 004 listing 1 and table 2, in metres, and a spread of line-arc
 // and arc-arc corners (radii 2-1000 mm, kinks 0-120 deg, turning the same or the opposite way).
 
 #include <benchmark/benchmark.h>
@@ -43,7 +43,7 @@ CornerInput corner(const Primitive& in, const Primitive& out, Method method, dou
   return c;
 }
 
-// 004 table 2: two lines with 150 deg between them (a 30 deg deflection)
+// seed 004 (Shahzadeh et al.) table 2: two lines with 150 deg between them (a 30 deg deflection)
 CornerInput line_line(Method method, double kappa_max = 0) {
   const double alpha = 30 * std::numbers::pi / 180;
   const Vec3 t2(std::cos(alpha), std::sin(alpha), 0);
@@ -59,13 +59,13 @@ CornerInput line_arc(Method method) {
                 0.1 * kMm);
 }
 
-// 004 listing 1 point B: line tangent into the R10 arc (curvature jump only)
+// seed 004 listing 1 point B: line tangent into the R10 arc (curvature jump only)
 CornerInput line_arc_tangent(Method method) {
   return corner(Line{Vec3(-10, 10, 0) * kMm, Vec3(-10, 50, 0) * kMm},
                 xy_arc(Vec3(-10, 50, 0) * kMm, Vec3(0, 60, 0) * kMm, Vec3(0, 50, 0) * kMm, true), method, 0.1 * kMm);
 }
 
-// 004 listing 1 point C: arc R10 into arc R30.01 with a 1.48 deg kink
+// seed 004 listing 1 point C: arc R10 into arc R30.01 with a 1.48 deg kink
 CornerInput arc_arc(Method method) {
   const double offset = std::sqrt(30.01 * 30.01 - 30.0 * 30.0);
   return corner(xy_arc(Vec3(-10, 50, 0) * kMm, Vec3(0, 60, 0) * kMm, Vec3(0, 50, 0) * kMm, true),

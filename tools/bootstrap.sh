@@ -23,7 +23,7 @@ root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 cd "$root"
 
 packages=(
-  build-essential cmake ninja-build pkg-config
+  build-essential cmake ninja-build pkg-config ccache
   libeigen3-dev libmujoco-dev libosmesa6-dev liburdfdom-dev libyaml-dev libyaml-cpp-dev
   libcli11-dev nlohmann-json3-dev googletest libgtest-dev libbenchmark-dev
   ffmpeg python3 python3-matplotlib python3-numpy python3-pil python3-yaml
@@ -75,11 +75,14 @@ step() {
   step_times+=("$name $((SECONDS - start)) s (CPU $((cpu_seconds - before)) s)")
 }
 
-# configure (once) and build: build_in DIR CMAKE_ARGUMENTS...
+# configure (once) and build: build_in DIR CMAKE_ARGUMENTS... Compiles go through ccache with
+# paths relative to the checkout, so a second build of the same sources (a re-run, another clone
+# on the same machine) reuses the objects; on a fresh machine it costs what a plain build does.
+export CCACHE_BASEDIR="$root"
 build_in() {
   local dir=$1
   shift
-  cmake -S . -B "$dir" -G Ninja "$@"
+  cmake -S . -B "$dir" -G Ninja -DCMAKE_CXX_COMPILER_LAUNCHER=ccache "$@"
   cmake --build "$dir" -j "$jobs"
 }
 

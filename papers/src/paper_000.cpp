@@ -1,4 +1,4 @@
-// Paper 000 (Bezier transitions, High Technology Letters 2017) reproduced: the section 3.2
+// Seed 000 (Bezier transitions, High Technology Letters 2017) reproduced: the section 3.2
 // comparison with and without transitions, on our comparable program.
 
 #include <algorithm>

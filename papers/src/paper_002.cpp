@@ -45,7 +45,7 @@ const Arm& arm() {
   return loaded;
 }
 
-// The seed's clothoid pair for the corner: a symmetric pair (002 eq. 9) starting corner_size
+// The seed's clothoid pair for the corner: a symmetric pair (seed 002 eq. 9) starting corner_size
 // before the corner.
 ClothoidPair seed_pair(const Corner002& c) { return clothoid_pair_for_tangent_length(kDeflection, c.corner_size); }
 

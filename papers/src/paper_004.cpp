@@ -1,4 +1,4 @@
-// Paper 004 (Shahzadeh et al. 2018, biclothoid fillets) reproduced: section 5's worked example,
+// Seed 004 (Shahzadeh et al. 2018, biclothoid fillets) reproduced: section 5's worked example,
 // tables 1-3 and the unsmoothed cycle times of section 3, on Listing 1 with the paper's limits.
 
 #include <algorithm>
@@ -19,24 +19,24 @@ namespace blendbench {
 using namespace papers_detail;  // the helpers private to the reproductions
 namespace {
 
-// 004: Listing 1 at F10000 (mm/min) with a_lim 9800 mm/s^2 and j_lim 200000 mm/s^3 (sections 3, 9, 10).
+// seed 004: Listing 1 at F10000 (mm/min) with a_lim 9800 mm/s^2 and j_lim 200000 mm/s^3 (sections 3, 9, 10).
 constexpr double kFeed004 = 10000.0 * kMm / kPerMin;  // m/s
 constexpr double kAcc004 = 9800.0 * kMm;              // m/s^2
 constexpr double kJerk004 = 200000.0 * kMm;           // m/s^3
-// 004 table 1 and case 1 of table 2 use a 0.1 mm tolerance; table 3 also 0.01 mm.
+// seed 004 table 1 and case 1 of table 2 use a 0.1 mm tolerance; table 3 also 0.01 mm.
 constexpr double kTolerance = 0.1 * kMm;
 constexpr double kFineTolerance = 0.01 * kMm;
-// 004 section 10.1: the two lines of table 2 make a 150 degree angle; each is this long (m),
+// seed 004 section 10.1: the two lines of table 2 make a 150 degree angle; each is this long (m),
 // long enough that the fillets are not limited by the move lengths.
 constexpr double kTable2Leg = 10.0 * kMm;
 // Sample spacing (m) of the whole-path Hausdorff distance in table 3; the Bezier fillets are
 // at least 0.4 mm long.
 constexpr double kHausdorffStep = 0.02 * kMm;
 
-// The limits of every move of the 004 experiments.
+// The limits of every move of the seed 004 experiments.
 Limits limits_004() { return Limits{kFeed004, kAcc004, kAcc004, kJerk004}; }
 
-// 004 section 10.2: each arc replaced by n equal chords with the sagitta r (1 - cos(phi/2)) of
+// seed 004 section 10.2: each arc replaced by n equal chords with the sagitta r (1 - cos(phi/2)) of
 // the chord angle phi = sweep / n within the tolerance: n = ceil(sweep / (2 acos(1 - tol/r))).
 // The chords are inscribed (their ends on the arc), so the polyline deviates from the arc by
 // exactly the sagitta. The paper uses Walton and Meek's arc-spline subdivision [42], which it
@@ -78,11 +78,11 @@ std::string join(const std::vector<int>& v) {
 }
 
 // Bezier TP at every corner of a polyline so that the fillet deviates `tolerance` from it.
-// Derived here for 000's line-line cubic (P1 = P2 = B, P0 = B - TP t1, P3 = B + TP t2): its
+// Derived here for seed 000's line-line cubic (P1 = P2 = B, P0 = B - TP t1, P3 = B + TP t2): its
 // midpoint C(1/2) = (P0 + 3 P1 + 3 P2 + P3) / 8 = B + TP (t2 - t1) / 8 lies on the bisector at
 // TP sin(delta/2) / 4 from the corner (delta the deflection) and is the point of the curve
 // nearest the corner, which makes it the Hausdorff deviation. Hence TP = 4 tol / sin(delta/2).
-// The blender shrinks TP where a move is short (000 Algorithm 1 with half of a move per corner),
+// The blender shrinks TP where a move is short (seed 000 Algorithm 1 with half of a move per corner),
 // which only lowers the deviation.
 void set_bezier_tp(Program& program, double tolerance) {
   double total = 0;

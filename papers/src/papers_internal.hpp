@@ -58,7 +58,7 @@ int shrunk(const Path& path);
 std::pair<int, int> fillet_pieces_at_feed(const PlannedRun& run);
 
 // Listing 1 (scenarios/parts/listing1.ngc) in metres, with `transition` on every move and the
-// limits of the 004 experiments (paper_004.cpp).
+// limits of the seed 004 (Shahzadeh et al.) experiments (paper_004.cpp).
 Program listing1(const Transition& transition);
 
 // Report text (markdown.cpp). Fixed-point text with `decimals` digits ("—" when not finite).

@@ -116,7 +116,7 @@ PlannedRun plan_run(std::string name, std::string description, Program program, 
   TimingOptions options;
   options.dt = kServoPeriod;
   options.baseline = baseline;
-  // the sources' own model: tangential limits and eq. 25-27 of 004 (the paper tables compare
+  // the sources' own model: tangential limits and eq. 25-27 of seed 004 (the paper tables compare
   // with it), not the vectors on the TCP that runs default to
   options.limits = LimitsMode::kPath;
   run.timing = plan_timing(run.path, options);

@@ -53,7 +53,7 @@ const std::vector<Expected>& expectations() {
       {"exact_stop", Method::kNone, {"exact_stop", "exact_stop", "exact_stop"}, {"", "", ""}},
       {"arc", Method::kArc, {"regular", "regular", "regular"}, {"", "", ""}},
       {"bezier", Method::kBezier, {"regular", "regular", "regular"}, {"", "", ""}},
-      // the clothoid method fits lines only; corners with an arc use the biclothoid fillet (002, 004)
+      // the clothoid method fits lines only; corners with an arc use the biclothoid fillet (seed 002, seed 004)
       {"clothoid", Method::kClothoid, {"regular", "regular", "regular"}, {"", "biclothoid", "biclothoid"}},
       {"clothoid_capped", Method::kClothoid, {"clothoid_arc_clothoid", "regular", "regular"}, {"", "biclothoid", "biclothoid"}},
       {"biclothoid", Method::kBiclothoid, {"regular", "regular", "regular"}, {"", "", ""}},

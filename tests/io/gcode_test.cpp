@@ -68,7 +68,7 @@ std::string notes(const GcodeResult& r) {
 
 #define EXPECT_VEC_NEAR(a, b, tol) EXPECT_LE(((a) - (b)).norm(), tol) << "got " << (a).transpose() << " expected " << (b).transpose()
 
-// 004 section 3, Listing 1, as the extracted text has it (Unicode minus, comments).
+// seed 004 (Shahzadeh et al.) section 3, Listing 1, as the extracted text has it (Unicode minus, comments).
 const std::string kListing1 =
     "G90\n"
     "F10000\n"
@@ -109,7 +109,7 @@ void check_listing1(const GcodeResult& r) {
   EXPECT_LT(green.sweep, kPi);
   EXPECT_VEC_NEAR(green.u.cross(green.v), Vec3(0, 0, -1), kTol);
   EXPECT_VEC_NEAR(end_of(green), Vec3::Zero(), kTol);
-  // 004: "there is a 1.48 degree angle between the two arcs" at C
+  // seed 004: "there is a 1.48 degree angle between the two arcs" at C
   const double kink = angle_between(tangent(Primitive(blue), length(Primitive(blue))), tangent(Primitive(green), 0));
   EXPECT_NEAR(kink * 180 / kPi, std::atan(-cx / 30) * 180 / kPi, 1e-9);
   EXPECT_NEAR(kink * 180 / kPi, 1.48, 0.005);

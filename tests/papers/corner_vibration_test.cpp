@@ -1,5 +1,5 @@
 // On one corner program at equal constant path speed, a G1 circular blend excites more residual
-// vibration on the elastic arm than a G2 clothoid pair of the same maximum curvature (seed 002's
+// vibration on the elastic arm than a G2 clothoid pair of the same maximum curvature (seed 002, Makino:
 // experiment, papers/paper_002.hpp): the circle's curvature steps are acceleration steps of the
 // reference, the clothoid ramps its curvature. Also the constant-speed timing law it runs on.
 

@@ -1,6 +1,6 @@
 #pragma once
 // Checks a timed profile against its path: every limit of the planner on the sampled result
-// (v <= v_lim(s) with 004 eq. 25-27, kappa v^2 <= a, |a_t|, |j_t|, also by finite differences of
+// (v <= v_lim(s) with seed 004 eq. 25-27, kappa v^2 <= a, |a_t|, |j_t|, also by finite differences of
 // the samples) and v = 0 at every stop. Shared by the timing tests and the scenario tests; the
 // limits at a sample and the path-level margins come from the planner's profile checker
 // (timing/profile_margins.hpp), which the paper reproductions report too.

@@ -1,11 +1,12 @@
-// The `arc` transition method (001 line-to-line, 003 arc-to-arc): a circular arc tangent to
+// The `arc` transition method (seed 001 line-to-line, seed 003 arc-to-arc): a circular arc tangent to
 // both moves, placed by the corner distance d.
 //
-// Rules (derived here; 001 and 003 state them in words only):
-// - line-line (001): both lines are shortened by d and the fillet arc tangent to both joins them;
+// Rules (derived here; seed 001 (controller manual, line-to-line) and seed 003 (controller manual,
+// arc-to-arc) state them in words only):
+// - line-line (seed 001): both lines are shortened by d and the fillet arc tangent to both joins them;
 //   its radius is d / tan(theta / 2) for a tangent turn theta at the corner.
-// - with an arc (003): the move with the larger radius (a line counts as infinite radius; equal
-//   radii: the incoming move, as 003 says for tangent arcs) is shortened by (arc length) d. At
+// - with an arc (seed 003): the move with the larger radius (a line counts as infinite radius; equal
+//   radii: the incoming move, as seed 003 says for tangent arcs) is shortened by (arc length) d. At
 //   that point T1 the transition circle is tangent to it, so its centre is O = T1 + rho n1 (n1 the
 //   left normal at T1 in the corner plane, rho the signed radius, positive = counter-clockwise
 //   about the plane normal). Tangency to the other move decides rho:
@@ -15,7 +16,7 @@
 //       and the tangency point is T2 = Q - r n2 with n2 = (O - Q) / (rho - r).
 //     other is a line (through C, left normal ns): the centre's signed distance to the line is rho:
 //       (T1 - C).ns + rho n1.ns = rho  ->  rho = (T1 - C).ns / (1 - n1.ns),  T2 = O - rho ns.
-//   The other move is trimmed to T2. rho = 0 (T1 lies on the other curve) is 003's intersection
+//   The other move is trimmed to T2. rho = 0 (T1 lies on the other curve) is seed 003's intersection
 //   case (zero-length transition); 1/rho = 0 is its line-segment case. solve_planar evaluates
 //   these in rearranged forms that keep their digits near tangency and for nearly equal circles.
 // - a candidate is accepted when T2 lies on the part of the other move the blender allows
@@ -25,13 +26,13 @@
 // - when no circle exists for the requested d (tangency behind the corner, a loop, a detour), the
 //   rule is applied with the roles swapped (the smaller-radius move shortened by d; fallback
 //   "smaller_radius_shortened"; this keeps near-tangent corners blended with the full d); when
-//   that fails too, or T2 lies beyond the available part, d is shrunk (bisection on the 003 rule)
+//   that fails too, or T2 lies beyond the available part, d is shrunk (bisection on the seed 003 rule)
 //   and the note says so; when no d >= 1 um works, the corner is infeasible.
 // - tangent corners (G1 already, only a curvature jump): the larger-radius move is shortened by
-//   d and that piece becomes the transition (003's rule for tangent arcs in opposite directions,
+//   d and that piece becomes the transition (seed 003's rule for tangent arcs in opposite directions,
 //   used for every tangent corner; it is also the limit of the general construction there).
 // - a 180-degree corner between a line and an arc or two arcs on different circles: the moves
-//   part at once (nothing overlaps as in 001's line reversal), so the general construction
+//   part at once (nothing overlaps as in seed 001's line reversal), so the general construction
 //   applies; it gives a small U-turn arc, the limit of the near-180-degree transitions.
 // - non-planar corners (line and arc, or two arcs, not in one plane; helices): no circle is
 //   tangent to both in general. Both moves are shortened by d and joined by a G1 biarc (two
@@ -60,12 +61,12 @@ constexpr double kStraightAngle = 1e-10;
 constexpr double kPlanarAngle = 1e-10;
 // relative to the radius: two arcs on the same circle
 constexpr double kSameCircle = 1e-12;
-// rad: a transition turning less than this is a straight line (003 line-segment case)
+// rad: a transition turning less than this is a straight line (seed 003 line-segment case)
 constexpr double kLineTurn = 1e-12;
 // rad: below this turn a transition circle is emitted as a zero-sharpness clothoid (the same
 // circle, evaluated from its start point instead of a centre more than 1e6 lengths away)
 constexpr double kArcMinTurn = 1e-6;
-// relative to d: a transition radius below this is 003's zero-length intersection transition
+// relative to d: a transition radius below this is seed 003's zero-length intersection transition
 constexpr double kIntersection = 1e-12;
 // rad: transition turning equal to the replaced path's turning
 constexpr double kTurnTol = 1e-6;
@@ -189,7 +190,7 @@ PlaneCurve plane_curve(const Primitive& move, const Vec3& n, const Vec3& c, cons
   return pc;
 }
 
-// 003 with an arc in the corner plane: the move `fixed_in ? in : out` is shortened by d, the
+// seed 003 with an arc in the corner plane: the move `fixed_in ? in : out` is shortened by d, the
 // transition circle is tangent to it there (T1) and to the other move (T2), see the file
 // comment. The formulas are rearranged so that their small terms are formed directly (the
 // inputs of an ill-conditioned corner are themselves small differences). With n1 the left
@@ -385,7 +386,7 @@ std::string shrink_note(double requested, double used, const std::string& why) {
   return "corner distance shrunk from " + format_mm(requested) + " to " + format_mm(used) + ": " + why;
 }
 
-// 001: two lines.
+// seed 001: two lines.
 CornerFit fit_line_line(const Corner& k, double d_req) {
   const double d = std::min({d_req, k.avail_in, k.avail_out});
   const std::string note = d < d_req ? shrink_note(d_req, d, "a move is short") : "";
@@ -397,25 +398,25 @@ CornerFit fit_line_line(const Corner& k, double d_req) {
   fit.parameter_used = d;
   fit.note = note;
 
-  // 0 degrees (001 fig. 7-4): path unchanged, a linear transition move of length 2d
+  // 0 degrees (seed 001 fig. 7-4): path unchanged, a linear transition move of length 2d
   if (k.theta <= kStraightAngle) {
     fit.corner_case = CornerCase::kCollinear;
     if (d > 0) fit.transition.push_back(Line{p1, p2});
     return fit;
   }
-  // 180 degrees (001 fig. 7-3): both shortened by d, meeting at the same point; the kink stays
+  // 180 degrees (seed 001 fig. 7-3): both shortened by d, meeting at the same point; the kink stays
   if (k.theta >= kPi - kReversalAngle) {
     CornerFit kink = kink_fit(k, CornerCase::kReversal, d, d);
     kink.note = note;
     return kink;
   }
-  // zero distance (001 fig. 7-5): nothing inserted, only blending is affected
+  // zero distance (seed 001 fig. 7-5): nothing inserted, only blending is affected
   if (d <= 0) {
     CornerFit kink = kink_fit(k, CornerCase::kZeroDistance, 0, 0);
     kink.note = note;
     return kink;
   }
-  // n degrees (001 fig. 7-2): the fillet of radius d / tan(theta / 2), turning by theta
+  // n degrees (seed 001 fig. 7-2): the fillet of radius d / tan(theta / 2), turning by theta
   const Vec3 b = k.t_in.cross(k.t_out);
   const double s = b.norm();
   const double c = k.t_in.dot(k.t_out);
@@ -463,7 +464,7 @@ CornerFit fit_biarc(const Corner& k, double d_req) {
   return fit;
 }
 
-// Arcs on one circle (003): same direction -> a transition arc of length 2d on the circle;
+// Arcs on one circle (seed 003): same direction -> a transition arc of length 2d on the circle;
 // opposite direction -> both shortened by d, zero-distance transition.
 CornerFit fit_same_circle(const Corner& k, const Arc& a_in, bool same_direction, double d_req) {
   const double d = std::min({d_req, k.avail_in, k.avail_out});
@@ -517,7 +518,7 @@ CornerFit from_candidate(const Corner& k, const Candidate& cand, double d) {
   return fit;
 }
 
-// 003 (and line-arc) in one plane: the general construction, then the fallbacks.
+// seed 003 (and line-arc) in one plane: the general construction, then the fallbacks.
 CornerFit fit_planar(const Corner& k, const Plane& pl, bool larger_in, double d_req) {
   const double avail_larger = larger_in ? k.avail_in : k.avail_out;
   const double d = std::min(d_req, avail_larger);
@@ -631,12 +632,12 @@ CornerFit fit_arc_corner(const CornerInput& corner) {
   const Arc* a_out = std::get_if<Arc>(&corner.out);
   if (a_in == nullptr && a_out == nullptr) return fit_line_line(k, d_req);
 
-  // which move counts as the larger radius (003; a line is infinite, ties go to the incoming)
+  // which move counts as the larger radius (seed 003; a line is infinite, ties go to the incoming)
   const bool larger_in = a_in == nullptr || (a_out != nullptr && a_in->radius >= a_out->radius * (1 - 1e-12));
   Plane pl;
   const bool planar = corner_plane(k, pl);
 
-  // same circle (003): same or opposite direction
+  // same circle (seed 003): same or opposite direction
   if (planar && a_in != nullptr && a_out != nullptr) {
     const double r = std::max(a_in->radius, a_out->radius);
     if ((a_in->center - a_out->center).norm() <= kSameCircle * r &&
@@ -650,7 +651,7 @@ CornerFit fit_arc_corner(const CornerInput& corner) {
     const bool opposite = planar && a_in != nullptr && a_out != nullptr && pl.in.rho * pl.out.rho < 0;
     return fit_tangent(k, larger_in, opposite, d_req);
   }
-  // zero distance (003): nothing inserted, only blending is affected
+  // zero distance (seed 003): nothing inserted, only blending is affected
   const double avail_larger = larger_in ? k.avail_in : k.avail_out;
   if (std::min(d_req, avail_larger) <= 0) {
     CornerFit fit = kink_fit(k, CornerCase::kZeroDistance, 0, 0);

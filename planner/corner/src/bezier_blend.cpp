@@ -1,11 +1,11 @@
-// 000: a corner transition made of one Bezier curve, G2 at both junctions, sized by the
+// seed 000: a corner transition made of one Bezier curve, G2 at both junctions, sized by the
 // transition parameter TP (distance from the corner to the transition points, Algorithm 1).
 //
-//   line-line      cubic, P1 = P2 = B                                      (000 eq. 8-9)
-//   line-circle    cubic when the line lies in the circle's plane          (000 eq. 10-13)
-//                  quartic with minimum bending energy otherwise           (000 eq. 14-17)
+//   line-line      cubic, P1 = P2 = B                                      (seed 000 eq. 8-9)
+//   line-circle    cubic when the line lies in the circle's plane          (seed 000 eq. 10-13)
+//                  quartic with minimum bending energy otherwise           (seed 000 eq. 14-17)
 //   circle-line    the mirror image of line-circle (the curve reversed)
-//   circle-circle  quartic, P2 = B                                         (000 eq. 18-24)
+//   circle-circle  quartic, P2 = B                                         (seed 000 eq. 18-24)
 //
 // Notation: P0 is the transition point on the incoming move, Pn the one on the outgoing move,
 // B the corner, T the unit tangent in the direction of travel, K = kappa N the curvature vector.
@@ -13,7 +13,7 @@
 // Bezier, K = (C'' - (C''.t) t) / |C'|^2 with t = C'/|C'|:
 //   at u = 0:  T0 = (P1 - P0)/|P1 - P0|,   K0 = (n-1)/n * perp(P2 - P1) / |P1 - P0|^2
 //   at u = 1:  Tn = (Pn - Pn-1)/|...|,     Kn = (n-1)/n * perp(Pn-2 - Pn-1) / |Pn - Pn-1|^2
-// where perp() removes the component along the end tangent. This is eq. 6-7 of 000 with the
+// where perp() removes the component along the end tangent. This is eq. 6-7 of seed 000 with the
 // direction of the curvature kept, which G2 in 3D needs (the paper states magnitudes only).
 
 #include <algorithm>
@@ -44,7 +44,7 @@ constexpr double kMinLength = 1e-9;
 // degenerates (|P4 - P3| = 0) at a full turn; a half-turn keeps the fillet local.
 constexpr double kMaxArcTurn = std::numbers::pi;
 // |sin| of the angle between the line and the circle's plane below which they count as
-// coplanar (000 sec. 2.3: "if A, B, C, O are coplanar"). Tight, so that the cubic's curvature
+// coplanar (seed 000 sec. 2.3: "if A, B, C, O are coplanar"). Tight, so that the cubic's curvature
 // vector at P3 stays within ~1e-12 relative of the circle's; anything else takes the quartic.
 constexpr double kCoplanar = 1e-12;
 // Fraction of the transition length L below which an arm |P1 - P0| or |P3 - P2| of the coplanar
@@ -76,7 +76,7 @@ struct End {
 // The same end seen on the reversed path: tangent flips, curvature vector does not.
 End reversed(const End& e) { return End{e.p, -e.t, e.k, e.radius, e.turn}; }
 
-// 000 eq. 15 / 22 / 24, derived: with P2 = B and Pn-1 = Pn - l T, the end condition above
+// seed 000 eq. 15 / 22 / 24, derived: with P2 = B and Pn-1 = Pn - l T, the end condition above
 // gives K = (3/4) perp(B - Pn) / l^2. On a circle of radius r with B at angle theta from Pn,
 // perp(B - Pn) points at the centre with length r (1 - cos theta), so K has the circle's
 // direction and |K| = 1/r exactly when l^2 = (3/4) r^2 (1 - cos theta) = (3/2) r^2 sin^2(theta/2)
@@ -84,7 +84,7 @@ End reversed(const End& e) { return End{e.p, -e.t, e.k, e.radius, e.turn}; }
 // (3/4) r |P2 - P3| sin(alpha) is the same quantity: |P2 - P3| sin(alpha) = |perp(B - P4)|.
 double quartic_arm(const End& e) { return std::sqrt(1.5) * e.radius * std::sin(0.5 * e.turn); }
 
-// 000 eq. 16-17, derived (the printed closed form is garbled): a quartic with P0, P2, P3, P4
+// seed 000 eq. 16-17, derived (the printed closed form is garbled): a quartic with P0, P2, P3, P4
 // fixed and P1 = P0 + l1 d (d the unit line direction). C'' = 12 sum_i D_i B_i,2(u) with
 // D0 = P2 - 2P1 + P0, D1 = P3 - 2P2 + P1, D2 = P4 - 2P3 + P2, and the Gram matrix of the
 // quadratic Bernstein basis is [6 3 1; 3 4 3; 1 3 6] / 30, so
@@ -109,7 +109,7 @@ struct Curve {
   bool non_planar = false;
 };
 
-// 000 eq. 10-13: the coplanar cubic from a line (start `a`, K = 0) to a circle (end `c`), or
+// seed 000 eq. 10-13: the coplanar cubic from a line (start `a`, K = 0) to a circle (end `c`), or
 // nullopt with the reason in `why`. P2 is where the line meets the circle's tangent at P3;
 // P1 = P2 + sigma d. Eq. 13 re-derived from the end condition with n = 3:
 //   K3 = (2/3) perp(P1 - P2) / |P3 - P2|^2 = N / r
@@ -176,14 +176,14 @@ Curve line_to_circle(const End& a, const Vec3& b, const End& c, double l) {
     out.fallback = Fallback::kQuartic;
     out.fallback_why = "quartic (000 eq. 14-17): the coplanar cubic of eq. 10-13 is not usable here: " + why;
   }
-  // 000 eq. 14-17: P2 = B, P3 from eq. 15, P1 on the line by minimum bending energy
+  // seed 000 eq. 14-17: P2 = B, P3 from eq. 15, P1 on the line by minimum bending energy
   const Vec3 p3 = c.p - quartic_arm(c) * c.t;
   const double l1 = min_energy_arm(a.p, a.t, b, p3, c.p);
   out.points = {a.p, a.p + l1 * a.t, b, p3, c.p};
   return out;
 }
 
-// 000 eq. 18-24: circle to circle, P2 = B, P1 and P3 from eq. 24 and eq. 22.
+// seed 000 eq. 18-24: circle to circle, P2 = B, P1 and P3 from eq. 24 and eq. 22.
 Curve circle_to_circle(const End& a, const Vec3& b, const End& c) {
   Curve out;
   const Vec3 n1 = a.t.cross(a.k).normalized();
@@ -234,14 +234,14 @@ CornerFit fit_bezier_corner(const CornerInput& corner) {
   const double r_in = radius_of(corner.in);
   const double r_out = radius_of(corner.out);
 
-  // helices are outside 000 (lines and circles only): B is not in the osculating plane at P4
+  // helices are outside seed 000 (lines and circles only): B is not in the osculating plane at P4
   if (is_helix(corner.in) || is_helix(corner.out)) {
     fit.corner_case = CornerCase::kNonPlanar;
     fit.outcome = {Status::kInfeasible, "the bezier method (000) joins lines and circles only, not helices"};
     return fit;
   }
 
-  // 000 Algorithm 1 with the blender's availability: min(TP, in_available, out_available).
+  // seed 000 Algorithm 1 with the blender's availability: min(TP, in_available, out_available).
   // When both moves are blended at both ends the blender offers half of each, and this is
   // exactly Algorithm 1 (TP if both moves exceed 2 TP, else min(|AB|, |BC|)/2). A move blended
   // at this end only can give all of itself (no other corner competes for it), where the
@@ -270,7 +270,7 @@ CornerFit fit_bezier_corner(const CornerInput& corner) {
   const double angle = angle_between(t_in, t_out);
 
   // reversal (180 degrees): no Bezier joins opposite tangents; the path must stop at the cusp
-  // in every buffer mode (001 stops in Buffered; a cusp cannot be passed at speed in any)
+  // in every buffer mode (seed 001 stops in Buffered; a cusp cannot be passed at speed in any)
   if (angle >= std::numbers::pi - kReversalAngle) {
     fit.corner_case = CornerCase::kReversal;
     fit.stop = true;
@@ -296,7 +296,7 @@ CornerFit fit_bezier_corner(const CornerInput& corner) {
     }
   }
   // zero distance (TP = 0, or nothing left of a move): a kink; the blender stops there in
-  // Buffered mode (001: a zero-length transition that only affects blending)
+  // Buffered mode (seed 001: a zero-length transition that only affects blending)
   if (l <= kMinLength) {
     fit.corner_case = CornerCase::kZeroDistance;
     fit.parameter_used = 0;
@@ -312,7 +312,7 @@ CornerFit fit_bezier_corner(const CornerInput& corner) {
 
   Curve curve;
   if (in_line && out_line) {
-    // 000 eq. 8-9: P1 = P2 = B gives zero curvature at both ends
+    // seed 000 eq. 8-9: P1 = P2 = B gives zero curvature at both ends
     curve.points = {a.p, b_out, b_out, c.p};
   } else if (in_line) {
     curve = line_to_circle(a, b_out, c, l);

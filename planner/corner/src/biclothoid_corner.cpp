@@ -1,4 +1,4 @@
-// 004 as a transition method: fit_biclothoid_corner (corner.hpp) sizes a biclothoid fillet by
+// seed 004 as a transition method: fit_biclothoid_corner (corner.hpp) sizes a biclothoid fillet by
 // a tolerance or a start distance in the corner's plane, with the closed-form pair between two
 // lines and the Bezier method as the fallback for a non-planar corner.
 
@@ -41,7 +41,7 @@ CornerFit fit_biclothoid_corner(const CornerInput& corner) {
   CornerFit fit;
   fit.corner_case = geometry.angle <= kTangentAngle ? CornerCase::kTangent : CornerCase::kRegular;
 
-  // two lines: the symmetric fillet in closed form (004 section 7.1, 002 eq. 9), shrunk to
+  // two lines: the symmetric fillet in closed form (seed 004 section 7.1, seed 002 (Makino) eq. 9), shrunk to
   // the shorter available length
   if (geometry.lines) {
     ClothoidPair pair = start_distance > 0 ? clothoid_pair_for_tangent_length(geometry.angle, start_distance)
@@ -63,7 +63,7 @@ CornerFit fit_biclothoid_corner(const CornerInput& corner) {
     return fit;
   }
 
-  // 004 has no 3D form: a non-planar corner goes to the Bezier method (000, quartic in 3D),
+  // seed 004 has no 3D form: a non-planar corner goes to the Bezier method (seed 000, quartic in 3D),
   // with its transition parameter set to the tolerance (a fillet that starts and ends within
   // that distance of the corner deviates less than it)
   if (!geometry.planar) {
@@ -76,7 +76,7 @@ CornerFit fit_biclothoid_corner(const CornerInput& corner) {
     return bezier;
   }
 
-  // 004 Algorithm 1 at the given start distance
+  // seed 004 (Shahzadeh et al.) Algorithm 1 at the given start distance
   if (start_distance > 0) {
     const BiclothoidStartFit start_fit =
         fit_biclothoid_from_start(geometry.shapes, start_distance, corner.in_available, corner.out_available);
@@ -95,7 +95,7 @@ CornerFit fit_biclothoid_corner(const CornerInput& corner) {
     return fit;
   }
 
-  // 004 Algorithms 1 and 2 in the corner plane
+  // seed 004 Algorithms 1 and 2 in the corner plane
   const BiclothoidToleranceFit tol_fit =
       fit_biclothoid_with_tolerance(geometry.shapes, tolerance, corner.in_available, corner.out_available);
   if (!use_fillet(tol_fit.outcome, tol_fit.fillet, corner, geometry.plane, fit)) return fit;

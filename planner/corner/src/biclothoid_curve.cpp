@@ -1,4 +1,4 @@
-// The biclothoid curve itself (004 def. 2, eq. 7-14): construction from a start posture and a
+// The biclothoid curve itself (seed 004 def. 2, eq. 7-14): construction from a start posture and a
 // turn, its end point with the derivatives Algorithm 1 needs, postures along it, and its
 // clothoid segments in 3D.
 
@@ -107,11 +107,11 @@ ClothoidMoments clothoid_moments(double theta0, double kappa0, double c, double 
 // the turn is the area under it, 2 dtheta = (2 kappa_m^2 - kappa0^2 - kappa_e^2) / c with
 // c = (2 kappa_m - kappa0 - kappa_e) / L. Eliminating c gives the quadratic
 //   L kappa_m^2 - 2 dtheta kappa_m + dtheta (kappa0 + kappa_e) - L (kappa0^2 + kappa_e^2) / 2 = 0,
-// kappa_m = (dtheta +- sqrt(SQ)) / L with 004's SQ = A^2 + B^2, A = dtheta - L kbar,
+// kappa_m = (dtheta +- sqrt(SQ)) / L with SQ (seed 004, Shahzadeh et al.) = A^2 + B^2, A = dtheta - L kbar,
 // B = L (kappa_e - kappa0) / 2, kbar = (kappa0 + kappa_e) / 2. The root with s1, s2 >= 0 is the
 // one whose sign matches A: D = kappa_m - kbar = (A + sign(A) sqrt(SQ)) / L, c = 2 D / L,
 // s1 = L (1 + B / (L D)) / 2. Eq. 11, which always takes -sqrt(SQ), is this root when A >= 0
-// (the curvature peaks above both end values, as in 004's example); for A < 0 (a valley) eq. 11
+// (the curvature peaks above both end values, as in seed 004's example); for A < 0 (a valley) eq. 11
 // gives s1 outside [0, L] and the valid root has +sqrt(SQ).
 struct TurnProfile {
   double c;   // 1/m^2
@@ -148,7 +148,7 @@ std::optional<Biclothoid> biclothoid_from_turn(const Posture& start, double kapp
   return make_biclothoid(start, profile.c, profile.s1, length - profile.s1);
 }
 
-// Derivatives of a point of the curve and of its end (derived here; 004 solves Algorithm 1
+// Derivatives of a point of the curve and of its end (derived here; seed 004 solves Algorithm 1
 // without them). With c and s1 the tangent angle is
 //   theta(s) = theta0 + kappa0 s + c s^2 / 2 - c (s - s1)_+^2
 // (curvature kappa0 + c s up to s1, then falling with slope c). The length L and the turn

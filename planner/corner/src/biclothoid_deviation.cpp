@@ -1,4 +1,4 @@
-// 004 section 7.1: the two directed Hausdorff distances between a fillet and the stretch of
+// seed 004 section 7.1: the two directed Hausdorff distances between a fillet and the stretch of
 // programmed path it replaces, by nested one-dimensional solvers on exact distances to the
 // programmed lines and circles and on a Taylor table of the fillet.
 

@@ -1,4 +1,4 @@
-// 004 Algorithm 1: the biclothoid that starts G2 on the incoming move at a given distance
+// seed 004 Algorithm 1: the biclothoid that starts G2 on the incoming move at a given distance
 // before the corner and ends G2 on the outgoing one (Newton on the closed-form derivatives of
 // biclothoid_end), with its sensitivities to the start distance for Algorithm 2.
 
@@ -47,7 +47,7 @@ std::optional<Solve> biclothoid_detail::fit_at(const CornerShapes& shapes, doubl
   };
 
   // a cold guess: the symmetric line-line fillet with tangent length a where the tangent jump
-  // dominates (the limit of small fillets), else L = 1.5 a, b = a / 2 (004 table 1's fillets).
+  // dominates (the limit of small fillets), else L = 1.5 a, b = a / 2 (seed 004 table 1's fillets).
   // Which dominates: the deviation of the pair grows like |delta| a / 6, that of a curvature
   // jump like |kappa1 - kappa2| a^2 / 42 (see fit_biclothoid_with_tolerance).
   if (!(guess_length > 0 && guess_b > 0)) {

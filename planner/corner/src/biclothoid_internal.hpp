@@ -1,7 +1,7 @@
 #pragma once
 // Private to planner/corner/src (not installed, not part of the corner library's API): the
 // constants and helpers that the biclothoid sources share — the curve (biclothoid_curve.cpp),
-// 004 Algorithm 1 (biclothoid_fit.cpp), the deviation (biclothoid_deviation.cpp), Algorithm 2
+// seed 004 Algorithm 1 (biclothoid_fit.cpp), the deviation (biclothoid_deviation.cpp), Algorithm 2
 // and the start-distance fit (biclothoid_tolerance.cpp), the corner plane (corner_plane.cpp)
 // and the corner method (biclothoid_corner.cpp).
 
@@ -96,7 +96,7 @@ struct Solve {
   double dlen_da = 0;  // d length / d a
   double db_da = 0;    // d b / d a
 };
-// 004 Algorithm 1 (biclothoid_fit.cpp): fit_biclothoid_at with the sensitivities.
+// seed 004 (Shahzadeh et al.) Algorithm 1 (biclothoid_fit.cpp): fit_biclothoid_at with the sensitivities.
 std::optional<Solve> fit_at(const CornerShapes& shapes, double a, double guess_length, double guess_b);
 
 // Where the larger directed distance D is attained, for its derivative with respect to the
@@ -118,7 +118,7 @@ struct Measured {
   Deviation deviation;
   Witness witness;
 };
-// 004 section 7.1 (biclothoid_deviation.cpp): biclothoid_deviation with its witness.
+// seed 004 section 7.1 (biclothoid_deviation.cpp): biclothoid_deviation with its witness.
 Measured measure_deviation(const BiclothoidSolution& fillet, const CornerShapes& shapes);
 
 }  // namespace blendbench::biclothoid_detail

@@ -1,4 +1,4 @@
-// 004 Algorithm 2 (the largest fillet within a deviation tolerance) and the other way to size a
+// seed 004 Algorithm 2 (the largest fillet within a deviation tolerance) and the other way to size a
 // fillet, by its start distance (Algorithm 1 alone, shrunk until it fits).
 
 #include "blendbench/corner/biclothoid.hpp"
@@ -183,10 +183,10 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
   const double delta = corner_turn(work);
   const double x_cap = std::log(a_cap);
   // a first start distance from the two small-fillet models: the line-line pair for the
-  // tangent jump (deviation ~ a) and, from 004 table 1 (arc R10 -> line at 0.1 mm: a = 6.5 mm),
+  // tangent jump (deviation ~ a) and, from seed 004 table 1 (arc R10 -> line at 0.1 mm: a = 6.5 mm),
   // dev ~ |kappa jump| a^2 / 42 for the curvature jump; where both act, the harmonic blend
   // 1 / a^2 = 1 / a_angle^2 + 1 / a_curvature^2 (an empirical fit: within about 1% of the
-  // solution for 004 listing 1 point C and a 20 deg line-arc kink, against 6% for the smaller)
+  // solution for seed 004 listing 1 point C and a 20 deg line-arc kink, against 6% for the smaller)
   const double kappa_jump = std::abs(work.q1.kappa - work.q2.kappa);
   const double a_angle = tangent_jump ? clothoid_pair_for_deviation(std::abs(delta), tolerance).tangent_length
                                       : std::numeric_limits<double>::infinity();

@@ -53,7 +53,7 @@ CornerFit fit_corner(const CornerInput& corner) {
   return {};
 }
 
-// Limits on a transition (001): velocity from the transition parameter, or else the junction
+// Limits on a transition (seed 001): velocity from the transition parameter, or else the junction
 // velocity of the buffer mode (PLCopen: the blend runs at the velocity the mode chooses, so a
 // blended corner honours BlendingPrevious/Next/High as a kink would); acceleration,
 // deceleration and jerk from the next move.
@@ -201,7 +201,8 @@ Path blend_moves(const Program& program) {
   Path path;
   bool stop_next = false;  // the next appended piece starts at rest
   // appends a piece, recording the tangent kink at its start; a kink left at a Buffered
-  // junction forces a stop (001, 003: the path velocity goes to zero)
+  // junction forces a stop (seed 001 (controller manual, line-to-line), seed 003 (controller
+  // manual, arc-to-arc): the path velocity goes to zero)
   // The tangents at a junction come from the programmed move for move pieces: a sliver left
   // between two fillets (nanometres long) has a chord direction good to only ~1e-7 rad, which
   // would read as a kink and force a spurious stop in Buffered mode.

@@ -139,7 +139,7 @@ CornerFit fit_clothoid_corner(const CornerInput& corner) {
   const PlanarCorner geometry = planar_corner(corner.in, corner.out);
   if (auto special = clothoid_special_case(corner, geometry)) return *special;
 
-  // 002 treats lines only: corners with arcs get a biclothoid fillet (004), which is the
+  // seed 002 (Makino) treats lines only: corners with arcs get a biclothoid fillet (seed 004), which is the
   // symmetric pair again where both moves are lines
   if (!geometry.lines) {
     CornerFit fit = fit_biclothoid_corner(corner);

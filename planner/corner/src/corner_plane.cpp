@@ -91,7 +91,7 @@ PlanarCorner planar_corner(const Primitive& in, const Primitive& out) {
 std::optional<CornerFit> clothoid_special_case(const CornerInput& corner, const PlanarCorner& geometry) {
   CornerFit fit;
   fit.parameter_used = 0;
-  // a reversal has no fillet: a kink that stops the path when Buffered (001, 003)
+  // a reversal has no fillet: a kink that stops the path when Buffered (seed 001, seed 003)
   if (geometry.angle >= kPi - kReversalAngle) {
     fit.corner_case = geometry.same_circle ? CornerCase::kSameCircleOppositeDirection : CornerCase::kReversal;
     fit.stop = corner.buffer == BufferMode::kBuffered;

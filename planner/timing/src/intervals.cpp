@@ -7,7 +7,7 @@
 #include "blendbench/corner/blend.hpp"
 
 // Junction rules, at a knot where the tangent turns by theta or the curvature vector jumps by
-// dk (derived here; the sources only say a controller slows down there, 004 section 3):
+// dk (derived here; the sources only say a controller slows down there, seed 004 (Shahzadeh et al.) section 3):
 //   - a direction change theta at speed v is a velocity step 2 v sin(theta/2) within one servo
 //     period dt, i.e. an acceleration pulse 2 v sin(theta/2)/dt. Keeping that pulse within the
 //     step the jerk limit allows in one period (j dt) and within the acceleration limit gives

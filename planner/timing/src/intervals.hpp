@@ -33,7 +33,7 @@ struct PieceModel {
 std::vector<PieceModel> piece_models(const Path& path, const TimingOptions& options);
 
 // The terms of v_lim over [s0, s1] (local arc lengths) of a piece: programmed velocity, and the
-// curvature and sharpness terms: eq. 25 and eq. 26 of 004 with the maximum curvature and
+// curvature and sharpness terms: eq. 25 and eq. 26 of seed 004 with the maximum curvature and
 // sharpness there (kPath), or the acceleration and jerk conditions (C1) and (C2) of
 // cartesian.hpp with the maximum curvature and spatial sharpness there (kCartesian).
 // `rotation`: the piece's rotation cap (PieceModel::rotation_cap), infinity where the tool does

@@ -19,7 +19,7 @@
 // 1. The path is cut into intervals at every piece junction, at the ends of hand-over zones
 //    (below) and, on pieces whose curvature varies along s (clothoids with non-zero sharpness,
 //    Bezier curves), into kSubdivisions equal sub-intervals. Each interval gets a cap: the
-//    smallest v_lim on it, from the maximum curvature and sharpness over the interval (004
+//    smallest v_lim on it, from the maximum curvature and sharpness over the interval (seed 004
 //    eq. 25-27 are decreasing in both, so this bounds v_lim(s) from below everywhere on the
 //    interval). Neighbouring intervals with identical limits and cap terms and an
 //    unconstrained knot between them are merged (collinear lines, equal arcs). Conservative:

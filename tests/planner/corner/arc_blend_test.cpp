@@ -1,5 +1,5 @@
 // Tests of the `arc` transition method (planner/corner/src/arc_blend.cpp): the corner distance rules of
-// 001 (line to line) and 003 (arc to arc), each special case by a hand-derived example, then
+// seed 001 (line to line) and seed 003 (arc to arc), each special case by a hand-derived example, then
 // seeded random corners for the invariants (continuity, tangency, corner distance, no NaN).
 
 #include <gtest/gtest.h>
@@ -86,7 +86,7 @@ Joins measure_joins(const CornerInput& corner, const CornerFit& fit) {
   return joins;
 }
 
-// ---- line to line (001)
+// ---- line to line (seed 001 (controller manual, line-to-line))
 
 TEST(ArcBlendLineLine, RightAngleFilletHasRadiusEqualToTheCornerDistance) {
   // theta = 90 deg: r = d / tan(45 deg) = d, centre at (0.09, 0.01), sweep pi/2, both trims d
@@ -117,7 +117,7 @@ TEST(ArcBlendLineLine, SixtyDegreeTurnGivesRadiusDSqrt3) {
 }
 
 TEST(ArcBlendLineLine, CollinearInsertsALinearTransitionOfTwiceTheCornerDistance) {
-  // 001 fig. 7-4: path unchanged, a line from 0.09 to 0.11 inserted
+  // seed 001 fig. 7-4: path unchanged, a line from 0.09 to 0.11 inserted
   const CornerFit fit = fit_arc_corner(make_corner(Line{{0, 0, 0}, {0.1, 0, 0}}, Line{{0.1, 0, 0}, {0.3, 0, 0}}, 0.01));
   ASSERT_TRUE(fit.outcome.ok());
   EXPECT_EQ(fit.corner_case, CornerCase::kCollinear);
@@ -141,7 +141,7 @@ TEST(ArcBlendLineLine, CollinearWithZeroDistanceInsertsNothing) {
 }
 
 TEST(ArcBlendLineLine, ReversalShortensBothMovesToTheSamePointAndStopsWhenBuffered) {
-  // 001 fig. 7-3: x: 0 -> 0.1 -> 0.05 with d = 0.01; both moves end/start at x = 0.09
+  // seed 001 fig. 7-3: x: 0 -> 0.1 -> 0.05 with d = 0.01; both moves end/start at x = 0.09
   const Line in{{0, 0, 0}, {0.1, 0, 0}};
   const Line out{{0.1, 0, 0}, {0.05, 0, 0}};
   const CornerFit buffered = fit_arc_corner(make_corner(in, out, 0.01, BufferMode::kBuffered));
@@ -159,7 +159,7 @@ TEST(ArcBlendLineLine, ReversalShortensBothMovesToTheSamePointAndStopsWhenBuffer
 }
 
 TEST(ArcBlendLineLine, ZeroDistanceInsertsNothingAndStopsOnlyWhenBuffered) {
-  // 001 fig. 7-5
+  // seed 001 fig. 7-5
   const Line in{{0, 0, 0}, {0.1, 0, 0}};
   const Line out{{0.1, 0, 0}, {0.1, 0.1, 0}};
   const CornerFit buffered = fit_arc_corner(make_corner(in, out, 0.0, BufferMode::kBuffered));
@@ -185,7 +185,7 @@ TEST(ArcBlendLineLine, CornerDistanceIsShrunkToTheAvailableLengthWithANote) {
   EXPECT_NEAR(as_arc(fit.transition[0]).radius, 0.004, kExact);
 }
 
-// ---- line to arc and arc to line (003 rule, a line counts as infinite radius)
+// ---- line to arc and arc to line (seed 003 rule, a line counts as infinite radius)
 
 // Line along +x into C = 0, arc out of C heading +y, counter-clockwise, radius R = 0.02 (centre
 // (-R, 0)); d = 0.01 shortens the line: T1 = (-d, 0), n1 = +y, w = T1 - centre = (R - d, 0):
@@ -321,7 +321,7 @@ TEST(ArcBlendLineArc, HelixIsTreatedAsNonPlanar) {
   EXPECT_LE(joins.angle, kG1);
 }
 
-// ---- arc to arc (003)
+// ---- arc to arc (seed 003 (controller manual, arc-to-arc))
 
 // A: centre 0, radius 0.05, counter-clockwise, ends at C = (0.03, 0.04). B: centre (0.03, 0.01),
 // radius 0.03, counter-clockwise, leaves C heading -x. d = arc length of A from T1 = (0.04, 0.03)
@@ -402,7 +402,7 @@ TEST(ArcBlendArcArc, DistancesNearTheIntersectionGiveSmallArcsThatShrinkToIt) {
 
 TEST(ArcBlendArcArc, TangentArcsInOppositeDirectionsReplaceDOfTheLargerArc) {
   // S-bend, G1 at C = 0 heading +x: A counter-clockwise radius 0.02, B clockwise radius 0.01.
-  // 003: a portion d of the larger arc is replaced by an arc; the path is unchanged
+  // seed 003: a portion d of the larger arc is replaced by an arc; the path is unchanged
   const Arc in = arc_from({0, 0.02, 0}, {-0.02, 0.02, 0}, Vec3::UnitZ(), kPi / 2);
   const Arc out = arc_from({0, -0.01, 0}, {0, 0, 0}, -Vec3::UnitZ(), kPi / 2);
   const CornerFit fit = fit_arc_corner(make_corner(in, out, 0.005, BufferMode::kBuffered));
@@ -425,7 +425,7 @@ TEST(ArcBlendArcArc, TangentArcsInOppositeDirectionsReplaceDOfTheLargerArc) {
   EXPECT_EQ(swapped.trim_in, 0.0);
   EXPECT_DOUBLE_EQ(swapped.trim_out, 0.005);
 
-  // equal radii: 003 says the incoming arc counts as the larger one
+  // equal radii: seed 003 says the incoming arc counts as the larger one
   const Arc equal_out = arc_from({0, -0.02, 0}, {0, 0, 0}, -Vec3::UnitZ(), kPi / 2);
   const CornerFit equal = fit_arc_corner(make_corner(in, equal_out, 0.005));
   EXPECT_EQ(equal.corner_case, CornerCase::kTangentOpposite);
@@ -490,7 +490,7 @@ TEST(ArcBlendArcArc, SameCircleOppositeDirectionShortensBothAndStopsWhenBuffered
 TEST(ArcBlendArcArc, CuspBetweenArcsThatPartIsJoinedByAUTurn) {
   // 180 deg between internally tangent circles travelled in opposite senses: A counter-clockwise
   // (radius 0.02) arrives at C = 0 heading +x, B clockwise (radius 0.01, inside A) leaves heading
-  // -x. The moves part at once, so unlike 001's line reversal nothing overlaps: the 003
+  // -x. The moves part at once, so unlike seed 001's line reversal nothing overlaps: the seed 003
   // construction gives a small U-turn arc tangent to both (the limit of near-180 deg corners)
   const Arc in = arc_from({0, 0.02, 0}, {-0.02, 0.02, 0}, Vec3::UnitZ(), kPi / 2);
   const Arc out = arc_from({0, 0.01, 0}, {0, 0, 0}, -Vec3::UnitZ(), kPi / 2);
@@ -757,7 +757,7 @@ TEST(ArcBlendProperty, NearStraightAndNearReversalCornersBehaveContinuously) {
 }
 
 TEST(ArcBlendProperty, LineLineFilletRadiusFollowsTheCornerDistance) {
-  // 001: r = d / tan(theta / 2) whenever d is not shrunk
+  // seed 001: r = d / tan(theta / 2) whenever d is not shrunk
   const int n = test::property_cases(5000);
   for (int i = 0; i < n; ++i) {
     const auto seed = static_cast<std::uint64_t>(130000 + i);
@@ -777,7 +777,7 @@ TEST(ArcBlendProperty, LineLineFilletRadiusFollowsTheCornerDistance) {
   }
 }
 
-// The 003 figures perturbed around their exact values: the intersection distance, the
+// The seed 003 figures perturbed around their exact values: the intersection distance, the
 // line-segment distance, and a second arc on (almost) the same circle.
 TEST(ArcBlendProperty, NearIntersectionLineSegmentAndSameCircleStayContinuous) {
   const int n = test::property_cases(10000);

@@ -1,4 +1,4 @@
-// Tests of the 000 Bezier transition (planner/corner/src/bezier_blend.cpp): hand-derived corners for
+// Tests of the seed 000 Bezier transition (planner/corner/src/bezier_blend.cpp): hand-derived corners for
 // each case of the paper, Algorithm 1, and seeded random corners and programs for the
 // invariants (continuity, G1, G2 with direction, the TP bound, no NaN).
 
@@ -82,7 +82,7 @@ Vec3 bezier_k(const Bezier& b, double u) {
   return (c2 - c1 * (c1.dot(c2) / g2)) / g2;
 }
 
-// Bending energy of 000 eq. 16, integral of |C''(u)|^2 over [0, 1] (5-point Gauss-Legendre,
+// Bending energy of seed 000 eq. 16, integral of |C''(u)|^2 over [0, 1] (5-point Gauss-Legendre,
 // exact for the degree <= 4 curves here since |C''|^2 then has degree <= 4).
 double bending_energy(const std::vector<Vec3>& p) {
   const Bezier b(p);
@@ -136,7 +136,7 @@ void expect_g2(const CornerInput& c, const CornerFit& fit) {
   EXPECT_LE(j.bound, kBoundSlack);
 }
 
-// ---- line-line (000 eq. 8-9)
+// ---- line-line (seed 000 eq. 8-9)
 
 TEST(BezierBlend, LineLine90DegreesWithTp5HasTheCornerTwiceAsControlPoint) {
   const Line in{Vec3(0, 0, 0), Vec3(0.1, 0, 0)};
@@ -289,7 +289,7 @@ TEST(BezierBlend, Algorithm1SharesAShortMoveBetweenTwoCorners) {
   for (const CornerReport& r : path.corners) EXPECT_LE(r.deviation, r.parameter * (1 + 1e-6));
 }
 
-// ---- line-circle (000 eq. 10-17)
+// ---- line-circle (seed 000 eq. 10-17)
 
 // Line along +x into B = 0; arc from B with tangent +y turning left (about +z), radius r,
 // centre (-r, 0, 0): the corner turns left by 90 degrees and the arc keeps turning left.
@@ -395,7 +395,7 @@ TEST(BezierBlend, CircleLineIsTheMirrorOfLineCircle) {
   for (std::size_t i = 0; i < p.size(); ++i) EXPECT_LT((p[i] - q[q.size() - 1 - i]).norm(), 1e-12);
 }
 
-// ---- circle-circle (000 eq. 18-24)
+// ---- circle-circle (seed 000 eq. 18-24)
 
 TEST(BezierBlend, CircleCircleIsTheQuarticOfEq22And24) {
   const double r1 = 0.04;
@@ -463,7 +463,7 @@ TEST(BezierBlend, HelixIsReportedInfeasible) {
 Move scenario_move(const Primitive& geometry) {
   Move move;
   move.geometry = geometry;
-  move.limits = {0.05, 0.1, 0.1, 0.2};  // 000 section 3.2
+  move.limits = {0.05, 0.1, 0.1, 0.2};  // seed 000 section 3.2
   move.transition.method = Method::kBezier;
   move.transition.parameter = 5 * kMm;
   return move;

@@ -30,7 +30,7 @@ Arc xy_arc(const Vec3& start, const Vec3& end, const Vec3& centre, bool clockwis
   return built.arc;
 }
 
-// 004 listing 1, starting at the origin, in metres:
+// seed 004 (Shahzadeh et al.) listing 1, starting at the origin, in metres:
 //   G2 X-10 Y10 R10; G1 Y50; G2 X0 Y60 R10; G2 X0 Y0 R30.01
 std::vector<Primitive> listing1() {
   const double half_chord = 30.0;
@@ -55,7 +55,7 @@ CornerInput corner_between(const Primitive& in, const Primitive& out, double tol
 }
 
 TEST(Biclothoid, WorkedExampleOfSection5) {
-  // 004 section 5: start (0, 0), kappa0 = 0.1, theta0 = pi/4; end kappa_e = 0.2, theta_e =
+  // seed 004 section 5: start (0, 0), kappa0 = 0.1, theta0 = pi/4; end kappa_e = 0.2, theta_e =
   // 3 pi/4; s_BC = 10 mm -> c1 = 0.012, s1 = 9.34, s2 = 0.66, end (0.88, 8.95) (units: mm)
   const auto curve = biclothoid_from_turn(Posture{Vec2(0, 0), 0.1, kPi / 4}, 0.2, kPi / 2, 10.0);
   ASSERT_TRUE(curve);
@@ -162,7 +162,7 @@ TEST(Biclothoid, ReversedIsTheSameCurveBackwards) {
 }
 
 TEST(Biclothoid, LineLineFilletIsSymmetricAndDeviatesExactlyTheTolerance) {
-  // 004 section 7.1: between two lines the fillet is symmetric and its deviation is the
+  // seed 004 section 7.1: between two lines the fillet is symmetric and its deviation is the
   // corner-to-midpoint distance; the midpoint is nearer the lines, by cos(alpha / 2)
   for (const double deg : {0.001, 1.0, 30.0, 90.0, 150.0, 179.999}) {
     const double alpha = deg * kPi / 180;
@@ -192,7 +192,7 @@ TEST(Biclothoid, LineLineFilletIsSymmetricAndDeviatesExactlyTheTolerance) {
 }
 
 TEST(Biclothoid, Table2CornerIsA30DegreeDeflectionAt01Millimetre) {
-  // 004 table 2: "two linear moves making a 150 degree angle"; the biclothoid is 2.22 mm long,
+  // seed 004 table 2: "two linear moves making a 150 degree angle"; the biclothoid is 2.22 mm long,
   // kappa_max 0.47 1/mm, sharpness 0.42 1/mm^2, feed 4489 mm/min. A symmetric pair turning by
   // alpha has kappa_max L / 2 = alpha... here 0.47 * 1.11 = 0.52 rad = 30 deg: 150 deg is the
   // angle between the lines, the deflection is 30 deg; the deviation that reproduces the
@@ -217,7 +217,7 @@ TEST(Biclothoid, Table2CornerIsA30DegreeDeflectionAt01Millimetre) {
 }
 
 TEST(Biclothoid, Table1FilletsOfListing1At01Millimetre) {
-  // 004 table 1 (tolerance 0.1 mm): S1S2 (point A, arc R10 -> line) and S3S4 (point B,
+  // seed 004 table 1 (tolerance 0.1 mm): S1S2 (point A, arc R10 -> line) and S3S4 (point B,
   // line -> arc R10): c = 0.016 1/mm^2, kappa_max = 0.124 1/mm, 12486 mm/min; S5S6 (point C,
   // arc R10 -> arc R30.01 with a 1.48 deg kink): c = 0.009, kappa_max = 0.116, 13871 mm/min.
   // Achieved: A and B c = 0.01595, kappa_max = 0.12377 (length 9.252 mm, 6.471 mm of the arc
@@ -375,7 +375,7 @@ TEST(Biclothoid, ZeroToleranceAtAKinkIsAnInputErrorNamingTheCorner) {
 }
 
 TEST(Biclothoid, NonPlanarCornersFallBackToBezier) {
-  // a line leaving the arc's plane, and a helix: 004 has no 3D form
+  // a line leaving the arc's plane, and a helix: seed 004 has no 3D form
   const Arc arc = xy_arc(Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 0), false);
   const Vec3 end = point(arc, length(arc));
   const CornerInput up = corner_between(arc, Line{end, end + Vec3(0.3, 0.0, 0.5)}, 0.1 * kMm);
@@ -554,7 +554,7 @@ TEST(Biclothoid, Listing1ThroughTheBlenderIsG2Everywhere) {
     EXPECT_FALSE(report.stop);
     EXPECT_LE(report.deviation, 0.1 * kMm * (1 + kDeviationSlack));
     EXPECT_GT(report.deviation, 0.09 * kMm);  // the blender samples; it sees nearly all of it
-    EXPECT_GT(report.feed_max, 0.2);          // 004 table 1: > 12000 mm/min
+    EXPECT_GT(report.feed_max, 0.2);          // seed 004 table 1: > 12000 mm/min
   }
   for (std::size_t k = 1; k < path.pieces().size(); ++k) {
     const Segment& a = path.pieces()[k - 1].segment;

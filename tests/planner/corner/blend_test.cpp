@@ -110,7 +110,7 @@ TEST(Blend, NoSpuriousKinkWhereTwoFilletsMeetInTheMiddleOfAMove) {
 }
 
 TEST(Blend, ZeroLengthTransitionReportsTheSkippedPathAsDeviation) {
-  // 001 reversal: both moves shortened by the corner distance; the corner point B itself is
+  // seed 001 reversal: both moves shortened by the corner distance; the corner point B itself is
   // skipped, d away from where the path turns back
   Program program;
   program.moves = {line_move({0, 0, 0}, {0.1, 0, 0}, Method::kArc, 0.005), line_move({0.1, 0, 0}, {0.03, 0, 0})};
@@ -122,7 +122,7 @@ TEST(Blend, ZeroLengthTransitionReportsTheSkippedPathAsDeviation) {
 }
 
 TEST(Blend, SpeedLimitOfPaper004Table1) {
-  // 004 table 1, fillet S1S2: c = 0.016 1/mm^2, kappa = 0.124 1/mm -> 12486 mm/min
+  // seed 004 (Shahzadeh et al.) table 1, fillet S1S2: c = 0.016 1/mm^2, kappa = 0.124 1/mm -> 12486 mm/min
   const double v = curvature_speed_limit(124.0, 16000.0, 9.8, 200.0);
   EXPECT_NEAR(v * 60000.0, 12486.0, 1.0);
 }

@@ -35,7 +35,7 @@ CornerInput line_corner(double alpha, double tolerance, double kappa_max = 0, do
 }
 
 TEST(ClothoidPair, MakinoNinetyDegreeCorner) {
-  // 002 eq. 9 and fig. 6: alpha = 90 deg, phi_max = 45 deg, u_max = sqrt(45 / 90) = 1/sqrt(2).
+  // seed 002 (Makino) eq. 9 and fig. 6: alpha = 90 deg, phi_max = 45 deg, u_max = sqrt(45 / 90) = 1/sqrt(2).
   // Makino's experiment blends a 25 x 25 mm corner: tangent length T = 25 mm, so
   // a = T / (C(u) + S(u) tan 45) and the peak curvature is pi u / a (eq. 7).
   const double alpha = kPi / 2;

@@ -63,7 +63,7 @@ TEST(Segment, BezierArcLengthTableIsExactOnAStraightCubic) {
 }
 
 TEST(Segment, BezierCurvatureMatchesTheFormulaOfPaper000) {
-  // 000 eq. 6: kappa(0) = (n-1)/n |(P1-P0) x (P2-P1)| / |P1-P0|^3 for a cubic
+  // seed 000 (single-Bezier transition) eq. 6: kappa(0) = (n-1)/n |(P1-P0) x (P2-P1)| / |P1-P0|^3 for a cubic
   const std::vector<Vec3> p = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 1, 0), Vec3(2, 2, 0.5)};
   const Segment seg = Bezier(p);
   const double expected = (2.0 / 3.0) * (p[1] - p[0]).cross(p[2] - p[1]).norm() / std::pow((p[1] - p[0]).norm(), 3);

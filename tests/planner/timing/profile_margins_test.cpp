@@ -66,7 +66,7 @@ TEST(ProfileMargins, HandoverZoneRaisesTheFeedOnlyInsideIt) {
 }
 
 TEST(ProfileMargins, ConstantSpeedOnAnArcMeetsTheClosedForms) {
-  // a quarter circle of radius r at v: kappa v^2 and, by 004 eq. 24 (c = 0), kappa^2 v^3; the
+  // a quarter circle of radius r at v: kappa v^2 and, by seed 004 eq. 24 (c = 0), kappa^2 v^3; the
   // axes see the centripetal acceleration and its rotation in full where they line up with
   // them, at the ends of the quarter (finite differences are exact to (v dt / r)^2 ~ 1e-6)
   const double r = 0.1;

@@ -257,7 +257,7 @@ TEST(Timing, JunctionSlowdownIgnoresExactStopsExceptBuffered) {
   EXPECT_NEAR(plan_timing(buffered, options).cycle_time, stops.cycle_time, 1e-12);
 }
 
-// A planar G2 corner like a biclothoid fillet of 004 at F15000 (lines of 50 mm, two clothoids
+// A planar G2 corner like a biclothoid fillet of seed 004 at F15000 (lines of 50 mm, two clothoids
 // 0 -> 79/m -> 0 of sharpness 6700/m^2, 11.8 mm each; 0.25 m/s, 2.5 m/s^2, 50 m/s^3): the cap
 // falls from cbrt(j/c) = 0.195 m/s at the line to 0.176 m/s at the apex (sharpness-bound).
 Path clothoid_fillet() {
@@ -279,7 +279,7 @@ Path clothoid_fillet() {
 TEST(Timing, ClothoidFilletCarriesAccelerationThroughItsSubIntervals) {
   const Path path = clothoid_fillet();
   ASSERT_NEAR((curvature_vector(path.pieces()[2].segment, 0.0) - curvature_vector(path.pieces()[1].segment, 79.0 / 6700.0)).norm(), 0.0, 1e-9);
-  // path mode, 004's model (in cartesian mode the clothoids' tangential limits are a share of
+  // path mode, seed 004's model (in cartesian mode the clothoids' tangential limits are a share of
   // the limits and the carried profile took 0.714 s against 0.710 s when measured)
   TimingOptions options;
   options.limits = LimitsMode::kPath;

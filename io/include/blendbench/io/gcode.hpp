@@ -23,7 +23,7 @@
 // (LinuxCNC starts in G80). Never a silently different path.
 //
 // Decisions where RS274/NGC leaves room or this reader departs from LinuxCNC:
-// - Unicode minus (U+2212, as in text extracted from PDFs, e.g. Listing 1 of 004) is read as
+// - Unicode minus (U+2212, as in text extracted from PDFs, e.g. Listing 1 of seed 004) is read as
 //   '-', and each line where it happens is noted in `ignored`.
 // - '/' as the first character of a line deletes the block (LinuxCNC with the block-delete
 //   switch on): the line is skipped and noted.

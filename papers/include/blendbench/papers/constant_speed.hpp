@@ -1,5 +1,5 @@
 #pragma once
-// A timing law at constant path speed: the reference seed 002's experiment runs (a pen at a
+// A timing law at constant path speed: the reference that the experiment of seed 002 (Makino) runs (a pen at a
 // constant line speed through the corner), and the one on which a G1 and a G2 corner are
 // compared at equal speed. Unlike plan_timing it ignores curvature: the speed stays `speed`
 // through every transition, so a circular arc's curvature steps become acceleration steps

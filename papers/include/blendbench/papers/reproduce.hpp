@@ -65,7 +65,7 @@ struct PlannedRun {
 PlannedRun plan_run(std::string name, std::string description, Program program,
                     TimingOptions::Baseline baseline = TimingOptions::Baseline::kNone);
 
-// 004 (Shahzadeh et al. 2018): section 5's worked example, tables 1-3 and the unsmoothed cycle
+// seed 004 (Shahzadeh et al. 2018): section 5's worked example, tables 1-3 and the unsmoothed cycle
 // times of section 3, on Listing 1 with a_lim 9800 mm/s^2, j_lim 200000 mm/s^3, F10000.
 struct Paper004 {
   FigureTable section5;  // keys c1, s1, s2, x_end, y_end
@@ -82,7 +82,7 @@ struct Paper004 {
 };
 Paper004 reproduce_004();
 
-// 000 (Bezier transitions, 2017) section 3.2: a program of lines and circles at 50 mm/s,
+// seed 000 (Bezier transitions, 2017) section 3.2: a program of lines and circles at 50 mm/s,
 // 100 mm/s^2, 200 mm/s^3 with TP 5 mm, with and without transitions (the program is ours: the
 // paper shows it only in a figure; scenarios/papers/000_section_3_2.yaml).
 struct Paper000 {

@@ -1,11 +1,11 @@
 #pragma once
-// Biclothoid fillets (004, Shahzadeh et al. 2018) in the plane of a corner.
+// Biclothoid fillets (seed 004, Shahzadeh et al. 2018) in the plane of a corner.
 //
-// A biclothoid is two clothoids back to back whose sharpness values are opposite (004 def. 2,
+// A biclothoid is two clothoids back to back whose sharpness values are opposite (seed 004 def. 2,
 // eq. 7-8): the curvature rises (or falls) linearly from kappa0 to a peak kappa_m over s1 and
 // returns linearly to kappa_e over s2. fit_biclothoid_corner (corner.hpp) uses it to replace a
 // corner between two lines, a line and an arc or two arcs by a G2 fillet whose deviation from
-// the programmed path is bounded by a tolerance (004 Algorithms 1 and 2).
+// the programmed path is bounded by a tolerance (seed 004 Algorithms 1 and 2).
 //
 // The sources follow the algorithm: the curve (biclothoid_curve.cpp), Algorithm 1
 // (biclothoid_fit.cpp), the deviation (biclothoid_deviation.cpp), Algorithm 2 and the
@@ -23,7 +23,7 @@
 
 namespace blendbench {
 
-// 004 definition 1: position, curvature (1/m, signed) and tangent angle (rad) at a point.
+// seed 004 definition 1: position, curvature (1/m, signed) and tangent angle (rad) at a point.
 struct Posture {
   Vec2 p = Vec2::Zero();
   double kappa = 0;
@@ -31,7 +31,7 @@ struct Posture {
 };
 
 // A biclothoid: clothoid 1 from `start` with sharpness c over s1, clothoid 2 with sharpness -c
-// over s2 (004 eq. 7-8). `mid` is the posture where they meet (the curvature extremum); it is
+// over s2 (seed 004 eq. 7-8). `mid` is the posture where they meet (the curvature extremum); it is
 // filled by make_biclothoid so that evaluation is cheap.
 struct Biclothoid {
   Posture start;
@@ -44,7 +44,7 @@ struct Biclothoid {
 // Completes `mid` from start, c, s1, s2 (s1, s2 >= 0).
 Biclothoid make_biclothoid(const Posture& start, double c, double s1, double s2);
 
-// 004 eq. 9-14: the biclothoid of total length `length` (> 0) that starts at `start` and ends
+// seed 004 eq. 9-14: the biclothoid of total length `length` (> 0) that starts at `start` and ends
 // with curvature kappa_e and tangent angle start.theta + dtheta. Always exists; derived in
 // closed form (biclothoid_curve.cpp) in a form that stays exact when kappa0 = kappa_e, where
 // eq. 11 is 0/0. nullopt only for a non-positive or non-finite length.
@@ -70,7 +70,7 @@ Posture end_posture(const Biclothoid& curve);
 // The same curve traversed backwards (a biclothoid again: c -> -c, s1 <-> s2).
 Biclothoid reversed(const Biclothoid& curve);
 
-// 004 Algorithm 1 (derived here: the paper gives only its first lines): the biclothoid that
+// seed 004 Algorithm 1 (derived here: the paper gives only its first lines): the biclothoid that
 // starts G2 on q1 at distance `a` before the corner and ends G2 on q2. Unknowns: its length L
 // and the end distance b on q2; it turns by the programmed turn delta + kappa1 a + kappa2 b
 // (delta the tangent jump at the corner). When q2 is a line the turn is fixed and one scalar
@@ -86,14 +86,14 @@ struct BiclothoidSolution {
 std::optional<BiclothoidSolution> fit_biclothoid_at(const CornerShapes& shapes, double a, double guess_length = 0,
                                                     double guess_b = 0);
 
-// 004 section 7.1: directed Hausdorff distances between the replaced programmed path
+// seed 004 section 7.1: directed Hausdorff distances between the replaced programmed path
 // U = q1[-a, 0] + q2[0, b] and the fillet V, by nested one-dimensional solvers (for a point of
 // U, Newton for its closest point on V; over U, a sampled search refined by a secant method on
 // the derivative of the distance). `fillet_to_original` (V -> U) uses exact distances to lines
 // and circles, a sampled search refined by Newton on their derivative (or, at a tangent jump,
 // on the difference of the distances to both sides).
 struct Deviation {
-  double original_to_fillet = 0;  // m, 004 eq. 15 with U the original path
+  double original_to_fillet = 0;  // m, seed 004 eq. 15 with U the original path
   double fillet_to_original = 0;  // m
   [[nodiscard]] double max() const {
     return original_to_fillet > fillet_to_original ? original_to_fillet : fillet_to_original;
@@ -101,7 +101,7 @@ struct Deviation {
 };
 Deviation biclothoid_deviation(const BiclothoidSolution& fillet, const CornerShapes& shapes);
 
-// 004 Algorithm 2 (derived here; the paper gives only its first lines): the largest fillet
+// seed 004 Algorithm 2 (derived here; the paper gives only its first lines): the largest fillet
 // whose deviation (the larger of the two directed distances) stays within `tolerance` (m, > 0),
 // with a <= a_max and b <= b_max (m). Follows section 6: if q2 is more curved than q1 the corner
 // is reversed (q1 <-> q2) and the fillet reversed back at the end. The start distance comes from
@@ -127,12 +127,12 @@ struct BiclothoidToleranceFit {
 BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes, double tolerance, double a_max,
                                                      double b_max);
 
-// The other way to size a fillet (004 Algorithm 1 alone): it starts `start_distance` (m, > 0)
+// The other way to size a fillet (seed 004 Algorithm 1 alone): it starts `start_distance` (m, > 0)
 // before the corner on q1. The start distance is capped as in the tolerance fit (a_max, an
 // eighth of a turn of an arc, short of where the moves cross again); when Algorithm 1 finds no
 // fillet there or its end distance b exceeds b_max (or an eighth of a turn of q2), the start
 // distance is shrunk to the largest that fits (halving, then bisection in log a to 1e-9), and
-// `limited` is set. `deviation` is measured (004 section 7.1). outcome: kNotConverged when no
+// `limited` is set. `deviation` is measured (seed 004 section 7.1). outcome: kNotConverged when no
 // start distance down to 2^-60 of the request fits.
 struct BiclothoidStartFit {
   // Why the start distance used is below the one asked for.

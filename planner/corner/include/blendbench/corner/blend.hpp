@@ -48,7 +48,7 @@ MergedProgram merge_collinear(const Program& program);
 void measure_corner(CornerReport& report, const std::vector<Segment>& transition, const Primitive& in,
                     const Primitive& out, double a_max, double j_max);
 
-// 004 eq. 25-27: the highest constant path speed (m/s) on a curve of curvature kappa (1/m)
+// seed 004 eq. 25-27: the highest constant path speed (m/s) on a curve of curvature kappa (1/m)
 // and sharpness c (1/m^2) that keeps the axis acceleration and jerk within a_max and j_max.
 // Infinity on a straight line.
 double curvature_speed_limit(double kappa, double sharpness, double a_max, double j_max);

@@ -1,9 +1,9 @@
 #pragma once
-// Makino's clothoid corner (002): a symmetric clothoid pair between two lines, and the
+// Makino's clothoid corner (seed 002): a symmetric clothoid pair between two lines, and the
 // clothoid-arc-clothoid that caps the peak curvature. fit_clothoid_corner (corner.hpp) builds
-// the transition from these; corners with arcs fall back to biclothoid fillets (004).
+// the transition from these; corners with arcs fall back to biclothoid fillets (seed 004 (Shahzadeh et al.)).
 //
-// Geometry of a symmetric corner (derived here; 002 gives only eq. 9): a curve that starts on
+// Geometry of a symmetric corner (derived here; seed 002 gives only eq. 9): a curve that starts on
 // the incoming line at tangent length T before the corner, turns by the deflection alpha
 // (the angle between the two directions of travel, 0 < alpha < pi) and is symmetric about the
 // bisector. If its first half ends at (X, Y) in a frame at its start (x along the incoming
@@ -15,7 +15,7 @@
 
 namespace blendbench {
 
-// 002 eq. 4-9 for a corner of deflection alpha (rad, 0 < alpha < pi). Makino's unit clothoid
+// seed 002 eq. 4-9 for a corner of deflection alpha (rad, 0 < alpha < pi). Makino's unit clothoid
 // has kappa = pi s / a^2, so the sharpness is pi / a^2 and the peak curvature pi u / a.
 struct ClothoidPair {
   double alpha = 0;           // rad, deflection of the corner
@@ -30,7 +30,7 @@ struct ClothoidPair {
 ClothoidPair clothoid_pair_for_deviation(double alpha, double deviation);
 ClothoidPair clothoid_pair_for_tangent_length(double alpha, double tangent_length);
 
-// 002 figs. 12-13: clothoid (0 -> kappa over clothoid_length), arc of curvature kappa,
+// seed 002 figs. 12-13: clothoid (0 -> kappa over clothoid_length), arc of curvature kappa,
 // clothoid (kappa -> 0), symmetric, for a corner of deflection alpha (0 < alpha < pi);
 // 0 <= clothoid_length <= alpha / kappa (at the upper end the arc vanishes and it is the pair
 // with peak kappa; at 0 it is the plain arc of radius 1 / kappa).

@@ -45,12 +45,13 @@ struct CornerFit {
 };
 
 // Reversals, shared by every method. A corner whose tangent turns by theta >= pi -
-// kReversalAngle is a reversal (each method's own rule: 001 shortens both lines and keeps the
-// kink, 003 joins parting arcs by a U-turn arc, 000, 002 and 004 leave the kink). One that turns
+// kReversalAngle is a reversal (each method's own rule: seed 001 shortens both lines and keeps the
+// kink, seed 003 joins parting arcs by a U-turn arc, seed 000, seed 002 (Makino) and seed 004 leave
+// the kink). One that turns
 // by theta in [pi - kNearReversalAngle, pi - kReversalAngle) is a near reversal: a fillet there
 // is a cusp or close to one (the arc's radius d / tan(theta / 2) is 0.044 d at the threshold
 // and nanometres within 1e-6 rad of pi; a Bezier's curvature grows like 1 / (pi - theta)^2,
-// 003's U-turn arcs between nearly opposite arcs can be as tight), so every method treats it as
+// seed 003's U-turn arcs between nearly opposite arcs can be as tight), so every method treats it as
 // the sources treat a line reversal: no transition, the kink stays (a stop when Buffered, else
 // the kink's junction velocity, which is nearly a stop), case "near_reversal". Applied by the
 // blender before it calls the method (near_reversal_fit).
@@ -74,9 +75,9 @@ inline constexpr double kCuspShare = 0.01;
 // Why `fit` of `corner` is a cusp (above), or an empty string when it is not.
 std::string cusp_problem(const CornerInput& corner, const CornerFit& fit);
 
-CornerFit fit_arc_corner(const CornerInput& corner);         // 001, 003: corner distance
-CornerFit fit_bezier_corner(const CornerInput& corner);      // 000: transition parameter TP
-CornerFit fit_clothoid_corner(const CornerInput& corner);    // 002: clothoid pair (+ arc)
-CornerFit fit_biclothoid_corner(const CornerInput& corner);  // 004: tolerance or start distance
+CornerFit fit_arc_corner(const CornerInput& corner);         // seed 001, seed 003: corner distance
+CornerFit fit_bezier_corner(const CornerInput& corner);      // seed 000: transition parameter TP
+CornerFit fit_clothoid_corner(const CornerInput& corner);    // seed 002: clothoid pair (+ arc)
+CornerFit fit_biclothoid_corner(const CornerInput& corner);  // seed 004: tolerance or start distance
 
 }  // namespace blendbench

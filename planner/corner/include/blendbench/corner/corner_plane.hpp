@@ -1,7 +1,7 @@
 #pragma once
 // A corner between two programmed moves seen in its plane: the moves as planar shapes through
 // the corner (a line or a circle), the plane's frame in 3D, and the corners that both clothoid
-// methods (fit_clothoid_corner, 002; fit_biclothoid_corner, 004) treat alike before fitting.
+// methods (fit_clothoid_corner, seed 002 (Makino); fit_biclothoid_corner, seed 004) treat alike before fitting.
 //
 // Plane conventions: 2D coordinates in the corner plane with the corner at the origin, angles
 // in rad measured counter-clockwise from the x axis, curvature signed (positive turns left),

@@ -1,10 +1,10 @@
 #pragma once
-// Fresnel integrals (002 eq. 1-2, appendix):
+// Fresnel integrals (seed 002 (Makino) eq. 1-2, appendix):
 //   C(x) = int_0^x cos(pi t^2 / 2) dt,   S(x) = int_0^x sin(pi t^2 / 2) dt.
 //
 // Method (derived here, see fresnel.cpp): with t = pi x^2 / 2,
 //   C(x) + i S(x) = x sum_m (i t)^m / (m! (2m + 1))                        for |x| <= 1.6,
-// the power series of the integrand integrated term by term (the series of 002's appendix in
+// the power series of the integrand integrated term by term (the series of seed 002's appendix in
 // one complex sum). For |x| > 1.6 the relation to the complementary error function,
 //   C + i S = (1 + i)/2 erf(z),  z = (1 - i) sqrt(pi) x / 2,  z^2 = -i pi x^2 / 2,
 // with the even part of Laplace's continued fraction for erfc gives

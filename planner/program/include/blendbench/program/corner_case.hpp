@@ -14,16 +14,16 @@ namespace blendbench {
 enum class CornerCase {
   kRegular,
   kExactStop,                    // method none: the corner is left as programmed and stopped at
-  kCollinear,                    // 0 degree: the moves continue each other (001)
-  kReversal,                     // 180 degree: the path turns back on itself (001)
+  kCollinear,                    // 0 degree: the moves continue each other (seed 001)
+  kReversal,                     // 180 degree: the path turns back on itself (seed 001)
   kNearReversal,                 // within kNearReversalAngle of 180 degrees (corner.hpp): treated as a reversal
-  kZeroDistance,                 // corner distance 0: a zero-length transition (001, 003)
-  kIntersection,                 // the arcs cross at the corner (003)
+  kZeroDistance,                 // corner distance 0: a zero-length transition (seed 001, seed 003)
+  kIntersection,                 // the arcs cross at the corner (seed 003 (controller manual, arc-to-arc))
   kTangent,                      // G1 already: only the curvature jumps
-  kTangentOpposite,              // tangent arcs turning in opposite directions (003)
-  kLineSegment,                  // the transition has an infinite radius: a line (003)
-  kSameCircleSameDirection,      // both arcs on one circle, one sense (003)
-  kSameCircleOppositeDirection,  // both arcs on one circle, opposite senses (003)
+  kTangentOpposite,              // tangent arcs turning in opposite directions (seed 003)
+  kLineSegment,                  // the transition has an infinite radius: a line (seed 003)
+  kSameCircleSameDirection,      // both arcs on one circle, one sense (seed 003)
+  kSameCircleOppositeDirection,  // both arcs on one circle, opposite senses (seed 003)
   kClothoidArcClothoid,          // the clothoid pair capped in curvature (seed 002, Makino, figs. 12-13)
   kCurvatureCapUnmet,            // the curvature cap cannot be met
   kNonPlanar,                    // the two moves do not lie in one plane

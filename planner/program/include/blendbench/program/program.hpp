@@ -51,9 +51,9 @@ struct Transition {
   // 1/m: optional curvature cap for the clothoid method (clothoid-arc-clothoid); 0 = none.
   double kappa_max = 0;
   // m: biclothoid only, the alternative to a maximum deviation: the fillet starts this far
-  // before the corner on the incoming move (004 Algorithm 1); 0 = sized by `parameter`.
+  // before the corner on the incoming move (seed 004 (Shahzadeh et al.) Algorithm 1); 0 = sized by `parameter`.
   double start_distance = 0;
-  // m/s: transition velocity (001: the transition takes its velocity from the transition
+  // m/s: transition velocity (seed 001: the transition takes its velocity from the transition
   // parameter); 0 = the junction velocity of the move's buffer mode (junction_velocity; with
   // BlendingLow the slower of the two moves).
   double velocity = 0;

@@ -1,6 +1,6 @@
 #pragma once
 // The limits a velocity plan holds: along the path (mode `path`, the tangential model of seed
-// 004, Shahzadeh et al., eq. 25-27) or as vectors on the TCP (mode `cartesian`), and the
+// seed 004, Shahzadeh et al., eq. 25-27) or as vectors on the TCP (mode `cartesian`), and the
 // conditions on the path speed that make the vector limits hold.
 //
 // Derivation (cartesian). The TCP moves along p(s) (arc length s) at path speed v, with
@@ -47,7 +47,7 @@
 namespace blendbench {
 
 // Which limits a plan holds (TimingOptions::limits):
-//   kPath: 004's model: |a_t| <= a, |j_t| <= j, kappa v^2 <= a and v <= cbrt(j / sqrt(c^2 +
+//   kPath: seed 004's model: |a_t| <= a, |j_t| <= j, kappa v^2 <= a and v <= cbrt(j / sqrt(c^2 +
 //          kappa^4)) (eq. 25-27), kept for the paper reproductions;
 //   kCartesian: |v| <= feed, |a| <= a (a_t >= 0) or deceleration (a_t <= 0) and |j| <= j as
 //          vectors on the TCP, by (C1) and (C2) above.

@@ -18,10 +18,10 @@ namespace blendbench {
 // a sample on a junction (or a difference stencil across one) is held to the side that allows
 // more, as the profile may use either side's limit there.
 struct LocalLimits {
-  double v_lim = std::numeric_limits<double>::infinity();     // m/s: v_lim(s), 004 eq. 25-27
+  double v_lim = std::numeric_limits<double>::infinity();     // m/s: v_lim(s), seed 004 eq. 25-27
   double kappa = 0;                                           // 1/m: the largest curvature
   double a_normal = std::numeric_limits<double>::infinity();  // m/s^2: the bound on kappa v^2
-  // 004 eq. 24: sqrt(c^2 + kappa^4) (1/m^2) of the piece where it is largest against its jerk
+  // seed 004 eq. 24: sqrt(c^2 + kappa^4) (1/m^2) of the piece where it is largest against its jerk
   // limit, and that limit (m/s^3), for the constant-speed axis jerk sqrt(c^2 + kappa^4) v^3
   double eq24_factor = 0;
   double eq24_jerk = std::numeric_limits<double>::infinity();
@@ -45,11 +45,11 @@ LocalLimits widest(const std::vector<LocalLimits>& lim, std::size_t k0, std::siz
 // positions at the servo period (centred second and third differences), in the frame of the
 // path, against the largest limits the stencil touches.
 struct ProfileMargins {
-  double velocity = 0;                 // v / v_lim(s): programmed feed and 004 eq. 25-27 at s
+  double velocity = 0;                 // v / v_lim(s): programmed feed and seed 004 eq. 25-27 at s
   double tangential_acceleration = 0;  // |a_t| / (acceleration or deceleration limit)
   double tangential_jerk = 0;          // |j_t| / jerk limit
   double normal_acceleration = 0;      // kappa v^2 / acceleration limit
-  double eq24_jerk = 0;                // sqrt(c^2 + kappa^4) v^3 / jerk limit (004 eq. 24)
+  double eq24_jerk = 0;                // sqrt(c^2 + kappa^4) v^3 / jerk limit (seed 004 eq. 24)
   double axis_acceleration = 0;        // max over x, y, z of |d2x/dt2| / acceleration limit
   double axis_jerk = 0;                // max over x, y, z of |d3x/dt3| / jerk limit
   double axis_jerk_time = 0;           // s: where axis_jerk is reached (the stencil's centre)

@@ -25,11 +25,11 @@ struct TimingOptions {
   // through the knots between them (timing.cpp); false: zero tangential acceleration at every
   // interval boundary (the more conservative method, kept for comparison: its cycle time never
   // grows when a limit is raised in path mode, and the default was never slower on thousands of
-  // random paths, timing_test; in cartesian mode one counterexample is known, 004's fillet,
+  // random paths, timing_test; in cartesian mode one counterexample is known, seed 004's fillet,
   // 0.714 s carried against 0.710 s).
   bool carry_acceleration = true;
   // Which limits the plan holds (cartesian.hpp): as vectors on the TCP (the default), or the
-  // tangential model of 004 (kPath, kept for the paper reproductions).
+  // tangential model of seed 004 (kPath, kept for the paper reproductions).
   LimitsMode limits = LimitsMode::kCartesian;
   // Optional per-axis acceleration and jerk limits on the TCP (kCartesian only).
   std::optional<AxisLimits> axis_limits;
@@ -46,7 +46,7 @@ struct TimedSample {
 
 // What limited the peak velocity `v_peak` (m/s) of one path piece:
 //   "feed", "curvature", "sharpness": the piece reaches v_lim(s) (within 0.1 %), and this term
-//       of it (programmed velocity, sqrt(a/kappa), cbrt(j/sqrt(c^2+kappa^4)); 004 eq. 25-27)
+//       of it (programmed velocity, sqrt(a/kappa), cbrt(j/sqrt(c^2+kappa^4)); seed 004 eq. 25-27)
 //       is the smallest where it does;
 //   "length": the piece holds a local maximum of v below v_lim: too short to reach it between
 //       the velocities at its ends;
@@ -123,7 +123,7 @@ std::vector<HandoverZone> handover_zones(const Path& path, const TimingOptions& 
 
 // Plans the fastest profile the method below finds from rest at s = 0 to rest at the end of
 // the path. On the result, with v_lim(s) = min(feed(s), sqrt(a/kappa(s)),
-// cbrt(j/sqrt(c(s)^2 + kappa(s)^4))) (004 eq. 25-27, a and j the piece's acceleration and
+// cbrt(j/sqrt(c(s)^2 + kappa(s)^4))) (seed 004 eq. 25-27, a and j the piece's acceleration and
 // jerk limits; feed(s) the piece's velocity, or the junction velocity in a hand-over zone):
 // 0 <= v <= v_lim(s), |a_t| <= acceleration (speeding up) or deceleration (slowing down),
 // |j_t| <= jerk, kappa v^2 <= acceleration, and v = 0 at every stop_before. Where the pieces
