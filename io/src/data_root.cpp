@@ -67,8 +67,9 @@ fs::path find_data_root(const char* env_value, const fs::path& executable) {
   }
 
   std::string message = "cannot find BlendBench's data (models/, scenarios/, ...); tried:";
-  for (const std::string& t : tried) message += "\n  " + t;
-  message += "\nset " + std::string(kDataDirVariable) + " to the folder that holds models/ and scenarios/";
+  // one line (messages are printed escaped, so a newline would show as \n)
+  for (std::size_t i = 0; i < tried.size(); ++i) message += (i == 0 ? " " : "; ") + tried[i];
+  message += "; set " + std::string(kDataDirVariable) + " to the folder that holds models/ and scenarios/";
   throw DataRootError(message);
 }
 

@@ -22,15 +22,22 @@ namespace blendbench {
 namespace {
 
 // A YAML value to build scenario texts from: a scalar as written, a map in order, or a list.
+// (A map's entries are a struct of their own: std::pair of an incomplete type does not compile
+// with clang's standard library checks, a vector of an incomplete struct does.)
+struct YamlEntry;
 struct Yaml {
   enum class Kind { kScalar, kMap, kList } kind = Kind::kScalar;
   std::string scalar;
-  std::vector<std::pair<std::string, Yaml>> map;
+  std::vector<YamlEntry> map;
   std::vector<Yaml> list;
+};
+struct YamlEntry {
+  std::string first;
+  Yaml second;
 };
 
 Yaml S(std::string text) { return {Yaml::Kind::kScalar, std::move(text), {}, {}}; }
-Yaml M(std::vector<std::pair<std::string, Yaml>> entries) { return {Yaml::Kind::kMap, "", std::move(entries), {}}; }
+Yaml M(std::vector<YamlEntry> entries) { return {Yaml::Kind::kMap, "", std::move(entries), {}}; }
 Yaml L(std::vector<Yaml> items) { return {Yaml::Kind::kList, "", {}, std::move(items)}; }
 
 // Flow style: {a: 1, b: [1, 2]}; the top level as one "key: value" line per entry.
