@@ -18,6 +18,13 @@ Eigen::Isometry3d dh_transform(double theta, double d, double a, double alpha) {
   return t;
 }
 
+Eigen::Isometry3d dh_chain_pose(const JointVector& theta, const std::array<double, 6>& d, const std::array<double, 6>& a,
+                                const std::array<double, 6>& alpha) {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  for (std::size_t i = 0; i < 6; ++i) pose = pose * dh_transform(theta[static_cast<Eigen::Index>(i)], d[i], a[i], alpha[i]);
+  return pose;
+}
+
 double placement_deviation(const KinematicChain& chain, const DhPlacement& placement, const DhForward& flange) {
   // the same 16 configurations for every chain, so a fit is reproducible
   double deviation = 0;

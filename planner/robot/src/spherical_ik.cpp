@@ -34,13 +34,7 @@ std::array<double, 6> a_of(const SphericalWristGeometry& g) { return {g.a1, g.a2
 }  // namespace
 
 Eigen::Isometry3d spherical_forward_kinematics(const SphericalWristGeometry& g, const JointVector& theta) {
-  const std::array<double, 6> d = d_of(g);
-  const std::array<double, 6> a = a_of(g);
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  for (std::size_t i = 0; i < 6; ++i) {
-    pose = pose * dh_transform(theta[static_cast<Eigen::Index>(i)], d[i], a[i], kAlpha[i]);
-  }
-  return pose;
+  return dh_chain_pose(theta, d_of(g), a_of(g), kAlpha);
 }
 
 // Derivation (standard DH, frame i-1 -> i = Rz(t_i) Tz(d_i) Tx(a_i) Rx(alpha_i)):

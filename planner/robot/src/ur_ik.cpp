@@ -62,13 +62,7 @@ std::optional<double> reachable_theta234(double target, const Vec3& o5, const Ur
 }  // namespace
 
 Eigen::Isometry3d ur_forward_kinematics(const UrGeometry& g, const JointVector& theta) {
-  const std::array<double, 6> d = {g.d1, 0, 0, g.d4, g.d5, g.d6};
-  const std::array<double, 6> a = {0, g.a2, g.a3, 0, 0, 0};
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  for (std::size_t i = 0; i < 6; ++i) {
-    pose = pose * dh_transform(theta[static_cast<Eigen::Index>(i)], d[i], a[i], kAlpha[i]);
-  }
-  return pose;
+  return dh_chain_pose(theta, {g.d1, 0, 0, g.d4, g.d5, g.d6}, {0, g.a2, g.a3, 0, 0, 0}, kAlpha);
 }
 
 // Derivation (standard DH, frame i-1 -> i = Rz(t_i) Tz(d_i) Tx(a_i) Rx(alpha_i)):

@@ -7,6 +7,7 @@
 //   TCP pose = base * dh_flange(theta) * tool,   theta_i = sign_i * q_i + offset_i,
 // with q the chain's joint angles (rad) and theta the DH ones.
 
+#include <array>
 #include <functional>
 
 #include "blendbench/robot/kinematics.hpp"
@@ -15,6 +16,11 @@ namespace blendbench {
 
 // The DH transform Rz(theta) Tz(d) Tx(a) Rx(alpha) from frame i-1 to frame i (m, rad).
 Eigen::Isometry3d dh_transform(double theta, double d, double a, double alpha);
+
+// The flange pose of a six-joint DH chain at joint angles `theta` (rad): the product of the six
+// transforms with the per-joint d, a (m) and alpha (rad).
+Eigen::Isometry3d dh_chain_pose(const JointVector& theta, const std::array<double, 6>& d, const std::array<double, 6>& a,
+                                const std::array<double, 6>& alpha);
 
 // Where a DH model sits in a chain (see above). `deviation` (m, rad) is the largest pose
 // difference between the chain and the model at random joint angles: zero for an exact model.
