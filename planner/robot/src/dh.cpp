@@ -1,5 +1,7 @@
 #include "blendbench/robot/dh.hpp"
 
+#include <string>
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -23,6 +25,22 @@ Eigen::Isometry3d dh_chain_pose(const JointVector& theta, const std::array<doubl
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   for (std::size_t i = 0; i < 6; ++i) pose = pose * dh_transform(theta[static_cast<Eigen::Index>(i)], d[i], a[i], alpha[i]);
   return pose;
+}
+
+KinematicChain dh_kinematic_chain(const std::array<double, 6>& d, const std::array<double, 6>& a,
+                                  const std::array<double, 6>& alpha) {
+  KinematicChain chain;
+  Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();
+  for (std::size_t i = 0; i < 6; ++i) {
+    JointSpec joint;
+    joint.name = "joint" + std::to_string(i + 1);
+    joint.origin = origin;
+    joint.axis = Vec3::UnitZ();
+    chain.joints.push_back(joint);
+    origin = dh_transform(0, d[i], a[i], alpha[i]);
+  }
+  chain.tcp = origin;
+  return chain;
 }
 
 double placement_deviation(const KinematicChain& chain, const DhPlacement& placement, const DhForward& flange) {

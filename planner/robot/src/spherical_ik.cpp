@@ -124,23 +124,14 @@ std::vector<JointVector> spherical_closed_form_ik(const SphericalWristGeometry& 
 KinematicChain spherical_chain(const SphericalWristGeometry& g) {
   const std::array<double, 6> d = d_of(g);
   const std::array<double, 6> a = a_of(g);
-  KinematicChain chain;
-  // joint i turns about z of DH frame i-1; the constant part Tz Tx Rx of each DH transform
-  // becomes the next joint's origin (the last one the TCP)
-  Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();
+  KinematicChain chain = dh_kinematic_chain(d, a, kAlpha);
   for (std::size_t i = 0; i < 6; ++i) {
-    JointSpec joint;
-    joint.name = "joint" + std::to_string(i + 1);
-    joint.origin = origin;
-    joint.axis = Vec3::UnitZ();
+    JointSpec& joint = chain.joints[i];
     joint.lower = i == 2 ? -kPi : -kTwoPi;
     joint.upper = i == 2 ? kPi : kTwoPi;
     joint.velocity_limit = kPi;
     joint.effort_limit = i < 3 ? 300.0 : 50.0;
-    chain.joints.push_back(joint);
-    origin = dh_transform(0, d[i], a[i], kAlpha[i]);
   }
-  chain.tcp = origin;
   return chain;
 }
 

@@ -160,23 +160,14 @@ std::vector<JointVector> ur_closed_form_ik(const UrGeometry& g, const Eigen::Iso
 KinematicChain ur_chain(const UrGeometry& g) {
   const std::array<double, 6> d = {g.d1, 0, 0, g.d4, g.d5, g.d6};
   const std::array<double, 6> a = {0, g.a2, g.a3, 0, 0, 0};
-  KinematicChain chain;
-  // joint i turns about z of DH frame i-1; the constant part Tz Tx Rx of each DH transform
-  // becomes the next joint's origin (the last one the TCP)
-  Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();
+  KinematicChain chain = dh_kinematic_chain(d, a, kAlpha);
   for (std::size_t i = 0; i < 6; ++i) {
-    JointSpec joint;
-    joint.name = "joint" + std::to_string(i + 1);
-    joint.origin = origin;
-    joint.axis = Vec3::UnitZ();
+    JointSpec& joint = chain.joints[i];
     joint.lower = -kTwoPi;
     joint.upper = kTwoPi;
     joint.velocity_limit = kPi;
     joint.effort_limit = i < 3 ? 150.0 : 28.0;
-    chain.joints.push_back(joint);
-    origin = dh_transform(0, d[i], a[i], kAlpha[i]);
   }
-  chain.tcp = origin;
   return chain;
 }
 

@@ -22,6 +22,12 @@ Eigen::Isometry3d dh_transform(double theta, double d, double a, double alpha);
 Eigen::Isometry3d dh_chain_pose(const JointVector& theta, const std::array<double, 6>& d, const std::array<double, 6>& a,
                                 const std::array<double, 6>& alpha);
 
+// The same chain as joints: joint i turns about z of DH frame i-1, the constant part Tz Tx Rx
+// of each DH transform becomes the next joint's origin (the last one the TCP); joints named
+// joint1..joint6, their limits left to the caller.
+KinematicChain dh_kinematic_chain(const std::array<double, 6>& d, const std::array<double, 6>& a,
+                                  const std::array<double, 6>& alpha);
+
 // Where a DH model sits in a chain (see above). `deviation` (m, rad) is the largest pose
 // difference between the chain and the model at random joint angles: zero for an exact model.
 struct DhPlacement {
