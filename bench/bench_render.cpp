@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "blendbench/render/film.hpp"
+#include "support/source_tree.hpp"
 #include "blendbench/render/render.hpp"
 #include "blendbench/render/video.hpp"
 #include "blendbench/sim/simulator.hpp"
@@ -27,7 +28,7 @@ constexpr double kSeconds = 4;  // the film's length; frames repeat from the sta
 // A film of the default scenario's arm: the shoulder and elbow swing gently while the TCP runs
 // round a 120 x 360 mm rectangle (the default part's size) once; every frame differs.
 struct Bench {
-  Bench() : sim(std::string(BLENDBENCH_SOURCE_DIR) + "/models/ur5e_like.xml") {
+  Bench() : sim(blendbench::test::source_path("models/ur5e_like.xml")) {
     const mjModel& m = sim.model();
     const int key = mj_name2id(&m, mjOBJ_KEY, "ready");
     const std::vector<double> ready(m.key_qpos + key * m.nq, m.key_qpos + (key + 1) * m.nq);

@@ -10,6 +10,7 @@
 #include <numbers>
 
 #include "blendbench/sim/simulator.hpp"
+#include "support/source_tree.hpp"
 
 namespace blendbench {
 namespace {
@@ -21,7 +22,7 @@ JointVector ready() {
 }
 
 const Simulator& arm() {
-  static const Simulator sim(std::string(BLENDBENCH_SOURCE_DIR) + "/models/ur5e_like.xml");
+  static const Simulator sim(blendbench::test::source_path("models/ur5e_like.xml"));
   return sim;
 }
 

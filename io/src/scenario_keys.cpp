@@ -16,6 +16,7 @@ namespace blendbench {
 namespace {
 
 using K = KeyType;
+using namespace key_units;  // the table names its units on most lines
 
 constexpr std::string_view kBufferModes = "Aborting|Buffered|BlendingLow|BlendingPrevious|BlendingNext|BlendingHigh";
 constexpr std::string_view kMethods = "none|arc|bezier|clothoid|biclothoid";

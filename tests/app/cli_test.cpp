@@ -42,11 +42,11 @@ Result run_shell(const std::string& command) {
   return r;
 }
 
-Result run(const std::string& args) { return run_shell(std::string(BLENDBENCH_BINARY) + " " + args); }
+Result run(const std::string& args) { return run_shell(blendbench::test::blendbench_binary() + " " + args); }
 
 // Runs the program with an argument vector (no shell between) in the working directory `cwd`.
 Result run_in(const fs::path& cwd, const std::vector<std::string>& args) {
-  blendbench::test::Child child(BLENDBENCH_BINARY, args, cwd);
+  blendbench::test::Child child(blendbench::test::blendbench_binary(), args, cwd);
   Result r;
   r.exit_code = child.wait();
   r.output = child.output();
@@ -431,7 +431,7 @@ TEST_F(Cli, RunCompareWritesOneGridVideoAndOneSummaryLineWhenNotATerminal) {
 TEST_F(Cli, RunDrawsAProgressBarOnATerminal) {
   if (std::system("script --version > /dev/null 2>&1") != 0) GTEST_SKIP() << "script(1) is not installed";
   const fs::path out = dir_ / "run";
-  const Result r = run_shell("script -qec \"" + std::string(BLENDBENCH_BINARY) + " run " +
+  const Result r = run_shell("script -qec \"" + blendbench::test::blendbench_binary() + " run " +
                              blendbench::test::source_path("tests/data/tiny.yaml") + " --variant arc --no-plots --out " +
                              out.string() + "\" /dev/null");
   ASSERT_EQ(r.exit_code, 0) << r.output;

@@ -30,7 +30,7 @@ using blendbench::test::read_file;
 
 // Runs the program to its end; returns its exit code and, into `output`, what it printed.
 int run(const std::vector<std::string>& args, std::string* output = nullptr) {
-  Child child(BLENDBENCH_BINARY, args);
+  Child child(blendbench::test::blendbench_binary(), args);
   const int code = child.wait();
   if (output != nullptr) *output = child.output();
   return code;
@@ -89,7 +89,7 @@ TEST_F(Outputs, SigintDuringAReRunKeepsThePreviousRunIntact) {
   ASSERT_EQ(run({"run", scenario_, "--out", out_.string(), "--no-video", "--no-plots"}, &output), 0) << output;
   const auto before = contents(out_);
 
-  Child rerun(BLENDBENCH_BINARY, {"run", scenario_, "--out", out_.string(), "--no-plots"});
+  Child rerun(blendbench::test::blendbench_binary(), {"run", scenario_, "--out", out_.string(), "--no-plots"});
   ASSERT_TRUE(rerun.wait_for_line("  exact: planned")) << rerun.output();
   rerun.signal(SIGINT);
   EXPECT_EQ(rerun.wait(), 130) << rerun.output();
@@ -109,7 +109,7 @@ TEST_F(Outputs, SigkillDuringAReRunLeavesThePreviousRunAndTheNextRunCleansUp) {
   ASSERT_EQ(run({"run", scenario_, "--out", out_.string(), "--no-video", "--no-plots"}, &output), 0) << output;
   const auto before = contents(out_);
   {
-    Child rerun(BLENDBENCH_BINARY, {"run", scenario_, "--out", out_.string(), "--no-plots"});
+    Child rerun(blendbench::test::blendbench_binary(), {"run", scenario_, "--out", out_.string(), "--no-plots"});
     ASSERT_TRUE(rerun.wait_for_line("  exact: planned")) << rerun.output();
     rerun.signal(SIGKILL);
     EXPECT_EQ(rerun.wait(), -1);
@@ -122,7 +122,7 @@ TEST_F(Outputs, SigkillDuringAReRunLeavesThePreviousRunAndTheNextRunCleansUp) {
 }
 
 TEST_F(Outputs, SigtermDuringTheSecondVariantKeepsTheFirst) {
-  Child first(BLENDBENCH_BINARY, {"run", scenario_, "--out", out_.string(), "--no-plots"});
+  Child first(blendbench::test::blendbench_binary(), {"run", scenario_, "--out", out_.string(), "--no-plots"});
   ASSERT_TRUE(first.wait_for_line("[2/2] arc")) << first.output();
   ASSERT_TRUE(first.wait_for_line("  arc: planned")) << first.output();
   first.signal(SIGTERM);
@@ -145,7 +145,7 @@ TEST_F(Outputs, SigtermDuringTheSecondVariantKeepsTheFirst) {
 }
 
 TEST_F(Outputs, ASecondRunIntoAFolderInUseIsRefusedAtOnce) {
-  Child first(BLENDBENCH_BINARY, {"run", scenario_, "--out", out_.string(), "--no-plots"});
+  Child first(blendbench::test::blendbench_binary(), {"run", scenario_, "--out", out_.string(), "--no-plots"});
   ASSERT_TRUE(first.wait_for_line("[1/2] exact")) << first.output();
   std::string output;
   EXPECT_EQ(run({"run", scenario_, "--out", (dir_ / "runs" / "." / "long").string(), "--no-video", "--no-plots"}, &output),

@@ -47,7 +47,7 @@ class Sweep : public ::testing::Test {
 
   // Runs the program with an argument vector; output captured through a file.
   Result run(const std::vector<std::string>& args) {
-    std::vector<std::string> argv = {BLENDBENCH_BINARY};
+    std::vector<std::string> argv = {blendbench::test::blendbench_binary()};
     argv.insert(argv.end(), args.begin(), args.end());
     ProcessOptions options;
     options.output_file = (dir_ / "output.txt").string();

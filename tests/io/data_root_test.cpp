@@ -112,7 +112,7 @@ TEST(DataRootOfThisProcess, BuildTreeProgramFindsTheSourceTree) {
   if (const char* env = std::getenv(kDataDirVariable)) saved = env;
   ::unsetenv(kDataDirVariable);
   const fs::path root = data_root();
-  EXPECT_EQ(root, fs::path(BLENDBENCH_SOURCE_DIR).lexically_normal());
+  EXPECT_TRUE(fs::is_regular_file(root / "tests/io/data_root_test.cpp")) << root;  // the source tree itself
   EXPECT_TRUE(fs::is_regular_file(data_file("models/ur5e_like.urdf")));
   if (saved) ::setenv(kDataDirVariable, saved->c_str(), 1);
 }

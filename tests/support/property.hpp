@@ -9,6 +9,8 @@
 #include <random>
 #include <string>
 
+#include "support/source_tree.hpp"
+
 namespace blendbench::test {
 
 // Number of random cases: BLENDBENCH_PROPERTY_CASES if set and positive, else `fallback` times
@@ -38,11 +40,6 @@ inline double uniform(std::mt19937_64& rng, double lo, double hi) {
 // Log-uniform in [lo, hi], 0 < lo <= hi: every decade as likely.
 inline double log_uniform(std::mt19937_64& rng, double lo, double hi) {
   return std::exp(uniform(rng, std::log(lo), std::log(hi)));
-}
-
-// A path to a source-tree file (models, scenarios) from a test.
-inline std::string source_path(const std::string& relative) {
-  return std::string(BLENDBENCH_SOURCE_DIR) + "/" + relative;
 }
 
 }  // namespace blendbench::test

@@ -313,7 +313,9 @@ TEST(Blend, CollinearLinesWithinTheMergeToleranceBecomeOneLine) {
   EXPECT_EQ(path.corners.size(), merged.program.moves.size() - 1);
   for (std::size_t j = 0; j < path.corners.size(); ++j) EXPECT_EQ(path.corners[j].index, static_cast<int>(merged.last[j]));
   for (const PathPiece& piece : path.pieces()) {
-    if (piece.move >= 0) EXPECT_TRUE(std::find(merged.first.begin(), merged.first.end(), static_cast<std::size_t>(piece.move)) != merged.first.end());
+    if (piece.move >= 0) {
+      EXPECT_TRUE(std::find(merged.first.begin(), merged.first.end(), static_cast<std::size_t>(piece.move)) != merged.first.end());
+    }
   }
   // nothing merges without a tolerance, across other limits, at an exact stop, or backwards
   Program off = program;

@@ -19,14 +19,6 @@ constexpr UrGeometry kUr5e{0.1625, -0.425, -0.3922, 0.1333, 0.0997, 0.0996};
 constexpr SphericalWristGeometry kKr6{0.400, 0.025, 0.455, 0.0, 0.035, 0.420, 0.080};
 constexpr double kZero = 1e-12;
 
-double value_of(const std::vector<SingularityMeasure>& measures, SingularityKind kind) {
-  for (const SingularityMeasure& m : measures) {
-    if (m.kind == kind) return m.value;
-  }
-  ADD_FAILURE() << "no " << to_string(kind) << " measure";
-  return 0;
-}
-
 // On DH chains (chain angles = DH angles) each measure vanishes at its singularity and not at the
 // others, and the numeric solver's Jacobian measure vanishes at all of them.
 TEST(Singularity, EachMeasureVanishesAtItsSingularity) {

@@ -212,7 +212,9 @@ TEST(SphericalIk, SingularPosesHaveFiniteExactSolutions) {
       near_seed = near_seed || std::abs(std::remainder(b[5] - near[5], 2 * kPi)) < 1e-9;
     }
     // at the wrist singularity the free q6 is the seed's
-    if (std::abs(std::sin(theta[4])) < 1e-12) EXPECT_TRUE(near_seed) << theta.transpose();
+    if (std::abs(std::sin(theta[4])) < 1e-12) {
+      EXPECT_TRUE(near_seed) << theta.transpose();
+    }
   }
 }
 

@@ -32,6 +32,9 @@ struct KeyUnit {
   int length_power = 0;
 };
 
+// In a namespace of their own: their names (kLength, kCurvature, ...) are also enumerators of
+// Binding (timing.hpp), and the table (scenario_keys.cpp) opens this namespace where it uses them.
+namespace key_units {
 inline constexpr KeyUnit kNoUnit{"", 0};
 inline constexpr KeyUnit kLength{"units", 1};
 inline constexpr KeyUnit kVelocity{"units/s", 1};
@@ -46,6 +49,7 @@ inline constexpr KeyUnit kSeconds{"s", 0};
 inline constexpr KeyUnit kHertz{"Hz", 0};
 inline constexpr KeyUnit kPixels{"px", 0};
 inline constexpr KeyUnit kKilograms{"kg", 0};
+}  // namespace key_units
 
 // The values a number (every element of a list of numbers) may take, as written in the file.
 // Bounds of keys whose unit scales with `units` are 0 or infinite, so they hold in mm and m.
@@ -67,7 +71,7 @@ struct ScenarioKey {
   KeyType type = KeyType::kText;
   int count = 0;              // kNumbers: how many
   std::string_view opens = "";     // kMap, kList: the table map of its keys / of each item's keys
-  KeyUnit unit = kNoUnit;
+  KeyUnit unit = key_units::kNoUnit;
   bool required = false;      // must be given (keys required only in some cases say so in `meaning`)
   std::string_view fallback = "";  // the default as YAML text, lengths in mm ("" = none or `meaning` says)
   KeyRange range = kAnyFinite;
