@@ -235,6 +235,8 @@ void read_program(const Reader& r, const Field& root, Scenario& sc) {
   const Field start = r.value(program, "start");
   // the tool starts as the robot holds it (used only when a move sets an orientation)
   sc.program.start_orientation = Quat(sc.robot.tool_rotation).normalized();
+  sc.program.orientation_interpolation =
+      *orientation_interpolation_from_string(r.choice(r.value(program, "orientation_interpolation")));
   if (gcode.node.defined()) {
     if (moves.node.defined()) r.fail(moves, "give either 'moves' or 'gcode', not both");
     read_gcode_program(r, gcode, start, defaults, sc);

@@ -100,6 +100,7 @@ constexpr std::array kKeys = {
     ScenarioKey{.map = "defaults", .name = "angular_jerk", .type = K::kNumber, .unit = kAngularJerk, .fallback = "7200", .range = kPositive, .meaning = "the tool's angular jerk limit (default: 720 deg/s^2 reached in 0.1 s; a chosen value)"},
     ScenarioKey{.map = "defaults", .name = "buffer", .type = K::kChoice, .fallback = "BlendingLow", .choices = kBufferModes, .meaning = "how a move hands over to the next (PLCopen buffer modes)"},
 
+    ScenarioKey{.map = "program", .name = "orientation_interpolation", .type = K::kChoice, .fallback = "slerp", .choices = "slerp|spline", .meaning = "how the tool orientation runs between the moves' targets: slerp along each move by arc length, blended through each transition; or spline, one C2 curve through every target along the whole path (targets within 270 deg of the start orientation)"},
     ScenarioKey{.map = "program", .name = "start", .type = K::kNumbers, .count = 3, .unit = kLength, .fallback = "[0, 0, 0]", .meaning = "where the first move starts, in the program frame (with gcode: the position before the first line)"},
     ScenarioKey{.map = "program", .name = "moves", .type = K::kList, .opens = "move", .meaning = "the moves, each starting where the previous ends (this or gcode)"},
     ScenarioKey{.map = "program", .name = "gcode", .type = K::kFile, .meaning = "a G-code part program instead of moves, in its own units (G20/G21), placed by frame; defaults give its limits"},

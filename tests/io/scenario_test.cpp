@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <filesystem>
 #include <numbers>
 
@@ -87,6 +89,18 @@ TEST(Scenario, OrientationTargetsAndAngularLimits) {
                "program.moves[0].orientation", "exactly one of 'rpy_deg' or 'quaternion'");
   expect_error(replaced(text, "[0, 0, 0, 2]", "[0, 0, 0, 0]"), 15, "program.moves[2].orientation.quaternion", "must not be zero");
   expect_error(replaced(text, "angular_velocity: 90", "angular_velocity: -1"), 10, "program.moves[0].angular_velocity", "");
+}
+
+// program.orientation_interpolation: slerp by default, spline when asked, anything else refused
+// at its line and key; a variant's program keeps it.
+TEST(Scenario, OrientationInterpolationIsReadAndKept) {
+  EXPECT_EQ(parse(kValid).program.orientation_interpolation, OrientationInterpolation::kSlerp);
+  const std::string text = replaced(kValid, "program:\n", "program:\n  orientation_interpolation: spline\n");
+  const Scenario sc = parse(text);
+  EXPECT_EQ(sc.program.orientation_interpolation, OrientationInterpolation::kSpline);
+  EXPECT_EQ(program_for(sc, find_variant(sc, "arc5")).orientation_interpolation, OrientationInterpolation::kSpline);
+  const int line = 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(text.find("orientation_interpolation")), '\n'));
+  expect_error(replaced(text, "spline\n", "squad\n"), line, "program.orientation_interpolation", "slerp");
 }
 
 TEST(Scenario, VariantTransitionAppliesOnlyWhereTheMoveSetsNone) {

@@ -2,7 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <numbers>
+#include <string>
 
+#include "blendbench/core/input_error.hpp"
 #include "blendbench/corner/blend.hpp"
 
 namespace blendbench {
@@ -29,11 +33,100 @@ std::vector<Quat> move_targets(const Program& program) {
   return out;
 }
 
+// The rotation vector of `q` about `reference` nearest `previous` among the representatives of
+// that rotation that the spline's range can hold: phi = log(q reference^T) and phi +- 2 pi phi/|phi|
+// (the same rotation, the other way round or a turn further). Consecutive targets differ by at
+// most a half-turn (move_targets), so the nearest one continues the previous turn.
+Vec3 unwrapped_log(const Quat& q, const Quat& reference, const Vec3& previous) {
+  const Vec3 phi = rotation_log(q * reference.conjugate());
+  const double angle = phi.norm();
+  if (angle <= 0) return phi;
+  Vec3 best = phi;
+  for (const double turn : {-2 * std::numbers::pi, 2 * std::numbers::pi}) {
+    const Vec3 other = phi * ((angle + turn) / angle);
+    if ((other - previous).norm() < (best - previous).norm()) best = other;
+  }
+  return best;
+}
+
+// The option `spline` (orientation.hpp): one natural cubic spline of rotation vectors through
+// the targets, knot k where the path passes target k, laid on every piece.
+Path spline_path(const Path& blended, const Program& program, const std::vector<Quat>& target) {
+  const std::size_t n = program.moves.size();
+  // where each move's pieces end and each transition starts on the path, and its length
+  std::vector<double> move_end(n, -1.0), transition_start(n, -1.0), transition(n, 0.0);
+  double s = 0;
+  for (const PathPiece& piece : blended.pieces()) {
+    const double len = length(piece.segment);
+    if (piece.move >= 0) move_end[static_cast<std::size_t>(piece.move)] = s + len;
+    if (piece.corner >= 0) {
+      const auto c = static_cast<std::size_t>(piece.corner);
+      if (transition_start[c] < 0) transition_start[c] = s;
+      transition[c] += len;
+    }
+    s += len;
+  }
+  const double total = s;
+  // knots: the start, then each target where the path passes it; a target at the place of the
+  // one before (a move a transition consumed) replaces it
+  const Quat reference = program.start_orientation.normalized();
+  std::vector<double> knots{0.0};
+  std::vector<Vec3> values{Vec3::Zero()};
+  const double tiny = 1e-12 * std::max(total, 1e-300);
+  double at = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (k + 1 == n) at = total;
+    else if (transition[k] > 0) at = transition_start[k] + 0.5 * transition[k];
+    else if (move_end[k] >= 0) at = move_end[k];
+    const Vec3 phi = unwrapped_log(target[k], reference, values.back());
+    if (phi.norm() > kSplineMaxTurn) {
+      fail_at(program.moves[k].where, "orientation",
+              program.moves[k].name + ": the target turns the tool " + std::to_string(std::lround(phi.norm() * 180 / std::numbers::pi)) +
+                  " deg from the start orientation along the path; orientation_interpolation: spline takes targets within " +
+                  std::to_string(std::lround(kSplineMaxTurn * 180 / std::numbers::pi)) + " deg of it (slerp takes any)");
+    }
+    if (at - knots.back() > tiny) {
+      knots.push_back(at);
+      values.push_back(phi);
+    } else if (knots.size() > 1) {
+      values.back() = phi;  // at the start itself the start orientation holds
+    }
+  }
+  if (knots.size() < 2) {  // a path of no length: hold the last target
+    knots.push_back(1.0);
+    values.push_back(values.back());
+  }
+  const auto spline = std::make_shared<const OrientationSpline>(reference, std::move(knots), std::move(values));
+
+  Path out;
+  s = 0;
+  for (PathPiece piece : blended.pieces()) {
+    const double len = length(piece.segment);
+    const AngularLimits limits = piece.move >= 0 ? program.moves[static_cast<std::size_t>(piece.move)].angular
+                                                 : tighter(program.moves[static_cast<std::size_t>(piece.corner)].angular,
+                                                           program.moves[static_cast<std::size_t>(piece.corner) + 1].angular);
+    piece.orientation = PieceOrientation{SplineOrientation{spline, s}, limits};
+    s += len;
+    out.append(std::move(piece));
+  }
+  out.corners = blended.corners;
+  out.moves_merged = blended.moves_merged;
+  out.merge_tolerance = blended.merge_tolerance;
+  for (CornerReport& r : out.corners) {
+    const auto c = static_cast<std::size_t>(r.index);
+    if (!(transition[c] > 0)) continue;
+    const PieceOrientation law{SplineOrientation{spline, transition_start[c]}, {}};
+    r.orientation_change = rotation_angle(orientation_at(law, 0.0), orientation_at(law, transition[c]));
+  }
+  return out;
+}
+
 }  // namespace
 
 Path orient_path(const Path& blended, const Program& program) {
   const std::size_t n = program.moves.size();
   const std::vector<Quat> target = move_targets(program);
+  if (program.orientation_interpolation == OrientationInterpolation::kSpline) return spline_path(blended, program, target);
   const auto start_of = [&](std::size_t k) { return k == 0 ? program.start_orientation.normalized() : target[k - 1]; };
   // each move's rate by its programmed arc length
   std::vector<Vec3> rate(n);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "blendbench/core/overloaded.hpp"
 
@@ -56,6 +57,52 @@ std::pair<Vec3, Vec3> blend_phi(const BlendOrientation& b, double x) {
 
 }  // namespace
 
+// The natural cubic spline's second derivatives M_k from the tridiagonal system
+//   h_{k-1} M_{k-1} + 2 (h_{k-1} + h_k) M_k + h_k M_{k+1} = 6 (d_k - d_{k-1}),  M_0 = M_{n-1} = 0,
+// h_k = knot[k+1] - knot[k], d_k = (value[k+1] - value[k]) / h_k; diagonally dominant, so the
+// Thomas algorithm (elimination without pivoting) is stable.
+OrientationSpline::OrientationSpline(Quat reference, std::vector<double> knots, std::vector<Vec3> values)
+    : reference_(reference.normalized()), knots_(std::move(knots)), values_(std::move(values)) {
+  const std::size_t n = knots_.size();
+  if (n < 2 || values_.size() != n) throw std::invalid_argument("orientation spline: needs two or more knots and a value at each");
+  for (std::size_t k = 0; k + 1 < n; ++k) {
+    if (!(knots_[k + 1] > knots_[k])) throw std::invalid_argument("orientation spline: knots must increase strictly");
+  }
+  second_.assign(n, Vec3::Zero());
+  if (n == 2) return;
+  const auto h = [&](std::size_t k) { return knots_[k + 1] - knots_[k]; };
+  const auto d = [&](std::size_t k) { return Vec3((values_[k + 1] - values_[k]) / h(k)); };
+  // forward elimination over the interior knots 1..n-2
+  std::vector<double> diag(n, 0.0);
+  std::vector<Vec3> rhs(n, Vec3::Zero());
+  for (std::size_t k = 1; k + 1 < n; ++k) {
+    diag[k] = 2 * (h(k - 1) + h(k));
+    rhs[k] = 6 * (d(k) - d(k - 1));
+    if (k > 1) {
+      const double f = h(k - 1) / diag[k - 1];
+      diag[k] -= f * h(k - 1);
+      rhs[k] -= f * rhs[k - 1];
+    }
+  }
+  for (std::size_t k = n - 2; k >= 1; --k) {
+    second_[k] = (rhs[k] - h(k) * second_[k + 1]) / diag[k];
+  }
+}
+
+std::pair<Vec3, Vec3> OrientationSpline::at(double s) const {
+  s = std::clamp(s, knots_.front(), knots_.back());
+  const auto upper = std::upper_bound(knots_.begin(), knots_.end(), s);
+  const std::size_t k = std::min<std::size_t>(static_cast<std::size_t>(std::max<std::ptrdiff_t>(upper - knots_.begin(), 1)) - 1, knots_.size() - 2);
+  const double h = knots_[k + 1] - knots_[k];
+  const double a = (knots_[k + 1] - s) / h;  // 1 at knot k, 0 at knot k+1
+  const double b = 1 - a;
+  const Vec3& m0 = second_[k];
+  const Vec3& m1 = second_[k + 1];
+  const Vec3 phi = a * values_[k] + b * values_[k + 1] + (h * h / 6) * ((a * a * a - a) * m0 + (b * b * b - b) * m1);
+  const Vec3 dphi = (values_[k + 1] - values_[k]) / h + (h / 6) * ((1 - 3 * a * a) * m0 + (3 * b * b - 1) * m1);
+  return {phi, dphi};
+}
+
 Vec3 rotation_log(const Quat& q_in) {
   const Quat q = q_in.w() < 0 ? Quat(-q_in.w(), -q_in.x(), -q_in.y(), -q_in.z()) : q_in;
   const Vec3 v = q.vec();
@@ -81,6 +128,9 @@ Quat orientation_at(const PieceOrientation& piece, double sigma) {
                         [&](const BlendOrientation& b) {
                           return Quat((rotation_exp(blend_phi(b, b.offset + sigma).first) * b.corner).normalized());
                         },
+                        [&](const SplineOrientation& c) {
+                          return Quat((rotation_exp(c.spline->at(c.offset + sigma).first) * c.spline->reference()).normalized());
+                        },
                     },
                     piece.law);
 }
@@ -90,6 +140,10 @@ Vec3 angular_rate_at(const PieceOrientation& piece, double sigma) {
                         [](const GeodesicOrientation& g) { return g.rate; },
                         [&](const BlendOrientation& b) {
                           const auto [phi, dphi] = blend_phi(b, b.offset + sigma);
+                          return Vec3(left_jacobian(phi) * dphi);
+                        },
+                        [&](const SplineOrientation& c) {
+                          const auto [phi, dphi] = c.spline->at(c.offset + sigma);
                           return Vec3(left_jacobian(phi) * dphi);
                         },
                     },

@@ -75,6 +75,16 @@ std::optional<CurvatureSteps> curvature_steps_from_string(std::string_view name)
   return std::nullopt;
 }
 
+std::string_view to_string(OrientationInterpolation interpolation) {
+  return interpolation == OrientationInterpolation::kSpline ? "spline" : "slerp";
+}
+
+std::optional<OrientationInterpolation> orientation_interpolation_from_string(std::string_view name) {
+  if (name == "slerp") return OrientationInterpolation::kSlerp;
+  if (name == "spline") return OrientationInterpolation::kSpline;
+  return std::nullopt;
+}
+
 std::optional<BufferMode> buffer_mode_from_string(std::string_view name) {
   const std::string key = lower(name);
   for (const auto& [m, n] : kBufferNames) {

@@ -160,7 +160,7 @@ void rotation_budget(const PathPiece& piece, PieceModel& m) {
     cap = lim.velocity / b.rate;  // (R1)
     // for the time-optimal bound, which must not be slower than the truth: a transition's rate
     // without the sampling margin (its sampled maximum is at most the true one)
-    const bool sampled = std::holds_alternative<BlendOrientation>(piece.orientation->law);
+    const bool sampled = !std::holds_alternative<GeodesicOrientation>(piece.orientation->law);
     m.rotation_speed = sampled ? cap * kBoundMargin : cap;
     // (R2), (R3): the tangential terms' share
     const double share = varying ? kRotationShare : 1.0;

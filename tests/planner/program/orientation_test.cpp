@@ -123,5 +123,88 @@ TEST(Orientation, BlendBoundsHoldOnADenserGrid) {
   }
 }
 
+// The natural cubic spline through random knots: it passes every value, phi and phi' are
+// continuous at every knot and so is phi'' (one-sided differences of phi' on either side agree),
+// phi'' vanishes at both ends, and with two knots it is the straight line.
+TEST(OrientationSpline, InterpolatesWithContinuousSecondDerivativeAndNaturalEnds) {
+  const int cases = test::property_cases(300);
+  for (int n = 0; n < cases; ++n) {
+    const std::uint64_t seed = 3600 + static_cast<std::uint64_t>(n);
+    auto rng = test::make_rng(seed);
+    const int count = 2 + static_cast<int>(test::uniform(rng, 0, 8));
+    std::vector<double> knots{0.0};
+    std::vector<Vec3> values{Vec3::Zero()};
+    for (int k = 1; k < count; ++k) {
+      knots.push_back(knots.back() + test::log_uniform(rng, 1e-3, 0.5));
+      values.push_back(Vec3(test::uniform(rng, -2, 2), test::uniform(rng, -2, 2), test::uniform(rng, -2, 2)));
+    }
+    const OrientationSpline spline(Quat::Identity(), knots, values);
+    double scale = 1;  // phi'' is at most of the size of the values over the shortest spacing squared
+    for (std::size_t k = 0; k + 1 < knots.size(); ++k) scale = std::max(scale, 4.0 / std::pow(knots[k + 1] - knots[k], 2));
+    const auto second = [&](double x, double h) { return Vec3((spline.at(x + h).second - spline.at(x).second) / h); };
+    for (std::size_t k = 0; k < knots.size(); ++k) {
+      ASSERT_LE((spline.at(knots[k]).first - values[k]).norm(), 1e-12) << test::seed_text(seed) << " knot " << k;
+      const double h = 1e-6 * (k + 1 < knots.size() ? knots[k + 1] - knots[k] : knots[k] - knots[k - 1]);
+      if (k == 0 || k + 1 == knots.size()) {
+        const double x = k == 0 ? knots[0] : knots[k] - h;
+        ASSERT_LE(second(x, h).norm(), 1e-4 * scale) << test::seed_text(seed) << " end " << k;
+        continue;
+      }
+      const double hl = 1e-6 * (knots[k] - knots[k - 1]);
+      const auto [lo, dlo] = spline.at(knots[k] - hl);
+      const auto [hi, dhi] = spline.at(knots[k] + h);
+      // phi from the left reaches the knot's value (to first order over hl, the rest O(phi'' hl^2))
+      ASSERT_LE((lo + hl * dlo - values[k]).norm(), 1e-9 * (1 + values[k].norm()) + scale * hl * hl) << test::seed_text(seed);
+      ASSERT_LE((dhi - dlo).norm(), 1e-4 * (1 + dhi.norm()) + 1e-5 * scale * (h + hl)) << test::seed_text(seed) << " knot " << k;
+      ASSERT_LE((second(knots[k], h) - second(knots[k] - hl, hl)).norm(), 1e-3 * scale) << test::seed_text(seed) << " knot " << k;
+    }
+    if (count == 2) {
+      const double mid = 0.5 * (knots[0] + knots[1]);
+      ASSERT_LE((spline.at(mid).first - 0.5 * (values[0] + values[1])).norm(), 1e-12) << test::seed_text(seed);
+    }
+  }
+}
+
+TEST(OrientationSpline, RefusesKnotsThatDoNotIncrease) {
+  EXPECT_THROW(OrientationSpline(Quat::Identity(), {0.0}, {Vec3::Zero()}), std::invalid_argument);
+  EXPECT_THROW(OrientationSpline(Quat::Identity(), {0.0, 0.0}, {Vec3::Zero(), Vec3::Ones()}), std::invalid_argument);
+  EXPECT_THROW(OrientationSpline(Quat::Identity(), {0.0, 1.0}, {Vec3::Zero()}), std::invalid_argument);
+}
+
+// The bounds of a spline piece hold at ten times as many points as they are sampled at.
+TEST(OrientationSpline, BoundsHoldOnADenserGrid) {
+  const int cases = test::property_cases(100);
+  for (int n = 0; n < cases; ++n) {
+    const std::uint64_t seed = 3900 + static_cast<std::uint64_t>(n);
+    auto rng = test::make_rng(seed);
+    std::vector<double> knots{0.0};
+    std::vector<Vec3> values{Vec3::Zero()};
+    for (int k = 1; k < 5; ++k) {
+      knots.push_back(knots.back() + test::log_uniform(rng, 0.01, 0.3));
+      values.push_back(values.back() + Vec3(test::uniform(rng, -0.5, 0.5), test::uniform(rng, -0.5, 0.5), test::uniform(rng, -0.5, 0.5)));
+    }
+    const auto spline = std::make_shared<const OrientationSpline>(Quat::Identity(), knots, values);
+    // a piece over [knot 1, knot 3], sampled over part of it
+    const PieceOrientation piece{SplineOrientation{spline, knots[1]}, {}};
+    const double length = knots[3] - knots[1];
+    const double s0 = test::uniform(rng, 0, 0.5) * length;
+    const double s1 = s0 + test::uniform(rng, 0.1, 0.5) * length;
+    const RotationBounds bound = rotation_bounds(piece, length, s0, s1);
+    const int m = 10 * kBoundSamples;
+    const double h = (s1 - s0) / m;
+    for (int i = 1; i < m; ++i) {
+      const double x = s0 + i * h;
+      const Vec3 r0 = angular_rate_at(piece, x - h);
+      const Vec3 r1 = angular_rate_at(piece, x);
+      const Vec3 r2 = angular_rate_at(piece, x + h);
+      ASSERT_LE(r1.norm(), bound.rate) << test::seed_text(seed) << " at " << x;
+      ASSERT_LE((r2 - r0).norm() / (2 * h), bound.rate_d1) << test::seed_text(seed) << " at " << x;
+      // rho'' steps at the inner knot (the third derivative of phi is constant between knots): not across it
+      if (std::abs(x - (knots[2] - knots[1])) < 1.5 * h) continue;
+      ASSERT_LE((r2 - 2 * r1 + r0).norm() / (h * h), bound.rate_d2 * (1 + 1e-6) + 1e-6) << test::seed_text(seed) << " at " << x;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace blendbench

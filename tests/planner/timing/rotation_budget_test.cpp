@@ -63,14 +63,17 @@ Ratios angular_ratios(const Path& path, const Timing& timing) {
 
 // Every random oriented program, blended by every method and planned in both limits modes:
 // the translational limits hold as before and the angular ones on every sample; the last
-// sample has the last target (position and orientation arrive together).
-TEST(RotationBudget, AngularLimitsHoldOnTheSampledProfile) {
+// sample has the last target (position and orientation arrive together). Under either
+// orientation interpolation (the spline's targets turn less, within its range).
+void expect_angular_limits_held(OrientationInterpolation interpolation, std::uint64_t first_seed, double max_turn,
+                                double reached_acceleration) {
   const int cases = test::property_cases(60);
   double seen_velocity = 0, seen_acceleration = 0;
   for (int c = 0; c < cases; ++c) {
-    const std::uint64_t seed = 9100 + static_cast<std::uint64_t>(c);
+    const std::uint64_t seed = first_seed + static_cast<std::uint64_t>(c);
     auto rng = test::make_rng(seed);
-    Program program = test::random_program(rng);
+    Program program = test::random_program(rng, max_turn);
+    program.orientation_interpolation = interpolation;
     for (Move& m : program.moves) {
       m.angular = {test::log_uniform(rng, 0.2, 5.0), test::log_uniform(rng, 1.0, 50.0), test::log_uniform(rng, 10.0, 2000.0)};
     }
@@ -95,7 +98,18 @@ TEST(RotationBudget, AngularLimitsHoldOnTheSampledProfile) {
   }
   // the limits were reached, not only held from afar
   EXPECT_GT(seen_velocity, 0.95);
-  EXPECT_GT(seen_acceleration, 0.9);
+  EXPECT_GT(seen_acceleration, reached_acceleration);
+}
+
+TEST(RotationBudget, AngularLimitsHoldOnTheSampledProfile) {
+  expect_angular_limits_held(OrientationInterpolation::kSlerp, 9100, 2.1, 0.9);
+}
+
+// The spline's rate varies on every piece and the planner bounds a piece by the largest
+// rho' on all of it (intervals.cpp, rotation_budget), so the angular acceleration limit is
+// reached less closely than on the slerp's moves of constant rate: 0.75 of it at most here.
+TEST(RotationBudget, AngularLimitsHoldOnTheSampledProfileOfTheSpline) {
+  expect_angular_limits_held(OrientationInterpolation::kSpline, 9400, 0.6, 0.7);
 }
 
 // A 100 mm line turning the tool by 90 degrees, feed 0.5 m/s, 30 deg/s: the rotation binds,

@@ -33,14 +33,21 @@ enum class Method { kNone, kArc, kBezier, kClothoid, kBiclothoid };
 // as a controller running a G1 blend does, and reports the jerk the step implies.
 enum class CurvatureSteps { kLimit, kAllow };
 
+// How the tool orientation runs between targets (orientation.hpp): kSlerp, the geodesic of each
+// move by its arc length, blended through each transition; kSpline, one C2 spline through all
+// targets along the whole path.
+enum class OrientationInterpolation { kSlerp, kSpline };
+
 std::string_view to_string(BufferMode mode);
 std::string_view to_string(Method method);
 std::string_view to_string(CurvatureSteps steps);  // "limit", "allow"
+std::string_view to_string(OrientationInterpolation interpolation);  // "slerp", "spline"
 // Parse the names used in files ("Buffered", "BlendingLow", ...; "none", "arc", ...);
 // case-insensitive; nullopt when unknown.
 std::optional<BufferMode> buffer_mode_from_string(std::string_view name);
 std::optional<Method> method_from_string(std::string_view name);
 std::optional<CurvatureSteps> curvature_steps_from_string(std::string_view name);
+std::optional<OrientationInterpolation> orientation_interpolation_from_string(std::string_view name);
 
 // The transition mode and its parameter, on the move that ends at the corner.
 struct Transition {
@@ -92,6 +99,7 @@ struct Program {
   // The tool orientation at the start (unit quaternion, base frame); used only when a move sets
   // an orientation (a program without any keeps the robot's fixed tool orientation).
   Quat start_orientation = Quat::Identity();
+  OrientationInterpolation orientation_interpolation = OrientationInterpolation::kSlerp;
 };
 
 // Whether any move of `program` sets an orientation.
