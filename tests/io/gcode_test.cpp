@@ -598,6 +598,80 @@ TEST(Gcode, UnsupportedWordsStopWithLineColumnAndWord) {
   }
 }
 
+// Tool angles: A, B, C mapped to roll, pitch, yaw (gcode.hpp, "Tool angles").
+GcodeOptions with_angles(ToolAngle a, ToolAngle b, ToolAngle c) {
+  GcodeOptions opt = options();
+  opt.angles = GcodeAngles{{a, b, c}};
+  return opt;
+}
+
+Quat rpy(double roll_deg, double pitch_deg, double yaw_deg) {
+  return Quat(Eigen::AngleAxisd(yaw_deg * kDeg, Vec3::UnitZ()) * Eigen::AngleAxisd(pitch_deg * kDeg, Vec3::UnitY()) *
+              Eigen::AngleAxisd(roll_deg * kDeg, Vec3::UnitX()));
+}
+
+// By hand: KUKA's A, B, C = {yaw, pitch, roll}: A90 B0 C180 is Rz(90) Rx(180), which takes x to
+// y and z to -z; the RS274 naming {roll, pitch, yaw} reads the same angles as Rx(90) Rz(180).
+TEST(Gcode, ToolAnglesGiveTheMoveOrientationByTheMapping) {
+  const auto kuka = with_angles(ToolAngle::kYaw, ToolAngle::kPitch, ToolAngle::kRoll);
+  const GcodeResult r = parse("G1 X10 A90 B0 C180\nG1 Y10", kuka);
+  ASSERT_EQ(r.program.moves.size(), 2U);
+  ASSERT_TRUE(r.program.moves[0].orientation.has_value());
+  const Eigen::Matrix3d m = r.program.moves[0].orientation->toRotationMatrix();
+  EXPECT_VEC_NEAR(Vec3(m * Vec3::UnitX()), Vec3::UnitY(), 1e-12);
+  EXPECT_VEC_NEAR(Vec3(m * Vec3::UnitZ()), Vec3(-Vec3::UnitZ()), 1e-12);
+  EXPECT_FALSE(r.program.moves[1].orientation.has_value());  // no angle words: it keeps the orientation
+  const GcodeResult rs = parse("G1 X10 A90 B0 C180", with_angles(ToolAngle::kRoll, ToolAngle::kPitch, ToolAngle::kYaw));
+  EXPECT_LE(rotation_angle(*rs.program.moves[0].orientation, rpy(90, 0, 180)), 1e-12);
+  // inches do not scale degrees; an arc takes angles as a line does
+  const GcodeResult arc = parse("G20 G1 X1 A0 B30 C0\nG3 X0 Y1 I-1 C90", kuka);
+  ASSERT_EQ(arc.program.moves.size(), 2U);
+  EXPECT_LE(rotation_angle(*arc.program.moves[0].orientation, rpy(0, 30, 0)), 1e-12);
+  EXPECT_LE(rotation_angle(*arc.program.moves[1].orientation, rpy(90, 30, 0)), 1e-12);
+  EXPECT_NE(std::get_if<Arc>(&arc.program.moves[1].geometry), nullptr);
+}
+
+// Modal like X, Y, Z: an angle not written keeps its value, G91 adds to the angle (Euler
+// angles, not a rotation), G90 sets it again.
+TEST(Gcode, ToolAnglesAreModalAndIncrementalUnderG91) {
+  const auto opt = with_angles(ToolAngle::kRoll, ToolAngle::kPitch, ToolAngle::kYaw);
+  const GcodeResult r = parse("G1 X10 A170 B20 C30\nG91 X10 A15\nX10 C-40 B5\nG90 X0 B0", opt);
+  ASSERT_EQ(r.program.moves.size(), 4U);
+  EXPECT_LE(rotation_angle(*r.program.moves[0].orientation, rpy(170, 20, 30)), 1e-12);
+  EXPECT_LE(rotation_angle(*r.program.moves[1].orientation, rpy(185, 20, 30)), 1e-12);
+  EXPECT_LE(rotation_angle(*r.program.moves[2].orientation, rpy(185, 25, -10)), 1e-12);
+  EXPECT_LE(rotation_angle(*r.program.moves[3].orientation, rpy(185, 0, -10)), 1e-12);
+  EXPECT_VEC_NEAR(end_of(r.program.moves[2].geometry), mm(30, 0, 0), kTol);
+  // a zero-length move that keeps the orientation is dropped as before
+  const GcodeResult same = parse("G1 X10 A0 B0 C0\nG1 X10 C360\nG1 X20", opt);
+  EXPECT_EQ(same.program.moves.size(), 2U);
+  EXPECT_TRUE(has_note(same, "line 2 G1: zero-length move dropped"));
+}
+
+// Without a mapping A, B, C stay refused where they stand; with one, the angles' own errors are
+// located at the word.
+TEST(Gcode, ToolAngleErrorsAreLocated) {
+  const std::string unmapped = expect_error("G1 X1\nG1 X2 B3", 2, 7, "B3");
+  EXPECT_NE(unmapped.find("program.gcode_angles"), std::string::npos) << unmapped;
+  const auto opt = with_angles(ToolAngle::kRoll, ToolAngle::kPitch, ToolAngle::kYaw);
+  const auto error_with = [&](const std::string& text, int line, int column, const std::string& word, const std::string& words) {
+    const InputError e = test::expect_input_error([&] { (void)parse(text, opt); },
+                                                  {.file = "part.ngc", .line = line, .column = column, .field = word, .message = words},
+                                                  text);
+    (void)e;
+  };
+  error_with("G1 X10 A10 C5", 1, 8, "A10", "B is missing");                   // the first angles: all three
+  error_with("G91 G1 X10 A10 B0 C0", 1, 12, "A10", "must be absolute (G90)");  // ... absolute
+  error_with("G1 X1 A0 B0 C0\nG1 X1 A90", 2, 1, "G1", "cannot turn in place");  // a rotation without a move
+  error_with("G1 X0 A0 B0 C10", 1, 1, "G1", "cannot turn in place");           // from the start orientation
+  error_with("A0 B0 C0", 1, 1, "A0", "no motion mode");
+  error_with("G1 X1 A0 B0 C0\nG91 X1 A30000\nX1 A30000", 3, 4, "A30000", "beyond +-36000");
+  error_with("G1 X1 A0 B0 C0 U1", 1, 16, "U1", "axis U is not supported");
+  error_with("G1 X1 A0 A1 B0 C0", 1, 10, "A1", "given twice");
+  // the mapping must be a permutation
+  EXPECT_THROW((void)parse("G1 X1", with_angles(ToolAngle::kRoll, ToolAngle::kRoll, ToolAngle::kYaw)), InputError);
+}
+
 TEST(Gcode, InvalidOptionsAreInputErrors) {
   GcodeOptions opt = options();
   opt.limits.jerk = 0;

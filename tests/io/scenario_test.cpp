@@ -2,13 +2,19 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
+#include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <numbers>
+#include <random>
 
 #include "blendbench/corner/blend.hpp"
 
 #include "support/input_error.hpp"
 #include "support/property.hpp"
+#include "support/random_geometry.hpp"
 
 namespace blendbench {
 namespace {
@@ -527,6 +533,173 @@ TEST(Scenario, ToolFrameBranchChangeAndUrdfOnlySettings) {
   expect_error(replaced(kValid, at, at + "robot: {tool: {offset: [1, 2]}}\n"), 3, "robot.tool.offset", "3");
   expect_error(replaced(kValid, at, at + "robot: {urdf: models/kr6_like.urdf, estimate_inertia: {total_mass_kg: 0}}\n"), 3,
                "robot.estimate_inertia.total_mass_kg", "must be");
+}
+
+
+// A G-code program with tool angles and the same program written as YAML moves.
+struct TwinPrograms {
+  std::string gcode;  // the .ngc text
+  std::string moves;  // the YAML list of moves (indented for `program:`)
+};
+
+// "17 digits": a value read back as the same double.
+std::string exact(double v) {
+  char text[40];
+  std::snprintf(text, sizeof text, "%.17g", v);
+  return text;
+}
+
+// A random program of 2-8 lines and XY arcs (G2/G3 by I, J) in mm, with random tool angles on
+// most moves; A, B, C name the angles by the permutation `abc` (0 roll, 1 pitch, 2 yaw). Each
+// line is written under G90 or G91 at random (angles and X, Y, Z incremental under G91), and
+// an angle the line does not change is left out half the time (modal).
+TwinPrograms random_twins(std::mt19937_64& rng, const std::array<int, 3>& abc) {
+  TwinPrograms out;
+  out.gcode = "G21 G17 G90\n";  // the feed: defaults.velocity, as the YAML moves
+  Vec3 p = Vec3::Zero();
+  Vec3 rpy = Vec3::Zero();
+  bool angles_set = false;
+  bool incremental = false;
+  const int n = 2 + static_cast<int>(test::uniform(rng, 0, 7));
+  for (int k = 0; k < n; ++k) {
+    // the geometry: a line, or an arc about a centre in the XY plane at the start's height
+    const bool arc = test::uniform(rng, 0, 1) < 0.3;
+    Vec3 end;
+    Vec3 centre;
+    const bool ccw = test::uniform(rng, 0, 1) < 0.5;
+    if (arc) {
+      const double radius = test::uniform(rng, 10, 60);
+      const double a0 = test::uniform(rng, -3.1, 3.1);
+      const double sweep = test::uniform(rng, 0.3, 2.5) * (ccw ? 1 : -1);
+      centre = p - radius * Vec3(std::cos(a0), std::sin(a0), 0);
+      end = centre + radius * Vec3(std::cos(a0 + sweep), std::sin(a0 + sweep), 0);
+    } else {
+      end = p + test::uniform(rng, 10, 80) * test::random_unit(rng);
+    }
+    // the angles: all three the first time, later some of them
+    const bool set = (!angles_set && test::uniform(rng, 0, 1) < 0.7) || (angles_set && test::uniform(rng, 0, 1) < 0.8);
+    Vec3 next = rpy;
+    std::array<bool, 3> write{};
+    if (set) {
+      for (int i = 0; i < 3; ++i) {
+        write[static_cast<std::size_t>(i)] = !angles_set || test::uniform(rng, 0, 1) < 0.5;
+        if (write[static_cast<std::size_t>(i)]) next[i] = test::uniform(rng, -180, 180);
+      }
+      write[static_cast<std::size_t>(test::uniform(rng, 0, 3))] = true;  // at least one word
+    }
+    // G91 only once the angles are set (the first angles are absolute)
+    const bool g91 = angles_set && test::uniform(rng, 0, 1) < 0.4;
+    std::string line = g91 == incremental ? "" : (g91 ? "G91 " : "G90 ");
+    incremental = g91;
+    line += arc ? (ccw ? "G3" : "G2") : "G1";
+    const Vec3 e = g91 ? Vec3(end - p) : end;
+    line += " X" + exact(e.x()) + " Y" + exact(e.y()) + " Z" + exact(e.z());
+    if (arc) line += " I" + exact(centre.x() - p.x()) + " J" + exact(centre.y() - p.y());
+    const char letters[] = {'A', 'B', 'C'};
+    for (std::size_t w = 0; w < 3; ++w) {
+      const int angle = abc[w];
+      if (!set || !write[static_cast<std::size_t>(angle)]) continue;
+      line += std::string(" ") + letters[w] + exact(g91 ? next[angle] - rpy[angle] : next[angle]);
+    }
+    out.gcode += line + "\n";
+    // the YAML move: the same end (and centre), the absolute angles
+    out.moves += arc ? "    - arc: {end: [" + exact(end.x()) + ", " + exact(end.y()) + ", " + exact(end.z()) + "], center: [" +
+                           exact(centre.x()) + ", " + exact(centre.y()) + ", " + exact(centre.z()) + "], direction: " +
+                           (ccw ? "ccw" : "cw") + "}\n"
+                     : "    - line: [" + exact(end.x()) + ", " + exact(end.y()) + ", " + exact(end.z()) + "]\n";
+    if (set) {
+      out.moves += "      orientation: {rpy_deg: [" + exact(next[0]) + ", " + exact(next[1]) + ", " + exact(next[2]) + "]}\n";
+    }
+    angles_set = angles_set || set;
+    rpy = next;
+    p = end;
+  }
+  return out;
+}
+
+// A scenario around `program` (the text after `program:`), placed by a turned frame.
+std::string twin_scenario(const std::string& program) {
+  return "name: twin\nunits: mm\nframe: {origin: [400, -50, 300], rpy_deg: [10, -20, 30]}\nrobot: {tool_rpy_deg: [170, 5, 0]}\n"
+         "defaults: {velocity: 100, acceleration: 1000, jerk: 10000}\nprogram:\n" + program +
+         "variants:\n  - {name: arc, transition: {method: arc, parameter: 2}}\n";
+}
+
+// Round trip: a G-code program whose A, B, C are mapped to tool angles loads as the same
+// program as its YAML twin (geometry and every orientation target, in the base frame), and
+// blends to the same path with the same orientation along it, over random programs, mappings
+// and G90/G91 mixes.
+TEST(Scenario, GcodeAnglesLoadAsTheSameProgramAsTheYamlMoves) {
+  constexpr double kSamePoint = 1e-9;  // m: written with 17 digits, incremental sums round
+  constexpr double kSameAngle = 1e-9;  // rad
+  const char* names[] = {"roll", "pitch", "yaw"};
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "blendbench_gcode_angles_test";
+  std::filesystem::create_directories(dir);
+  const int cases = test::property_cases(200);
+  int oriented_moves = 0;
+  for (int c = 0; c < cases; ++c) {
+    const std::uint64_t seed = 0x6a0c0de + static_cast<std::uint64_t>(c);
+    SCOPED_TRACE(test::seed_text(seed));
+    auto rng = test::make_rng(seed);
+    std::array<int, 3> abc = {0, 1, 2};
+    std::shuffle(abc.begin(), abc.end(), rng);
+    const TwinPrograms twins = random_twins(rng, abc);
+    const std::filesystem::path file = dir / ("part_" + std::to_string(seed) + ".ngc");
+    std::ofstream(file) << twins.gcode;
+    const Scenario from_gcode = parse(twin_scenario("  gcode: \"" + file.string() + "\"\n  gcode_angles: {a: " + names[abc[0]] +
+                                                    ", b: " + names[abc[1]] + ", c: " + names[abc[2]] + "}\n"));
+    const Scenario from_yaml = parse(twin_scenario("  moves:\n" + twins.moves));
+    std::filesystem::remove(file);
+    const Program g = program_for(from_gcode, from_gcode.variants[0]);
+    const Program y = program_for(from_yaml, from_yaml.variants[0]);
+    ASSERT_EQ(g.moves.size(), y.moves.size()) << twins.gcode;
+    EXPECT_LE(rotation_angle(g.start_orientation, y.start_orientation), kSameAngle);
+    for (std::size_t k = 0; k < g.moves.size(); ++k) {
+      for (const double f : {0.0, 0.37, 1.0}) {
+        EXPECT_LE((point(g.moves[k].geometry, f * length(g.moves[k].geometry)) -
+                   point(y.moves[k].geometry, f * length(y.moves[k].geometry))).norm(), kSamePoint)
+            << "move " << k << "\n" << twins.gcode;
+      }
+      ASSERT_EQ(g.moves[k].orientation.has_value(), y.moves[k].orientation.has_value()) << "move " << k << "\n" << twins.gcode;
+      if (!g.moves[k].orientation) continue;
+      ++oriented_moves;
+      EXPECT_LE(rotation_angle(*g.moves[k].orientation, *y.moves[k].orientation), kSameAngle) << "move " << k << "\n" << twins.gcode;
+    }
+    // the same blended path and orientation along it
+    const Path pg = blend(g);
+    const Path py = blend(y);
+    ASSERT_NEAR(pg.length(), py.length(), kSamePoint);
+    ASSERT_EQ(pg.oriented(), py.oriented());
+    for (int i = 0; i <= 50; ++i) {
+      const double s = pg.length() * i / 50;
+      EXPECT_LE((pg.point(s) - py.point(s)).norm(), kSamePoint) << "s = " << s;
+      EXPECT_LE(rotation_angle(pg.orientation(s), py.orientation(s)), kSameAngle) << "s = " << s;
+    }
+  }
+  EXPECT_GT(oriented_moves, cases);
+}
+
+// The mapping is checked where it is written: each of roll, pitch, yaw once, all three given,
+// only with a G-code program; without it the program's A, B, C are refused at their place.
+TEST(Scenario, GcodeAnglesMappingIsCheckedWhereItIsWritten) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "blendbench_gcode_angles_test";
+  std::filesystem::create_directories(dir);
+  const std::filesystem::path file = dir / "angles.ngc";
+  std::ofstream(file) << "G21 G90 F600\nG1 X10 A180 B0 C0\nG1 Y10 C45\n";
+  const std::string program = "  gcode: \"" + file.string() + "\"\n";
+  const std::string mapped = twin_scenario(program + "  gcode_angles: {a: roll, b: pitch, c: yaw}\n");
+  const Scenario sc = parse(mapped);
+  ASSERT_EQ(sc.program.moves.size(), 2U);
+  ASSERT_TRUE(sc.program.moves[1].orientation.has_value());
+  expect_error(replaced(mapped, "c: yaw", "c: pitch"), 8, "program.gcode_angles.c", "pitch is named by both b and c");
+  expect_error(replaced(mapped, ", c: yaw", ""), 8, "program.gcode_angles.c", "missing required field");
+  expect_error(replaced(mapped, "c: yaw", "c: spin"), 8, "program.gcode_angles.c", "unknown value 'spin'");
+  // unmapped: the G-code file's own line and column
+  test::expect_input_error([&] { (void)parse(twin_scenario(program)); },
+                           {.file = file.string(), .line = 2, .column = 8, .field = "A180", .message = "program.gcode_angles"});
+  // moves take their orientation directly
+  expect_error(twin_scenario("  moves:\n    - line: [10, 0, 0]\n  gcode_angles: {a: roll, b: pitch, c: yaw}\n"), 9,
+               "program.gcode_angles", "has no 'gcode'");
+  std::filesystem::remove(file);
 }
 
 }  // namespace
