@@ -678,6 +678,24 @@ TEST(Scenario, GcodeAnglesLoadAsTheSameProgramAsTheYamlMoves) {
   EXPECT_GT(oriented_moves, cases);
 }
 
+// The shipped G-code torch seam is the YAML torch seam: the same blended path and the same torch
+// orientation along it, for every variant of the G-code scenario (found by name in the YAML one).
+TEST(Scenario, TheTorchSeamInGcodeIsTheTorchSeam) {
+  const Scenario yaml = load_scenario(test::source_path("scenarios/torch_seam.yaml"));
+  const Scenario gcode = load_scenario(test::source_path("scenarios/torch_seam_gcode.yaml"));
+  EXPECT_NEAR(gcode.robot.tool.translation().z(), 0.12, 1e-15);
+  for (const Variant& v : gcode.variants) {
+    const Path pg = blend(program_for(gcode, v));
+    const Path py = blend(program_for(yaml, find_variant(yaml, v.name)));
+    ASSERT_NEAR(pg.length(), py.length(), 1e-9) << v.name;
+    for (int i = 0; i <= 200; ++i) {
+      const double s = pg.length() * i / 200;
+      EXPECT_LE((pg.point(s) - py.point(s)).norm(), 1e-9) << v.name << " s = " << s;
+      EXPECT_LE(rotation_angle(pg.orientation(s), py.orientation(s)), 1e-9) << v.name << " s = " << s;
+    }
+  }
+}
+
 // The mapping is checked where it is written: each of roll, pitch, yaw once, all three given,
 // only with a G-code program; without it the program's A, B, C are refused at their place.
 TEST(Scenario, GcodeAnglesMappingIsCheckedWhereItIsWritten) {
