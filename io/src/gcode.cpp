@@ -7,7 +7,6 @@
 #include "blendbench/geometry/arc_construction.hpp"
 #include "blendbench/core/format.hpp"
 #include "blendbench/core/units.hpp"
-#include "blendbench/robot/kinematics.hpp"
 
 #include <algorithm>
 #include <array>
@@ -16,6 +15,7 @@
 #include <optional>
 #include <utility>
 
+#include "gcode_angles.hpp"
 #include "gcode_lexer.hpp"
 #include "gcode_words.hpp"
 
@@ -78,6 +78,7 @@ class Reader {
       : text_(text), file_(file), options_(options) {
     pos_ = options.start;
     path_orientation_ = options.start_orientation.normalized();
+    if (options.angles) angles_.emplace(*options.angles);
     path_end_ = options.start;
     feed_ = options.limits.velocity;
     transition_ = options.blending;
@@ -339,7 +340,7 @@ class Reader {
                              : motion_ == Motion::kCw  ? "G2" : "G3";
     const std::string name = label + " " + code;
     const Vec3 target = target_of(lw);
-    line_orientation_ = tool_angles(lw, line);
+    line_orientation_ = angles_ ? angles_->apply(lw, incremental_, line, file_) : std::nullopt;
     if (arc_mode) {
       arc_move(target, lw, p, where, name, line);
     } else {
@@ -371,42 +372,6 @@ class Reader {
       }
     }
     return target;
-  }
-
-  // The line's tool angles (gcode.hpp, "Tool angles"): the modal angles updated by its A, B, C
-  // words, and the orientation they give (program frame); none when the line has no angle word.
-  std::optional<Quat> tool_angles(const LineWords& lw, int line) {
-    const Word* first = lw.first_of("ABC");
-    if (!first) return std::nullopt;
-    const std::array<char, 3> letters = {'A', 'B', 'C'};
-    // the angles start unset: the first line gives all three, absolute
-    if (!angles_set_) {
-      if (incremental_) {
-        fail(line, first->column, first->text,
-             "the first tool angles must be absolute (G90): they start unset, so G91 has nothing to add to");
-      }
-      for (const char letter : letters) {
-        if (lw.get(letter)) continue;
-        fail(line, first->column, first->text,
-             std::string("the first line with tool angles must give all of A, B and C (they start unset); ") + letter +
-                 " is missing");
-      }
-      angles_set_ = true;
-    }
-    // modal like X, Y, Z: G91 adds to the angle, an angle not written keeps its value
-    for (std::size_t k = 0; k < letters.size(); ++k) {
-      const Word* w = lw.get(letters[k]);
-      if (!w) continue;
-      double& angle = rpy_deg_[static_cast<Eigen::Index>(options_.angles->abc[k])];
-      const double value = incremental_ ? angle + w->value : w->value;
-      if (!(std::abs(value) <= kMaxToolAngleDeg)) {
-        fail(line, w->column, w->text,
-             "the tool angle " + std::string(1, letters[k]) + " reaches " + format_value(value, 10) + " degrees, beyond +-" +
-                 format_value(kMaxToolAngleDeg, 10));
-      }
-      angle = value;
-    }
-    return Quat(rotation_from_rpy(rpy_deg_ * kDeg)).normalized();
   }
 
   Move make_move(Primitive geometry, const SourceRef& where, const std::string& name, bool rapid) const {
@@ -628,10 +593,9 @@ class Reader {
   bool incremental_ = false;
   bool ij_absolute_ = false;
   std::optional<int> coord_system_;
-  // tool angles (options_.angles): roll, pitch, yaw in degrees once set; the target of this
-  // line's move; the orientation where the last kept move ends (program frame)
-  bool angles_set_ = false;
-  Vec3 rpy_deg_ = Vec3::Zero();
+  // tool angles (options_.angles, else none): their modal state; the target of this line's
+  // move; the orientation where the last kept move ends (program frame)
+  std::optional<ToolAngles> angles_;
   std::optional<Quat> line_orientation_;
   Quat path_orientation_ = Quat::Identity();
   bool opened_ = false;
