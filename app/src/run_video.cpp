@@ -73,6 +73,8 @@ FilmSettings film_settings(const Scenario& scenario, const Program& program) {
   s.fps = scenario.video.fps;
   s.camera = camera_spec(scenario.video.camera);
   s.scenario = scenario.name;
+  // the tool on the flange, drawn when the scenario sets one
+  if (scenario.robot.tool.matrix() != Eigen::Matrix4d::Identity()) s.tool = scenario.robot.tool;
   for (const Move& m : program.moves) {
     const double len = length(m.geometry);
     const int n = std::max(2, static_cast<int>(std::ceil(len / kFilmStep)));

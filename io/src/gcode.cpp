@@ -6,6 +6,7 @@
 
 #include "blendbench/geometry/arc_construction.hpp"
 #include "blendbench/core/format.hpp"
+#include "blendbench/core/units.hpp"
 
 #include <algorithm>
 #include <array>
@@ -14,6 +15,7 @@
 #include <optional>
 #include <utility>
 
+#include "gcode_angles.hpp"
 #include "gcode_lexer.hpp"
 #include "gcode_words.hpp"
 
@@ -40,6 +42,8 @@ constexpr double kSamePoint = kZeroLengthMove;
 constexpr double kNoteworthyRadiusError = 1e-9;
 // Samples per turn when comparing a corrected arc with LinuxCNC's spiral.
 constexpr int kSpiralSamples = 128;
+// Rad: a dropped move whose angles turn the tool by more than this would lose a rotation.
+constexpr double kSameOrientation = 1e-9;
 
 using Vec2 = Eigen::Vector2d;
 
@@ -73,6 +77,8 @@ class Reader {
   Reader(std::string_view text, const std::string& file, const GcodeOptions& options)
       : text_(text), file_(file), options_(options) {
     pos_ = options.start;
+    path_orientation_ = options.start_orientation.normalized();
+    if (options.angles) angles_.emplace(*options.angles);
     path_end_ = options.start;
     feed_ = options.limits.velocity;
     transition_ = options.blending;
@@ -143,6 +149,16 @@ class Reader {
       throw InputError(file_, 0, 0, "rapid_velocity", "G-code options: rapid_velocity must be >= 0");
     }
     if (!options_.start.allFinite()) throw InputError(file_, 0, 0, "start", "G-code options: start must be finite");
+    if (!options_.start_orientation.coeffs().allFinite() || !(options_.start_orientation.norm() > 0.5)) {
+      throw InputError(file_, 0, 0, "start_orientation", "G-code options: start_orientation must be a unit quaternion");
+    }
+    if (options_.angles) {
+      std::array<bool, 3> named{};
+      for (const ToolAngle a : options_.angles->abc) named[static_cast<std::size_t>(a)] = true;
+      if (!(named[0] && named[1] && named[2])) {
+        throw InputError(file_, 0, 0, "angles", "G-code options: A, B and C must name roll, pitch and yaw, each once");
+      }
+    }
   }
 
   // Notes the non-blank lines not read: those from text offset `begin` on, line `line` being the
@@ -180,7 +196,7 @@ class Reader {
     const int line = block.line;
     std::vector<Word> words = block.words;
     const std::string label = take_line_number(words, line);
-    const LineWords lw = sort_words(words, line, file_);
+    const LineWords lw = sort_words(words, line, file_, options_.angles.has_value());
 
     // units first: every value on the line is read in the units in force after it
     if (const auto units = lw.g_in(GGroup::kUnits)) inch_ = units->first == 200;
@@ -299,7 +315,7 @@ class Reader {
       }
     }
     const bool arc_mode = motion_ == Motion::kCw || motion_ == Motion::kCcw;
-    const Word* first_axis = lw.first_of("XYZ");
+    const Word* first_axis = lw.first_of("XYZABC");
     const Word* first_arc_word = lw.first_of("IJKR");
     if (first_arc_word && !arc_mode) {
       fail(line, first_arc_word->column, first_arc_word->text,
@@ -324,6 +340,7 @@ class Reader {
                              : motion_ == Motion::kCw  ? "G2" : "G3";
     const std::string name = label + " " + code;
     const Vec3 target = target_of(lw);
+    line_orientation_ = angles_ ? angles_->apply(lw, incremental_, line, file_) : std::nullopt;
     if (arc_mode) {
       arc_move(target, lw, p, where, name, line);
     } else {
@@ -366,6 +383,7 @@ class Reader {
     move.transition = transition_;
     move.where = where;
     move.name = name;
+    move.orientation = line_orientation_;
     return move;
   }
 
@@ -375,6 +393,12 @@ class Reader {
     pos_ = target;
     const double len = length(move.geometry);
     if (!(len > kZeroLengthMove)) {
+      // the orientation follows the path, so a rotation without a move cannot be kept
+      if (move.orientation && rotation_angle(path_orientation_, *move.orientation) > kSameOrientation) {
+        fail(move.where.line, move.where.column, move.name.substr(move.name.rfind(' ') + 1),
+             "the tool angles turn the tool by " + format_value(rotation_angle(path_orientation_, *move.orientation) / kDeg, 6) +
+                 " degrees on a zero-length move; the orientation is interpolated along the path, so the tool cannot turn in place");
+      }
       result_.ignored.push_back(move.name + ": zero-length move dropped");
       return;
     }
@@ -382,7 +406,11 @@ class Reader {
       fail(move.where.line, move.where.column, move.name.substr(move.name.rfind(' ') + 1),
            "more than " + std::to_string(kMaxMoves) + " moves (the limit of one program)");
     }
-    path_end_ = point(move.geometry, len);
+    // a line ends exactly at its programmed end (point(line, length) rounds, and an arc after it
+    // would rise by 1e-19 m out of its plane); an arc where it computes its end
+    const Line* line = std::get_if<Line>(&move.geometry);
+    path_end_ = line ? line->p1 : point(move.geometry, len);
+    if (move.orientation) path_orientation_ = *move.orientation;
     result_.program.moves.push_back(std::move(move));
   }
 
@@ -489,7 +517,12 @@ class Reader {
     // the arc about the plane's normal (clockwise for G2), helical when the normal axis moves;
     // the centre already satisfies the radius rule, so only rounding is left to absorb
     const Vec3 centre = c2.x() * ax.a1 + c2.y() * ax.a2 + start.dot(ax.n) * ax.n;
-    const ArcBuild built = arc_from_center(start, target, centre, ax.a1.cross(ax.a2), sign > 0, turns - 1, tol_abs);
+    // a rise below kSamePoint is rounding (G91 sums, a units change), not a helix: the arc ends
+    // in its start's plane, so the corners it makes stay planar
+    const double rise = (target - start).dot(ax.n);
+    // (n is a coordinate axis, so the end's normal coordinate becomes the start's exactly)
+    const Vec3 end = std::abs(rise) <= kSamePoint ? Vec3(target - target.dot(ax.n) * ax.n + start.dot(ax.n) * ax.n) : target;
+    const ArcBuild built = arc_from_center(start, end, centre, ax.a1.cross(ax.a2), sign > 0, turns - 1, tol_abs);
     if (!built.outcome.ok()) fail(line, where.column, name, built.outcome.message);
     const Arc& arc = built.arc;
     add_move(make_move(arc, where, name, false), target);
@@ -560,6 +593,11 @@ class Reader {
   bool incremental_ = false;
   bool ij_absolute_ = false;
   std::optional<int> coord_system_;
+  // tool angles (options_.angles, else none): their modal state; the target of this line's
+  // move; the orientation where the last kept move ends (program frame)
+  std::optional<ToolAngles> angles_;
+  std::optional<Quat> line_orientation_;
+  Quat path_orientation_ = Quat::Identity();
   bool opened_ = false;
   bool seen_code_ = false;
   bool ended_ = false;

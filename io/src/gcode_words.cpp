@@ -105,7 +105,7 @@ const Word* LineWords::first_of(std::string_view letters) const {
   return nullptr;
 }
 
-LineWords sort_words(const std::vector<Word>& words, int line, const std::string& file) {
+LineWords sort_words(const std::vector<Word>& words, int line, const std::string& file, bool tool_angles) {
   const Fail fail{file, line};
   LineWords out;
   // one of each letter (G and M may repeat across modal groups)
@@ -128,7 +128,11 @@ LineWords sort_words(const std::vector<Word>& words, int line, const std::string
         out.m_codes.emplace_back(code, &w);
         continue;
       }
-      case 'A': case 'B': case 'C': case 'U': case 'V': case 'W':
+      case 'A': case 'B': case 'C':
+        if (tool_angles) break;
+        fail(w.column, w.text, std::string("axis ") + w.letter +
+                                   " is not supported (only X, Y, Z; a scenario's program.gcode_angles maps A, B, C to tool angles)");
+      case 'U': case 'V': case 'W':
         fail(w.column, w.text, std::string("axis ") + w.letter + " is not supported (only X, Y, Z)");
       case 'L':
         fail(w.column, w.text, "L words (G10, canned cycles) are not supported");

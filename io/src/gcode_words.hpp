@@ -44,8 +44,9 @@ struct LineWords {
 };
 
 // Sorts the words of line `line` (without its N word) and checks them: unsupported letters,
-// axes, G and M codes, a letter given twice, two codes of one modal group. Throws
-// InputError(file, line, column, word, message) at the first word that breaks a rule.
-LineWords sort_words(const std::vector<Word>& words, int line, const std::string& file);
+// axes (A, B, C are accepted when `tool_angles`), G and M codes, a letter given twice, two codes
+// of one modal group. Throws InputError(file, line, column, word, message) at the first word
+// that breaks a rule.
+LineWords sort_words(const std::vector<Word>& words, int line, const std::string& file, bool tool_angles);
 
 }  // namespace blendbench::gcode_detail

@@ -16,6 +16,7 @@
 #include "blendbench/geometry/arc_construction.hpp"
 #include "blendbench/io/data_root.hpp"
 #include "blendbench/io/program_io.hpp"
+#include "blendbench/robot/kinematics.hpp"
 #include "scenario_reader.hpp"
 
 namespace blendbench {
@@ -27,9 +28,7 @@ using namespace scenario_detail;  // the reader private to the scenario loader
 Eigen::Matrix3d rpy_deg(const std::vector<double>& rpy) {
   // fixed-axis roll (x), pitch (y), yaw (z), as in URDF: R = Rz(yaw) Ry(pitch) Rx(roll); the
   // values are already radians (the unit deg converts like any other: by kDeg below)
-  return (Eigen::AngleAxisd(rpy[2], Vec3::UnitZ()) * Eigen::AngleAxisd(rpy[1], Vec3::UnitY()) *
-          Eigen::AngleAxisd(rpy[0], Vec3::UnitX()))
-      .toRotationMatrix();
+  return rotation_from_rpy(Vec3(rpy[0], rpy[1], rpy[2]));
 }
 
 // Degrees read from the file, in radians.
@@ -164,21 +163,46 @@ MoveDefaults read_defaults(const Reader& r, const Field& root) {
   return d;
 }
 
+// `gcode_angles: {a: .., b: .., c: ..}`: what A, B, C name, each of roll, pitch, yaw once.
+GcodeAngles read_gcode_angles(const Reader& r, const Field& f) {
+  r.check_keys(f);
+  GcodeAngles angles;
+  std::array<const char*, 3> named_by{};
+  const std::array<const char*, 3> letters = {"a", "b", "c"};
+  for (std::size_t k = 0; k < letters.size(); ++k) {
+    const Field v = r.require(f, letters[k]);
+    const std::string name = r.choice(v);
+    const ToolAngle angle = name == "roll" ? ToolAngle::kRoll : name == "pitch" ? ToolAngle::kPitch : ToolAngle::kYaw;
+    const auto index = static_cast<std::size_t>(angle);
+    if (named_by[index]) {
+      r.fail(v, name + " is named by both " + named_by[index] + " and " + letters[k] +
+                    "; A, B, C name roll, pitch and yaw, each once");
+    }
+    named_by[index] = letters[k];
+    angles.abc[k] = angle;
+  }
+  return angles;
+}
+
 // A program given as a G-code file: read in its own units (G20/G21), placed by the frame.
 // Variants replace the transitions of all its moves (the file's G61/G64 apply when a variant
 // sets no transition).
-void read_gcode_program(const Reader& r, const Field& gcode, const Field& start, const MoveDefaults& defaults,
-                        Scenario& sc) {
+void read_gcode_program(const Reader& r, const Field& gcode, const Field& angles, const Field& start,
+                        const MoveDefaults& defaults, Scenario& sc) {
   GcodeOptions options;
   options.limits = defaults.limits;
   options.buffer = defaults.buffer;
   options.start = r.vec3(start);
+  if (angles.node.defined()) options.angles = read_gcode_angles(r, angles);
+  // the tool's start orientation in the program frame: the reader checks a zero-length move against it
+  options.start_orientation = Quat(sc.frame.linear().transpose() * sc.program.start_orientation.toRotationMatrix()).normalized();
   const GcodeResult parsed = load_gcode_file(r.existing_file(gcode), options);
   sc.start = sc.frame * parsed.start;
   sc.ignored = parsed.ignored;
   sc.program.moves.reserve(parsed.program.moves.size());
   for (Move move : parsed.program.moves) {
     move.angular = defaults.angular;
+    if (move.orientation) move.orientation = Quat(sc.frame.linear() * move.orientation->toRotationMatrix()).normalized();
     if (Line* line = std::get_if<Line>(&move.geometry)) {
       line->p0 = sc.frame * line->p0;
       line->p1 = sc.frame * line->p1;
@@ -231,6 +255,7 @@ void read_program(const Reader& r, const Field& root, Scenario& sc) {
   r.check_keys(program);
   const Field moves = r.child(program, "moves");
   const Field gcode = r.child(program, "gcode");
+  const Field angles = r.child(program, "gcode_angles");
   const MoveDefaults defaults = read_defaults(r, root);
   const Field start = r.value(program, "start");
   // the tool starts as the robot holds it (used only when a move sets an orientation)
@@ -239,9 +264,10 @@ void read_program(const Reader& r, const Field& root, Scenario& sc) {
       *orientation_interpolation_from_string(r.choice(r.value(program, "orientation_interpolation")));
   if (gcode.node.defined()) {
     if (moves.node.defined()) r.fail(moves, "give either 'moves' or 'gcode', not both");
-    read_gcode_program(r, gcode, start, defaults, sc);
+    read_gcode_program(r, gcode, angles, start, defaults, sc);
     return;
   }
+  if (angles.node.defined()) r.fail(angles, "gcode_angles maps the words of a G-code program; this program has no 'gcode'");
   if (!moves.node.defined()) (void)r.require(program, "moves");
   if (!moves.node.is_sequence() || moves.node.size() == 0) {
     r.fail(moves, "expected a non-empty list of moves, got " + what_is(moves.node));

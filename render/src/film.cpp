@@ -38,9 +38,14 @@ constexpr Rgba kFailedColour{0.45f, 0.1f, 0.1f, 1};
 constexpr Rgba kWhite{1, 1, 1, 1};
 constexpr int kPad = 6;  // pixels
 
-const std::vector<LegendEntry>& legend() {
-  static const std::vector<LegendEntry> entries = {
+// The legend: the three lines, and the tool where one is drawn.
+std::vector<LegendEntry> legend(const FilmSettings& s) {
+  std::vector<LegendEntry> entries = {
       {kProgrammedColour, "programmed path"}, {kPlannedColour, "planned path"}, {kTrailColour, "actual TCP trail"}};
+  if (s.tool) {
+    entries.push_back({kToolColour, "tool"});
+    entries.push_back({kToolAxisColour, "tool z axis"});
+  }
   return entries;
 }
 
@@ -220,7 +225,7 @@ const std::vector<std::uint8_t>& VariantVideo::frame(int k) {
   Impl& r = *impl_;
   const double t = k / r.settings.fps;
   const PixelRect all{0, 0, r.settings.width, r.settings.height};
-  draw_view(r.renderer, all, camera(k), r.lines, r.film, t, r.nq, {});
+  draw_view(r.renderer, all, camera(k), r.lines, r.film, t, r.nq, {.tool = r.settings.tool});
 
   // the panel, the legend and, once the motion is over, how it ended
   const std::size_t i = sample_at(r.film, t);
@@ -229,7 +234,7 @@ const std::vector<std::uint8_t>& VariantVideo::frame(int k) {
                          {"variant", r.film.name},
                          {"path speed", fixed(value_at(r.film.speed, i) / kMm, 1) + " mm/s"},
                          {"tracking error", fixed(value_at(r.film.tracking_error, i) / kUm, 1) + " um"}});
-  r.renderer.draw_legend(all, Corner::kBottomLeft, legend());
+  r.renderer.draw_legend(all, Corner::kBottomLeft, legend(r.settings));
   if (const std::string done = done_text(r.film, t); !done.empty()) {
     bottom_label(r.renderer, {all.width / 3, 0, all.width - all.width / 3, all.height}, done,
                  r.film.done_time ? kDoneColour : kNotSettledColour);
@@ -361,7 +366,7 @@ struct CompareVideo::Impl {
     renderer.draw_text(kPad, kPad / 2, title, kWhite);
     int x = kPad;
     const int y = kPad / 2 + line + kPad / 2;
-    for (const LegendEntry& e : legend()) {
+    for (const LegendEntry& e : legend(settings)) {
       const int bar = 2 * line, thickness = std::max(3, line / 4);
       renderer.fill({x, y + (line - thickness) / 2, bar, thickness}, e.colour);
       renderer.draw_text(x + bar + kPad, y, e.text, kWhite);
@@ -394,7 +399,7 @@ struct CompareVideo::Impl {
       }
       const std::size_t s = sample_at(film, t);
       draw_view(renderer, cell, camera_at(settings, base_camera, film.tcp.empty() ? Vec3::Zero() : film.tcp[s]),
-                lines[static_cast<std::size_t>(i)], film, t, nq, {});
+                lines[static_cast<std::size_t>(i)], film, t, nq, {.tool = settings.tool});
       renderer.draw_panel(cell, Corner::kTopLeft,
                           {{"variant", film.name},
                            {"path speed", fixed(value_at(film.speed, s) / kMm, 1) + " mm/s"},

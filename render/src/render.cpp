@@ -15,7 +15,7 @@
 namespace blendbench {
 namespace {
 
-// Room in the scene beyond the model's own geoms (a floor).
+// Room in the scene beyond the model's own geoms (a floor, the tool).
 constexpr int kMaxDecorations = 16;
 // Headlight floor: without a skybox the background is black, so the arm needs this much light.
 constexpr float kMinHeadlightAmbient = 0.3f;
@@ -118,6 +118,28 @@ void draw_overlay(const mjrRect& view, const CameraPose& camera, std::span<const
   glLineWidth(1);
 }
 
+// The tool on the flange `site` of state `d` (render.hpp, SceneStyle::tool): a capsule from the
+// flange to the TCP and a rod along the tool's z axis, as decorations.
+void add_tool(mjvScene& scn, const mjData& d, int site, const Eigen::Isometry3d& tool) {
+  Eigen::Isometry3d flange = Eigen::Isometry3d::Identity();
+  flange.linear() = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(d.site_xmat + 9 * site);
+  flange.translation() = Eigen::Map<const Vec3>(d.site_xpos + 3 * site);
+  const Eigen::Isometry3d tcp = flange * tool;
+  const auto connector = [&](int type, double width, const Vec3& a, const Vec3& b, const Rgba& colour) {
+    mjvGeom* g = new_decor(scn);
+    if (g == nullptr) return;
+    mjv_makeConnector(g, type, width, a.x(), a.y(), a.z(), b.x(), b.y(), b.z());
+    for (const auto& [i, c] : {std::pair{0, colour.r}, std::pair{1, colour.g}, std::pair{2, colour.b}, std::pair{3, colour.a}}) {
+      g->rgba[i] = c;
+    }
+    ++scn.ngeom;
+  };
+  const Vec3 a = flange.translation();
+  const Vec3 b = tcp.translation();
+  if ((b - a).norm() > kMinToolLength) connector(mjGEOM_CAPSULE, kToolRadius, a, b, kToolColour);
+  connector(mjGEOM_CAPSULE, kToolAxisRadius, b, b + kToolAxisLength * tcp.linear().col(2), kToolAxisColour);
+}
+
 // Removes the arm from the scene: every geom of a body other than the world.
 void remove_arm(const mjModel& m, mjvScene& scn) {
   int kept = 0;
@@ -144,6 +166,7 @@ struct OffscreenRenderer::Impl {
   bool scene_made = false, context_made = false;
   std::vector<std::uint8_t> raw, rgb;  // bottom-up as read, top-down as returned
   bool draw_floor = false;
+  int tcp_site = -1;  // the flange (site "tcp"), where the tool is drawn; -1: none
 
   bool try_make_current() {
     return OSMesaMakeCurrent(gl, gl_buffer.data(), GL_UNSIGNED_BYTE, width, height) != 0;
@@ -191,6 +214,7 @@ OffscreenRenderer::OffscreenRenderer(const mjModel& m, int width, int height, Re
     vis.headlight.diffuse[c] = std::max(vis.headlight.diffuse[c], kMinHeadlightDiffuse);
   }
   r.draw_floor = !has_plane(*r.model);
+  r.tcp_site = mj_name2id(r.model, mjOBJ_SITE, "tcp");
 
   // OSMesa context, current before MuJoCo makes its GL objects
   r.gl = OSMesaCreateContextExt(OSMESA_RGBA, 24, 8, 8, nullptr);
@@ -266,6 +290,9 @@ void OffscreenRenderer::draw_scene(const PixelRect& where, const CameraPose& cam
       ++r.scene.ngeom;
     }
   }
+
+  // the tool, with the arm
+  if (style.tool && !style.hide_arm && r.tcp_site >= 0) add_tool(r.scene, *r.data, r.tcp_site, *style.tool);
 
   // our pinhole replaces MuJoCo's free camera: pose, then a symmetric frustum of the field of view
   const double tan_half = std::tan(0.5 * camera.fovy_deg * std::numbers::pi / 180);

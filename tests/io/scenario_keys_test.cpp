@@ -80,6 +80,20 @@ Yaml base() {
             {"variants", L({M({{"name", S("a")}, {"transition", M({{"method", S("none")}})}})})}});
 }
 
+// The base scenario for a key of the map at `path`: base(), but with its program given as a
+// G-code file with tool angles for the keys of program.gcode_angles (which only a G-code
+// program takes).
+Yaml base_for(const std::string& path) {
+  Yaml y = base();
+  if (!path.starts_with("program.gcode_angles")) return y;
+  for (auto& [k, v] : y.map) {
+    if (k != "program") continue;
+    v = M({{"gcode", S("\"" + test::source_path("scenarios/parts/bracket.ngc") + "\"")},
+           {"gcode_angles", M({{"a", S("roll")}, {"b", S("pitch")}, {"c", S("yaw")}})}});
+  }
+  return y;
+}
+
 // The map at `path` (as scenario_map_path_list writes it: "program.moves[].arc"), the first
 // item of each list.
 Yaml& map_at(Yaml& root, const std::string& path) {
@@ -165,7 +179,7 @@ TEST(ScenarioKeys, EveryDefaultWrittenOutLoadsLikeTheKeyLeftOut) {
     for (const std::string& path : scenario_map_path_list(k.map)) {
       const std::string field = field_of(path, std::string(k.name));
       try {
-        EXPECT_EQ(signature(parse(with_key(base(), path, std::string(k.name), S(std::string(k.fallback))))), expected) << field;
+        EXPECT_EQ(signature(parse(with_key(base_for(path), path, std::string(k.name), S(std::string(k.fallback))))), expected) << field;
         ++checked;
       } catch (const InputError& e) {
         ADD_FAILURE() << field << " = " << k.fallback << ": " << e.what();
@@ -230,7 +244,7 @@ TEST(ScenarioKeys, EveryKeyRefusesValuesOfTheWrongTypeOrRangeByName) {
         if (k.type == KeyType::kNumbers && value.kind == Yaml::Kind::kList && value.list.size() == static_cast<std::size_t>(k.count)) {
           field += "[0]";
         }
-        const Yaml y = with_key(base(), path, std::string(k.name), value);
+        const Yaml y = with_key(base_for(path), path, std::string(k.name), value);
         test::expect_input_error([&] { (void)parse(y); }, {.file = "keys.yaml", .field = field, .message = words},
                                  field + " = " + flow(value));
         ++checked;
@@ -276,7 +290,7 @@ TEST(ScenarioKeys, EveryTypoOfEveryKeySuggestsThatKey) {
     const std::string path = scenario_map_path_list(k.map).front();
     for (const std::string& typo : typos) {
       if (typo.empty() || keys_of_map.count(typo) != 0) continue;
-      const Yaml y = with_key(base(), path, typo, S("1"));
+      const Yaml y = with_key(base_for(path), path, typo, S("1"));
       const InputError e = test::expect_input_error(
           [&] { (void)parse(y); }, {.field = field_of(path, typo), .message = "unknown key '" + typo + "' (did you mean "},
           key + " as " + typo);

@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <string>
 
 #include "support/property.hpp"
@@ -179,6 +181,106 @@ TEST(OffscreenRenderer, AMarkerIsADiscWhereItsPointProjects) {
   EXPECT_NEAR(disc.centroid.v, q.v, 1);
   // the coloured inside of a 6-pixel disc with its rim: radius 4.2, area ~55
   EXPECT_NEAR(disc.count, 55, 15);
+}
+
+// Distance (pixels) from pixel (u, v) to the segment a-b of the image.
+double to_segment(double u, double v, const Projection& a, const Projection& b) {
+  const Eigen::Vector2d p(u, v), pa(a.u, a.v), pb(b.u, b.v);
+  const Eigen::Vector2d d = pb - pa;
+  const double t = d.squaredNorm() > 0 ? std::clamp((p - pa).dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
+  return (p - (pa + t * d)).norm();
+}
+
+// The tool on the flange: a yellow body from the flange (site "tcp") to the TCP and a reddish
+// purple rod along the tool's z axis, drawn as decorations where they project; without a tool
+// none of those pixels; with the arm hidden, no tool either; nothing else changes.
+TEST(OffscreenRenderer, TheToolIsDrawnFromTheFlangeToTheTcpInItsColours) {
+  constexpr int kW = 2 * kWidth, kH = 2 * kHeight;
+  const ArmState arm;
+  OffscreenRenderer r(arm.sim.model(), kW, kH);
+  r.pose(*arm.d);
+  const mjModel& m = arm.sim.model();
+  const int site = mj_name2id(&m, mjOBJ_SITE, "tcp");
+  ASSERT_GE(site, 0);
+  // a 15 cm tool along the flange axis that lies most across the view, its z axis across the
+  // view too (perpendicular to the offset and the line of sight)
+  const CameraPose camera = arm.overview();
+  const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> flange_rot(arm.d->site_xmat + 9 * site);
+  int across = 0;
+  for (int k = 1; k < 3; ++k) {
+    if (std::abs(flange_rot.col(k).dot(camera.forward)) < std::abs(flange_rot.col(across).dot(camera.forward))) across = k;
+  }
+  const Vec3 axis_world = flange_rot.col(across).cross(camera.forward).normalized();
+  Eigen::Isometry3d tool = Eigen::Isometry3d::Identity();
+  tool.translation() = 0.15 * Vec3::Unit(across);
+  tool.linear() = Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), flange_rot.transpose() * axis_world).toRotationMatrix();
+  const Vec3 flange = Eigen::Map<const Vec3>(arm.d->site_xpos + 3 * site);
+  const Vec3 tcp = flange + flange_rot * tool.translation();
+  const Vec3 axis_tip = tcp + kToolAxisLength * axis_world;
+  const Projection a = project(camera, flange, kW, kH);
+  const Projection b = project(camera, tcp, kW, kH);
+  const Projection c = project(camera, axis_tip, kW, kH);
+  ASSERT_GT(std::hypot(a.u - b.u, a.v - b.v), 20) << "the tool must show as more than a dot";
+
+  const std::vector<std::uint8_t> without = frame(r, camera);
+  const std::vector<std::uint8_t> with = frame(r, camera, {}, {.tool = tool});
+  const std::vector<std::uint8_t> hidden = frame(r, camera, {}, {.hide_arm = true, .tool = tool});
+  const std::vector<std::uint8_t> hidden_no_tool = frame(r, camera, {}, {.hide_arm = true});
+  // lit shades: yellow has red and green well above blue, the purple red and blue above green
+  const auto yellow = [](const std::vector<std::uint8_t>& rgb, std::size_t i) {
+    return rgb[i] > rgb[i + 2] + 80 && rgb[i + 1] > rgb[i + 2] + 80 && std::abs(int{rgb[i]} - int{rgb[i + 1]}) < 40;
+  };
+  const auto purple = [](const std::vector<std::uint8_t>& rgb, std::size_t i) {
+    return rgb[i] > rgb[i + 1] + 25 && rgb[i + 2] > rgb[i + 1] + 10;
+  };
+  const double slack = kToolRadius / pixel_size(camera, b.depth, kH) + 3;  // pixels
+  const auto uv = [&](std::size_t i) { return Pixel{static_cast<double>((i / 3) % kW), static_cast<double>((i / 3) / kW)}; };
+  int body = 0, rod = 0, yellow_off_body = 0, purple_off_rod = 0, changed_elsewhere = 0;
+  int yellow_before = 0, purple_before = 0;
+  // how far along the body (0 flange, 1 TCP) its pixels reach (the flange end may hide in the wrist)
+  double t_min = 1, t_max = 0;
+  for (std::size_t i = 0; i + 2 < with.size(); i += 3) {
+    const Pixel p = uv(i);
+    const double to_body = to_segment(p.u, p.v, a, b);
+    const double to_rod = to_segment(p.u, p.v, b, c);
+    bool changed = false;
+    for (std::size_t ch = 0; ch < 3; ++ch) changed = changed || std::abs(int{with[i + ch]} - int{without[i + ch]}) > kPixelDifference;
+    // near the tool: its colours with it, none without it
+    if (std::min(to_body, to_rod) <= slack) {
+      yellow_before += yellow(without, i) ? 1 : 0;
+      purple_before += purple(without, i) ? 1 : 0;
+    }
+    if (!changed) continue;
+    if (yellow(with, i)) {
+      ++body;
+      yellow_off_body += to_body > slack ? 1 : 0;
+      const Eigen::Vector2d d(b.u - a.u, b.v - a.v);
+      const double t = Eigen::Vector2d(p.u - a.u, p.v - a.v).dot(d) / d.squaredNorm();
+      t_min = std::min(t_min, t);
+      t_max = std::max(t_max, t);
+    }
+    if (purple(with, i)) {
+      ++rod;
+      purple_off_rod += to_rod > slack ? 1 : 0;
+    }
+    changed_elsewhere += std::min(to_body, to_rod) > slack + 3 ? 1 : 0;
+  }
+  EXPECT_GT(body, 100);
+  EXPECT_GT(rod, 20);
+  EXPECT_EQ(yellow_off_body, 0);
+  EXPECT_EQ(purple_off_rod, 0);
+  EXPECT_GT(t_max, 0.9);
+  EXPECT_GT(t_max - t_min, 0.6);
+  EXPECT_EQ(yellow_before, 0);
+  EXPECT_EQ(purple_before, 0);
+  EXPECT_EQ(changed_elsewhere, 0);
+  EXPECT_EQ(differing(hidden, hidden_no_tool, kW).count, 0);
+  if (const char* dump = std::getenv("BLENDBENCH_TOOL_FRAME")) {
+    std::FILE* f = std::fopen(dump, "wb");
+    std::fprintf(f, "P6\n%d %d\n255\n", kW, kH);
+    std::fwrite(with.data(), 1, with.size(), f);
+    std::fclose(f);
+  }
 }
 
 TEST(OffscreenRenderer, PointsBehindTheEyeBreakALineInsteadOfWrappingAround) {

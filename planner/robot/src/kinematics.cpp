@@ -59,6 +59,12 @@ Vec3 rpy_from_rotation(const Mat3& r) {
   return Vec3(std::atan2(r(2, 1), r(2, 2)), pitch, std::atan2(r(1, 0), r(0, 0)));
 }
 
+Mat3 rotation_from_rpy(const Vec3& rpy) {
+  return (Eigen::AngleAxisd(rpy.z(), Vec3::UnitZ()) * Eigen::AngleAxisd(rpy.y(), Vec3::UnitY()) *
+          Eigen::AngleAxisd(rpy.x(), Vec3::UnitX()))
+      .toRotationMatrix();
+}
+
 std::string describe_pose(const Eigen::Isometry3d& pose) {
   // values that print as zero print as 0.000, never -0.000
   const auto tidy = [](const Vec3& v) { return v.unaryExpr([](double x) { return std::abs(x) < 5e-4 ? 0.0 : x; }).eval(); };

@@ -12,15 +12,16 @@
 //   G61 G61.1 (exact stop), G64 [P tol] [Q tol], G4 P (dwell), X Y Z, N, M2 M30,
 //   comments ( ) and ;, '/' block delete, '%' tape markers. Words are case-insensitive; spaces
 //   and tabs are allowed anywhere outside comments (RS274/NGC); numbers look like 1, -10., .5, +3.
+//   A B C as tool angles, only when GcodeOptions::angles maps them (see "Tool angles" below).
 // Words that do not change the path are accepted and listed in GcodeResult::ignored:
 //   S, T, H, D, M0 M1 M3 M4 M5 M6 M7 M8 M9, G40, G49, G54-G59, G59.1-G59.3 (one coordinate
 //   system per program), G94.
 // Everything else stops with InputError(file, line, column, word, message): cutter and tool
 // length compensation (G41 G42 G43), canned cycles, G33, splines (G5), G92 offsets, G28/G30,
 // G53, G10, probing, lathe modes, inverse-time feed, O-words, parameters '#', expressions '[ ]',
-// axes A B C U V W, unknown letters and codes, two words of one modal group on a line, a word
-// given twice, a word on a line with no command that uses it, axis words before any G0-G3
-// (LinuxCNC starts in G80). Never a silently different path.
+// axes A B C (unless mapped to tool angles) and U V W, unknown letters and codes, two words of
+// one modal group on a line, a word given twice, a word on a line with no command that uses it,
+// axis words before any G0-G3 (LinuxCNC starts in G80). Never a silently different path.
 //
 // Decisions where RS274/NGC leaves room or this reader departs from LinuxCNC:
 // - Unicode minus (U+2212, as in text extracted from PDFs, e.g. Listing 1 of seed 004) is read as
@@ -64,7 +65,32 @@
 // - M2/M30 or a closing '%' ends the program; later lines are not read and are noted.
 // - Work is bounded before it is done: at most kMaxMoves (10^6) moves, refused at the move past
 //   it; the text is read line by line.
+//
+// Tool angles (GcodeOptions::angles set; robot G-code names the tool's orientation by three
+// Euler angles where a CNC names rotary axes):
+// - A, B and C are angles in degrees (G20/G21 do not change them), each naming the roll, pitch
+//   or yaw of the mapping (a permutation). The tool orientation is R = Rz(yaw) Ry(pitch) Rx(roll):
+//   roll about x, then pitch about y, then yaw about z, all fixed axes of the program frame (the
+//   rpy_deg of a scenario's move orientation, as URDF reads rpy). KUKA's A, B, C (A about z,
+//   B about the new y, C about the newest x: R = Rz(A) Ry(B) Rx(C)) is {A: yaw, B: pitch,
+//   C: roll}; angles named after the axes they turn about, as RS274/NGC names its rotary axes
+//   (A about x, B about y, C about z), is {A: roll, B: pitch, C: yaw}.
+// - They are modal like X, Y, Z: an angle not written keeps its value; under G91 a word adds its
+//   degrees to its angle (the three angles are the state, so an increment of one Euler angle
+//   is exact). The angles start unset: the first line with an angle word must give all three,
+//   under G90; before it, moves carry no orientation target (the tool keeps its start
+//   orientation).
+// - A move of a line with angle words gets Move::orientation = R (program frame), reached with
+//   the move's end point and turned to the shorter way round (a move's orientation in a
+//   scenario): A going from 0 to 270 turns the tool by -90 degrees. Arcs (G2/G3) take angles as
+//   lines do. Moves of lines without angle words carry no target (they keep the orientation).
+// - The orientation is interpolated along the path, so the tool cannot turn in place: a line
+//   whose move is zero-length (dropped) while its angles turn the tool away from where the path
+//   has it (options.start_orientation before any target) is an error, as are angle words with
+//   no motion mode, and an angle beyond +-kMaxToolAngleDeg.
 
+#include <array>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -75,6 +101,18 @@ namespace blendbench {
 
 // A move shorter than this (m) is dropped (see above); far below any machine's resolution.
 inline constexpr double kZeroLengthMove = 1e-9;
+
+// The largest tool angle (degrees) a program may reach: 100 turns, far beyond any wrist, so that
+// G91 increments cannot grow without bound.
+inline constexpr double kMaxToolAngleDeg = 36000;
+
+// The angle of the tool orientation that a G-code angle word names (see "Tool angles").
+enum class ToolAngle { kRoll, kPitch, kYaw };
+
+// What A, B and C name, in that order; a permutation of roll, pitch and yaw.
+struct GcodeAngles {
+  std::array<ToolAngle, 3> abc = {ToolAngle::kRoll, ToolAngle::kPitch, ToolAngle::kYaw};
+};
 
 struct GcodeOptions {
   // SI limits of every move: velocity is the feed until the first F word (m/s); acceleration,
@@ -89,10 +127,15 @@ struct GcodeOptions {
   double rapid_velocity = 0;
   // m, program frame: where the tool is before the first line (RS274/NGC's current point).
   Vec3 start = Vec3::Zero();
+  // A, B, C as tool angles (see above); none: they are refused like any unsupported axis.
+  std::optional<GcodeAngles> angles;
+  // Unit quaternion, program frame: the tool's orientation before the first line; only checks
+  // that a zero-length move does not turn the tool.
+  Quat start_orientation = Quat::Identity();
 };
 
 struct GcodeResult {
-  Program program;  // metres, program frame (placing it in the robot workspace is done elsewhere)
+  Program program;  // metres and orientations in the program frame (placing it in the robot workspace is done elsewhere)
   Vec3 start = Vec3::Zero();         // m: the position before the first move
   std::vector<std::string> ignored;  // e.g. "S1000 (line 3)", "G4 P0.5 (line 9): dwell treated as an exact stop"
 };

@@ -6,7 +6,8 @@
 // What a frame shows: the arm; the programmed path (blue), the planned path (orange) and the
 // actual TCP's trail so far (bluish green) as lines of constant width on screen, layered so that
 // where they coincide all three show (blue outside, orange, green inside); the TCP as a red ball;
-// a legend of the three colours; a panel with the time, the variant, the TCP's path speed and
+// the tool on the flange when the robot has one (yellow, its z axis reddish purple); a legend of
+// the colours; a panel with the time, the variant, the TCP's path speed and
 // its tracking error at that instant.
 //
 // - variant video: one variant, the whole run (to the end of the settle time).
@@ -79,6 +80,9 @@ struct FilmSettings {
   std::vector<Vec3> programmed;       // the programmed path, densely sampled, m
   std::vector<CornerPlacement> corners;  // the programmed corners (points by corner index)
   Vec3 base = Vec3::Zero();           // the robot base (the part camera looks away from it)
+  // The tool frame in the flange frame (the model's site "tcp"), m: drawn on the arm
+  // (SceneStyle::tool) and named in the legend; none: no tool.
+  std::optional<Eigen::Isometry3d> tool;
 };
 
 // How far a render has come: frames drawn of the total.

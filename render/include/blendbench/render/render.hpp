@@ -7,6 +7,8 @@
 
 #include <mujoco/mujoco.h>
 
+#include <Eigen/Geometry>
+
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -28,6 +30,9 @@ struct Rgba {
 inline constexpr Rgba kProgrammedColour{0.0f, 0.45f, 0.70f, 1};  // blue: the programmed path
 inline constexpr Rgba kPlannedColour{0.90f, 0.62f, 0.0f, 1};     // orange: the planned (blended) path
 inline constexpr Rgba kTrailColour{0.0f, 0.62f, 0.45f, 1};       // bluish green: the actual TCP so far
+// The tool on the flange (SceneStyle::tool), drawn lit like the arm, so its pixels are shades of:
+inline constexpr Rgba kToolColour{0.95f, 0.90f, 0.25f, 1};      // yellow: the tool's body, flange to TCP
+inline constexpr Rgba kToolAxisColour{0.80f, 0.60f, 0.70f, 1};  // reddish purple: the tool's z axis at the TCP
 
 // A polyline drawn over the scene as a line of constant width on screen (so a zoomed view shows
 // millimetres as clearly as an overview shows the part), never hidden by the arm: the paths are
@@ -47,10 +52,22 @@ struct Marker {
   double radius_px = 4;
 };
 
+// The tool's drawing (decorations of the scene, never geoms of the model: the tool adds no mass
+// or inertia to the simulated arm): a capsule of radius kToolRadius from the flange to the TCP
+// (when they are more than kMinToolLength apart) and a rod (a capsule of radius kToolAxisRadius)
+// kToolAxisLength long from the TCP along the tool frame's z axis.
+inline constexpr double kToolRadius = 0.012;      // m: a torch neck or a gripper's body
+inline constexpr double kMinToolLength = 0.001;   // m
+inline constexpr double kToolAxisLength = 0.05;   // m
+inline constexpr double kToolAxisRadius = 0.006;   // m
+
 // How the model itself is drawn: whole, or without the arm (every geom of a body other than the
-// world), for a close-up of the path where the tool would only be in the way.
+// world), for a close-up of the path where the tool would only be in the way; and the tool.
 struct SceneStyle {
   bool hide_arm = false;
+  // The tool frame in the frame of the model's site "tcp" (the flange), m; drawn with the arm
+  // (not with hide_arm, nor when the model has no site "tcp"). None: no tool is drawn.
+  std::optional<Eigen::Isometry3d> tool = std::nullopt;
 };
 
 // A rectangle of the frame in pixels, measured from its top-left corner.

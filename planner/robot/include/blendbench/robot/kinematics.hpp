@@ -60,6 +60,9 @@ Twist pose_error(const Eigen::Isometry3d& target, const Eigen::Isometry3d& actua
 // Roll, pitch, yaw (rad) with R = Rz(yaw) Ry(pitch) Rx(roll), the URDF convention; pitch in
 // [-pi/2, pi/2], roll and yaw in (-pi, pi].
 Vec3 rpy_from_rotation(const Mat3& rotation);
+// The rotation R = Rz(yaw) Ry(pitch) Rx(roll) of rpy = (roll, pitch, yaw) in rad: roll about x,
+// then pitch about y, then yaw about z, all fixed axes (URDF's rpy); any finite angles.
+Mat3 rotation_from_rpy(const Vec3& rpy);
 
 // "position (x, y, z) mm, rpy (r, p, y) deg" with three decimals, for messages that name a pose.
 std::string describe_pose(const Eigen::Isometry3d& pose);
