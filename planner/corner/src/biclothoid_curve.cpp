@@ -232,8 +232,16 @@ Posture posture_at(const Biclothoid& curve, double s) {
 Posture end_posture(const Biclothoid& curve) { return posture_at(curve, length(curve)); }
 
 Biclothoid reversed(const Biclothoid& curve) {
+  // the two clothoids still meet at the curvature extremum: the reversed curve's mid is the
+  // same point, heading the other way, so only the end is integrated
   const Posture e = end_posture(curve);
-  return make_biclothoid(Posture{e.p, -e.kappa, e.theta + kPi}, -curve.c, curve.s2, curve.s1);
+  Biclothoid back;
+  back.start = Posture{e.p, -e.kappa, e.theta + kPi};
+  back.c = -curve.c;
+  back.s1 = curve.s2;
+  back.s2 = curve.s1;
+  back.mid = Posture{curve.mid.p, -curve.mid.kappa, curve.mid.theta + kPi};
+  return back;
 }
 
 std::vector<Segment> to_segments(const Biclothoid& curve, const CornerPlane& plane) {
