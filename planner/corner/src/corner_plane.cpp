@@ -20,42 +20,6 @@ namespace {
 // Largest out-of-plane angle (rad) of a line or arc normal for a corner to count as planar.
 constexpr double kPlanarAngle = 1e-10;
 
-// A move's position, unit tangent and curvature vector at the corner (its end for the
-// incoming move, its start for the outgoing one): the expressions of point, tangent and
-// curvature_vector (geometry/segment.hpp) with the arc's angle, sine and cosine taken once
-// instead of in each call.
-struct EndState {
-  Vec3 point;
-  Vec3 tangent;
-  Vec3 curvature;
-};
-EndState end_state(const Primitive& prim, bool at_end) {
-  if (const Line* line = std::get_if<Line>(&prim)) {
-    const Vec3 d = line->p1 - line->p0;
-    const double len = d.norm();
-    EndState e{line->p0, Vec3::Zero(), Vec3::Zero()};
-    if (len > 0) {
-      e.tangent = d / len;
-      if (at_end) e.point = line->p0 + d * (std::clamp(len, 0.0, len) / len);
-    }
-    return e;
-  }
-  const Arc& arc = std::get<Arc>(prim);
-  const double pitch = arc.rise / arc.sweep;
-  const double g = std::hypot(arc.radius, pitch);  // ds / dphi
-  const double len = arc.sweep * g;
-  const double phi = std::clamp(at_end ? len : 0.0, 0.0, len) / g;
-  const double cs = std::cos(phi);
-  const double sn = std::sin(phi);
-  const Vec3 w = arc.u.cross(arc.v);
-  EndState e;
-  e.point = arc.center + arc.radius * (cs * arc.u + sn * arc.v) + pitch * phi * w;
-  const Vec3 d = arc.radius * (-sn * arc.u + cs * arc.v) + pitch * w;
-  e.tangent = d / g;
-  e.curvature = -arc.radius * (cs * arc.u + sn * arc.v) / (g * g);
-  return e;
-}
-
 // sin(x) / x, exact to rounding near 0
 double sinc(double x) {
   if (std::abs(x) < 1e-4) return 1.0 - x * x / 6.0;
@@ -75,14 +39,13 @@ Vec3 to_space(const CornerPlane& plane, const Vec2& p) { return plane.origin + p
 
 PlanarCorner planar_corner(const Primitive& in, const Primitive& out) {
   PlanarCorner pc;
-  const EndState end_in = end_state(in, true);
-  const EndState start_out = end_state(out, false);
-  const Vec3& corner = end_in.point;
-  const Vec3& t1 = end_in.tangent;
-  const Vec3& t2 = start_out.tangent;
+  const double len_in = length(in);
+  const Vec3 corner = point(in, len_in);
+  const Vec3 t1 = tangent(in, len_in);
+  const Vec3 t2 = tangent(out, 0.0);
   pc.angle = angle_between(t1, t2);
-  const Vec3& k1 = end_in.curvature;
-  const Vec3& k2 = start_out.curvature;
+  const Vec3 k1 = curvature_vector(in, len_in);
+  const Vec3 k2 = curvature_vector(out, 0.0);
   pc.same_curvature = (k1 - k2).norm() <= 1e-9 * std::max({k1.norm(), k2.norm(), 1e-300});
   const Arc* arc1 = std::get_if<Arc>(&in);
   const Arc* arc2 = std::get_if<Arc>(&out);
