@@ -77,7 +77,12 @@ std::vector<Segment> clothoid_pair_segments(const ClothoidPair& pair, const Clot
   if (!(pair.half_length > 0)) return out;
   out.reserve(2);
   out.emplace_back(clothoid(start, 1.0, 0.0, 0.0, pair.sharpness));
-  out.emplace_back(clothoid(mid, shape.cos_half, shape.sin_half, pair.sharpness * pair.half_length, -pair.sharpness));
+  // the second clothoid's heading as the first one's end angle kappa0 s + c s^2 / 2 (the
+  // expression the Clothoid segment evaluates), not the equal alpha / 2: the two must give the
+  // same curvature vector at the junction to the last bit (the velocity planner treats any
+  // difference there, even 1e-14 1/m, as a curvature step)
+  const double theta = (0.0 + 0.5 * pair.sharpness * pair.half_length) * pair.half_length;
+  out.emplace_back(clothoid(mid, std::cos(theta), std::sin(theta), pair.sharpness * pair.half_length, -pair.sharpness));
   return out;
 }
 

@@ -54,7 +54,7 @@ ClothoidPair clothoid_pair_for_tangent_length(const ClothoidPairShape& shape, do
 // The pair's two clothoids in 3D, in the plane of a corner whose incoming line runs along +x to
 // the origin and whose turn is towards +y (PlanarCorner of two lines): the first starts at
 // (-T, 0) heading +x with zero curvature, the second at the midpoint, whose position
-// (-T, 0) + a (C(u), S(u)) and tangent angle alpha / 2 are closed forms (seed 002 eq. 9).
+// (-T, 0) + a (C(u), S(u)) is a closed form (seed 002 eq. 9), heading alpha / 2.
 std::vector<Segment> clothoid_pair_segments(const ClothoidPair& pair, const ClothoidPairShape& shape,
                                             const CornerPlane& plane);
 
