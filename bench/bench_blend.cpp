@@ -167,7 +167,8 @@ void BM_ClothoidXy(benchmark::State& state) {
 }
 
 // The distribution over random corners: those of the property tests (test::random_corner,
-// seeds 1000 + i, the kind i % 4, as Biclothoid.RandomCornersAreG2AndWithinTolerance), each fit
+// seeds 1000 + i, the kind i % 4, as Biclothoid.RandomCornersAreG2AndWithinTolerance; the
+// random parameter is the corner distance for arc and TP for bezier), for every method; each fit
 // timed on its own with the steady clock and its fastest of the benchmark's repetitions kept
 // (the clock's own ~20 ns included). Counters: median, p90, p99, largest (us) and the share of
 // corners over 8 us.
@@ -206,6 +207,10 @@ void BM_BiclothoidRandom(benchmark::State& s, test::CornerKind kind) {
 void BM_ClothoidRandom(benchmark::State& s, test::CornerKind kind) {
   distribution(s, kind, Method::kClothoid, fit_clothoid_corner);
 }
+void BM_ArcRandom(benchmark::State& s, test::CornerKind kind) { distribution(s, kind, Method::kArc, fit_arc_corner); }
+void BM_BezierRandom(benchmark::State& s, test::CornerKind kind) {
+  distribution(s, kind, Method::kBezier, fit_bezier_corner);
+}
 BENCHMARK_CAPTURE(BM_BiclothoidRandom, LineLine, test::CornerKind::kLineLine)->Iterations(5);
 BENCHMARK_CAPTURE(BM_BiclothoidRandom, LineArc, test::CornerKind::kLineArc)->Iterations(5);
 BENCHMARK_CAPTURE(BM_BiclothoidRandom, ArcLine, test::CornerKind::kArcLine)->Iterations(5);
@@ -214,6 +219,14 @@ BENCHMARK_CAPTURE(BM_ClothoidRandom, LineLine, test::CornerKind::kLineLine)->Ite
 BENCHMARK_CAPTURE(BM_ClothoidRandom, LineArc, test::CornerKind::kLineArc)->Iterations(5);
 BENCHMARK_CAPTURE(BM_ClothoidRandom, ArcLine, test::CornerKind::kArcLine)->Iterations(5);
 BENCHMARK_CAPTURE(BM_ClothoidRandom, ArcArc, test::CornerKind::kArcArc)->Iterations(5);
+BENCHMARK_CAPTURE(BM_ArcRandom, LineLine, test::CornerKind::kLineLine)->Iterations(5);
+BENCHMARK_CAPTURE(BM_ArcRandom, LineArc, test::CornerKind::kLineArc)->Iterations(5);
+BENCHMARK_CAPTURE(BM_ArcRandom, ArcLine, test::CornerKind::kArcLine)->Iterations(5);
+BENCHMARK_CAPTURE(BM_ArcRandom, ArcArc, test::CornerKind::kArcArc)->Iterations(5);
+BENCHMARK_CAPTURE(BM_BezierRandom, LineLine, test::CornerKind::kLineLine)->Iterations(5);
+BENCHMARK_CAPTURE(BM_BezierRandom, LineArc, test::CornerKind::kLineArc)->Iterations(5);
+BENCHMARK_CAPTURE(BM_BezierRandom, ArcLine, test::CornerKind::kArcLine)->Iterations(5);
+BENCHMARK_CAPTURE(BM_BezierRandom, ArcArc, test::CornerKind::kArcArc)->Iterations(5);
 
 BENCHMARK(BM_BiclothoidLineLine);
 BENCHMARK(BM_BiclothoidLineArc);

@@ -44,19 +44,24 @@ CornerFit fit_biclothoid_corner(const CornerInput& corner) {
   // two lines: the symmetric fillet in closed form (seed 004 section 7.1, seed 002 (Makino) eq. 9), shrunk to
   // the shorter available length
   if (geometry.lines) {
-    ClothoidPair pair = start_distance > 0 ? clothoid_pair_for_tangent_length(geometry.angle, start_distance)
-                                           : clothoid_pair_for_deviation(geometry.angle, tolerance);
+    const ClothoidPairShape shape = clothoid_pair_shape(geometry.angle);
+    ClothoidPair pair = start_distance > 0 ? clothoid_pair_for_tangent_length(shape, start_distance)
+                                           : clothoid_pair_for_deviation(shape, tolerance);
     const double available = std::min(corner.in_available, corner.out_available);
     if (pair.tangent_length > available) {
       const double asked = start_distance > 0 ? start_distance : tolerance;
-      pair = clothoid_pair_for_tangent_length(geometry.angle, available);
-      fit.note = std::string(start_distance > 0 ? "start distance" : "deviation") + " shrunk from " +
-                 format_mm(asked) + " to " + format_mm(start_distance > 0 ? pair.tangent_length : pair.deviation) +
-                 ": the " + (corner.in_available <= corner.out_available ? "incoming" : "outgoing") + " move is short";
+      pair = clothoid_pair_for_tangent_length(shape, available);
+      // one string grown in place (the note is built for about half of all line corners)
+      fit.note.reserve(96);
+      fit.note += start_distance > 0 ? "start distance" : "deviation";
+      fit.note += " shrunk from ";
+      fit.note += format_mm(asked);
+      fit.note += " to ";
+      fit.note += format_mm(start_distance > 0 ? pair.tangent_length : pair.deviation);
+      fit.note += corner.in_available <= corner.out_available ? ": the incoming move is short"
+                                                              : ": the outgoing move is short";
     }
-    const Posture start{Vec2(-pair.tangent_length, 0.0), 0.0, 0.0};
-    fit.transition = to_segments(make_biclothoid(start, pair.sharpness, pair.half_length, pair.half_length),
-                                 geometry.plane);
+    fit.transition = clothoid_pair_segments(pair, shape, geometry.plane);
     fit.trim_in = pair.tangent_length;
     fit.trim_out = pair.tangent_length;
     fit.parameter_used = start_distance > 0 ? pair.tangent_length : pair.deviation;

@@ -232,8 +232,19 @@ Posture posture_at(const Biclothoid& curve, double s) {
 Posture end_posture(const Biclothoid& curve) { return posture_at(curve, length(curve)); }
 
 Biclothoid reversed(const Biclothoid& curve) {
+  // the two clothoids still meet at the curvature extremum: the reversed curve's mid is the
+  // same point, so only the end is integrated; its curvature and angle as make_biclothoid
+  // gives them (the first clothoid's end, to the last bit)
   const Posture e = end_posture(curve);
-  return make_biclothoid(Posture{e.p, -e.kappa, e.theta + kPi}, -curve.c, curve.s2, curve.s1);
+  Biclothoid back;
+  back.start = Posture{e.p, -e.kappa, e.theta + kPi};
+  back.c = -curve.c;
+  back.s1 = curve.s2;
+  back.s2 = curve.s1;
+  back.mid.p = curve.mid.p;
+  back.mid.kappa = back.start.kappa + back.c * back.s1;
+  back.mid.theta = back.start.theta + (back.start.kappa + 0.5 * back.c * back.s1) * back.s1;
+  return back;
 }
 
 std::vector<Segment> to_segments(const Biclothoid& curve, const CornerPlane& plane) {

@@ -250,14 +250,26 @@ struct FilletClosest {
 FilletClosest closest_on_fillet(const FilletTable& fillet, const Vec2& x, double guess) {
   const double len = fillet.length();
   double s = std::clamp(guess, 0.0, len);
+  // where h < 0 (the distance falls with s) and where h > 0, once seen: a step clamped to an
+  // end of the fillet outside this bracket bisects it instead (a point far from a tight
+  // fillet, near a reversal, otherwise sent Newton from one end to the other for all its
+  // iterations, returning an end's distance for an interior closest point)
+  double below = -1;
+  double above = -1;
   for (int it = 0; it < 30; ++it) {
     const FilletTable::Point at = fillet.at(s);
     const Vec2 d = at.p - x;
     const Vec2 n(-at.t.y(), at.t.x());
     const double h = d.dot(at.t);
+    if (h < 0) below = s;
+    if (h > 0) above = s;
     // a step from the local quadratic model; damped where the model is not convex
     const double hp = std::max(1.0 + at.kappa * d.dot(n), 0.25);
-    const double next = std::clamp(s - h / hp, 0.0, len);
+    double next = std::clamp(s - h / hp, 0.0, len);
+    if ((next == 0 || next == len) && below >= 0 && above >= 0 &&
+        !(next > std::min(below, above) && next < std::max(below, above))) {
+      next = 0.5 * (below + above);
+    }
     const double step = next - s;
     if (std::abs(step) <= 1e-6 * len) {
       const double d2 = d.squaredNorm() - (std::abs(step) > 0 ? h * h / hp : 0.0);
@@ -273,12 +285,20 @@ FilletClosest closest_on_fillet(const FilletTable& fillet, const Vec2& x, double
 // one interior maximum: `eval(x)` returns the value and its derivative. Evaluates the interior
 // sample points `xs`, brackets the best point by the sign change of the derivative and refines
 // by false position on the derivative. Returns the largest value seen.
+//
+// `ceiling` (0: none) is a value the caller has seen elsewhere: when the function is
+// 1-Lipschitz (a distance from a point moving by arc length) no value in the bracket
+// [x_lo, x_hi] exceeds (f_lo + f_hi + |x_hi - x_lo|) / 2, and a bracket whose bound stays below
+// the ceiling (by a margin far above the values' rounding) is not refined: whatever the
+// refinement found would not be the caller's maximum.
 struct ValueSlope {
   double value;
   double slope;
 };
+constexpr double kCeilingMargin = 1e-6;
 template <class F, std::size_t N>
-double maximize(const F& eval, double x0, ValueSlope at0, double x1, ValueSlope at1, const std::array<double, N>& xs) {
+double maximize(const F& eval, double x0, ValueSlope at0, double x1, ValueSlope at1, const std::array<double, N>& xs,
+                double ceiling) {
   std::array<double, N + 2> x{};
   std::array<ValueSlope, N + 2> v{};
   x[0] = x0;
@@ -304,6 +324,7 @@ double maximize(const F& eval, double x0, ValueSlope at0, double x1, ValueSlope 
   if (v[best].slope > 0 && best + 1 < N + 2) hi = best + 1;
   else if (v[best].slope < 0 && best > 0) lo = best - 1;
   if (lo == hi || !(v[lo].slope > 0) || !(v[hi].slope < 0)) return top;
+  if (0.5 * (v[lo].value + v[hi].value + std::abs(x[hi] - x[lo])) < ceiling * (1 - kCeilingMargin)) return top;
   const auto slope = [&](double xi) {
     const ValueSlope vi = eval(xi);
     top = std::max(top, vi.value);
@@ -315,7 +336,8 @@ double maximize(const F& eval, double x0, ValueSlope at0, double x1, ValueSlope 
 
 }  // namespace
 
-Measured biclothoid_detail::measure_deviation(const BiclothoidSolution& fillet, const CornerShapes& shapes) {
+Measured biclothoid_detail::measure_deviation(const BiclothoidSolution& fillet, const CornerShapes& shapes,
+                                              bool larger_only) {
   const Biclothoid& curve = fillet.curve;
   const FilletTable table(curve);
   const double len = length(curve);
@@ -476,20 +498,24 @@ Measured biclothoid_detail::measure_deviation(const BiclothoidSolution& fillet, 
   // foot (when it lies on this side) and the midpoint; each evaluation starts Newton from the
   // previous closest point, the foot's from the fillet point it is the foot of
   const auto side_max = [&](std::size_t side, double lo, ValueSlope v_lo, double hi, ValueSlope v_hi,
-                            double start_guess, bool has_foot) {
+                            double start_guess, bool has_foot, double known) {
     const auto f = [&](double x) {
       if (has_foot && x == foot) guess = top.s;
       return from_original(x, side);
     };
     const double mid = 0.5 * (lo + hi);
     guess = start_guess;
-    if (!has_foot || foot == mid) return maximize(f, lo, v_lo, hi, v_hi, std::array<double, 1>{mid});
-    return maximize(f, lo, v_lo, hi, v_hi, std::array<double, 2>{std::min(foot, mid), std::max(foot, mid)});
+    // larger_only: a side is refined only where it could exceed what is known already (the
+    // fillet -> original distance, the corner's and the other side's), which leaves the
+    // larger distance and its witness as they are
+    const double ceiling = larger_only ? std::max({dev.fillet_to_original, g0, known}) : 0.0;
+    if (!has_foot || foot == mid) return maximize(f, lo, v_lo, hi, v_hi, std::array<double, 1>{mid}, ceiling);
+    return maximize(f, lo, v_lo, hi, v_hi, std::array<double, 2>{std::min(foot, mid), std::max(foot, mid)}, ceiling);
   };
   const double side1 = side_max(0, -a, ValueSlope{0.0, 1.0}, 0.0, corner_in, 0.5 * corner.s,
-                                foot_piece == 0 && foot > -a && foot < 0);
+                                foot_piece == 0 && foot > -a && foot < 0, 0.0);
   const double side2 = side_max(1, 0.0, corner_out, b, ValueSlope{0.0, -1.0}, corner.s,
-                                foot_piece == 1 && foot > 0 && foot < b);
+                                foot_piece == 1 && foot > 0 && foot < b, side1);
   dev.original_to_fillet = std::max({g0, side1, side2});
 
   // the witness of the larger distance
@@ -517,7 +543,7 @@ Measured biclothoid_detail::measure_deviation(const BiclothoidSolution& fillet, 
 }
 
 Deviation biclothoid_deviation(const BiclothoidSolution& fillet, const CornerShapes& shapes) {
-  return measure_deviation(fillet, shapes).deviation;
+  return measure_deviation(fillet, shapes, false).deviation;
 }
 
 }  // namespace blendbench

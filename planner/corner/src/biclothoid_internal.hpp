@@ -118,7 +118,10 @@ struct Measured {
   Deviation deviation;
   Witness witness;
 };
-// seed 004 section 7.1 (biclothoid_deviation.cpp): biclothoid_deviation with its witness.
-Measured measure_deviation(const BiclothoidSolution& fillet, const CornerShapes& shapes);
+// seed 004 section 7.1 (biclothoid_deviation.cpp): biclothoid_deviation with its witness. With
+// larger_only the larger distance (Deviation::max) and the witness are the same, but the
+// original -> fillet distance, where it is the smaller, may be left short of its maximum
+// (a side of U is not refined where the distance is 1-Lipschitz-bounded below what is known).
+Measured measure_deviation(const BiclothoidSolution& fillet, const CornerShapes& shapes, bool larger_only);
 
 }  // namespace blendbench::biclothoid_detail

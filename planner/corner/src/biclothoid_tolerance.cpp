@@ -143,7 +143,7 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
   };
   const auto measure = [&](Trial* t) {
     if (!t->measured) {
-      const Measured m = measure_deviation(t->fillet, work);
+      const Measured m = measure_deviation(t->fillet, work, true);
       t->deviation = m.deviation;
       t->witness = m.witness;
       t->measured = true;

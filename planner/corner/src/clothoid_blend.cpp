@@ -18,34 +18,72 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 
 // The pair of scale a: d = a S(u) / cos(alpha/2), T = a (C(u) + S(u) tan(alpha/2)).
-ClothoidPair pair_of_scale(double alpha, double scale) {
+ClothoidPair pair_of_scale(const ClothoidPairShape& shape, double scale) {
   ClothoidPair pair;
-  pair.alpha = alpha;
+  pair.alpha = shape.alpha;
   pair.scale = scale;
-  pair.u = std::sqrt(alpha / kPi);
-  const FresnelCS f = fresnel(pair.u);
-  const double ch = std::cos(0.5 * alpha);
-  const double sh = std::sin(0.5 * alpha);
+  pair.u = shape.u;
+  const double ch = shape.cos_half;
+  const double sh = shape.sin_half;
   pair.half_length = scale * pair.u;
   pair.sharpness = kPi / (scale * scale);
   pair.kappa_peak = kPi * pair.u / scale;
-  pair.deviation = scale * f.s / ch;
-  pair.tangent_length = scale * (f.c * ch + f.s * sh) / ch;
+  pair.deviation = scale * shape.s / ch;
+  pair.tangent_length = scale * (shape.c * ch + shape.s * sh) / ch;
   return pair;
 }
 
 }  // namespace
 
+ClothoidPairShape clothoid_pair_shape(double alpha) {
+  ClothoidPairShape shape;
+  shape.alpha = alpha;
+  shape.u = std::sqrt(alpha / kPi);
+  const FresnelCS f = fresnel(shape.u);
+  shape.c = f.c;
+  shape.s = f.s;
+  shape.cos_half = std::cos(0.5 * alpha);
+  shape.sin_half = std::sin(0.5 * alpha);
+  return shape;
+}
+
+ClothoidPair clothoid_pair_for_deviation(const ClothoidPairShape& shape, double deviation) {
+  return pair_of_scale(shape, deviation * shape.cos_half / shape.s);
+}
+
+ClothoidPair clothoid_pair_for_tangent_length(const ClothoidPairShape& shape, double tangent_length) {
+  const double ch = shape.cos_half;
+  return pair_of_scale(shape, tangent_length * ch / (shape.c * ch + shape.s * shape.sin_half));
+}
+
 ClothoidPair clothoid_pair_for_deviation(double alpha, double deviation) {
-  const FresnelCS f = fresnel(std::sqrt(alpha / kPi));
-  return pair_of_scale(alpha, deviation * std::cos(0.5 * alpha) / f.s);
+  return clothoid_pair_for_deviation(clothoid_pair_shape(alpha), deviation);
 }
 
 ClothoidPair clothoid_pair_for_tangent_length(double alpha, double tangent_length) {
-  const FresnelCS f = fresnel(std::sqrt(alpha / kPi));
-  const double ch = std::cos(0.5 * alpha);
-  const double sh = std::sin(0.5 * alpha);
-  return pair_of_scale(alpha, tangent_length * ch / (f.c * ch + f.s * sh));
+  return clothoid_pair_for_tangent_length(clothoid_pair_shape(alpha), tangent_length);
+}
+
+std::vector<Segment> clothoid_pair_segments(const ClothoidPair& pair, const ClothoidPairShape& shape,
+                                            const CornerPlane& plane) {
+  // each clothoid's frame: e1 along its start tangent, e2 that turned by +90 deg (to_segments)
+  const auto clothoid = [&](const Vec2& at, double cs, double sn, double kappa, double sharpness) {
+    return Clothoid{to_space(plane, at), cs * plane.x + sn * plane.y, -sn * plane.x + cs * plane.y, kappa, sharpness,
+                    pair.half_length};
+  };
+  const Vec2 start(-pair.tangent_length, 0.0);
+  const Vec2 mid = start + Vec2(pair.scale * shape.c, pair.scale * shape.s);
+  std::vector<Segment> out;
+  if (!(pair.half_length > 0)) return out;
+  out.reserve(2);
+  out.emplace_back(clothoid(start, 1.0, 0.0, 0.0, pair.sharpness));
+  // the second clothoid's heading as the first one's end angle kappa0 s + c s^2 / 2 (the
+  // expression the Clothoid segment evaluates), not the equal alpha / 2: the two must give the
+  // same curvature vector at the junction to the last bit (the velocity planner treats any
+  // difference there, even 1e-14 1/m, as a curvature step)
+  const double theta = (0.0 + 0.5 * pair.sharpness * pair.half_length) * pair.half_length;
+  out.emplace_back(clothoid(mid, std::cos(theta), std::sin(theta), pair.sharpness * pair.half_length, -pair.sharpness));
+  return out;
 }
 
 ClothoidArcClothoid clothoid_arc_clothoid(double alpha, double kappa, double clothoid_length) {
@@ -167,17 +205,16 @@ CornerFit fit_clothoid_corner(const CornerInput& corner) {
   const std::string short_move = corner.in_available <= corner.out_available ? "incoming" : "outgoing";
 
   // the pair at the tolerance, shrunk to the available tangent length
-  ClothoidPair pair = clothoid_pair_for_deviation(alpha, tolerance);
+  const ClothoidPairShape shape = clothoid_pair_shape(alpha);
+  ClothoidPair pair = clothoid_pair_for_deviation(shape, tolerance);
   std::string shrink_note;
   if (pair.tangent_length > available) {
-    pair = clothoid_pair_for_tangent_length(alpha, available);
+    pair = clothoid_pair_for_tangent_length(shape, available);
     shrink_note = "deviation shrunk from " + format_mm(tolerance) + " to " + format_mm(pair.deviation) + ": the " + short_move +
                   " move is short";
   }
   const auto use_pair = [&](const std::string& note) {
-    const Posture start{Vec2(-pair.tangent_length, 0.0), 0.0, 0.0};
-    fit.transition = to_segments(make_biclothoid(start, pair.sharpness, pair.half_length, pair.half_length),
-                                 geometry.plane);
+    fit.transition = clothoid_pair_segments(pair, shape, geometry.plane);
     fit.trim_in = pair.tangent_length;
     fit.trim_out = pair.tangent_length;
     fit.parameter_used = pair.deviation;

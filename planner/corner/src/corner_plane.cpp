@@ -64,9 +64,11 @@ PlanarCorner planar_corner(const Primitive& in, const Primitive& out) {
   else if (t1.cross(t2).norm() > 0) normal = t1.cross(t2).normalized();
   else normal = any_perpendicular(t1);
 
-  // planar: no helix, every line in the plane, every arc axis along the normal
+  // planar: no helix, every line in the plane, every arc axis along the normal (two lines
+  // through the corner always span one, their normal's plane)
   pc.planar = true;
   for (const Primitive* prim : {&in, &out}) {
+    if (pc.lines) break;
     if (const Arc* arc = std::get_if<Arc>(prim)) {
       if (arc->rise != 0 || arc->u.cross(arc->v).normalized().cross(normal).norm() > kPlanarAngle) pc.planar = false;
     } else {

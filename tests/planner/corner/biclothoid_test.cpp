@@ -10,6 +10,7 @@
 
 #include "support/input_error.hpp"
 #include "support/corner_check.hpp"
+#include "support/random_corner.hpp"
 #include "blendbench/geometry/arc_construction.hpp"
 #include "blendbench/corner/blend.hpp"
 #include "blendbench/corner/clothoid_blend.hpp"
@@ -394,6 +395,37 @@ TEST(Biclothoid, NonPlanarCornersFallBackToBezier) {
   EXPECT_EQ(fit_biclothoid_corner(h).fallback, Fallback::kBezier);
   // a line in the arc's plane is planar
   EXPECT_TRUE(planar_corner(arc, Line{end, end + Vec3(-0.3, 0.5, 0.0)}).planar);
+}
+
+// Algorithm 2 measures its trials for the larger directed distance only (the original ->
+// fillet side maxima are not refined where they cannot be it): on the random corners its
+// reported deviation is the full measure's, and its original -> fillet distance never exceeds
+// the full one.
+TEST(Biclothoid, ToleranceFitMeasuresTheLargerDistanceInFull) {
+  const int cases = test::property_cases(2000);
+  int measured = 0;
+  for (int i = 0; i < cases; ++i) {
+    const std::uint64_t seed = 1000 + static_cast<std::uint64_t>(i);
+    auto rng = test::make_rng(seed);
+    const auto kind = static_cast<test::CornerKind>(i % 4);
+    if (kind == test::CornerKind::kLineLine) continue;  // closed form, no Algorithm 2
+    const test::CornerCase cc = test::random_corner(rng, kind, Method::kBiclothoid);
+    const PlanarCorner geometry = planar_corner(cc.input.in, cc.input.out);
+    if (!geometry.planar) continue;
+    if (!(geometry.angle > 1e-9) && geometry.same_curvature) continue;
+    const BiclothoidToleranceFit fit = fit_biclothoid_with_tolerance(
+        geometry.shapes, cc.input.spec.parameter, cc.input.in_available, cc.input.out_available);
+    ASSERT_TRUE(fit.outcome.ok()) << test::seed_text(seed) << ": " << fit.outcome.message;
+    const Deviation full = biclothoid_deviation(fit.fillet, geometry.shapes);
+    // the same fillet measured from its other end when the fit was swapped: the maxima agree to
+    // the measure's own accuracy (1e-9), not to rounding
+    const double scale = full.max();
+    EXPECT_NEAR(fit.deviation.max(), full.max(), 1e-8 * scale) << test::seed_text(seed);
+    EXPECT_NEAR(fit.deviation.fillet_to_original, full.fillet_to_original, 1e-8 * scale) << test::seed_text(seed);
+    EXPECT_LE(fit.deviation.original_to_fillet, full.original_to_fillet + 1e-8 * scale) << test::seed_text(seed);
+    ++measured;
+  }
+  EXPECT_GT(measured, cases / 2);
 }
 
 TEST(Biclothoid, RandomCornersAreG2AndWithinTolerance) {

@@ -118,6 +118,8 @@ Deviation biclothoid_deviation(const BiclothoidSolution& fillet, const CornerSha
 struct BiclothoidToleranceFit {
   Outcome outcome;
   BiclothoidSolution fillet;  // in the original direction (a on q1, b on q2)
+  // max() as biclothoid_deviation gives it; where original_to_fillet is the smaller of the
+  // two it may fall short of its maximum (it is not refined where it cannot be the larger)
   Deviation deviation;
   bool limited = false;    // the move lengths (a_max / b_max) or the caps bound it
   bool converged = false;  // limited, or the deviation reached the tolerance band

@@ -13,6 +13,11 @@
 // For Makino's pair, X = a C(u), Y = a S(u) with u = sqrt(alpha / pi) (eq. 9:
 // u_max = sqrt(phi_max / 90 deg), phi_max = alpha / 2), so d and T are linear in the scale a.
 
+#include <vector>
+
+#include "blendbench/corner/corner_plane.hpp"
+#include "blendbench/geometry/segment.hpp"
+
 namespace blendbench {
 
 // seed 002 eq. 4-9 for a corner of deflection alpha (rad, 0 < alpha < pi). Makino's unit clothoid
@@ -29,6 +34,29 @@ struct ClothoidPair {
 };
 ClothoidPair clothoid_pair_for_deviation(double alpha, double deviation);
 ClothoidPair clothoid_pair_for_tangent_length(double alpha, double tangent_length);
+
+// The scale-free part of the pairs of deflection alpha (rad, 0 < alpha < pi): u, C(u), S(u) and
+// the half-angle's cosine and sine, so that a corner sized first by its deviation and then by
+// the available tangent length evaluates the Fresnel integrals once. The overloads below give
+// the same pairs as those above.
+struct ClothoidPairShape {
+  double alpha = 0;     // rad
+  double u = 0;         // sqrt(alpha / pi)
+  double c = 0;         // C(u)
+  double s = 0;         // S(u)
+  double cos_half = 0;  // cos(alpha / 2)
+  double sin_half = 0;  // sin(alpha / 2)
+};
+ClothoidPairShape clothoid_pair_shape(double alpha);
+ClothoidPair clothoid_pair_for_deviation(const ClothoidPairShape& shape, double deviation);
+ClothoidPair clothoid_pair_for_tangent_length(const ClothoidPairShape& shape, double tangent_length);
+
+// The pair's two clothoids in 3D, in the plane of a corner whose incoming line runs along +x to
+// the origin and whose turn is towards +y (PlanarCorner of two lines): the first starts at
+// (-T, 0) heading +x with zero curvature, the second at the midpoint, whose position
+// (-T, 0) + a (C(u), S(u)) is a closed form (seed 002 eq. 9), heading alpha / 2.
+std::vector<Segment> clothoid_pair_segments(const ClothoidPair& pair, const ClothoidPairShape& shape,
+                                            const CornerPlane& plane);
 
 // seed 002 figs. 12-13: clothoid (0 -> kappa over clothoid_length), arc of curvature kappa,
 // clothoid (kappa -> 0), symmetric, for a corner of deflection alpha (0 < alpha < pi);
