@@ -67,6 +67,12 @@ constexpr double kRotationShare = 0.5;
 constexpr double kRateJumpShare = 1e-9;
 // Bisection steps on (R3): to the last bit of a double.
 constexpr int kRotationBisections = 200;
+// A curvature jump at most this share of the larger curvature at the junction, plus
+// kCurvatureRounding (1/m), is rounding of the geometry (exact to ~1e-12 relative), not a step:
+// a line meeting a clothoid that starts straight, or two pieces of one arc. 1e-9 1/m is a radius
+// of 10^6 km; at 10 m/s its normal acceleration would step by 1e-7 m/s^2.
+constexpr double kCurvatureStepShare = 1e-9;
+constexpr double kCurvatureRounding = 1e-9;
 
 // Maximum curvature and (spatial) sharpness over [s0, s1] of a piece, with the Bezier scan
 // margin.
@@ -117,7 +123,10 @@ Junction make_junction(const Path& path, std::size_t k_prev, std::size_t k_next,
   const PathPiece& next = path.pieces()[k_next];
   Junction out{k_prev, k_next, 0.0, 0.0, 0.0};
   out.theta = angle_between(tangent(prev.segment, length(prev.segment)), tangent(next.segment, 0.0));
-  out.dk = (curvature_vector(prev.segment, length(prev.segment)) - curvature_vector(next.segment, 0.0)).norm();
+  const Vec3 kappa_prev = curvature_vector(prev.segment, length(prev.segment));
+  const Vec3 kappa_next = curvature_vector(next.segment, 0.0);
+  out.dk = (kappa_prev - kappa_next).norm();
+  if (out.dk <= kCurvatureStepShare * std::max(kappa_prev.norm(), kappa_next.norm()) + kCurvatureRounding) out.dk = 0;
   if (options.baseline == Baseline::kExactStop) return out;
   const bool kink = out.theta > kG1Angle;
   const bool buffered_kink = kink && prev.buffer == BufferMode::kBuffered;

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <string>
 
 #include "blendbench/corner/blend.hpp"
@@ -293,6 +294,30 @@ TEST(Junctions, AllowedCurvatureStepsAreReportedPerCorner) {
   // a G2 transition leaves no step
   const Timing smooth = plan_timing(blend(rectangle({Method::kBiclothoid, 0.002})));
   for (const Timing::CornerStep& step : smooth.corner_steps) EXPECT_EQ(step.jerk, 0.0);
+}
+
+// Nor where it meets an arc with the arc's curvature only to rounding: a Bezier transition from
+// a line into an arc of radius 30 mm (60 degree corner) ends at 33.33 1/m with a difference of
+// about 1e-13 1/m, which is no step (intervals.cpp, kCurvatureStepShare).
+TEST(Junctions, RoundingSizedCurvatureDifferenceIsNoStep) {
+  const double r = 0.03;
+  const double c = std::cos(std::numbers::pi / 3), s = std::sin(std::numbers::pi / 3);
+  const Vec3 u(s, -c, 0), v(c, s, 0);  // from the centre to the start; the start tangent
+  Program program;
+  Move& line = program.moves.emplace_back();
+  line.geometry = Line{{-0.1, 0, 0}, {0, 0, 0}};
+  line.limits = {0.25, 2.5, 2.5, 50.0};
+  line.transition = {Method::kBezier, 0.005};
+  Move& arc = program.moves.emplace_back();
+  arc.geometry = Arc{-r * u, u, v, r, 1.5, 0.0};
+  arc.limits = line.limits;
+  const Path path = blend(program);
+  ASSERT_EQ(path.corners.size(), 1u);
+  const Timing timing = plan_timing(path);
+  expect_valid(path, timing, "bezier into an arc");
+  ASSERT_EQ(timing.corner_steps.size(), 1u);
+  EXPECT_EQ(timing.corner_steps[0].jerk, 0.0);
+  EXPECT_EQ(timing.corner_steps[0].dk, 0.0);
 }
 
 }  // namespace
