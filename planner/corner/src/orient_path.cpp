@@ -16,6 +16,29 @@ AngularLimits tighter(const AngularLimits& a, const AngularLimits& b) {
   return {std::min(a.velocity, b.velocity), std::min(a.acceleration, b.acceleration), std::min(a.jerk, b.jerk)};
 }
 
+// The angular limits on a piece: its move's, or on a transition the tighter of its two moves'.
+AngularLimits piece_limits(const Program& program, const PathPiece& piece) {
+  if (piece.move >= 0) return program.moves[static_cast<std::size_t>(piece.move)].angular;
+  const auto c = static_cast<std::size_t>(piece.corner);
+  return tighter(program.moves[c].angular, program.moves[c + 1].angular);
+}
+
+// `out` (the oriented pieces) takes `blended`'s corner reports and merge record, and each
+// report the rotation its transition takes from its first to its last point, by law_of(report),
+// the orientation law over the transition from its start (transition[c]: its length).
+template <class LawOf>
+void finish(Path& out, const Path& blended, const std::vector<double>& transition, LawOf law_of) {
+  out.corners = blended.corners;
+  out.moves_merged = blended.moves_merged;
+  out.merge_tolerance = blended.merge_tolerance;
+  for (CornerReport& r : out.corners) {
+    const auto c = static_cast<std::size_t>(r.index);
+    if (!(transition[c] > 0)) continue;
+    const PieceOrientation law{law_of(r), {}};
+    r.orientation_change = rotation_angle(orientation_at(law, 0.0), orientation_at(law, transition[c]));
+  }
+}
+
 // The target at the end of every move (the previous one where a move sets none), each on the
 // hemisphere of the one before, so that the slerp between them goes the shorter way.
 std::vector<Quat> move_targets(const Program& program) {
@@ -102,22 +125,13 @@ Path spline_path(const Path& blended, const Program& program, const std::vector<
   s = 0;
   for (PathPiece piece : blended.pieces()) {
     const double len = length(piece.segment);
-    const AngularLimits limits = piece.move >= 0 ? program.moves[static_cast<std::size_t>(piece.move)].angular
-                                                 : tighter(program.moves[static_cast<std::size_t>(piece.corner)].angular,
-                                                           program.moves[static_cast<std::size_t>(piece.corner) + 1].angular);
-    piece.orientation = PieceOrientation{SplineOrientation{spline, s}, limits};
+    piece.orientation = PieceOrientation{SplineOrientation{spline, s}, piece_limits(program, piece)};
     s += len;
     out.append(std::move(piece));
   }
-  out.corners = blended.corners;
-  out.moves_merged = blended.moves_merged;
-  out.merge_tolerance = blended.merge_tolerance;
-  for (CornerReport& r : out.corners) {
-    const auto c = static_cast<std::size_t>(r.index);
-    if (!(transition[c] > 0)) continue;
-    const PieceOrientation law{SplineOrientation{spline, transition_start[c]}, {}};
-    r.orientation_change = rotation_angle(orientation_at(law, 0.0), orientation_at(law, transition[c]));
-  }
+  finish(out, blended, transition, [&](const CornerReport& r) {
+    return SplineOrientation{spline, transition_start[static_cast<std::size_t>(r.index)]};
+  });
   return out;
 }
 
@@ -159,25 +173,19 @@ Path orient_path(const Path& blended, const Program& program) {
         const Quat end = cut_end ? target[k] : Quat(rotation_exp(s1 * rate[k]) * start_of(k));
         law.rate = len > 0 ? Vec3(rotation_log(end * law.start.conjugate()) / len) : Vec3::Zero();
       }
-      piece.orientation = PieceOrientation{law, program.moves[k].angular};
+      piece.orientation = PieceOrientation{law, piece_limits(program, piece)};
     } else {
       const auto c = static_cast<std::size_t>(piece.corner);
       BlendOrientation law{target[c], rate[c], rate[c + 1], report[c]->trim_in, report[c]->trim_out, transition[c], done[c]};
       done[c] += len;
-      piece.orientation = PieceOrientation{law, tighter(program.moves[c].angular, program.moves[c + 1].angular)};
+      piece.orientation = PieceOrientation{law, piece_limits(program, piece)};
     }
     out.append(std::move(piece));
   }
-  out.corners = blended.corners;
-  out.moves_merged = blended.moves_merged;
-  out.merge_tolerance = blended.merge_tolerance;
-  // the rotation each transition takes, from its first to its last point
-  for (CornerReport& r : out.corners) {
+  finish(out, blended, transition, [&](const CornerReport& r) {
     const auto c = static_cast<std::size_t>(r.index);
-    if (!(transition[c] > 0)) continue;
-    const PieceOrientation law{BlendOrientation{target[c], rate[c], rate[c + 1], r.trim_in, r.trim_out, transition[c], 0.0}, {}};
-    r.orientation_change = rotation_angle(orientation_at(law, 0.0), orientation_at(law, transition[c]));
-  }
+    return BlendOrientation{target[c], rate[c], rate[c + 1], r.trim_in, r.trim_out, transition[c], 0.0};
+  });
   return out;
 }
 

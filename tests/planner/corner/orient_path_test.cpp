@@ -26,6 +26,22 @@ Quat target_of(const Program& program, int k) {
   return program.start_orientation;
 }
 
+// At the junction from piece a to piece b: dtheta/ds continuous (to kJoin relative), and its
+// derivative too (one-sided differences on either side, against the largest rho' on the two).
+void expect_rate_continuous(const PathPiece& a, const PathPiece& b, std::uint64_t seed, std::size_t k) {
+  const double la = length(a.segment);
+  const double lb = length(b.segment);
+  const Vec3 ra = angular_rate_at(*a.orientation, la);
+  const Vec3 rb = angular_rate_at(*b.orientation, 0.0);
+  const double scale = std::max({1.0, ra.norm(), rb.norm()});
+  ASSERT_LE((ra - rb).norm(), kJoin * scale) << test::seed_text(seed) << " junction " << k;
+  const double h = 1e-7 * std::min(la, lb);
+  const Vec3 da = (ra - angular_rate_at(*a.orientation, la - h)) / h;
+  const Vec3 db = (angular_rate_at(*b.orientation, h) - rb) / h;
+  const double d_max = std::max(rotation_bounds(*a.orientation, la, 0, la).rate_d1, rotation_bounds(*b.orientation, lb, 0, lb).rate_d1);
+  ASSERT_LE((da - db).norm(), 1e-4 * d_max + 1e-6 * scale / std::min(la, lb)) << test::seed_text(seed) << " junction " << k;
+}
+
 // Every junction of every blended random program: the orientation is continuous; where a
 // transition joins, so are dtheta/ds and d2theta/ds2 (angular velocity and acceleration at
 // any profile); every exact stop holds its corner's target and the path ends on the last one
@@ -45,24 +61,14 @@ TEST(OrientPath, ContinuousAtEveryJunctionAndArrivesWithThePosition) {
       const PathPiece& a = pieces[k];
       const PathPiece& b = pieces[k + 1];
       const double la = length(a.segment);
-      const double lb = length(b.segment);
       const Quat qa = orientation_at(*a.orientation, la);
       const Quat qb = orientation_at(*b.orientation, 0.0);
       ASSERT_LE(rotation_angle(qa, qb), kJoin) << test::seed_text(seed) << " junction " << k;
       // at a stop the rate may jump (the tool is at rest there)
       if ((a.corner < 0 && b.corner < 0) || b.stop_before) continue;
       ++transitions;
-      const Vec3 ra = angular_rate_at(*a.orientation, la);
-      const Vec3 rb = angular_rate_at(*b.orientation, 0.0);
-      const double scale = std::max({1.0, ra.norm(), rb.norm()});
-      ASSERT_LE((ra - rb).norm(), kJoin * scale) << test::seed_text(seed) << " junction " << k;
-      // one-sided rho' on either side, against the largest rho' on the two pieces
-      const double h = 1e-7 * std::min(la, lb);
-      const Vec3 da = (ra - angular_rate_at(*a.orientation, la - h)) / h;
-      const Vec3 db = (angular_rate_at(*b.orientation, h) - rb) / h;
-      const double d_max = std::max(rotation_bounds(*a.orientation, la, 0, la).rate_d1,
-                                    rotation_bounds(*b.orientation, lb, 0, lb).rate_d1);
-      ASSERT_LE((da - db).norm(), 1e-4 * d_max + 1e-6 * scale / std::min(la, lb)) << test::seed_text(seed) << " junction " << k;
+      expect_rate_continuous(a, b, seed, k);
+      if (::testing::Test::HasFatalFailure()) return;
     }
     // exact stops: the corner's target
     for (const CornerReport& r : path.corners) {
@@ -144,17 +150,9 @@ TEST(OrientPath, SplineIsC2AlongTheWholePathAndPassesEveryTarget) {
       const PathPiece& a = pieces[k];
       const PathPiece& b = pieces[k + 1];
       const double la = length(a.segment);
-      const double lb = length(b.segment);
       ASSERT_LE(rotation_angle(orientation_at(*a.orientation, la), orientation_at(*b.orientation, 0.0)), kJoin) << test::seed_text(seed);
-      const Vec3 ra = angular_rate_at(*a.orientation, la);
-      const Vec3 rb = angular_rate_at(*b.orientation, 0.0);
-      const double scale = std::max({1.0, ra.norm(), rb.norm()});
-      ASSERT_LE((ra - rb).norm(), kJoin * scale) << test::seed_text(seed) << " junction " << k;
-      const double h = 1e-7 * std::min(la, lb);
-      const Vec3 da = (ra - angular_rate_at(*a.orientation, la - h)) / h;
-      const Vec3 db = (angular_rate_at(*b.orientation, h) - rb) / h;
-      const double d_max = std::max(rotation_bounds(*a.orientation, la, 0, la).rate_d1, rotation_bounds(*b.orientation, lb, 0, lb).rate_d1);
-      ASSERT_LE((da - db).norm(), 1e-4 * d_max + 1e-6 * scale / std::min(la, lb)) << test::seed_text(seed) << " junction " << k;
+      expect_rate_continuous(a, b, seed, k);
+      if (::testing::Test::HasFatalFailure()) return;
     }
     // each corner's target where the path passes it
     for (const CornerReport& r : path.corners) {
