@@ -200,93 +200,57 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
     double y;
     Trial* trial;
   };
-  // Where the end bound sets y by a wide margin, the deviation measure (most of a trial's cost)
-  // is left out: from the nearest measured trial (a_m, D_m), D (a) <= D_m (a / a_m)^3 above a_m
-  // and <= D_m (a / a_m) below it (D grows like a^p, p from 1 at a tangent jump to 2 at a
-  // curvature jump only), and when log of that bound over the tolerance stays kSkipMargin below
-  // log(b / b_cap), y is log(b / b_cap) and its slope is the end bound's, as if measured. The
-  // accepted trial is always measured; should its deviation belie the bound, the search is
-  // run again measuring every trial (`estimate` false).
-  constexpr double kSkipMargin = 0.25;
-  bool estimate = true;
-  const auto deviation_bound = [&](double a) {
-    const Trial* near = nullptr;
-    const auto gap = [&](const Trial& t) { return std::abs(std::log(t.fillet.a / a)); };
-    for (const Trial& t : store) {
-      if (t.measured && (!near || gap(t) < gap(*near))) near = &t;
-    }
-    if (!near) return std::numeric_limits<double>::infinity();
-    const double x = std::log(a / near->fillet.a);
-    return std::log(near->deviation.max() / tolerance) + (x > 0 ? 3 * x : x);
-  };
   const auto evaluate = [&](double x) -> Point {
     Trial* t = solve(std::min(std::exp(x), a_cap));
     if (!t) return {x, std::numeric_limits<double>::infinity(), nullptr};
-    const double y_end = std::log(t->fillet.b / b_cap);
-    if (estimate && !t->measured && deviation_bound(t->fillet.a) < y_end - kSkipMargin) return {x, y_end, t};
-    const double y = std::max(std::log(measure(t) / tolerance), y_end);
+    const double y = std::max(std::log(measure(t) / tolerance), std::log(t->fillet.b / b_cap));
     return {x, y, t};
   };
-  // y at a trial with its deviation measured; false when that differs from the y used (the
-  // deviation bound did not hold)
-  const auto confirmed = [&](const Point& p) {
-    if (p.trial->measured) return true;
-    return std::max(std::log(measure(p.trial) / tolerance), std::log(p.trial->fillet.b / b_cap)) == p.y;
-  };
+  // the first point: back off (halving a) while Algorithm 1 fails
+  Point cur = evaluate(std::log(a_start));
+  for (int attempt = 0; attempt < 12 && !cur.trial; ++attempt) cur = evaluate(cur.x - std::log(2.0));
+  if (!cur.trial) return fail("biclothoid (004 Algorithm 1) did not converge");
+  Point prev{0, 0, nullptr};
+  double lo = -std::numeric_limits<double>::infinity();  // y <= 0 here
+  double hi = std::numeric_limits<double>::infinity();   // y > 0 (or no solution) here
   Trial* best = nullptr;  // the largest a with y <= 0 so far
   double best_y = 0;
-  // at most twice: with the deviation bound, then (only if the accepted trial belied it)
-  // measuring every trial; the solves of the first pass are reused
-  for (int pass = 0; pass < 2; ++pass) {
-    // the first point: back off (halving a) while Algorithm 1 fails
-    Point cur = evaluate(std::log(a_start));
-    for (int attempt = 0; attempt < 12 && !cur.trial; ++attempt) cur = evaluate(cur.x - std::log(2.0));
-    if (!cur.trial) return fail("biclothoid (004 Algorithm 1) did not converge");
-    Point prev{0, 0, nullptr};
-    double lo = -std::numeric_limits<double>::infinity();  // y <= 0 here
-    double hi = std::numeric_limits<double>::infinity();   // y > 0 (or no solution) here
-    best = nullptr;
-    Point best_point{0, 0, nullptr};
-    for (int it = 0; it < 60; ++it) {
-      if (cur.y <= 0) {
-        lo = std::max(lo, cur.x);
-        if (!best || cur.trial->fillet.a >= best->fillet.a) {
-          best = cur.trial;
-          best_y = cur.y;
-          best_point = cur;
-        }
-        if (cur.y >= -kReached || cur.x >= x_cap - 1e-12) break;
-      } else {
-        hi = std::min(hi, cur.x);
+  for (int it = 0; it < 60; ++it) {
+    if (cur.y <= 0) {
+      lo = std::max(lo, cur.x);
+      if (!best || cur.trial->fillet.a >= best->fillet.a) {
+        best = cur.trial;
+        best_y = cur.y;
       }
-      // next x: Newton towards the middle of the accepted band (a at most halved or doubled),
-      // else a secant step, else the slope guess; bisection when a bracketed step leaves the
-      // bracket
-      double next;
-      const double slope = cur.trial && std::isfinite(cur.y) ? slope_at(*cur.trial) : 0.0;
-      if (slope > 0 && std::isfinite(slope)) {
-        next = cur.x - std::clamp((cur.y + 0.3 * kReached) / slope, -std::log(2.0), std::log(2.0));
-      } else if (prev.trial && cur.trial && std::isfinite(prev.y) && cur.y != prev.y) {
-        next = cur.x - (cur.y + 0.3 * kReached) * (cur.x - prev.x) / (cur.y - prev.y);
-      } else if (std::isfinite(cur.y)) {
-        next = cur.x - (cur.y + 0.3 * kReached) / p_guess;
-      } else {
-        next = cur.x - std::log(2.0);
-      }
-      if (std::isfinite(lo) && std::isfinite(hi)) {
-        if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
-        if (hi - lo < 1e-13) break;
-      } else if (std::isfinite(hi) && !(next < hi)) {
-        next = hi - std::log(2.0);
-      } else if (std::isfinite(lo) && !(next > lo)) {
-        next = lo + std::log(2.0);
-      }
-      next = std::min(next, x_cap);
-      prev = cur;
-      cur = evaluate(next);
+      if (cur.y >= -kReached || cur.x >= x_cap - 1e-12) break;
+    } else {
+      hi = std::min(hi, cur.x);
     }
-    if (!best || confirmed(best_point)) break;
-    estimate = false;
+    // next x: Newton towards the middle of the accepted band (a at most halved or doubled),
+    // else a secant step, else the slope guess; bisection when a bracketed step leaves the
+    // bracket
+    double next;
+    const double slope = cur.trial && std::isfinite(cur.y) ? slope_at(*cur.trial) : 0.0;
+    if (slope > 0 && std::isfinite(slope)) {
+      next = cur.x - std::clamp((cur.y + 0.3 * kReached) / slope, -std::log(2.0), std::log(2.0));
+    } else if (prev.trial && cur.trial && std::isfinite(prev.y) && cur.y != prev.y) {
+      next = cur.x - (cur.y + 0.3 * kReached) * (cur.x - prev.x) / (cur.y - prev.y);
+    } else if (std::isfinite(cur.y)) {
+      next = cur.x - (cur.y + 0.3 * kReached) / p_guess;
+    } else {
+      next = cur.x - std::log(2.0);
+    }
+    if (std::isfinite(lo) && std::isfinite(hi)) {
+      if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+      if (hi - lo < 1e-13) break;
+    } else if (std::isfinite(hi) && !(next < hi)) {
+      next = hi - std::log(2.0);
+    } else if (std::isfinite(lo) && !(next > lo)) {
+      next = lo + std::log(2.0);
+    }
+    next = std::min(next, x_cap);
+    prev = cur;
+    cur = evaluate(next);
   }
   if (!best) return fail("no biclothoid fillet met the tolerance (004 Algorithm 2)");
   // limited: the start cap or the end bound is what stops the fillet growing; otherwise the

@@ -93,9 +93,7 @@ double panel_length_n(const std::vector<Vec3>& h, double a, double b) {
     d[c] = q[0];
   }
   std::array<double, kNodes> speed;
-  for (std::size_t j = 0; j < kNodes; ++j) {
-    speed[j] = std::sqrt(d[0][j] * d[0][j] + d[1][j] * d[1][j] + d[2][j] * d[2][j]);
-  }
+  for (std::size_t j = 0; j < kNodes; ++j) speed[j] = std::sqrt(d[0][j] * d[0][j] + d[1][j] * d[1][j] + d[2][j] * d[2][j]);
   double sum = 0;
   for (std::size_t i = 0; i < kGlNodes.size(); ++i) sum += kGlWeights[i] * (speed[2 * i] + speed[2 * i + 1]);
   return sum * half;
