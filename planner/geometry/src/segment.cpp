@@ -63,6 +63,53 @@ Vec3 bernstein(const std::vector<Vec3>& p, double u) {
   return q[0];
 }
 
+// gauss_legendre of the speed |d1(u)| of a Bezier with hodograph h (N points) over [a, b], its
+// ten nodes evaluated together: de Casteljau on the stored points, component by component
+// across the nodes (no copies of the points per node, loops of fixed length), with the very
+// operations and order of bernstein, Eigen's norm ((x^2 + y^2) + z^2, then sqrt) and
+// gauss_legendre's sum, so the table is the same bit for bit.
+template <std::size_t N>
+double panel_length_n(const std::vector<Vec3>& h, double a, double b) {
+  constexpr std::size_t kNodes = 2 * kGlNodes.size();
+  const double mid = 0.5 * (a + b);
+  const double half = 0.5 * (b - a);
+  std::array<double, kNodes> u;
+  std::array<double, kNodes> v;  // 1 - u
+  for (std::size_t i = 0; i < kGlNodes.size(); ++i) {
+    const double dx = half * kGlNodes[i];
+    u[2 * i] = mid - dx;
+    u[2 * i + 1] = mid + dx;
+  }
+  for (std::size_t j = 0; j < kNodes; ++j) v[j] = 1 - u[j];
+  std::array<std::array<double, kNodes>, 3> d;  // d1 at each node, by component
+  for (std::size_t c = 0; c < 3; ++c) {
+    std::array<std::array<double, kNodes>, N> q;
+    for (std::size_t i = 0; i < N; ++i) q[i].fill(h[i][static_cast<Eigen::Index>(c)]);
+    for (std::size_t level = 1; level < N; ++level) {
+      for (std::size_t i = 0; i + level < N; ++i) {
+        for (std::size_t j = 0; j < kNodes; ++j) q[i][j] = v[j] * q[i][j] + u[j] * q[i + 1][j];
+      }
+    }
+    d[c] = q[0];
+  }
+  std::array<double, kNodes> speed;
+  for (std::size_t j = 0; j < kNodes; ++j) speed[j] = std::sqrt(d[0][j] * d[0][j] + d[1][j] * d[1][j] + d[2][j] * d[2][j]);
+  double sum = 0;
+  for (std::size_t i = 0; i < kGlNodes.size(); ++i) sum += kGlWeights[i] * (speed[2 * i] + speed[2 * i + 1]);
+  return sum * half;
+}
+double panel_length(const std::vector<Vec3>& h, double a, double b) {
+  switch (h.size()) {
+    case 1: return panel_length_n<1>(h, a, b);
+    case 2: return panel_length_n<2>(h, a, b);
+    case 3: return panel_length_n<3>(h, a, b);
+    case 4: return panel_length_n<4>(h, a, b);
+    case 5: return panel_length_n<5>(h, a, b);
+    case 6: return panel_length_n<6>(h, a, b);
+    default: return 0;  // no hodograph (one control point), or past the degree-6 limit asserted by Bezier
+  }
+}
+
 // Golden-section maximisation of f on [a, b] after a scan of `samples` points.
 template <class F>
 double scan_max(const F& f, double a, double b, int samples) {
@@ -161,11 +208,10 @@ Bezier::Bezier(std::vector<Vec3> control_points)
   knots_s_.resize(kPanels + 1);
   knots_u_[0] = 0;
   knots_s_[0] = 0;
-  const auto speed = [this](double u) { return d1(u).norm(); };
   for (int i = 1; i <= kPanels; ++i) {
     const auto k = static_cast<std::size_t>(i);
     knots_u_[k] = static_cast<double>(i) / kPanels;
-    knots_s_[k] = knots_s_[k - 1] + gauss_legendre(speed, knots_u_[k - 1], knots_u_[k]);
+    knots_s_[k] = knots_s_[k - 1] + panel_length(h1_, knots_u_[k - 1], knots_u_[k]);
   }
 }
 
