@@ -23,9 +23,10 @@ ArcBuild arc_from_center(const Vec3& start, const Vec3& end, const Vec3& center,
   const Vec3 w = (ccw ? 1.0 : -1.0) * normal / nn;
   // centre projected into the start's plane; in-plane offsets of start and end
   Vec3 c = center + w * (start - center).dot(w);
-  const double rise = (end - start).dot(w);
+  double rise = (end - start).dot(w);
   const Vec3 end_in_plane = end - w * rise;
   const double r_start = (start - c).norm();
+  if (std::abs(rise) <= kRiseRounding * r_start) rise = 0;
   const double r_end = (end_in_plane - c).norm();
   if (!(r_start > radius_tolerance)) return failure("the arc's start point lies on its centre");
   if (std::abs(r_start - r_end) > radius_tolerance) {

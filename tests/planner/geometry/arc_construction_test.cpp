@@ -36,6 +36,20 @@ TEST(ArcConstruction, FullCircleAndHelix) {
   EXPECT_TRUE(point(Segment(helix.arc), length(helix.arc)).isApprox(Vec3(-1, 0, 0.5), kTol));
 }
 
+// A rise of rounding size (here 1e-13 m on a 20 mm arc at z = 0.3 m) is no helix: the arc ends
+// in its start's plane, which the corner rules read as planar; 1e-9 m on the same arc stays a
+// helix.
+TEST(ArcConstruction, RiseOfRoundingSizeIsNoHelix) {
+  const Vec3 start(0.02, 0, 0.3), centre(0, 0, 0.3);
+  const ArcBuild flat = arc_from_center(start, Vec3(0, 0.02, 0.3 + 1e-13), centre, Vec3::UnitZ(), true);
+  ASSERT_TRUE(flat.outcome.ok());
+  EXPECT_EQ(flat.arc.rise, 0.0);
+  EXPECT_LE((point(flat.arc, length(flat.arc)) - Vec3(0, 0.02, 0.3)).norm(), 1e-15);
+  const ArcBuild helix = arc_from_center(start, Vec3(0, 0.02, 0.3 + 1e-9), centre, Vec3::UnitZ(), true);
+  ASSERT_TRUE(helix.outcome.ok());
+  EXPECT_NEAR(helix.arc.rise, 1e-9, 1e-15);
+}
+
 TEST(ArcConstruction, FullCircleWithAnEndPointOffByRoundingKeepsItsCentre) {
   // an end point one rounding away from the start has no chord direction to correct along
   const Vec3 start(0.1, 0.2, 0.3);

@@ -22,11 +22,14 @@ struct ArcBuild {
 // counter-clockwise about `normal` (right-handed) when `ccw`, clockwise otherwise, plus `turns`
 // extra full turns. The components of start, end and centre along `normal` may differ: the
 // change from start to end becomes the helix rise and the centre is projected into the start's
-// plane. end == start (in the plane) gives a full circle. Fails when the start lies on the
+// plane; a rise of at most kRiseRounding of the radius is rounding (a G91 sum, a frame turned
+// in floating point), not a helix, and becomes 0, so the arc ends in its start's plane that
+// close to `end` and the corners it makes stay planar. end == start (in the plane) gives a full circle. Fails when the start lies on the
 // axis or the in-plane radii to start and end differ by more than `radius_tolerance` (m); within
 // it, the centre is moved to the nearest point of the chord's perpendicular bisector, so the arc
 // starts and ends exactly at `start` and `end` (the centre moves by at most about the
 // tolerance).
+inline constexpr double kRiseRounding = 1e-9;
 ArcBuild arc_from_center(const Vec3& start, const Vec3& end, const Vec3& center, const Vec3& normal, bool ccw,
                          int turns = 0, double radius_tolerance = 1e-9);
 
