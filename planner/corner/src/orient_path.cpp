@@ -76,12 +76,13 @@ Vec3 unwrapped_log(const Quat& q, const Quat& reference, const Vec3& previous) {
 // the targets, knot k where the path passes target k, laid on every piece.
 Path spline_path(const Path& blended, const Program& program, const std::vector<Quat>& target) {
   const std::size_t n = program.moves.size();
-  // where each move's pieces end and each transition starts on the path, and its length
-  std::vector<double> move_end(n, -1.0), transition_start(n, -1.0), transition(n, 0.0);
+  // where each transition starts on the path and its length, and where the path passes each
+  // corner without one: the start of the first piece past it (of a later move or transition;
+  // the move before it may have been used up by the transition before)
+  std::vector<double> transition_start(n, -1.0), transition(n, 0.0);
   double s = 0;
   for (const PathPiece& piece : blended.pieces()) {
     const double len = length(piece.segment);
-    if (piece.move >= 0) move_end[static_cast<std::size_t>(piece.move)] = s + len;
     if (piece.corner >= 0) {
       const auto c = static_cast<std::size_t>(piece.corner);
       if (transition_start[c] < 0) transition_start[c] = s;
@@ -90,17 +91,24 @@ Path spline_path(const Path& blended, const Program& program, const std::vector<
     s += len;
   }
   const double total = s;
+  std::vector<double> passed(n, total);
+  {
+    std::size_t k = 0;  // the next corner to place
+    s = 0;
+    for (const PathPiece& piece : blended.pieces()) {
+      const auto after = static_cast<std::size_t>(piece.move >= 0 ? piece.move : piece.corner);
+      for (; k < n && k < after; ++k) passed[k] = s;  // every corner before this piece's place
+      s += length(piece.segment);
+    }
+  }
   // knots: the start, then each target where the path passes it; a target at the place of the
   // one before (a move a transition consumed) replaces it
   const Quat reference = program.start_orientation.normalized();
   std::vector<double> knots{0.0};
   std::vector<Vec3> values{Vec3::Zero()};
   const double tiny = 1e-12 * std::max(total, 1e-300);
-  double at = 0;
   for (std::size_t k = 0; k < n; ++k) {
-    if (k + 1 == n) at = total;
-    else if (transition[k] > 0) at = transition_start[k] + 0.5 * transition[k];
-    else if (move_end[k] >= 0) at = move_end[k];
+    const double at = k + 1 == n ? total : transition[k] > 0 ? transition_start[k] + 0.5 * transition[k] : passed[k];
     const Vec3 phi = unwrapped_log(target[k], reference, values.back());
     if (phi.norm() > kSplineMaxTurn) {
       fail_at(program.moves[k].where, "orientation",
