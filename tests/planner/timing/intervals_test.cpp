@@ -303,14 +303,15 @@ TEST(Junctions, RoundingSizedCurvatureDifferenceIsNoStep) {
   const double r = 0.03;
   const double c = std::cos(std::numbers::pi / 3), s = std::sin(std::numbers::pi / 3);
   const Vec3 u(s, -c, 0), v(c, s, 0);  // from the centre to the start; the start tangent
-  Program program;
-  Move& line = program.moves.emplace_back();
+  Move line;
   line.geometry = Line{{-0.1, 0, 0}, {0, 0, 0}};
   line.limits = {0.25, 2.5, 2.5, 50.0};
   line.transition = {Method::kBezier, 0.005};
-  Move& arc = program.moves.emplace_back();
+  Move arc;
   arc.geometry = Arc{-r * u, u, v, r, 1.5, 0.0};
   arc.limits = line.limits;
+  Program program;
+  program.moves = {line, arc};
   const Path path = blend(program);
   ASSERT_EQ(path.corners.size(), 1u);
   const Timing timing = plan_timing(path);
