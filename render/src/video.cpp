@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -74,6 +75,27 @@ bool write_all(int fd, const std::uint8_t* data, std::size_t size) {
   return ok;
 }
 
+// The mode a newly created file gets in this process, 0666 less the umask, as for the run's other
+// outputs (opened with 0666). mkostemp creates its file 0600 and ffmpeg keeps the mode of the
+// file it overwrites, so without this the video alone would be private. The umask is read from
+// /proc/self/status (umask() cannot read it without setting it, which races with other threads
+// creating files); 022 when the line is missing.
+mode_t new_file_mode() {
+  mode_t mask = 022;
+  if (FILE* status = std::fopen("/proc/self/status", "re")) {
+    char line[256];
+    while (std::fgets(line, sizeof line, status) != nullptr) {
+      unsigned value = 0;
+      if (std::sscanf(line, "Umask: %o", &value) == 1) {
+        mask = static_cast<mode_t>(value);
+        break;
+      }
+    }
+    std::fclose(status);
+  }
+  return static_cast<mode_t>(0666 & ~mask);
+}
+
 }  // namespace
 
 VideoWriter::VideoWriter(std::string path, int width, int height, double fps)
@@ -88,6 +110,7 @@ VideoWriter::VideoWriter(std::string path, int width, int height, double fps)
   std::string temp = dir + "." + name + ".partial-XXXXXX";
   const int temp_fd = mkostemp(temp.data(), O_CLOEXEC);
   if (temp_fd < 0) throw std::runtime_error(system_error("cannot create a temporary file next to " + path_));
+  (void)::fchmod(temp_fd, new_file_mode());  // best effort: the video is still written if it fails
   ::close(temp_fd);
   temp_path_ = temp;
 

@@ -1,6 +1,7 @@
 #include "blendbench/render/video.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -80,6 +81,22 @@ TEST_F(VideoWriterTest, ThirtyFramesMakeAnH264Mp4WithTheRightSizeCountAndRate) {
   EXPECT_EQ(info.at("pix_fmt"), "yuv420p");
   EXPECT_EQ(info.at("nb_read_frames"), "30");
   EXPECT_EQ(info.at("r_frame_rate"), "30/1");
+}
+
+// The video gets the mode of the run's other outputs, 0666 less the umask (mkostemp's 0600 would
+// make it alone private), under a loose and a strict umask.
+TEST_F(VideoWriterTest, VideoHasTheModeOfANewFileUnderTheUmask) {
+  for (const mode_t mask : {mode_t{022}, mode_t{077}}) {
+    const mode_t saved = ::umask(mask);
+    const fs::path target = dir_ / ("video_" + std::to_string(mask) + ".mp4");
+    VideoWriter writer(target.string(), 64, 48, 25);
+    for (int k = 0; k < 3; ++k) writer.write(frame(64, 48, k));
+    writer.finish();
+    ::umask(saved);
+    struct stat st {};
+    ASSERT_EQ(::stat(target.c_str(), &st), 0);
+    EXPECT_EQ(st.st_mode & 0777, 0666 & ~mask) << "umask " << std::oct << mask;
+  }
 }
 
 TEST_F(VideoWriterTest, WriterDestroyedWithoutFinishLeavesNoFile) {
