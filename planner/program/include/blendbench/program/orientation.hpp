@@ -42,6 +42,7 @@
 #include <Eigen/Geometry>
 #include <limits>
 #include <memory>
+#include <numbers>
 #include <utility>
 #include <variant>
 #include <vector>
@@ -106,7 +107,7 @@ class OrientationSpline {
 };
 
 // The largest turn of a target from the start orientation under the option `spline` (rad).
-inline constexpr double kSplineMaxTurn = 1.5 * 3.14159265358979323846;
+inline constexpr double kSplineMaxTurn = 1.5 * std::numbers::pi;
 
 // Along a piece under the option `spline`: R = exp(phi(offset + sigma)) reference, offset the
 // piece's start on the whole path (m).
