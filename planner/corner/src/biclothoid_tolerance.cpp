@@ -141,6 +141,34 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
     store.push_back(Trial{sol->fillet, sol->dlen_da, sol->db_da, {}, {}, false});
     return &store.back();
   };
+  // Algorithm 1 from the other end: the fillet that ends exactly at the end bound (b = b_cap),
+  // solved on the reversed corner with b_cap as its start distance, warm-started from trial
+  // `from` along its sensitivities. Where the end bound is what stops the fillet growing, this
+  // is the answer in one solve (b grows with a, so no larger a keeps b <= b_cap), where Newton
+  // on log(b / b_cap) needs one or two more to reach the band. Its sensitivities follow by the
+  // chain rule (dL/da = (dL/db) / (da/db), db/da = 1 / (da/db)).
+  const auto solve_at_end_bound = [&](const Trial& from) -> Trial* {
+    if (store.size() == kMaxTrials) return nullptr;
+    const BiclothoidSolution& f = from.fillet;
+    if (!(from.db_da > 0) || !std::isfinite(from.db_da)) return nullptr;
+    const double da = (b_cap - f.b) / from.db_da;
+    const double guess_a = f.a + da;
+    const double guess_len = length(f.curve) + from.dlen_da * da;
+    if (!(guess_a > 0 && guess_len > 0)) return nullptr;
+    CornerShapes back = work;
+    back.q1 = PlanarShape{work.q2.theta + kPi, -work.q2.kappa};
+    back.q2 = PlanarShape{work.q1.theta + kPi, -work.q1.kappa};
+    ++result.solves;
+    const auto sol = fit_at(back, b_cap, guess_len, guess_a, Effort::kGuessOnly);
+    if (!sol || !(sol->db_da > 0) || !(sol->fillet.b <= a_cap)) return nullptr;
+    // the same branch of solutions as the trial it was predicted from (Algorithm 1 has others,
+    // up to ten times shorter or longer at the same b): within the factor 2 a Newton step on a
+    // may take
+    if (!(sol->fillet.b > 0.5 * guess_a && sol->fillet.b < 2 * guess_a)) return nullptr;
+    BiclothoidSolution forward{reversed(sol->fillet.curve), sol->fillet.b, b_cap};
+    store.push_back(Trial{forward, sol->dlen_da / sol->db_da, 1 / sol->db_da, {}, {}, false});
+    return &store.back();
+  };
   const auto measure = [&](Trial* t) {
     if (!t->measured) {
       const Measured m = measure_deviation(t->fillet, work, true);
@@ -215,6 +243,7 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
   double hi = std::numeric_limits<double>::infinity();   // y > 0 (or no solution) here
   Trial* best = nullptr;  // the largest a with y <= 0 so far
   double best_y = 0;
+  bool tried_end_bound = false;  // solve_at_end_bound is tried once
   for (int it = 0; it < 60; ++it) {
     if (cur.y <= 0) {
       lo = std::max(lo, cur.x);
@@ -225,6 +254,21 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
       if (cur.y >= -kReached || cur.x >= x_cap - 1e-12) break;
     } else {
       hi = std::min(hi, cur.x);
+    }
+    // the end bound sets y here and a solve from the other end lands on it exactly (once)
+    if (!tried_end_bound && cur.trial &&
+        cur.trial->fillet.b / b_cap >= cur.trial->deviation.max() / tolerance) {
+      tried_end_bound = true;
+      if (Trial* t = solve_at_end_bound(*cur.trial)) {
+        const double x = std::log(t->fillet.a);
+        const double y = std::max(std::log(measure(t) / tolerance), 0.0);
+        // used when it lies inside what is known (else the step below goes on from cur)
+        if (x > lo && x < hi) {
+          prev = cur;
+          cur = Point{x, y, t};
+          continue;
+        }
+      }
     }
     // next x: Newton towards the middle of the accepted band (a at most halved or doubled),
     // else a secant step, else the slope guess; bisection when a bracketed step leaves the

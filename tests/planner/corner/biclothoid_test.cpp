@@ -397,6 +397,74 @@ TEST(Biclothoid, NonPlanarCornersFallBackToBezier) {
   EXPECT_TRUE(planar_corner(arc, Line{end, end + Vec3(-0.3, 0.5, 0.0)}).planar);
 }
 
+// Where a move's length is what stops the fillet growing, Algorithm 2 ends the fillet at it:
+// with both moves far shorter than the tolerance (at most a tenth of it) no fillet that fits
+// reaches the tolerance, so the fit is limited and touches a move's end (within the band of
+// 1e-4 that Algorithm 2 accepts). Where it is the end bound of the solve (b, after the section 6
+// swap), two solves of Algorithm 1 suffice: the first, and the one from the other end, warm-
+// started from it (Newton on log(b / b_max) took three or four for one such corner in six).
+// Corners within 10 deg of a reversal are left out (their caps are where the moves cross again).
+TEST(Biclothoid, AFilletLimitedByItsEndBoundTakesTwoSolves) {
+  const int cases = test::property_cases(2000);
+  int checked = 0;
+  int at_end_bound = 0;
+  for (int i = 0; i < cases; ++i) {
+    const std::uint64_t seed = 1000 + static_cast<std::uint64_t>(i);
+    auto rng = test::make_rng(seed);
+    const auto kind = static_cast<test::CornerKind>(i % 4);
+    if (kind == test::CornerKind::kLineLine) continue;  // closed form, no Algorithm 2
+    const test::CornerCase cc = test::random_corner(rng, kind, Method::kBiclothoid);
+    if (cc.angle > 170 * kPi / 180) continue;
+    const PlanarCorner geometry = planar_corner(cc.input.in, cc.input.out);
+    if (!geometry.planar) continue;
+    if (!(geometry.angle > 1e-9) && geometry.same_curvature) continue;
+    const double tol = cc.input.spec.parameter;
+    // the moves' lengths, capped below a tenth of the tolerance and an eighth of a turn of each arc
+    const auto short_move = [&](const PlanarShape& q) {
+      double cap = 0.1 * tol;
+      if (q.kappa != 0) cap = std::min(cap, 0.5 / std::abs(q.kappa));
+      return cap * test::uniform(rng, 0.2, 1.0);
+    };
+    const double a_max = short_move(geometry.shapes.q1);
+    const double b_max = short_move(geometry.shapes.q2);
+    const BiclothoidToleranceFit fit = fit_biclothoid_with_tolerance(geometry.shapes, tol, a_max, b_max);
+    ASSERT_TRUE(fit.outcome.ok()) << test::seed_text(seed) << ": " << fit.outcome.message;
+    EXPECT_TRUE(fit.limited) << test::seed_text(seed);
+    EXPECT_LE(fit.deviation.max(), tol) << test::seed_text(seed);
+    EXPECT_LE(fit.fillet.a, a_max) << test::seed_text(seed);
+    EXPECT_LE(fit.fillet.b, b_max) << test::seed_text(seed);
+    const double reach = std::max(fit.fillet.a / a_max, fit.fillet.b / b_max);
+    EXPECT_GE(reach, 1 - kToleranceReached) << test::seed_text(seed) << " a/a_max " << fit.fillet.a / a_max
+                                            << " b/b_max " << fit.fillet.b / b_max;
+    // the end bound of the solve (b after the section 6 swap) is what binds
+    if ((fit.swapped ? fit.fillet.a / a_max : fit.fillet.b / b_max) >= 1 - kToleranceReached) {
+      EXPECT_LE(fit.solves, 2) << test::seed_text(seed);
+      ++at_end_bound;
+    }
+    ++checked;
+  }
+  EXPECT_GT(checked, cases / 2);
+  EXPECT_GT(at_end_bound, checked / 10);
+  std::cout << checked << " corners, " << at_end_bound << " ended at the end bound\n";
+}
+
+// A line into an arc of R 10 mm at a 20 deg kink, after a short line: the fit runs from the arc
+// backwards (section 6), so the line's length is its end bound, and the fillet ends there,
+// found by a solve from that end after the first (Newton on log(b / b_max) took three).
+TEST(Biclothoid, AnEndBoundCornerIsSolvedFromThatEnd) {
+  const CornerShapes shapes{{0.0, 0.0}, {20 * kPi / 180, 100.0}};
+  const double a_max = 0.2 * kMm;  // the tolerance-sized fillet wants more of the line
+  const BiclothoidToleranceFit fit = fit_biclothoid_with_tolerance(shapes, 0.05 * kMm, a_max, 1.0);
+  ASSERT_TRUE(fit.outcome.ok()) << fit.outcome.message;
+  EXPECT_TRUE(fit.swapped);
+  EXPECT_TRUE(fit.limited);
+  EXPECT_NEAR(fit.fillet.a, a_max, 1e-15);
+  EXPECT_EQ(fit.solves, 2);
+  EXPECT_LE(fit.deviation.max(), 0.05 * kMm);
+  EXPECT_NEAR((end_posture(fit.fillet.curve).p - shape_point(shapes.q2, fit.fillet.b)).norm(), 0.0, 1e-12 * kMm);
+  EXPECT_NEAR((fit.fillet.curve.start.p - shape_point(shapes.q1, -fit.fillet.a)).norm(), 0.0, 1e-12 * kMm);
+}
+
 // Algorithm 2 measures its trials for the larger directed distance only (the original ->
 // fillet side maxima are not refined where they cannot be it): on the random corners its
 // reported deviation is the full measure's, and its original -> fillet distance never exceeds
