@@ -160,14 +160,18 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
   // is the answer in one solve (b grows with a, so no larger a keeps b <= b_cap), where Newton
   // on log(b / b_cap) needs one or two more to reach the band. Its sensitivities follow by the
   // chain rule (dL/da = (dL/db) / (da/db), db/da = 1 / (da/db)).
+  // (tried once per fit; not where the prediction starts at or past the start cap, which then
+  // binds first)
+  bool tried_end_bound = false;
   const auto solve_at_end_bound = [&](const Trial& from) -> Trial* {
-    if (store.size() == kMaxTrials) return nullptr;
+    if (tried_end_bound || store.size() == kMaxTrials) return nullptr;
     const BiclothoidSolution& f = from.fillet;
     if (!(from.db_da > 0) || !std::isfinite(from.db_da)) return nullptr;
     const double da = (b_cap - f.b) / from.db_da;
     const double guess_a = f.a + da;
     const double guess_len = length(f.curve) + from.dlen_da * da;
-    if (!(guess_a > 0 && guess_len > 0)) return nullptr;
+    if (!(guess_a > 0 && guess_a < a_cap && guess_len > 0)) return nullptr;
+    tried_end_bound = true;
     CornerShapes back = work;
     back.q1 = PlanarShape{work.q2.theta + kPi, -work.q2.kappa};
     back.q2 = PlanarShape{work.q1.theta + kPi, -work.q1.kappa};
@@ -259,7 +263,6 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
   double hi = std::numeric_limits<double>::infinity();   // y > 0 (or no solution) here
   Trial* best = nullptr;  // the largest a with y <= 0 so far
   double best_y = 0;
-  bool tried_end_bound = false;  // solve_at_end_bound is tried once
   for (int it = 0; it < 60; ++it) {
     if (cur.y <= 0) {
       lo = std::max(lo, cur.x);
@@ -271,10 +274,8 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
     } else {
       hi = std::min(hi, cur.x);
     }
-    // the end bound sets y here and a solve from the other end lands on it exactly (once)
-    if (!tried_end_bound && cur.trial &&
-        cur.trial->fillet.b / b_cap >= cur.trial->deviation.max() / tolerance) {
-      tried_end_bound = true;
+    // the end bound sets y here and a solve from the other end lands on it exactly
+    if (cur.trial && cur.trial->fillet.b / b_cap >= cur.trial->deviation.max() / tolerance) {
       if (Trial* t = solve_at_end_bound(*cur.trial)) {
         const double x = std::log(t->fillet.a);
         const double y = std::max(std::log(measure(t) / tolerance), 0.0);

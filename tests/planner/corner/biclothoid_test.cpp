@@ -448,6 +448,21 @@ TEST(Biclothoid, AFilletLimitedByItsEndBoundTakesTwoSolves) {
   std::cout << checked << " corners, " << at_end_bound << " ended at the end bound\n";
 }
 
+// An arc of R 0.2 mm into a line at a 0.05 deg kink, with a tolerance of 0.1 mm: the eighth
+// of the arc's turn (0.157 mm) caps the fillet's start long before the tolerance does. The
+// first trial's end is short of its bound, but the end bound predicted from it lies past the
+// start cap, so no solve from the other end is spent: the next step reaches the cap.
+TEST(Biclothoid, AStartCapReachedFirstSpendsNoSolveOnTheEndBound) {
+  const CornerShapes shapes{{0.0, 5000.0}, {0.05 * kPi / 180, 0.0}};
+  const BiclothoidToleranceFit fit = fit_biclothoid_with_tolerance(shapes, 0.1 * kMm, 1.0, 0.1 * kMm);
+  ASSERT_TRUE(fit.outcome.ok()) << fit.outcome.message;
+  EXPECT_FALSE(fit.swapped);
+  EXPECT_TRUE(fit.limited);
+  EXPECT_NEAR(fit.fillet.a, 0.25 * kPi / 5000.0, 1e-15);
+  EXPECT_LT(fit.fillet.b, 0.1 * kMm);
+  EXPECT_EQ(fit.solves, 2);
+}
+
 // A small fillet at a curvature jump alone ends at b = (2 s2 - sqrt(2 s2^2 + 1)) a after the
 // corner, s2 the root above 1 of 2 s2^4 - 6 s2 + 3 (derived in biclothoid_tolerance.cpp, where
 // Algorithm 2 starts from it), a on the more curved move: on random tangent corners with a
