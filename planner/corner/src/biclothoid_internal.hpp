@@ -97,7 +97,11 @@ struct Solve {
   double db_da = 0;    // d b / d a
 };
 // seed 004 (Shahzadeh et al.) Algorithm 1 (biclothoid_fit.cpp): fit_biclothoid_at with the sensitivities.
-std::optional<Solve> fit_at(const CornerShapes& shapes, double a, double guess_length, double guess_b);
+// `Effort::kGuessOnly`: Newton from the guess alone, a few iterations, none of the other
+// starts or the bracket scan (a solve that is only worth it if it is quick).
+enum class Effort { kFull, kGuessOnly };
+std::optional<Solve> fit_at(const CornerShapes& shapes, double a, double guess_length, double guess_b,
+                            Effort effort = Effort::kFull);
 
 // Where the larger directed distance D is attained, for its derivative with respect to the
 // start distance a (fit_biclothoid_with_tolerance): the fillet point V(s) and the unit vector u

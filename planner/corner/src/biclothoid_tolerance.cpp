@@ -26,6 +26,19 @@ constexpr double kCrossingMargin = 0.98;
 constexpr double kReached = 1e-4;
 // The most of an arc a fillet replaces (rad of the arc's turn).
 constexpr double kMaxArcTurn = 0.25 * std::numbers::pi;
+// b / a of a small fillet at a curvature jump alone (no tangent jump), derived here (seed 004 is
+// silent): in the limit of small fillets the slopes are small and arc length is x, and only the
+// jump matters (a common curvature adds the same parabola to the path and to the fillet), so
+// take q1 of curvature k for x in [-a, 0] and q2 the line y = 0. The fillet's curvature is a tent
+// k -> k + c s1 -> 0 of equal slopes c over s1 and s2 (s1 + s2 = a + b); it leaves q1 G2 at
+// x = -a (y = k a^2 / 2, y' = -k a) and meets the line G2 at x = b, so its curvature's integral
+// is k a (the slope returns to 0) and its first moment about x = b is k a (a + b) - k a^2 / 2
+// (the height returns to 0). With k = a = 1 the tent's end gives c (s2 - s1) = 1, the integral
+// then s1 = s2 + 1 - sqrt(2 s2^2 + 1), and the moment 2 s2^4 - 6 s2 + 3 = 0, whose root above 1
+// is s2 = 1.2066504; so b / a = s1 + s2 - 1 = 2 s2 - sqrt(2 s2^2 + 1) = 0.4354205 (measured
+// over the property tests' random tangent corners: 0.4343-0.4374, the spread from fillets that
+// are not small; Biclothoid.ASmallFilletAtACurvatureJumpEndsAtTheDerivedShare).
+constexpr double kEndShare = 0.4354205;
 
 // Where q1 (sigma in [-a_max, 0)) and q2 (sigma in (0, b_max]) meet again after the corner,
 // as (-sigma1, sigma2), or nullopt. Both pass through the origin, so a line meets a circle of
@@ -141,6 +154,38 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
     store.push_back(Trial{sol->fillet, sol->dlen_da, sol->db_da, {}, {}, false});
     return &store.back();
   };
+  // Algorithm 1 from the other end: the fillet that ends exactly at the end bound (b = b_cap),
+  // solved on the reversed corner with b_cap as its start distance, warm-started from trial
+  // `from` along its sensitivities. Where the end bound is what stops the fillet growing, this
+  // is the answer in one solve (b grows with a, so no larger a keeps b <= b_cap), where Newton
+  // on log(b / b_cap) needs one or two more to reach the band. Its sensitivities follow by the
+  // chain rule (dL/da = (dL/db) / (da/db), db/da = 1 / (da/db)).
+  // (tried once per fit; not where the prediction starts at or past the start cap, which then
+  // binds first)
+  bool tried_end_bound = false;
+  const auto solve_at_end_bound = [&](const Trial& from) -> Trial* {
+    if (tried_end_bound || store.size() == kMaxTrials) return nullptr;
+    const BiclothoidSolution& f = from.fillet;
+    if (!(from.db_da > 0) || !std::isfinite(from.db_da)) return nullptr;
+    const double da = (b_cap - f.b) / from.db_da;
+    const double guess_a = f.a + da;
+    const double guess_len = length(f.curve) + from.dlen_da * da;
+    if (!(guess_a > 0 && guess_a < a_cap && guess_len > 0)) return nullptr;
+    tried_end_bound = true;
+    CornerShapes back = work;
+    back.q1 = PlanarShape{work.q2.theta + kPi, -work.q2.kappa};
+    back.q2 = PlanarShape{work.q1.theta + kPi, -work.q1.kappa};
+    ++result.solves;
+    const auto sol = fit_at(back, b_cap, guess_len, guess_a, Effort::kGuessOnly);
+    if (!sol || !(sol->db_da > 0) || !(sol->fillet.b <= a_cap)) return nullptr;
+    // the same branch of solutions as the trial it was predicted from (Algorithm 1 has others,
+    // up to ten times shorter or longer at the same b): within the factor 2 a Newton step on a
+    // may take
+    if (!(sol->fillet.b > 0.5 * guess_a && sol->fillet.b < 2 * guess_a)) return nullptr;
+    BiclothoidSolution forward{reversed(sol->fillet.curve), sol->fillet.b, b_cap};
+    store.push_back(Trial{forward, sol->dlen_da / sol->db_da, 1 / sol->db_da, {}, {}, false});
+    return &store.back();
+  };
   const auto measure = [&](Trial* t) {
     if (!t->measured) {
       const Measured m = measure_deviation(t->fillet, work, true);
@@ -193,7 +238,10 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
   const double a_curvature =
       kappa_jump > 0 ? std::sqrt(42.0 * tolerance / kappa_jump) : std::numeric_limits<double>::infinity();
   const double a_model = 1 / std::hypot(1 / a_angle, 1 / a_curvature);
-  const double a_start = std::min({a_cap, b_cap, a_model});
+  // the end bound, as a start distance: b_cap where there is a tangent jump (the line-line pair
+  // is symmetric, b = a), b_cap / kEndShare at a curvature jump alone (kEndShare). (Where both
+  // act, b_cap / kEndShare started some corners on another branch of Algorithm 1's solutions.)
+  const double a_start = std::min({a_cap, tangent_jump ? b_cap : b_cap / kEndShare, a_model});
   const double p_guess = a_angle <= a_curvature ? 1.0 : 2.0;
   struct Point {
     double x;
@@ -225,6 +273,19 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
       if (cur.y >= -kReached || cur.x >= x_cap - 1e-12) break;
     } else {
       hi = std::min(hi, cur.x);
+    }
+    // the end bound sets y here and a solve from the other end lands on it exactly
+    if (cur.trial && cur.trial->fillet.b / b_cap >= cur.trial->deviation.max() / tolerance) {
+      if (Trial* t = solve_at_end_bound(*cur.trial)) {
+        const double x = std::log(t->fillet.a);
+        const double y = std::max(std::log(measure(t) / tolerance), 0.0);
+        // used when it lies inside what is known (else the step below goes on from cur)
+        if (x > lo && x < hi) {
+          prev = cur;
+          cur = Point{x, y, t};
+          continue;
+        }
+      }
     }
     // next x: Newton towards the middle of the accepted band (a at most halved or doubled),
     // else a secant step, else the slope guess; bisection when a bracketed step leaves the

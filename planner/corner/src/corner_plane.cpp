@@ -86,7 +86,9 @@ PlanarCorner planar_corner(const Primitive& in, const Primitive& out) {
     return (arc->u.cross(arc->v).dot(normal) > 0 ? 1.0 : -1.0) / arc->radius;
   };
   pc.shapes.q1 = PlanarShape{0.0, signed_curvature(in)};
-  pc.shapes.q2 = PlanarShape{std::atan2(t2.dot(pc.plane.y), t2.dot(pc.plane.x)), signed_curvature(out)};
+  // two lines: the plane's normal is t1 x t2, so t2 turns by +angle from x (no second atan2)
+  const double theta2 = pc.lines ? pc.angle : std::atan2(t2.dot(pc.plane.y), t2.dot(pc.plane.x));
+  pc.shapes.q2 = PlanarShape{theta2, signed_curvature(out)};
   return pc;
 }
 

@@ -109,7 +109,10 @@ Deviation biclothoid_deviation(const BiclothoidSolution& fillet, const CornerSha
 // (y is nearly linear in x: deviation ~ a at a tangent jump, ~ a^2 at a curvature jump), its
 // slope from the envelope theorem at the point where the deviation is attained (derived in
 // biclothoid_tolerance.cpp), kept inside the bracket once there is one, bisection otherwise;
-// the first a blends the two small-fillet models, so two solves usually suffice. The result satisfies
+// the first a blends the two small-fillet models, so two solves usually suffice. Where the end
+// bound b <= b_max sets y (a trial's b / b_max above its deviation / tolerance), Algorithm 1 is
+// solved once from the other end, on the reversed corner with b = b_max and warm-started from
+// that trial, which is the answer when its deviation is within the tolerance. The result satisfies
 // tolerance (1 - 1e-4) <= deviation <= tolerance unless the move lengths limit it (`limited` =
 // true, deviation < tolerance). A fillet replaces at most an eighth of a turn of an arc (a
 // larger one is no longer a corner fillet, and its turn approaches 2 pi) and stays short of a
