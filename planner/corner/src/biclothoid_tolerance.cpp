@@ -26,19 +26,6 @@ constexpr double kCrossingMargin = 0.98;
 constexpr double kReached = 1e-4;
 // The most of an arc a fillet replaces (rad of the arc's turn).
 constexpr double kMaxArcTurn = 0.25 * std::numbers::pi;
-// b / a of a small fillet at a curvature jump alone (no tangent jump), derived here (seed 004 is
-// silent): in the limit of small fillets the slopes are small and arc length is x, and only the
-// jump matters (a common curvature adds the same parabola to the path and to the fillet), so
-// take q1 of curvature k for x in [-a, 0] and q2 the line y = 0. The fillet's curvature is a tent
-// k -> k + c s1 -> 0 of equal slopes c over s1 and s2 (s1 + s2 = a + b); it leaves q1 G2 at
-// x = -a (y = k a^2 / 2, y' = -k a) and meets the line G2 at x = b, so its curvature's integral
-// is k a (the slope returns to 0) and its first moment about x = b is k a (a + b) - k a^2 / 2
-// (the height returns to 0). With k = a = 1 the tent's end gives c (s2 - s1) = 1, the integral
-// then s1 = s2 + 1 - sqrt(2 s2^2 + 1), and the moment 2 s2^4 - 6 s2 + 3 = 0, whose root above 1
-// is s2 = 1.2066504; so b / a = s1 + s2 - 1 = 2 s2 - sqrt(2 s2^2 + 1) = 0.4354205 (measured
-// over the property tests' random tangent corners: 0.4343-0.4374, the spread from fillets that
-// are not small; Biclothoid.ASmallFilletAtACurvatureJumpEndsAtTheDerivedShare).
-constexpr double kEndShare = 0.4354205;
 
 // Where q1 (sigma in [-a_max, 0)) and q2 (sigma in (0, b_max]) meet again after the corner,
 // as (-sigma1, sigma2), or nullopt. Both pass through the origin, so a line meets a circle of

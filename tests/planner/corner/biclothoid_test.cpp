@@ -464,8 +464,8 @@ TEST(Biclothoid, AStartCapReachedFirstSpendsNoSolveOnTheEndBound) {
 }
 
 // A small fillet at a curvature jump alone ends at b = (2 s2 - sqrt(2 s2^2 + 1)) a after the
-// corner, s2 the root above 1 of 2 s2^4 - 6 s2 + 3 (derived in biclothoid_tolerance.cpp, where
-// Algorithm 2 starts from it), a on the more curved move: on random tangent corners with a
+// corner, s2 the root above 1 of 2 s2^4 - 6 s2 + 3 (derived in biclothoid_internal.hpp; Algorithm
+// 1 guesses and Algorithm 2 starts from it), a on the more curved move: on random tangent corners with a
 // tolerance that keeps the fillet small (its turn on the arc about 0.01 rad).
 TEST(Biclothoid, ASmallFilletAtACurvatureJumpEndsAtTheDerivedShare) {
   double s2 = 1.2;
