@@ -266,8 +266,10 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
       if (Trial* t = solve_at_end_bound(*cur.trial)) {
         const double x = std::log(t->fillet.a);
         const double y = std::max(std::log(measure(t) / tolerance), 0.0);
-        // used when it lies inside what is known (else the step below goes on from cur)
-        if (x > lo && x < hi) {
+        // used when it lies inside what is known, or is feasible where a trial rounded past
+        // the end bound (b = b_cap (1 + 1e-16): the same a up to rounding); else the step below
+        // goes on from cur
+        if (x > lo && (x < hi || y <= 0)) {
           prev = cur;
           cur = Point{x, y, t};
           continue;
