@@ -15,7 +15,9 @@
 
 #include "blendbench/core/units.hpp"
 #include "blendbench/geometry/arc_construction.hpp"
+#include "blendbench/corner/biclothoid.hpp"
 #include "blendbench/corner/corner.hpp"
+#include "blendbench/corner/corner_plane.hpp"
 #include "blendbench/geometry/fresnel.hpp"
 #include "blendbench/geometry/segment.hpp"
 #include "support/random_corner.hpp"
@@ -201,8 +203,28 @@ void distribution(benchmark::State& state, test::CornerKind kind, Method method,
   state.counters["over_8us"] = static_cast<double>(std::count_if(sorted.begin(), sorted.end(), [](double t) { return t > 8; })) /
                                static_cast<double>(sorted.size());
 }
+// With the distribution, the solves of seed 004's Algorithm 1 that Algorithm 2 takes on the
+// planar corners with an arc (fit_biclothoid_with_tolerance), untimed: their mean and the share
+// of fits that need three or more.
 void BM_BiclothoidRandom(benchmark::State& s, test::CornerKind kind) {
   distribution(s, kind, Method::kBiclothoid, fit_biclothoid_corner);
+  if (kind == test::CornerKind::kLineLine) return;
+  int fits = 0;
+  int solves = 0;
+  int over_two = 0;
+  for (int i = static_cast<int>(kind); i < 8000; i += 4) {
+    auto rng = test::make_rng(1000 + static_cast<std::uint64_t>(i));
+    const CornerInput c = test::random_corner(rng, kind, Method::kBiclothoid).input;
+    const PlanarCorner geometry = planar_corner(c.in, c.out);
+    if (!geometry.planar || (!(geometry.angle > 1e-9) && geometry.same_curvature)) continue;  // no Algorithm 2
+    const BiclothoidToleranceFit fit =
+        fit_biclothoid_with_tolerance(geometry.shapes, c.spec.parameter, c.in_available, c.out_available);
+    ++fits;
+    solves += fit.solves;
+    over_two += fit.solves > 2 ? 1 : 0;
+  }
+  s.counters["solves_mean"] = static_cast<double>(solves) / std::max(fits, 1);
+  s.counters["over_2_solves"] = static_cast<double>(over_two) / std::max(fits, 1);
 }
 void BM_ClothoidRandom(benchmark::State& s, test::CornerKind kind) {
   distribution(s, kind, Method::kClothoid, fit_clothoid_corner);
