@@ -51,15 +51,8 @@ CornerFit fit_biclothoid_corner(const CornerInput& corner) {
     if (pair.tangent_length > available) {
       const double asked = start_distance > 0 ? start_distance : tolerance;
       pair = clothoid_pair_for_tangent_length(shape, available);
-      // one string grown in place (the note is built for about half of all line corners)
-      fit.note.reserve(96);
-      fit.note += start_distance > 0 ? "start distance" : "deviation";
-      fit.note += " shrunk from ";
-      fit.note += format_mm(asked);
-      fit.note += " to ";
-      fit.note += format_mm(start_distance > 0 ? pair.tangent_length : pair.deviation);
-      fit.note += corner.in_available <= corner.out_available ? ": the incoming move is short"
-                                                              : ": the outgoing move is short";
+      fit.note = pair_shrunk_note(start_distance > 0 ? "start distance" : "deviation", asked,
+                                  start_distance > 0 ? pair.tangent_length : pair.deviation, corner);
     }
     fit.transition = clothoid_pair_segments(pair, shape, geometry.plane);
     fit.trim_in = pair.tangent_length;

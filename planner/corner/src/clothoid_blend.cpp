@@ -210,8 +210,7 @@ CornerFit fit_clothoid_corner(const CornerInput& corner) {
   std::string shrink_note;
   if (pair.tangent_length > available) {
     pair = clothoid_pair_for_tangent_length(shape, available);
-    shrink_note = "deviation shrunk from " + format_mm(tolerance) + " to " + format_mm(pair.deviation) + ": the " + short_move +
-                  " move is short";
+    shrink_note = pair_shrunk_note("deviation", tolerance, pair.deviation, corner);
   }
   const auto use_pair = [&](const std::string& note) {
     fit.transition = clothoid_pair_segments(pair, shape, geometry.plane);

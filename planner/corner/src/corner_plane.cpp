@@ -129,4 +129,16 @@ std::optional<CornerFit> clothoid_special_case(const CornerInput& corner, const 
   return std::nullopt;
 }
 
+std::string pair_shrunk_note(std::string_view what, double asked, double used, const CornerInput& corner) {
+  std::string note;
+  note.reserve(96);
+  note += what;
+  note += " shrunk from ";
+  note += format_mm(asked);
+  note += " to ";
+  note += format_mm(used);
+  note += corner.in_available <= corner.out_available ? ": the incoming move is short" : ": the outgoing move is short";
+  return note;
+}
+
 }  // namespace blendbench

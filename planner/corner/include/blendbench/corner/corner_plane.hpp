@@ -8,6 +8,8 @@
 // lengths in m.
 
 #include <optional>
+#include <string>
+#include <string_view>
 
 #include <Eigen/Core>
 
@@ -70,5 +72,10 @@ PlanarCorner planar_corner(const Primitive& in, const Primitive& out);
 //  - parameter 0 at a curvature jump only ("tangent"): the path is left as programmed;
 //  - no length available on one of the moves: outcome kInfeasible (the blender stops there).
 std::optional<CornerFit> clothoid_special_case(const CornerInput& corner, const PlanarCorner& geometry);
+
+// The note of a line-line clothoid pair shrunk to the shorter of its moves, as both clothoid
+// methods give it: "<what> shrunk from <asked> to <used>: the incoming (outgoing) move is short"
+// (asked, used in m); built in one string, as about half of all line corners get one.
+std::string pair_shrunk_note(std::string_view what, double asked, double used, const CornerInput& corner);
 
 }  // namespace blendbench
