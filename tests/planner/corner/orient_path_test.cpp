@@ -28,6 +28,18 @@ Quat target_of(const Program& program, int k) {
 
 // At the junction from piece a to piece b: dtheta/ds continuous (to kJoin relative), and its
 // derivative too (one-sided differences on either side, against the largest rho' on the two).
+// A program from the identity along a 100 mm line on x to `target` (0.2 m/s, 2 m/s^2, 20 m/s^3).
+Program one_line_to(const Quat& target) {
+  Program program;
+  program.start_orientation = Quat::Identity();
+  Move a;
+  a.geometry = Line{Vec3::Zero(), Vec3(0.1, 0, 0)};
+  a.limits = {0.2, 2.0, 2.0, 20.0};
+  a.orientation = target;
+  program.moves = {a};
+  return program;
+}
+
 void expect_rate_continuous(const PathPiece& a, const PathPiece& b, std::uint64_t seed, std::size_t k) {
   const double la = length(a.segment);
   const double lb = length(b.segment);
@@ -112,17 +124,12 @@ TEST(OrientPath, ProgramWithoutOrientationCarriesNone) {
 // A slerp by arc length about one axis: a quarter turn over a 100 mm line turns 45 degrees by
 // its middle; the transition at the corner turns by about what the trimmed parts would have.
 TEST(OrientPath, SlerpByArcLengthOnAMove) {
-  Program program;
-  program.start_orientation = Quat::Identity();
-  Move a;
-  a.geometry = Line{Vec3::Zero(), Vec3(0.1, 0, 0)};
-  a.limits = {0.2, 2.0, 2.0, 20.0};
-  a.orientation = Quat(Eigen::AngleAxisd(std::numbers::pi / 2, Vec3::UnitZ()));
-  a.transition = {Method::kArc, 0.01};
-  Move b = a;
+  Program program = one_line_to(Quat(Eigen::AngleAxisd(std::numbers::pi / 2, Vec3::UnitZ())));
+  program.moves[0].transition = {Method::kArc, 0.01};
+  Move b = program.moves[0];
   b.geometry = Line{Vec3(0.1, 0, 0), Vec3(0.1, 0.1, 0)};
   b.orientation.reset();
-  program.moves = {a, b};
+  program.moves.push_back(b);
   const Path path = blend(program);
   EXPECT_LE(rotation_angle(path.orientation(0.05), Quat(Eigen::AngleAxisd(std::numbers::pi / 4, Vec3::UnitZ()))), 1e-12);
   EXPECT_LE((path.angular_rate(0.02) - Vec3(0, 0, std::numbers::pi / 2 / 0.1)).norm(), 1e-12);
@@ -180,13 +187,7 @@ TEST(OrientPath, SplineIsC2AlongTheWholePathAndPassesEveryTarget) {
 
 // One move: the spline through two knots is the slerp by arc length.
 TEST(OrientPath, SplineOfOneMoveIsTheSlerp) {
-  Program program;
-  program.start_orientation = Quat::Identity();
-  Move a;
-  a.geometry = Line{Vec3::Zero(), Vec3(0.1, 0, 0)};
-  a.limits = {0.2, 2.0, 2.0, 20.0};
-  a.orientation = Quat(Eigen::AngleAxisd(2.0, Vec3(1, 2, 3).normalized()));
-  program.moves = {a};
+  Program program = one_line_to(Quat(Eigen::AngleAxisd(2.0, Vec3(1, 2, 3).normalized())));
   const Path slerp = blend(program);
   program.orientation_interpolation = OrientationInterpolation::kSpline;
   const Path spline = blend(program);
