@@ -4,7 +4,9 @@
 #include "blendbench/corner/biclothoid.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstddef>
 #include <limits>
 #include <optional>
 #include <string>
@@ -26,6 +28,71 @@ constexpr double kCrossingMargin = 0.98;
 constexpr double kReached = 1e-4;
 // The most of an arc a fillet replaces (rad of the arc's turn).
 constexpr double kMaxArcTurn = 0.25 * std::numbers::pi;
+
+// The start distance of a small fillet where a tangent jump delta and a curvature jump act
+// together (biclothoid_mixed_start_share), as a share F of the line-line pair's start a_angle,
+// against rho = a_angle / a_curvature. Derived here (seed 004 is silent): for small fillets
+// (small slopes and kappa a) only the jump in curvature counts (a common curvature adds the
+// same parabola to the path and to the fillet), and scaling lengths by a_angle leaves one
+// corner shape per rho and per sign of delta (kappa2 - kappa1), so F(rho, sign) is universal.
+// It has no closed form here; the entries are Algorithm 2's own solutions (to its band, 5e-5)
+// on corners of delta = 1e-3 rad from an arc of curvature 1/m to a line, at log10 rho = -2,
+// -1.95, ..., 2. The same solutions at delta = 0.1 rad differ by at most 0.3 %, on arc-arc
+// corners of the same jump by 1e-5 (Biclothoid.TheMixedStartShareIsAlgorithm2sSmallFillet checks
+// random ones against it). Below rho = 0.01 F is the first entry (the pair alone), above 100 it
+// falls as 1 / rho (the curvature jump alone: rho F = 0.997-0.999 at 100). Where the curvature
+// jump turns the path the way the tangent jump does (sign +1), Algorithm 2's solutions change
+// branch at log10 rho = 0.1045, from the shorter fillet (F = 0.388) to the longer (0.822); each
+// side of it extends its own nodes. The harmonic blend 1 / hypot(1 / a_angle, 1 / a_curvature)
+// used before is up to 59 % too long below the change of branch and 22 % too short above it
+// (within 5 % at sign -1): the first solve landed far enough out that 4.5 % of the random
+// corners with an arc needed three or four solves.
+constexpr double kMixedLogRhoMin = -2.0;
+constexpr double kMixedLogRhoStep = 0.05;
+constexpr std::array<double, 81> kMixedShareOpposed = {  // sign -1
+    0.99995, 0.99994, 0.99992, 0.99990, 0.99997, 0.99997, 0.99997, 0.99997, 0.99997, 0.99996,
+    0.99996, 0.99995, 0.99994, 0.99992, 0.99989, 0.99985, 0.99978, 0.99967, 0.99950, 0.99923,
+    0.99881, 0.99815, 0.99715, 0.99561, 0.99329, 0.98986, 0.98489, 0.97791, 0.96851, 0.95646,
+    0.94193, 0.92553, 0.90827, 0.89119, 0.87483, 0.85891, 0.84231, 0.82344, 0.80088, 0.77379,
+    0.74147, 0.69878, 0.64974, 0.59859, 0.54779, 0.49881, 0.45247, 0.40919, 0.36917, 0.33243,
+    0.29887, 0.26834, 0.24068, 0.21568, 0.19313, 0.17282, 0.15457, 0.13818, 0.12348, 0.11031,
+    0.09851, 0.08796, 0.07851, 0.07007, 0.06253, 0.05579, 0.04977, 0.04439, 0.03959, 0.03531,
+    0.03148, 0.02807, 0.02503, 0.02231, 0.01989, 0.01773, 0.01580, 0.01409, 0.01255, 0.01119,
+    0.00997};
+constexpr std::array<double, 81> kMixedShareAligned = {  // sign +1
+    0.99995, 0.99994, 0.99992, 0.99990, 0.99997, 0.99997, 0.99997, 0.99997, 0.99997, 0.99996,
+    0.99996, 0.99995, 0.99994, 0.99992, 0.99989, 0.99985, 0.99978, 0.99967, 0.99949, 0.99921,
+    0.99878, 0.99810, 0.99704, 0.99539, 0.99286, 0.98901, 0.98326, 0.97482, 0.96280, 0.94621,
+    0.92417, 0.89617, 0.86214, 0.82252, 0.77826, 0.73058, 0.68084, 0.63037, 0.58033, 0.53167,
+    0.48481, 0.43757, 0.39182, 0.74179, 0.66154, 0.58916, 0.52423, 0.46620, 0.41446, 0.36839,
+    0.32744, 0.29104, 0.25870, 0.22999, 0.20450, 0.18186, 0.16175, 0.14388, 0.12801, 0.11391,
+    0.10137, 0.09023, 0.08032, 0.07150, 0.06366, 0.05669, 0.05048, 0.04496, 0.04004, 0.03567,
+    0.03177, 0.02830, 0.02521, 0.02246, 0.02001, 0.01782, 0.01588, 0.01414, 0.01260, 0.01122,
+    0.00999};
+constexpr double kMixedAlignedJump = 0.104494;  // log10 rho of the change of branch (sign +1)
+
+}  // namespace
+
+double biclothoid_mixed_start_share(double rho, bool aligned) {
+  const auto& f = aligned ? kMixedShareAligned : kMixedShareOpposed;
+  if (!(rho > 0)) return f.front();
+  const double x = std::log10(rho);
+  const auto last = static_cast<std::ptrdiff_t>(f.size()) - 1;
+  if (x <= kMixedLogRhoMin) return f.front();
+  const double x_end = kMixedLogRhoMin + kMixedLogRhoStep * static_cast<double>(last);
+  if (x >= x_end) return f.back() * std::pow(10.0, x_end) / rho;
+  // linear in log F against log rho on the node interval holding x; across the change of
+  // branch each side extends its own neighbouring interval
+  const double u = (x - kMixedLogRhoMin) / kMixedLogRhoStep;
+  auto i = std::clamp(static_cast<std::ptrdiff_t>(u), std::ptrdiff_t{0}, last - 1);
+  const auto jump = static_cast<std::ptrdiff_t>((kMixedAlignedJump - kMixedLogRhoMin) / kMixedLogRhoStep);
+  if (aligned && i == jump) i = x < kMixedAlignedJump ? jump - 1 : jump + 1;
+  const double t = u - static_cast<double>(i);
+  const auto at = [&](std::ptrdiff_t k) { return std::log(f[static_cast<std::size_t>(k)]); };
+  return std::exp(at(i) + t * (at(i + 1) - at(i)));
+}
+
+namespace {
 
 // Where q1 (sigma in [-a_max, 0)) and q2 (sigma in (0, b_max]) meet again after the corner,
 // as (-sigma1, sigma2), or nullopt. Both pass through the origin, so a line meets a circle of
@@ -214,17 +281,19 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
   // leave the bracket, stopping at -kReached <= y <= 0.
   const double delta = corner_turn(work);
   const double x_cap = std::log(a_cap);
-  // a first start distance from the two small-fillet models: the line-line pair for the
-  // tangent jump (deviation ~ a) and, from seed 004 table 1 (arc R10 -> line at 0.1 mm: a = 6.5 mm),
-  // dev ~ |kappa jump| a^2 / 42 for the curvature jump; where both act, the harmonic blend
-  // 1 / a^2 = 1 / a_angle^2 + 1 / a_curvature^2 (an empirical fit: within about 1% of the
-  // solution for seed 004 listing 1 point C and a 20 deg line-arc kink, against 6% for the smaller)
+  // a first start distance from the small-fillet models: the line-line pair for the tangent
+  // jump (deviation ~ a) and, from seed 004 table 1 (arc R10 -> line at 0.1 mm: a = 6.5 mm),
+  // dev ~ |kappa jump| a^2 / 42 for the curvature jump; where both act, the share of the pair's
+  // start that small fillets take (biclothoid_mixed_start_share)
   const double kappa_jump = std::abs(work.q1.kappa - work.q2.kappa);
   const double a_angle = tangent_jump ? clothoid_pair_for_deviation(std::abs(delta), tolerance).tangent_length
                                       : std::numeric_limits<double>::infinity();
   const double a_curvature =
       kappa_jump > 0 ? std::sqrt(42.0 * tolerance / kappa_jump) : std::numeric_limits<double>::infinity();
-  const double a_model = 1 / std::hypot(1 / a_angle, 1 / a_curvature);
+  const double a_model =
+      std::isfinite(a_angle) && std::isfinite(a_curvature)
+          ? a_angle * biclothoid_mixed_start_share(a_angle / a_curvature, delta * (work.q2.kappa - work.q1.kappa) > 0)
+          : std::min(a_angle, a_curvature);
   // the end bound, as a start distance: b_cap where there is a tangent jump (the line-line pair
   // is symmetric, b = a), b_cap / kEndShare at a curvature jump alone (kEndShare). (Where both
   // act, b_cap / kEndShare started some corners on another branch of Algorithm 1's solutions.)

@@ -508,6 +508,53 @@ TEST(Biclothoid, ASmallFilletAtACurvatureJumpEndsAtTheDerivedShare) {
   EXPECT_NEAR(share, 0.4354205, 1e-7);
 }
 
+// Algorithm 2 starts a corner with both a tangent and a curvature jump at the share of the
+// line-line pair's start that small fillets take there (biclothoid_mixed_start_share, a table of
+// its own solutions at one corner shape): on random small corners of both signs, turns up to
+// 0.01 rad, arc-line or arc-arc, radii up to 10 m and tolerances of 0.1 um to 10 mm, the solution is that share, and the start is close enough that
+// the next solve reaches the band. Near the change of branch (sign +1, log10 rho = 0.1045) either
+// branch may be found, so those are skipped.
+TEST(Biclothoid, TheMixedStartShareIsAlgorithm2sSmallFillet) {
+  const int cases = test::property_cases(2000);
+  double worst = 0;
+  int over_two = 0;
+  int checked = 0;
+  for (int i = 0; i < cases; ++i) {
+    const std::uint64_t seed = 6000 + static_cast<std::uint64_t>(i);
+    auto rng = test::make_rng(seed);
+    const bool aligned = test::uniform(rng, 0, 1) < 0.5;
+    const double log_rho = test::uniform(rng, -2, 2);
+    if (aligned && std::abs(log_rho - 0.1045) < 0.01) continue;
+    const double rho = std::pow(10.0, log_rho);
+    const double k1 = test::log_uniform(rng, 0.1, 1e4) * (test::uniform(rng, 0, 1) < 0.5 ? 1 : -1);  // R <= 10 m
+    const double k2 = test::uniform(rng, -0.5, 0.5) * k1;  // less curved: no swap (section 6)
+    const double jump = k2 - k1;
+    // small: the arc turns by |k1| a ~ 7 rho |k1 / jump| |turn| over the fillet (a_angle ~ 6 tol /
+    // |turn| for a small turn), kept below 0.02
+    const double turn_max = std::min(1e-2, 3e-3 / (rho * std::abs(k1 / jump)));
+    const double turn = test::log_uniform(rng, 1e-2 * turn_max, turn_max) * ((jump > 0) == aligned ? 1 : -1);
+    // a_angle = A tol and a_curvature = sqrt(42 tol / |jump|), so rho fixes tol
+    const double per_tol = clothoid_pair_for_deviation(std::abs(turn), 1.0).tangent_length;
+    const double tol = 42 * rho * rho / (per_tol * per_tol * std::abs(jump));
+    if (tol < 1e-7 || tol > 1e-2) continue;  // 0.1 um to 10 mm
+    const CornerShapes shapes{{0.0, k1}, {turn, k2}};
+    const BiclothoidToleranceFit fit = fit_biclothoid_with_tolerance(shapes, tol, 1.0, 1.0);
+    ASSERT_TRUE(fit.outcome.ok()) << test::seed_text(seed) << ": " << fit.outcome.message;
+    ASSERT_FALSE(fit.swapped) << test::seed_text(seed);
+    ASSERT_FALSE(fit.limited) << test::seed_text(seed);
+    const double share = fit.fillet.a / (per_tol * tol);
+    const double expected = biclothoid_mixed_start_share(rho, aligned);
+    EXPECT_NEAR(share, expected, 3e-3 * expected)
+        << test::seed_text(seed) << " rho " << rho << " aligned " << aligned << " turn " << turn << " k1 " << k1;
+    worst = std::max(worst, std::abs(share / expected - 1));
+    over_two += fit.solves > 2 ? 1 : 0;
+    ++checked;
+  }
+  EXPECT_GT(checked, cases / 10);
+  EXPECT_LE(over_two, checked / 100);
+  std::cout << checked << " corners: share within " << worst << " of the table, " << over_two << " over two solves\n";
+}
+
 // A line into an arc of R 10 mm at a 20 deg kink, after a short line: the fit runs from the arc
 // backwards (section 6), so the line's length is its end bound, and the fillet ends there,
 // found by a solve from that end after the first (Newton on log(b / b_max) took three).
