@@ -30,7 +30,7 @@ constexpr double kReached = 1e-4;
 constexpr double kMaxArcTurn = 0.25 * std::numbers::pi;
 
 // The start distance of a small fillet where a tangent jump delta and a curvature jump act
-// together (biclothoid_mixed_start_share), as a share F of the line-line pair's start a_angle,
+// together (biclothoid_mixed_shares), as a share F of the line-line pair's start a_angle,
 // against rho = a_angle / a_curvature. Derived here (seed 004 is silent): for small fillets
 // (small slopes and kappa a) only the jump in curvature counts (a common curvature adds the
 // same parabola to the path and to the fillet), and scaling lengths by a_angle leaves one
@@ -69,27 +69,65 @@ constexpr std::array<double, 81> kMixedShareAligned = {  // sign +1
     0.10137, 0.09023, 0.08032, 0.07150, 0.06366, 0.05669, 0.05048, 0.04496, 0.04004, 0.03567,
     0.03177, 0.02830, 0.02521, 0.02246, 0.02001, 0.01782, 0.01588, 0.01414, 0.01260, 0.01122,
     0.00999};
+// b / a of the same solutions (the fillet's end on q2 as a share of its start on q1): 1 for
+// the pair alone, kEndShare for the curvature jump alone
+constexpr std::array<double, 81> kMixedEndOpposed = {  // sign -1
+    1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000,
+    1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 0.99999, 0.99999,
+    0.99997, 0.99994, 0.99989, 0.99978, 0.99956, 0.99915, 0.99835, 0.99684, 0.99410, 0.98927,
+    0.98115, 0.96828, 0.94920, 0.92295, 0.88961, 0.85059, 0.80830, 0.76552, 0.72461, 0.68710,
+    0.65385, 0.62618, 0.60303, 0.58329, 0.56625, 0.55141, 0.53840, 0.52696, 0.51686, 0.50791,
+    0.49997, 0.49293, 0.48666, 0.48108, 0.47612, 0.47170, 0.46776, 0.46425, 0.46112, 0.45833,
+    0.45584, 0.45362, 0.45164, 0.44988, 0.44830, 0.44689, 0.44563, 0.44451, 0.44351, 0.44260,
+    0.44179, 0.44106, 0.44040, 0.43980, 0.43925, 0.43874, 0.43827, 0.43781, 0.43736, 0.43691,
+    0.43645};
+constexpr std::array<double, 81> kMixedEndAligned = {  // sign +1
+    1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000,
+    1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00001, 1.00001,
+    1.00003, 1.00006, 1.00011, 1.00022, 1.00044, 1.00086, 1.00166, 1.00317, 1.00594, 1.01085,
+    1.01921, 1.03276, 1.05352, 1.08348, 1.12408, 1.17566, 1.23717, 1.30630, 1.38005, 1.45538,
+    1.52939, 1.59698, 1.65829, 0.27765, 0.29695, 0.31349, 0.32780, 0.34024, 0.35113, 0.36068,
+    0.36909, 0.37651, 0.38306, 0.38887, 0.39402, 0.39858, 0.40263, 0.40623, 0.40943, 0.41228,
+    0.41481, 0.41706, 0.41906, 0.42084, 0.42242, 0.42383, 0.42508, 0.42619, 0.42718, 0.42806,
+    0.42883, 0.42951, 0.43010, 0.43062, 0.43107, 0.43145, 0.43176, 0.43201, 0.43219, 0.43231,
+    0.43234};
 constexpr double kMixedAlignedJump = 0.104494;  // log10 rho of the change of branch (sign +1)
+// the solutions either side of it
+constexpr BiclothoidMixedShares kMixedJumpBelow{0.38784, 1.66353};
+constexpr BiclothoidMixedShares kMixedJumpAbove{0.82176, 0.25708};
 
 }  // namespace
 
-double biclothoid_mixed_start_share(double rho, bool aligned) {
-  const auto& f = aligned ? kMixedShareAligned : kMixedShareOpposed;
-  if (!(rho > 0)) return f.front();
-  const double x = std::log10(rho);
-  const auto last = static_cast<std::ptrdiff_t>(f.size()) - 1;
-  if (x <= kMixedLogRhoMin) return f.front();
+BiclothoidMixedShares biclothoid_mixed_shares(double rho, bool aligned) {
+  const auto& start = aligned ? kMixedShareAligned : kMixedShareOpposed;
+  const auto& end = aligned ? kMixedEndAligned : kMixedEndOpposed;
+  const auto last = static_cast<std::ptrdiff_t>(start.size()) - 1;
+  const double x = rho > 0 ? std::log10(rho) : kMixedLogRhoMin;
+  if (x <= kMixedLogRhoMin) return {start.front(), end.front()};
   const double x_end = kMixedLogRhoMin + kMixedLogRhoStep * static_cast<double>(last);
-  if (x >= x_end) return f.back() * std::pow(10.0, x_end) / rho;
-  // linear in log F against log rho on the node interval holding x; across the change of
-  // branch each side extends its own neighbouring interval
+  if (x >= x_end) return {start.back() * std::pow(10.0, x_end) / rho, end.back()};
+  // linear in log share against log rho between the nodes either side of x; in the node
+  // interval holding the change of branch, between the node on x's side and that side's
+  // solution at the change
   const double u = (x - kMixedLogRhoMin) / kMixedLogRhoStep;
-  auto i = std::clamp(static_cast<std::ptrdiff_t>(u), std::ptrdiff_t{0}, last - 1);
-  const auto jump = static_cast<std::ptrdiff_t>((kMixedAlignedJump - kMixedLogRhoMin) / kMixedLogRhoStep);
-  if (aligned && i == jump) i = x < kMixedAlignedJump ? jump - 1 : jump + 1;
-  const double t = u - static_cast<double>(i);
-  const auto at = [&](std::ptrdiff_t k) { return std::log(f[static_cast<std::size_t>(k)]); };
-  return std::exp(at(i) + t * (at(i + 1) - at(i)));
+  const auto i = std::clamp(static_cast<std::ptrdiff_t>(u), std::ptrdiff_t{0}, last - 1);
+  const auto node = [&](const std::array<double, 81>& f, std::ptrdiff_t k) { return f[static_cast<std::size_t>(k)]; };
+  double x0 = kMixedLogRhoMin + kMixedLogRhoStep * static_cast<double>(i);
+  double x1 = x0 + kMixedLogRhoStep;
+  BiclothoidMixedShares lo{node(start, i), node(end, i)};
+  BiclothoidMixedShares hi{node(start, i + 1), node(end, i + 1)};
+  if (aligned && x0 < kMixedAlignedJump && kMixedAlignedJump < x1) {
+    if (x < kMixedAlignedJump) {
+      x1 = kMixedAlignedJump;
+      hi = kMixedJumpBelow;
+    } else {
+      x0 = kMixedAlignedJump;
+      lo = kMixedJumpAbove;
+    }
+  }
+  const double t = (x - x0) / (x1 - x0);
+  const auto interpolate = [t](double f0, double f1) { return std::exp(std::log(f0) + t * (std::log(f1) - std::log(f0))); };
+  return {interpolate(lo.start, hi.start), interpolate(lo.end, hi.end)};
 }
 
 namespace {
@@ -284,20 +322,27 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
   // a first start distance from the small-fillet models: the line-line pair for the tangent
   // jump (deviation ~ a) and, from seed 004 table 1 (arc R10 -> line at 0.1 mm: a = 6.5 mm),
   // dev ~ |kappa jump| a^2 / 42 for the curvature jump; where both act, the share of the pair's
-  // start that small fillets take (biclothoid_mixed_start_share)
+  // start that small fillets take (biclothoid_mixed_shares)
   const double kappa_jump = std::abs(work.q1.kappa - work.q2.kappa);
   const double a_angle = tangent_jump ? clothoid_pair_for_deviation(std::abs(delta), tolerance).tangent_length
                                       : std::numeric_limits<double>::infinity();
   const double a_curvature =
       kappa_jump > 0 ? std::sqrt(42.0 * tolerance / kappa_jump) : std::numeric_limits<double>::infinity();
-  const double a_model =
-      std::isfinite(a_angle) && std::isfinite(a_curvature)
-          ? a_angle * biclothoid_mixed_start_share(a_angle / a_curvature, delta * (work.q2.kappa - work.q1.kappa) > 0)
-          : std::min(a_angle, a_curvature);
-  // the end bound, as a start distance: b_cap where there is a tangent jump (the line-line pair
-  // is symmetric, b = a), b_cap / kEndShare at a curvature jump alone (kEndShare). (Where both
-  // act, b_cap / kEndShare started some corners on another branch of Algorithm 1's solutions.)
-  const double a_start = std::min({a_cap, tangent_jump ? b_cap : b_cap / kEndShare, a_model});
+  const bool mixed = std::isfinite(a_angle) && std::isfinite(a_curvature);
+  const BiclothoidMixedShares shares =
+      mixed ? biclothoid_mixed_shares(a_angle / a_curvature, delta * (work.q2.kappa - work.q1.kappa) > 0)
+            : BiclothoidMixedShares{1.0, tangent_jump ? 1.0 : kEndShare};
+  const double a_model = mixed ? a_angle * shares.start : std::min(a_angle, a_curvature);
+  // the end bound, as a start distance, where the model's fillet would end past it: b_cap where
+  // there is a tangent jump (the line-line pair is symmetric, b = a), b_cap / kEndShare at a
+  // curvature jump alone (kEndShare). (Where both act, b_cap / kEndShare, or b_cap over the
+  // end share, started some corners on another branch of Algorithm 1's solutions.) Where the
+  // model's fillet ends short of it (b = end share x a_model), the model is the start: b_cap,
+  // up to 2.3 times shorter at a tangent jump that the curvature jump dominates, cost a solve
+  // there and one more from the end bound.
+  const bool ends_short = tangent_jump && a_model * shares.end <= b_cap;
+  const double a_start =
+      ends_short ? std::min(a_cap, a_model) : std::min({a_cap, tangent_jump ? b_cap : b_cap / kEndShare, a_model});
   const double p_guess = a_angle <= a_curvature ? 1.0 : 2.0;
   struct Point {
     double x;

@@ -509,7 +509,7 @@ TEST(Biclothoid, ASmallFilletAtACurvatureJumpEndsAtTheDerivedShare) {
 }
 
 // Algorithm 2 starts a corner with both a tangent and a curvature jump at the share of the
-// line-line pair's start that small fillets take there (biclothoid_mixed_start_share, a table of
+// line-line pair's start that small fillets take there (biclothoid_mixed_shares, a table of
 // its own solutions at one corner shape): on random small corners of both signs, turns up to
 // 0.01 rad, arc-line or arc-arc, radii up to 10 m and tolerances of 0.1 um to 10 mm, the solution is that share, and the start is close enough that
 // the next solve reaches the band. Near the change of branch (sign +1, log10 rho = 0.1045) either
@@ -517,6 +517,7 @@ TEST(Biclothoid, ASmallFilletAtACurvatureJumpEndsAtTheDerivedShare) {
 TEST(Biclothoid, TheMixedStartShareIsAlgorithm2sSmallFillet) {
   const int cases = test::property_cases(2000);
   double worst = 0;
+  double worst_end = 0;
   int over_two = 0;
   int checked = 0;
   for (int i = 0; i < cases; ++i) {
@@ -543,16 +544,20 @@ TEST(Biclothoid, TheMixedStartShareIsAlgorithm2sSmallFillet) {
     ASSERT_FALSE(fit.swapped) << test::seed_text(seed);
     ASSERT_FALSE(fit.limited) << test::seed_text(seed);
     const double share = fit.fillet.a / (per_tol * tol);
-    const double expected = biclothoid_mixed_start_share(rho, aligned);
-    EXPECT_NEAR(share, expected, 3e-3 * expected)
+    const BiclothoidMixedShares expected = biclothoid_mixed_shares(rho, aligned);
+    EXPECT_NEAR(share, expected.start, 3e-3 * expected.start)
         << test::seed_text(seed) << " rho " << rho << " aligned " << aligned << " turn " << turn << " k1 " << k1;
-    worst = std::max(worst, std::abs(share / expected - 1));
+    EXPECT_NEAR(fit.fillet.b / fit.fillet.a, expected.end, 3e-3 * expected.end)
+        << test::seed_text(seed) << " rho " << rho << " aligned " << aligned << " turn " << turn << " k1 " << k1;
+    worst = std::max(worst, std::abs(share / expected.start - 1));
+    worst_end = std::max(worst_end, std::abs(fit.fillet.b / fit.fillet.a / expected.end - 1));
     over_two += fit.solves > 2 ? 1 : 0;
     ++checked;
   }
   EXPECT_GT(checked, cases / 10);
   EXPECT_LE(over_two, checked / 100);
-  std::cout << checked << " corners: share within " << worst << " of the table, " << over_two << " over two solves\n";
+  std::cout << checked << " corners: start within " << worst << " of the table, end within " << worst_end << ", "
+            << over_two << " over two solves\n";
 }
 
 // A line into an arc of R 10 mm at a 20 deg kink, after a short line: the fit runs from the arc

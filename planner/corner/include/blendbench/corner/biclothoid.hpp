@@ -132,15 +132,20 @@ struct BiclothoidToleranceFit {
 BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes, double tolerance, double a_max,
                                                      double b_max);
 
-// Where Algorithm 2 starts at a corner with both a tangent jump delta and a curvature jump: the
-// start distance of a small fillet there as a share of the line-line pair's (the pair of the
-// tolerance at the turn |delta|), at rho = a_angle / a_curvature (a_curvature = sqrt(42 tol /
-// |kappa jump|)); `aligned`: delta (kappa2 - kappa1) > 0, the curvature jump turning the path
-// the way the tangent jump does, on the corner as Algorithm 2 solves it (from the more curved
-// shape, section 6). A table of Algorithm 2's own small-fillet solutions (its source is in
-// biclothoid_tolerance.cpp); 1 (to 5e-5) below rho = 0.01, falling as 1 / rho (the curvature
-// alone) above 100.
-double biclothoid_mixed_start_share(double rho, bool aligned);
+// Where Algorithm 2 starts at a corner with both a tangent jump delta and a curvature jump: a
+// small fillet there starts `start` times the line-line pair's start (the pair of the tolerance
+// at the turn |delta|) before the corner and ends `end` times its own start after it, at
+// rho = a_angle / a_curvature (a_curvature = sqrt(42 tol / |kappa jump|)); `aligned`:
+// delta (kappa2 - kappa1) > 0, the curvature jump turning the path the way the tangent jump
+// does, on the corner as Algorithm 2 solves it (from the more curved shape, section 6). Tables
+// of Algorithm 2's own small-fillet solutions (their source is in biclothoid_tolerance.cpp):
+// start 1 (to 5e-5) and end 1 below rho = 0.01; above 100 start falls as 1 / rho and end is
+// kEndShare's 0.435 (the curvature jump alone).
+struct BiclothoidMixedShares {
+  double start;
+  double end;
+};
+BiclothoidMixedShares biclothoid_mixed_shares(double rho, bool aligned);
 
 // The other way to size a fillet (seed 004 Algorithm 1 alone): it starts `start_distance` (m, > 0)
 // before the corner on q1. The start distance is capped as in the tolerance fit (a_max, an
