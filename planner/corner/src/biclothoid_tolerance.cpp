@@ -43,7 +43,7 @@ constexpr double kMaxArcTurn = 0.25 * std::numbers::pi;
 // falls as 1 / rho (the curvature jump alone: rho F = 0.997-0.999 at 100). Where the curvature
 // jump turns the path the way the tangent jump does (sign +1), Algorithm 2's solutions change
 // branch at log10 rho = 0.1045, from the shorter fillet (F = 0.388) to the longer (0.822); each
-// side of it extends its own nodes. The harmonic blend 1 / hypot(1 / a_angle, 1 / a_curvature)
+// side interpolates to its own solution there (kMixedJumpBelow, kMixedJumpAbove). The harmonic blend 1 / hypot(1 / a_angle, 1 / a_curvature)
 // used before is up to 59 % too long below the change of branch and 22 % too short above it
 // (within 5 % at sign -1): the first solve landed far enough out that 4.5 % of the random
 // corners with an arc needed three or four solves.
