@@ -28,7 +28,8 @@ class Piece {
         start_(lo == 0 ? Vec2::Zero() : shape_point(q, lo)),
         end_(hi == 0 ? Vec2::Zero() : shape_point(q, hi)) {
     if (q.kappa != 0) {
-      centre_ = Vec2(-std::sin(q.theta), std::cos(q.theta)) / q.kappa;
+      normal_ = Vec2(-std::sin(q.theta), std::cos(q.theta));
+      centre_ = normal_ / q.kappa;
       radius_ = 1.0 / std::abs(q.kappa);
       // the radial directions at the ends, ordered counter-clockwise
       from_ = start_ - centre_;
@@ -61,9 +62,20 @@ class Piece {
     const bool after_from = cross(from_, r) >= 0;
     const bool before_to = cross(r, to_) >= 0;
     if (wide_ ? (after_from || before_to) : (after_from && before_to)) {
-      const double rn = r.norm();
-      const Vec2 p = rn > 0 ? Vec2(centre_ + r * (radius_ / rn)) : start_;
-      return {std::abs(rn - radius_), p, rn > 0 ? (rn > radius_ ? 1.0 : -1.0) / rn : 0.0};
+      // the gap |x - centre| - radius, and the foot, without the centre: with w = kappa x - n
+      // (n the unit normal at the corner, towards the centre), |x - centre| = |w| / |kappa| and
+      // |x - centre|^2 - radius^2 = |x|^2 - 2 x . n / kappa, so
+      //   gap = (|kappa| |x|^2 - 2 sgn(kappa) x . n) / (|w| + 1),
+      // and the radial unit vector is sgn(kappa) w / |w|. Through the centre, rn - radius
+      // cancels to the rounding of the centre's coordinates: 1e-10 m at a radius of 1e6 m, as
+      // much as Algorithm 2's band at a tolerance of 1 um, which then never converged.
+      const Vec2 w = q_.kappa * x - normal_;
+      const double wn = w.norm();
+      if (!(wn > 0)) return {radius_, start_, 0.0};  // at the centre: every point is as close
+      const double k = std::abs(q_.kappa);
+      const double gap = (k * x.squaredNorm() - 2 * std::copysign(1.0, q_.kappa) * x.dot(normal_)) / (wn + 1);
+      const Vec2 radial = std::copysign(1.0, q_.kappa) * w / wn;
+      return {std::abs(gap), x - gap * radial, (gap > 0 ? 1.0 : -1.0) * k / wn};
     }
     const double da = (x - start_).norm();
     const double db = (x - end_).norm();
@@ -86,6 +98,7 @@ class Piece {
   Vec2 start_;
   Vec2 end_;
   Vec2 dir_ = Vec2::Zero();
+  Vec2 normal_ = Vec2::Zero();
   Vec2 centre_ = Vec2::Zero();
   double radius_ = 0;
   Vec2 from_ = Vec2::Zero();
