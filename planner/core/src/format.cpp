@@ -6,24 +6,38 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <sstream>
+#include <span>
+#include <string_view>
 
 namespace blendbench {
 namespace {
 
 std::string with_unit(double value, const char* unit) { return format_value(value) + ' ' + unit; }
 
+// format_value's text written into `text`: its length, 0 when it does not fit
+std::size_t write_value(std::span<char> text, double value, int digits) {
+  if (std::isnan(value)) value = std::numeric_limits<double>::quiet_NaN();  // never "-nan"
+  if (value == 0) value = 0;                                                 // never "-0"
+  // %g with `digits` significant digits, as a stream prints it, without building a stream (the
+  // corner fits format their notes on the hot path)
+  const auto [end, error] = std::to_chars(text.data(), text.data() + text.size(), value, std::chars_format::general,
+                                          std::clamp(digits, 1, 40));
+  return error == std::errc() ? static_cast<std::size_t>(end - text.data()) : 0;
+}
+
 }  // namespace
 
 std::string format_value(double value, int digits) {
-  if (std::isnan(value)) return "nan";  // never "-nan"
-  if (value == 0) value = 0;            // never "-0"
-  // %g with `digits` significant digits, as a stream prints it, without building a stream (the
-  // corner fits format their notes on the hot path)
   std::array<char, 64> text{};
-  const auto [end, error] = std::to_chars(text.data(), text.data() + text.size(), value, std::chars_format::general,
-                                          std::clamp(digits, 1, 40));
-  return error == std::errc() ? std::string(text.data(), end) : std::string("?");
+  const std::size_t n = write_value(text, value, digits);
+  return n > 0 ? std::string(text.data(), n) : std::string("?");
+}
+
+void append_mm(std::string& out, double metres) {
+  std::array<char, 64> text{};
+  const std::size_t n = write_value(text, metres * 1e3, 6);
+  out.append(n > 0 ? std::string_view(text.data(), n) : std::string_view("?"));
+  out += " mm";
 }
 
 std::string printable(std::string_view text) {

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <string>
+#include <string_view>
 
 #include "biclothoid_internal.hpp"
 #include "blendbench/core/format.hpp"
@@ -29,6 +30,21 @@ bool use_fillet(const Outcome& outcome, const BiclothoidSolution& fillet, const 
   fit.trim_in = fillet.a;
   fit.trim_out = fillet.b;
   return true;
+}
+
+// "<what> <first> mm<link><second> mm: <why>", built in one buffer (a limited fit's note is
+// formatted on the fit's hot path)
+std::string shrink_note(std::string_view what, double first, std::string_view link, double second,
+                        std::string_view why) {
+  std::string note;
+  note.reserve(what.size() + link.size() + why.size() + 40);
+  note += what;
+  append_mm(note, first);
+  note += link;
+  append_mm(note, second);
+  note += ": ";
+  note += why;
+  return note;
 }
 
 }  // namespace
@@ -87,8 +103,7 @@ CornerFit fit_biclothoid_corner(const CornerInput& corner) {
                         : start_fit.limit == Limit::kOutgoing
                             ? "the fillet must end within the outgoing move (or an eighth of a turn of its arc)"
                             : "004 Algorithm 1 found no fillet starting further out";
-      fit.note = "start distance shrunk from " + format_mm(start_distance) + " to " + format_mm(start_fit.fillet.a) +
-                 ": " + why;
+      fit.note = shrink_note("start distance shrunk from ", start_distance, " to ", start_fit.fillet.a, why);
     }
     return fit;
   }
@@ -99,11 +114,11 @@ CornerFit fit_biclothoid_corner(const CornerInput& corner) {
   if (!use_fillet(tol_fit.outcome, tol_fit.fillet, corner, geometry.plane, fit)) return fit;
   fit.parameter_used = tol_fit.deviation.max();
   if (tol_fit.limited) {
-    fit.note = "deviation " + format_mm(fit.parameter_used) + " below the tolerance " + format_mm(tolerance) +
-               ": the fillet is limited by the move lengths (or an eighth of a turn of an arc)";
+    fit.note = shrink_note("deviation ", fit.parameter_used, " below the tolerance ", tolerance,
+                           "the fillet is limited by the move lengths (or an eighth of a turn of an arc)");
   } else if (!tol_fit.converged) {
-    fit.note = "deviation " + format_mm(fit.parameter_used) + " below the tolerance " + format_mm(tolerance) +
-               ": the tolerance loop (004 Algorithm 2) stopped before reaching it";
+    fit.note = shrink_note("deviation ", fit.parameter_used, " below the tolerance ", tolerance,
+                           "the tolerance loop (004 Algorithm 2) stopped before reaching it");
   }
   return fit;
 }

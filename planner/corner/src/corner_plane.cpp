@@ -134,9 +134,9 @@ std::string pair_shrunk_note(std::string_view what, double asked, double used, c
   note.reserve(96);
   note += what;
   note += " shrunk from ";
-  note += format_mm(asked);
+  append_mm(note, asked);
   note += " to ";
-  note += format_mm(used);
+  append_mm(note, used);
   note += corner.in_available <= corner.out_available ? ": the incoming move is short" : ": the outgoing move is short";
   return note;
 }

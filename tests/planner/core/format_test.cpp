@@ -7,6 +7,7 @@
 #include <limits>
 #include <numbers>
 #include <string>
+#include <vector>
 
 #include "blendbench/core/input_error.hpp"
 #include "support/property.hpp"
@@ -130,6 +131,23 @@ TEST(Format, NaNPrintsAsNanWhateverItsSign) {
     ASSERT_TRUE(std::isnan(nan));
     for (const Unit& unit : kUnits) EXPECT_EQ(unit.format(nan), std::string("nan ") + unit.name) << std::signbit(nan);
     EXPECT_EQ(format_value(nan), "nan") << std::signbit(nan);
+  }
+}
+
+// append_mm, the notes' formatter that writes into the note itself, appends exactly format_mm's
+// text: random magnitudes of either sign, and zeros, infinities and NaNs of either sign
+TEST(Format, AppendMmAppendsFormatMmsText) {
+  const int cases = test::property_cases(5000);
+  std::vector<double> values = {0.0, -0.0, kInf, -kInf, kNaN, -kNaN};
+  for (int i = 0; i < cases; ++i) {
+    auto rng = test::make_rng(static_cast<std::uint64_t>(i));
+    const double magnitude = std::pow(10.0, test::uniform(rng, -12, 12));
+    values.push_back(test::uniform(rng, 0, 1) < 0.5 ? -magnitude : magnitude);
+  }
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    std::string note = "shrunk from ";
+    append_mm(note, values[i]);
+    EXPECT_EQ(note, "shrunk from " + format_mm(values[i])) << "value " << i << " (" << values[i] << ")";
   }
 }
 

@@ -14,6 +14,10 @@ std::string format_per_mm(double per_metre);   // "0.124 1/mm"
 std::string format_mm_per_s(double metres_per_second);  // "250 mm/s"
 std::string format_value(double value, int digits = 6);  // "-1e-07": a quantity without a unit
 
+// format_mm's text appended to `out`, without a string of its own (for notes built on the corner
+// fits' hot path: a shrunk corner's note costs two of these)
+void append_mm(std::string& out, double metres);
+
 // `text` safe to print on one line of a terminal: control characters (C0, DEL, C1), and bytes
 // that are not part of a well-formed UTF-8 sequence, become escapes ("\n", "\t", "\x01",
 // "\xff"; a backslash stays itself). Printable ASCII and well-formed UTF-8 (e.g. U+2212) are kept.
