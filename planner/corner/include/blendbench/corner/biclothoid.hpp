@@ -147,6 +147,18 @@ struct BiclothoidMixedShares {
 };
 BiclothoidMixedShares biclothoid_mixed_shares(double rho, bool aligned);
 
+// How the arcs' own curvatures move that start at a tangent jump delta: d log a / d (sgn(delta)
+// kappa_i a) for the fillet's start a within the tolerance, at kappa_i -> 0, for the arc the
+// fit starts on (`in`, q1) and the one it ends on (`out`, q2), on the corner as Algorithm 2
+// solves it (section 6). Both vanish as |delta| -> 0 (there a common curvature bends the path
+// and the fillet alike, and only the jump counts: biclothoid_mixed_shares) and reach -0.44 at a
+// reversal. A table of Algorithm 2's own solutions (biclothoid_tolerance.cpp), in |delta|.
+struct BiclothoidArcSensitivity {
+  double in;
+  double out;
+};
+BiclothoidArcSensitivity biclothoid_arc_sensitivity(double turn);
+
 // The other way to size a fillet (seed 004 Algorithm 1 alone): it starts `start_distance` (m, > 0)
 // before the corner on q1. The start distance is capped as in the tolerance fit (a_max, an
 // eighth of a turn of an arc, short of where the moves cross again); when Algorithm 1 finds no
