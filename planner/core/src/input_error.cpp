@@ -15,12 +15,22 @@ std::string format_location(const std::string& file, int line, int column, const
   if (!file.empty()) {
     out += printable(file);
     if (line > 0) {
-      out += ':' + std::to_string(line);
-      if (column > 0) out += ':' + std::to_string(column);
+      out += ':';
+      out += std::to_string(line);
+      if (column > 0) {
+        out += ':';
+        out += std::to_string(column);
+      }
     }
     out += ": ";
   }
-  if (!field.empty()) out += "'" + printable(field) + "': ";
+  // appended part by part: "'" + printable(field) built a temporary that GCC 12 warned about
+  // (a -Wrestrict false positive on inserting at the front of a string)
+  if (!field.empty()) {
+    out += '\'';
+    out += printable(field);
+    out += "': ";
+  }
   out += printable(message);
   return out;
 }
