@@ -159,7 +159,9 @@ BiclothoidMixedShares biclothoid_mixed_shares(double rho, bool aligned) {
 }
 
 BiclothoidArcSensitivity biclothoid_arc_sensitivity(double turn) {
-  const double u = std::clamp(std::abs(turn) / kArcTurnStep, 0.0, 32.0);
+  double u = std::abs(turn) / kArcTurnStep;
+  if (!(u > 0)) return {0.0, 0.0};  // no turn (or not a number): nothing moves the start
+  u = std::min(u, 32.0);
   const auto i = std::min(static_cast<std::size_t>(u), std::size_t{31});
   const double t = u - static_cast<double>(i);
   const auto lerp = [&](const std::array<double, 33>& f) { return f[i] + t * (f[i + 1] - f[i]); };

@@ -666,9 +666,14 @@ TEST(Biclothoid, TheArcSensitivityTableIsAlgorithm2sDerivative) {
     EXPECT_NEAR(table.in, (d1 + d2) / (4 * kEps), 1e-6) << "node " << k;
     EXPECT_NEAR(table.out, (d1 - d2) / (2 * kEps), 1e-6) << "node " << k;
   }
-  const BiclothoidArcSensitivity none = biclothoid_arc_sensitivity(0.0);
-  EXPECT_EQ(none.in, 0.0);
-  EXPECT_EQ(none.out, 0.0);
+  // no turn, or a NaN: no correction; past a reversal: the last node
+  for (const double turn : {0.0, std::numeric_limits<double>::quiet_NaN()}) {
+    const BiclothoidArcSensitivity none = biclothoid_arc_sensitivity(turn);
+    EXPECT_EQ(none.in, 0.0) << turn;
+    EXPECT_EQ(none.out, 0.0) << turn;
+  }
+  EXPECT_EQ(biclothoid_arc_sensitivity(4.0).in, biclothoid_arc_sensitivity(kPi).in);
+  EXPECT_EQ(biclothoid_arc_sensitivity(-kPi / 2).out, biclothoid_arc_sensitivity(kPi / 2).out);
 }
 
 // Algorithm 2 starts a corner with a large tangent jump at the line-line pair's start moved by
