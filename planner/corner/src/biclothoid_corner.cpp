@@ -32,7 +32,7 @@ bool use_fillet(const Outcome& outcome, const BiclothoidSolution& fillet, const 
   return true;
 }
 
-// "<what> <first> mm<link><second> mm: <why>", built in one buffer (a limited fit's note is
+// "<what><first> mm<link><second> mm: <why>", built in one buffer (a limited fit's note is
 // formatted on the fit's hot path)
 std::string shrink_note(std::string_view what, double first, std::string_view link, double second,
                         std::string_view why) {
