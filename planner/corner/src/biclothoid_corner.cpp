@@ -47,35 +47,41 @@ std::string shrink_note(std::string_view what, double first, std::string_view li
   return note;
 }
 
+// Two lines: the symmetric fillet in closed form (seed 004 section 7.1, seed 002 (Makino) eq. 9),
+// shrunk to the shorter available length. One named result, so it is built in place (the
+// line-line fit is the fast path: a move of the fit on return was a few per cent of it).
+CornerFit line_pair_fit(const CornerInput& corner, const PlanarCorner& geometry) {
+  const double tolerance = corner.spec.parameter;
+  const double start_distance = corner.spec.start_distance;  // > 0: sized by it, not by tolerance
+  CornerFit fit;
+  fit.corner_case = geometry.angle <= kTangentAngle ? CornerCase::kTangent : CornerCase::kRegular;
+  const ClothoidPairShape shape = clothoid_pair_shape(geometry.angle);
+  ClothoidPair pair = start_distance > 0 ? clothoid_pair_for_tangent_length(shape, start_distance)
+                                         : clothoid_pair_for_deviation(shape, tolerance);
+  const double available = std::min(corner.in_available, corner.out_available);
+  if (pair.tangent_length > available) {
+    const double asked = start_distance > 0 ? start_distance : tolerance;
+    pair = clothoid_pair_for_tangent_length(shape, available);
+    fit.note = pair_shrunk_note(start_distance > 0 ? "start distance" : "deviation", asked,
+                                start_distance > 0 ? pair.tangent_length : pair.deviation, corner);
+  }
+  fit.transition = clothoid_pair_segments(pair, shape, geometry.plane);
+  fit.trim_in = pair.tangent_length;
+  fit.trim_out = pair.tangent_length;
+  fit.parameter_used = start_distance > 0 ? pair.tangent_length : pair.deviation;
+  return fit;
+}
+
 }  // namespace
 
 CornerFit fit_biclothoid_corner(const CornerInput& corner) {
   const PlanarCorner geometry = planar_corner(corner.in, corner.out);
   if (auto special = clothoid_special_case(corner, geometry)) return *special;
+  if (geometry.lines) return line_pair_fit(corner, geometry);
   const double tolerance = corner.spec.parameter;
   const double start_distance = corner.spec.start_distance;  // > 0: sized by it, not by tolerance
   CornerFit fit;
   fit.corner_case = geometry.angle <= kTangentAngle ? CornerCase::kTangent : CornerCase::kRegular;
-
-  // two lines: the symmetric fillet in closed form (seed 004 section 7.1, seed 002 (Makino) eq. 9), shrunk to
-  // the shorter available length
-  if (geometry.lines) {
-    const ClothoidPairShape shape = clothoid_pair_shape(geometry.angle);
-    ClothoidPair pair = start_distance > 0 ? clothoid_pair_for_tangent_length(shape, start_distance)
-                                           : clothoid_pair_for_deviation(shape, tolerance);
-    const double available = std::min(corner.in_available, corner.out_available);
-    if (pair.tangent_length > available) {
-      const double asked = start_distance > 0 ? start_distance : tolerance;
-      pair = clothoid_pair_for_tangent_length(shape, available);
-      fit.note = pair_shrunk_note(start_distance > 0 ? "start distance" : "deviation", asked,
-                                  start_distance > 0 ? pair.tangent_length : pair.deviation, corner);
-    }
-    fit.transition = clothoid_pair_segments(pair, shape, geometry.plane);
-    fit.trim_in = pair.tangent_length;
-    fit.trim_out = pair.tangent_length;
-    fit.parameter_used = start_distance > 0 ? pair.tangent_length : pair.deviation;
-    return fit;
-  }
 
   // seed 004 has no 3D form: a non-planar corner goes to the Bezier method (seed 000, quartic in 3D),
   // with its transition parameter set to the tolerance (a fillet that starts and ends within
