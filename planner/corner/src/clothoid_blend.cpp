@@ -5,6 +5,7 @@
 #include <numbers>
 #include <sstream>
 #include <string>
+#include <utility>
 
 #include "blendbench/core/format.hpp"
 #include "blendbench/corner/biclothoid.hpp"
@@ -202,7 +203,7 @@ CornerFit fit_clothoid_corner(const CornerInput& corner) {
   const double tolerance = corner.spec.parameter;
   const double cap = corner.spec.kappa_max;
   const double available = std::min(corner.in_available, corner.out_available);
-  const std::string short_move = corner.in_available <= corner.out_available ? "incoming" : "outgoing";
+  const char* const short_move = corner.in_available <= corner.out_available ? "incoming" : "outgoing";
 
   // the pair at the tolerance, shrunk to the available tangent length
   const ClothoidPairShape shape = clothoid_pair_shape(alpha);
@@ -212,15 +213,19 @@ CornerFit fit_clothoid_corner(const CornerInput& corner) {
     pair = clothoid_pair_for_tangent_length(shape, available);
     shrink_note = pair_shrunk_note("deviation", tolerance, pair.deviation, corner);
   }
-  const auto use_pair = [&](const std::string& note) {
+  // the pair as the transition, with its note (the fit itself is returned by the caller: a
+  // copy of it out of the lambda cost an allocation per line-line fit)
+  const auto use_pair = [&](std::string note) {
     fit.transition = clothoid_pair_segments(pair, shape, geometry.plane);
     fit.trim_in = pair.tangent_length;
     fit.trim_out = pair.tangent_length;
     fit.parameter_used = pair.deviation;
-    fit.note = note;
-    return fit;
+    fit.note = std::move(note);
   };
-  if (cap <= 0 || pair.kappa_peak <= cap) return use_pair(shrink_note);
+  if (cap <= 0 || pair.kappa_peak <= cap) {
+    use_pair(std::move(shrink_note));
+    return fit;
+  }
 
   // the pair is too sharp: with peak curvature fixed at the cap the deviation and the tangent
   // length grow with the clothoid length (clothoid_blend.hpp), from the plain arc of radius
@@ -236,7 +241,8 @@ CornerFit fit_clothoid_corner(const CornerInput& corner) {
     std::string note = "peak curvature " + format_per_mm(pair.kappa_peak) + " exceeds kappa_max " + format_per_mm(cap) + ": " + why +
                        "; the clothoid pair is kept";
     if (!shrink_note.empty()) note += "; " + shrink_note;
-    return use_pair(note);
+    use_pair(std::move(note));
+    return fit;
   }
   const double lc = std::min(
       cac_length_for(alpha, cap, tolerance, [](const ClothoidArcClothoid& c) { return c.deviation; }),
