@@ -295,18 +295,27 @@ CornerFit fit_bezier_corner(const CornerInput& corner) {
   // at this end only can give all of itself (no other corner competes for it), where the
   // paper would still halve it. Arcs give at most a half-turn (kMaxArcTurn). Length on an arc
   // is arc length, so the transition point is at arc length L from the corner.
+  // (the reason is formatted only for a limit that shrinks TP: four notes built on every fit
+  // were a large part of a Bezier fit's time)
   double l = tp;
   std::string why;
-  const auto shrink = [&](double limit, const std::string& reason) {
+  const auto shrink = [&](double limit, const auto& reason) {
     if (limit < l) {
       l = std::max(limit, 0.0);
-      why = reason;
+      why = reason();
     }
   };
-  shrink(corner.in_available, "the incoming move is short (" + format_mm(corner.in_available) + " available)");
-  shrink(corner.out_available, "the outgoing move is short (" + format_mm(corner.out_available) + " available)");
-  if (!in_line) shrink(kMaxArcTurn * r_in, "the incoming arc (radius " + format_mm(r_in) + ") gives at most a half-turn");
-  if (!out_line) shrink(kMaxArcTurn * r_out, "the outgoing arc (radius " + format_mm(r_out) + ") gives at most a half-turn");
+  shrink(corner.in_available,
+         [&] { return "the incoming move is short (" + format_mm(corner.in_available) + " available)"; });
+  shrink(corner.out_available,
+         [&] { return "the outgoing move is short (" + format_mm(corner.out_available) + " available)"; });
+  if (!in_line) {
+    shrink(kMaxArcTurn * r_in, [&] { return "the incoming arc (radius " + format_mm(r_in) + ") gives at most a half-turn"; });
+  }
+  if (!out_line) {
+    shrink(kMaxArcTurn * r_out,
+           [&] { return "the outgoing arc (radius " + format_mm(r_out) + ") gives at most a half-turn"; });
+  }
   if (l < tp) fit.note = "TP shrunk from " + format_mm(tp) + " to " + format_mm(l) + ": " + why;
   fit.parameter_used = l;
 
