@@ -44,6 +44,7 @@
 #include <cmath>
 #include <numbers>
 #include <sstream>
+#include <utility>
 
 #include "blendbench/core/format.hpp"
 #include "blendbench/corner/corner.hpp"
@@ -536,7 +537,7 @@ CornerFit fit_planar(const Corner& k, const Plane& pl, bool larger_in, double d_
   if (cand.verdict == Verdict::kValid) {
     CornerFit fit = from_candidate(k, cand, d);
     if (d < d_req) fit.note = shrink_note(d_req, d, "the larger-radius move is short");
-    return finish(fit);
+    return finish(std::move(fit));
   }
   // no circle for this d: the rule with the roles swapped
   if (cand.verdict == Verdict::kNoCircle) {
@@ -549,7 +550,7 @@ CornerFit fit_planar(const Corner& k, const Plane& pl, bool larger_in, double d_
         fit.note = "no transition arc with the larger-radius move shortened by " + format_mm(d) + " (" + cand.why +
                    "); the smaller-radius move is shortened instead";
         if (d_swap < d_req) fit.note += "; " + shrink_note(d_req, d_swap, "the smaller-radius move is short");
-        return finish(fit);
+        return finish(std::move(fit));
       }
     }
   }
@@ -579,7 +580,7 @@ CornerFit fit_planar(const Corner& k, const Plane& pl, bool larger_in, double d_
   }
   CornerFit fit = from_candidate(k, solve_planar(k, pl, larger_in, lo), lo);
   fit.note = shrink_note(d_req, lo, cand.why);
-  return finish(fit);
+  return finish(std::move(fit));
 }
 
 // The corner plane of a corner with at least one arc: false when the moves do not lie in one
