@@ -253,7 +253,10 @@ UrdfModel model_from_urdf(const std::string& urdf_path, const std::string& base_
            num(-j.effort_limit) + " " + num(j.effort_limit) + "\"/>\n";
   }
   xml += "  </actuator>\n  <custom>\n    <numeric name=\"velocity_limits\" data=\"";
-  for (std::size_t i = 0; i < 6; ++i) xml += (i ? " " : "") + num(chain.joints[i].velocity_limit);
+  for (std::size_t i = 0; i < 6; ++i) {
+    if (i > 0) xml += ' ';  // appended apart: " " + num(...) drew GCC 12's -Wrestrict false positive
+    xml += num(chain.joints[i].velocity_limit);
+  }
   xml += "\"/>\n  </custom>\n</mujoco>\n";
   out.mjcf = std::move(xml);
   return out;
