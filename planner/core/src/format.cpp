@@ -40,6 +40,19 @@ void append_mm(std::string& out, double metres) {
   out += " mm";
 }
 
+std::string lengths_note(std::string_view head, double first, std::string_view link, double second,
+                         std::string_view why) {
+  std::string note;
+  note.reserve(head.size() + link.size() + why.size() + 40);
+  note += head;
+  append_mm(note, first);
+  note += link;
+  append_mm(note, second);
+  note += ": ";
+  note += why;
+  return note;
+}
+
 std::string printable(std::string_view text) {
   static constexpr char kHex[] = "0123456789abcdef";
   std::string out;

@@ -44,6 +44,7 @@
 #include <cmath>
 #include <numbers>
 #include <sstream>
+#include <string_view>
 #include <utility>
 
 #include "blendbench/core/format.hpp"
@@ -383,8 +384,8 @@ CornerFit kink_fit(const Corner& k, CornerCase corner_case, double trim_in, doub
   return fit;
 }
 
-std::string shrink_note(double requested, double used, const std::string& why) {
-  return "corner distance shrunk from " + format_mm(requested) + " to " + format_mm(used) + ": " + why;
+std::string shrink_note(double requested, double used, std::string_view why) {
+  return lengths_note("corner distance shrunk from ", requested, " to ", used, why);
 }
 
 // seed 001: two lines.

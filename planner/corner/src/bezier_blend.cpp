@@ -316,7 +316,7 @@ CornerFit fit_bezier_corner(const CornerInput& corner) {
     shrink(kMaxArcTurn * r_out,
            [&] { return "the outgoing arc (radius " + format_mm(r_out) + ") gives at most a half-turn"; });
   }
-  if (l < tp) fit.note = "TP shrunk from " + format_mm(tp) + " to " + format_mm(l) + ": " + why;
+  if (l < tp) fit.note = lengths_note("TP shrunk from ", tp, " to ", l, why);
   fit.parameter_used = l;
 
   // tangents and curvature vectors at the corner

@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <string>
-#include <string_view>
 
 #include "biclothoid_internal.hpp"
 #include "blendbench/core/format.hpp"
@@ -32,21 +31,6 @@ bool use_fillet(const Outcome& outcome, const BiclothoidSolution& fillet, const 
   return true;
 }
 
-// "<what><first> mm<link><second> mm: <why>", built in one buffer (a limited fit's note is
-// formatted on the fit's hot path)
-std::string shrink_note(std::string_view what, double first, std::string_view link, double second,
-                        std::string_view why) {
-  std::string note;
-  note.reserve(what.size() + link.size() + why.size() + 40);
-  note += what;
-  append_mm(note, first);
-  note += link;
-  append_mm(note, second);
-  note += ": ";
-  note += why;
-  return note;
-}
-
 // Two lines: the symmetric fillet in closed form (seed 004 section 7.1, seed 002 (Makino) eq. 9),
 // shrunk to the shorter available length. One named result, so it is built in place (the
 // line-line fit is the fast path: a move of the fit on return was a few per cent of it).
@@ -62,8 +46,8 @@ CornerFit line_pair_fit(const CornerInput& corner, const PlanarCorner& geometry)
   if (pair.tangent_length > available) {
     const double asked = start_distance > 0 ? start_distance : tolerance;
     pair = clothoid_pair_for_tangent_length(shape, available);
-    fit.note = pair_shrunk_note(start_distance > 0 ? "start distance" : "deviation", asked,
-                                start_distance > 0 ? pair.tangent_length : pair.deviation, corner);
+    fit.note = pair_shrunk_note(start_distance > 0, asked, start_distance > 0 ? pair.tangent_length : pair.deviation,
+                                corner);
   }
   fit.transition = clothoid_pair_segments(pair, shape, geometry.plane);
   fit.trim_in = pair.tangent_length;
@@ -109,7 +93,7 @@ CornerFit fit_biclothoid_corner(const CornerInput& corner) {
                         : start_fit.limit == Limit::kOutgoing
                             ? "the fillet must end within the outgoing move (or an eighth of a turn of its arc)"
                             : "004 Algorithm 1 found no fillet starting further out";
-      fit.note = shrink_note("start distance shrunk from ", start_distance, " to ", start_fit.fillet.a, why);
+      fit.note = lengths_note("start distance shrunk from ", start_distance, " to ", start_fit.fillet.a, why);
     }
     return fit;
   }
@@ -120,10 +104,10 @@ CornerFit fit_biclothoid_corner(const CornerInput& corner) {
   if (!use_fillet(tol_fit.outcome, tol_fit.fillet, corner, geometry.plane, fit)) return fit;
   fit.parameter_used = tol_fit.deviation.max();
   if (tol_fit.limited) {
-    fit.note = shrink_note("deviation ", fit.parameter_used, " below the tolerance ", tolerance,
+    fit.note = lengths_note("deviation ", fit.parameter_used, " below the tolerance ", tolerance,
                            "the fillet is limited by the move lengths (or an eighth of a turn of an arc)");
   } else if (!tol_fit.converged) {
-    fit.note = shrink_note("deviation ", fit.parameter_used, " below the tolerance ", tolerance,
+    fit.note = lengths_note("deviation ", fit.parameter_used, " below the tolerance ", tolerance,
                            "the tolerance loop (004 Algorithm 2) stopped before reaching it");
   }
   return fit;

@@ -211,7 +211,7 @@ CornerFit fit_clothoid_corner(const CornerInput& corner) {
   std::string shrink_note;
   if (pair.tangent_length > available) {
     pair = clothoid_pair_for_tangent_length(shape, available);
-    shrink_note = pair_shrunk_note("deviation", tolerance, pair.deviation, corner);
+    shrink_note = pair_shrunk_note(false, tolerance, pair.deviation, corner);
   }
   // the pair as the transition, with its note (the fit itself is returned by the caller: a
   // copy of it out of the lambda cost an allocation per line-line fit)

@@ -129,16 +129,10 @@ std::optional<CornerFit> clothoid_special_case(const CornerInput& corner, const 
   return std::nullopt;
 }
 
-std::string pair_shrunk_note(std::string_view what, double asked, double used, const CornerInput& corner) {
-  std::string note;
-  note.reserve(96);
-  note += what;
-  note += " shrunk from ";
-  append_mm(note, asked);
-  note += " to ";
-  append_mm(note, used);
-  note += corner.in_available <= corner.out_available ? ": the incoming move is short" : ": the outgoing move is short";
-  return note;
+std::string pair_shrunk_note(bool by_start_distance, double asked, double used, const CornerInput& corner) {
+  return lengths_note(by_start_distance ? "start distance shrunk from " : "deviation shrunk from ", asked, " to ", used,
+                      corner.in_available <= corner.out_available ? "the incoming move is short"
+                                                                  : "the outgoing move is short");
 }
 
 }  // namespace blendbench

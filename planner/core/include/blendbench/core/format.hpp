@@ -18,6 +18,12 @@ std::string format_value(double value, int digits = 6);  // "-1e-07": a quantity
 // fits' hot path: a shrunk corner's note costs two of these)
 void append_mm(std::string& out, double metres);
 
+// A note on two lengths (m), "<head><first> mm<link><second> mm: <why>", built in one buffer: how
+// the transition methods say a corner was shrunk or limited ("deviation shrunk from 0.05 mm to
+// 0.0312 mm: the incoming move is short"), on the fits' hot path
+std::string lengths_note(std::string_view head, double first, std::string_view link, double second,
+                         std::string_view why);
+
 // `text` safe to print on one line of a terminal: control characters (C0, DEL, C1), and bytes
 // that are not part of a well-formed UTF-8 sequence, become escapes ("\n", "\t", "\x01",
 // "\xff"; a backslash stays itself). Printable ASCII and well-formed UTF-8 (e.g. U+2212) are kept.

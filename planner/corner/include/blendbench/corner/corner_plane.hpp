@@ -74,8 +74,8 @@ PlanarCorner planar_corner(const Primitive& in, const Primitive& out);
 std::optional<CornerFit> clothoid_special_case(const CornerInput& corner, const PlanarCorner& geometry);
 
 // The note of a line-line clothoid pair shrunk to the shorter of its moves, as both clothoid
-// methods give it: "<what> shrunk from <asked> to <used>: the incoming (outgoing) move is short"
-// (asked, used in m); built in one string, as about half of all line corners get one.
-std::string pair_shrunk_note(std::string_view what, double asked, double used, const CornerInput& corner);
+// methods give it: "deviation (start distance, when `by_start_distance`) shrunk from <asked> to
+// <used>: the incoming (outgoing) move is short" (asked, used in m; lengths_note).
+std::string pair_shrunk_note(bool by_start_distance, double asked, double used, const CornerInput& corner);
 
 }  // namespace blendbench
