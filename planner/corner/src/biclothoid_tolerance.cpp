@@ -168,6 +168,30 @@ BiclothoidArcSensitivity biclothoid_arc_sensitivity(double turn) {
   return {lerp(kArcSensitivityIn), lerp(kArcSensitivityOut)};
 }
 
+// The start at a curvature jump alone, by scaling: with lengths in units of a_curvature the
+// corner is fixed by u_i = kappa_i a_curvature (the tolerance is then |u2 - u1| / 42), so
+// log(a / a_curvature) is one function of (u1, u2), even in them. Its quadratic, fitted here
+// by least squares to Algorithm 2's solutions (secant steps on log(deviation / tol) to 1e-13,
+// tol = 0.1 mm) on the grid u_i = 0.08 k, |u2| <= |u1| <= 0.8, u1 != u2 (220 corners):
+// within 1.9e-5 of every one (the largest at u = (-0.8, -0.72)); quartic terms would take it
+// to 6e-8. (seed 004 is silent: its 42, from table 1, is the u -> 0 limit to 0.1 %.)
+double biclothoid_curvature_jump_start(double u1, double u2) {
+  // outside the fitted range, its edge along the same direction (the quadratic would fall
+  // without bound)
+  constexpr double kRange = 0.8;
+  const double size = std::max(std::abs(u1), std::abs(u2));
+  if (size > kRange) {
+    u1 *= kRange / size;
+    u2 *= kRange / size;
+  }
+  constexpr double kAtZero = 4.633901e-4;
+  constexpr double kU1U1 = -4.836173e-3;
+  constexpr double kU1U2 = -1.137315e-2;
+  constexpr double kU2U2 = -8.226727e-4;
+  const double value = kAtZero + u1 * (kU1U1 * u1 + kU1U2 * u2) + kU2U2 * u2 * u2;
+  return std::isfinite(value) ? value : 0.0;
+}
+
 namespace {
 
 // Where q1 (sigma in [-a_max, 0)) and q2 (sigma in (0, b_max]) meet again after the corner,
@@ -293,28 +317,37 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
   // (tried once per fit; not where the prediction starts at or past the start cap, which then
   // binds first)
   bool tried_end_bound = false;
-  const auto solve_at_end_bound = [&](const Trial& from) -> Trial* {
+  // the solve itself, guessed at start distance guess_a and length guess_len; `past_cap`, when
+  // given, is set where it found a fillet on the guess's branch that starts past the start cap
+  // (which then binds first)
+  const auto solve_from_end = [&](double guess_a, double guess_len, Effort effort, bool* past_cap) -> Trial* {
     if (tried_end_bound || store.size() == kMaxTrials) return nullptr;
+    tried_end_bound = true;
+    CornerShapes back = work;
+    back.q1 = PlanarShape{work.q2.theta + kPi, -work.q2.kappa};
+    back.q2 = PlanarShape{work.q1.theta + kPi, -work.q1.kappa};
+    ++result.solves;
+    const auto sol = fit_at(back, b_cap, guess_len, guess_a, effort);
+    if (!sol || !(sol->db_da > 0)) return nullptr;
+    // the same branch of solutions as the guess (Algorithm 1 has others, up to ten times
+    // shorter or longer at the same b): within the factor 2 a Newton step on a may take
+    if (!(sol->fillet.b > 0.5 * guess_a && sol->fillet.b < 2 * guess_a)) return nullptr;
+    if (!(sol->fillet.b <= a_cap)) {
+      if (past_cap) *past_cap = true;
+      return nullptr;
+    }
+    BiclothoidSolution forward{reversed(sol->fillet.curve), sol->fillet.b, b_cap};
+    store.push_back(Trial{forward, sol->dlen_da / sol->db_da, 1 / sol->db_da, {}, {}, false});
+    return &store.back();
+  };
+  const auto solve_at_end_bound = [&](const Trial& from) -> Trial* {
     const BiclothoidSolution& f = from.fillet;
     if (!(from.db_da > 0) || !std::isfinite(from.db_da)) return nullptr;
     const double da = (b_cap - f.b) / from.db_da;
     const double guess_a = f.a + da;
     const double guess_len = length(f.curve) + from.dlen_da * da;
     if (!(guess_a > 0 && guess_a < a_cap && guess_len > 0)) return nullptr;
-    tried_end_bound = true;
-    CornerShapes back = work;
-    back.q1 = PlanarShape{work.q2.theta + kPi, -work.q2.kappa};
-    back.q2 = PlanarShape{work.q1.theta + kPi, -work.q1.kappa};
-    ++result.solves;
-    const auto sol = fit_at(back, b_cap, guess_len, guess_a, Effort::kGuessOnly);
-    if (!sol || !(sol->db_da > 0) || !(sol->fillet.b <= a_cap)) return nullptr;
-    // the same branch of solutions as the trial it was predicted from (Algorithm 1 has others,
-    // up to ten times shorter or longer at the same b): within the factor 2 a Newton step on a
-    // may take
-    if (!(sol->fillet.b > 0.5 * guess_a && sol->fillet.b < 2 * guess_a)) return nullptr;
-    BiclothoidSolution forward{reversed(sol->fillet.curve), sol->fillet.b, b_cap};
-    store.push_back(Trial{forward, sol->dlen_da / sol->db_da, 1 / sol->db_da, {}, {}, false});
-    return &store.back();
+    return solve_from_end(guess_a, guess_len, Effort::kGuessOnly, nullptr);
   };
   const auto measure = [&](Trial* t) {
     if (!t->measured) {
@@ -363,8 +396,8 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
   // dev ~ |kappa jump| a^2 / 42 for the curvature jump; where both act, the share of the pair's
   // start that small fillets take (biclothoid_mixed_shares)
   const double kappa_jump = std::abs(work.q1.kappa - work.q2.kappa);
-  const double a_angle = tangent_jump ? clothoid_pair_for_deviation(std::abs(delta), tolerance).tangent_length
-                                      : std::numeric_limits<double>::infinity();
+  const ClothoidPair pair = tangent_jump ? clothoid_pair_for_deviation(std::abs(delta), tolerance) : ClothoidPair{};
+  const double a_angle = tangent_jump ? pair.tangent_length : std::numeric_limits<double>::infinity();
   const double a_curvature =
       kappa_jump > 0 ? std::sqrt(42.0 * tolerance / kappa_jump) : std::numeric_limits<double>::infinity();
   const bool mixed = std::isfinite(a_angle) && std::isfinite(a_curvature);
@@ -372,6 +405,14 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
       mixed ? biclothoid_mixed_shares(a_angle / a_curvature, delta * (work.q2.kappa - work.q1.kappa) > 0)
             : BiclothoidMixedShares{1.0, tangent_jump ? 1.0 : kEndShare};
   double a_model = mixed ? a_angle * shares.start : std::min(a_angle, a_curvature);
+  // at a curvature jump alone, its start as the arcs' curvatures move it
+  // (biclothoid_curvature_jump_start), aimed half the band inside the tolerance (the deviation
+  // grows as a^2 there); at u of the start cap where that is shorter (there the start is the
+  // cap, whatever the model, and u stays within the fit's range, |kappa1| a_cap <= pi / 4)
+  if (!tangent_jump && std::isfinite(a_curvature)) {
+    const double a = std::min(a_curvature, a_cap);
+    a_model *= std::exp(biclothoid_curvature_jump_start(work.q1.kappa * a, work.q2.kappa * a) - 0.25 * kReached);
+  }
   // at a tangent jump, the arcs' own curvatures at first order in kappa a
   // (biclothoid_arc_sensitivity), with a at most the start cap (kappa a <= pi / 4)
   if (tangent_jump) {
@@ -401,8 +442,40 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
     const double y = std::max(std::log(measure(t) / tolerance), std::log(t->fillet.b / b_cap));
     return {x, y, t};
   };
-  // the first point: back off (halving a) while Algorithm 1 fails
-  Point cur = evaluate(std::log(a_start));
+  // the first point. Where the model's fillet ends past the end bound before it reaches the
+  // start cap, the fillet that ends at the end bound, solved from the other end with the
+  // model's start distance there (b_cap over the end share) and length (the pair's length per
+  // unit of tangent length, or a + b at a curvature jump alone) as its guess: where the
+  // deviation is within the tolerance there, it is the answer in one solve (solving forward at
+  // the model's a took a second, from the end, for it). Where that fillet starts past the
+  // start cap (near a reversal, where both caps are where the moves cross again), at the cap;
+  // else (or where that solve fails) at a_start; backing off (halving a) while Algorithm 1
+  // fails.
+  Point cur{0, std::numeric_limits<double>::infinity(), nullptr};
+  double a_first = a_start;
+  if (!ends_short) {
+    // the end share at the end bound's size: the shares' rho for the tolerance at which the
+    // line-line pair would end at b_cap (a fillet much smaller than the model's is nearer the
+    // pair's shape, b = a)
+    double end_share = shares.end;
+    if (mixed) {
+      const double tol_there = clothoid_pair_for_tangent_length(std::abs(delta), b_cap).deviation;
+      const double rho_there = b_cap / std::sqrt(42.0 * tol_there / kappa_jump);
+      const double there = biclothoid_mixed_shares(rho_there, delta * (work.q2.kappa - work.q1.kappa) > 0).end;
+      if (there > 0) end_share = there;  // (not a number where the pair has no deviation)
+    }
+    const double guess_a = b_cap / end_share;
+    if (guess_a < std::min(a_cap, a_model)) {
+      const double per_length = tangent_jump ? pair.half_length / pair.tangent_length : 1.0;
+      bool past_cap = false;
+      if (Trial* t = solve_from_end(guess_a, per_length * (guess_a + b_cap), Effort::kGuessOnly, &past_cap)) {
+        cur = Point{std::log(t->fillet.a), std::max(std::log(measure(t) / tolerance), 0.0), t};
+      } else if (past_cap) {
+        a_first = a_cap;
+      }
+    }
+  }
+  if (!cur.trial) cur = evaluate(std::log(a_first));
   for (int attempt = 0; attempt < 12 && !cur.trial; ++attempt) cur = evaluate(cur.x - std::log(2.0));
   if (!cur.trial) return fail("biclothoid (004 Algorithm 1) did not converge");
   Point prev{0, 0, nullptr};

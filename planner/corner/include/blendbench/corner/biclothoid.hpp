@@ -159,6 +159,15 @@ struct BiclothoidArcSensitivity {
 };
 BiclothoidArcSensitivity biclothoid_arc_sensitivity(double turn);
 
+// Where Algorithm 2 starts at a curvature jump alone (a tangent corner): log(a / a_curvature)
+// for the fillet's start a within the tolerance, a_curvature = sqrt(42 tol / |kappa2 - kappa1|),
+// against u_i = kappa_i a_curvature on the corner as Algorithm 2 solves it (|u1| >= |u2|,
+// section 6). Even in (u1, u2) (a mirror image flips both), 4.6e-4 at u -> 0 (seed 004's 42
+// is 42.04) and -1e-2 at |u| = 0.8; a quadratic fitted to Algorithm 2's own solutions
+// (biclothoid_tolerance.cpp), within 2.2e-5 of them for |u2| <= |u1| <= 0.8; farther out, its
+// value where the ray to (u1, u2) leaves that range (at most -1.3e-2; not a number: 0).
+double biclothoid_curvature_jump_start(double u1, double u2);
+
 // The other way to size a fillet (seed 004 Algorithm 1 alone): it starts `start_distance` (m, > 0)
 // before the corner on q1. The start distance is capped as in the tolerance fit (a_max, an
 // eighth of a turn of an arc, short of where the moves cross again); when Algorithm 1 finds no
