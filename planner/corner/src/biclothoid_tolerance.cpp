@@ -96,6 +96,13 @@ constexpr double kMixedAlignedJump = 0.104494;  // log10 rho of the change of br
 // the solutions either side of it
 constexpr BiclothoidMixedShares kMixedJumpBelow{0.38784, 1.66353};
 constexpr BiclothoidMixedShares kMixedJumpAbove{0.82176, 0.25708};
+// the largest end share biclothoid_mixed_shares returns (it interpolates between these)
+constexpr double kMixedEndMax = [] {
+  double top = std::max(kMixedJumpBelow.end, kMixedJumpAbove.end);
+  for (const double e : kMixedEndOpposed) top = std::max(top, e);
+  for (const double e : kMixedEndAligned) top = std::max(top, e);
+  return top;
+}();
 
 // biclothoid_arc_sensitivity at |delta| = k pi / 32, k = 0..32. Derived here (seed 004 is
 // silent): at a tangent jump the small-fillet model is the line-line pair, exact where the
@@ -453,7 +460,10 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
   // fails.
   Point cur{0, std::numeric_limits<double>::infinity(), nullptr};
   double a_first = a_start;
-  if (!ends_short) {
+  // (b_cap / end share, the solve's guess, can only lie short of the start cap and the model
+  // where b_cap lies short of them times the largest end share: the test that skips the
+  // shares at the end bound's size on most corners, where the moves are long)
+  if (!ends_short && b_cap < (mixed ? kMixedEndMax : shares.end) * std::min(a_cap, a_model)) {
     // the end share at the end bound's size: the shares' rho for the tolerance at which the
     // line-line pair would end at b_cap (a fillet much smaller than the model's is nearer the
     // pair's shape, b = a)
