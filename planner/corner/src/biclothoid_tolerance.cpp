@@ -38,60 +38,70 @@ constexpr double kMaxArcTurn = 0.25 * std::numbers::pi;
 // corner shape per rho and per sign of delta (kappa2 - kappa1), so F(rho, sign) is universal.
 // It has no closed form here; the entries are Algorithm 2's own solutions (to its band, 5e-5)
 // on corners of delta = 1e-3 rad from an arc of curvature 1/m to a line, at log10 rho = -2,
-// -1.95, ..., 2. The same solutions at delta = 0.1 rad differ by at most 0.3 %, on arc-arc
+// -1.95, ..., 1; above that, to 3, solutions half the band inside the tolerance (secant steps
+// to 1e-13) on corners whose arc turns by u1 = kappa_1 a_curvature = 0.01 over the fillet (at
+// delta = 1e-3, u1 = 42 rho / A, A the pair's tangent length per unit tolerance, grows as
+// 0.007 rho: the entries built so carried the arc's own curvature, u1 = 0.7 at rho = 100, and
+// missed the small-fillet share by 0.2-0.3 %; Biclothoid.TheMixedTablesTailIsAlgorithm2sSolution
+// recomputes them). The same solutions at delta = 0.1 rad differ by at most 0.3 %, on arc-arc
 // corners of the same jump by 1e-5 (Biclothoid.TheMixedStartShareIsAlgorithm2sSmallFillet checks
-// random ones against it). Below rho = 0.01 F is the first entry (the pair alone), above 100 it
-// falls as 1 / rho (the curvature jump alone: rho F = 0.997-0.999 at 100). Where the curvature
-// jump turns the path the way the tangent jump does (sign +1), Algorithm 2's solutions change
-// branch at log10 rho = 0.1045, from the shorter fillet (F = 0.388) to the longer (0.822); each
-// side interpolates to its own solution there (kMixedJumpBelow, kMixedJumpAbove). The harmonic blend 1 / hypot(1 / a_angle, 1 / a_curvature)
-// used before is up to 59 % too long below the change of branch and 22 % too short above it
+// random ones against it). Below rho = 0.01 F is the first entry (the pair alone); above 1000
+// rho F goes as 1 / rho to the curvature jump alone's limit (biclothoid_curvature_jump_start at
+// u = 0: rho F = 1.00033-1.00061 at 1000, 1.00046 in the limit), the end share to kEndShare.
+// Where the curvature jump turns the path the way the tangent jump does (sign +1), Algorithm
+// 2's solutions change branch at log10 rho = 0.1045, from the shorter fillet (F = 0.388) to
+// the longer (0.822); each side interpolates to its own solution there (kMixedJumpBelow,
+// kMixedJumpAbove). The harmonic blend 1 / hypot(1 / a_angle, 1 / a_curvature) used before is up to 59 % too long below the change of branch and 22 % too short above it
 // (within 5 % at sign -1): the first solve landed far enough out that 4.5 % of the random
 // corners with an arc needed three or four solves.
 constexpr double kMixedLogRhoMin = -2.0;
 constexpr double kMixedLogRhoStep = 0.05;
-constexpr std::array<double, 81> kMixedShareOpposed = {  // sign -1
-    0.99995, 0.99994, 0.99992, 0.99990, 0.99997, 0.99997, 0.99997, 0.99997, 0.99997, 0.99996,
-    0.99996, 0.99995, 0.99994, 0.99992, 0.99989, 0.99985, 0.99978, 0.99967, 0.99950, 0.99923,
-    0.99881, 0.99815, 0.99715, 0.99561, 0.99329, 0.98986, 0.98489, 0.97791, 0.96851, 0.95646,
-    0.94193, 0.92553, 0.90827, 0.89119, 0.87483, 0.85891, 0.84231, 0.82344, 0.80088, 0.77379,
-    0.74147, 0.69878, 0.64974, 0.59859, 0.54779, 0.49881, 0.45247, 0.40919, 0.36917, 0.33243,
-    0.29887, 0.26834, 0.24068, 0.21568, 0.19313, 0.17282, 0.15457, 0.13818, 0.12348, 0.11031,
-    0.09851, 0.08796, 0.07851, 0.07007, 0.06253, 0.05579, 0.04977, 0.04439, 0.03959, 0.03531,
-    0.03148, 0.02807, 0.02503, 0.02231, 0.01989, 0.01773, 0.01580, 0.01409, 0.01255, 0.01119,
-    0.00997};
-constexpr std::array<double, 81> kMixedShareAligned = {  // sign +1
-    0.99995, 0.99994, 0.99992, 0.99990, 0.99997, 0.99997, 0.99997, 0.99997, 0.99997, 0.99996,
-    0.99996, 0.99995, 0.99994, 0.99992, 0.99989, 0.99985, 0.99978, 0.99967, 0.99949, 0.99921,
-    0.99878, 0.99810, 0.99704, 0.99539, 0.99286, 0.98901, 0.98326, 0.97482, 0.96280, 0.94621,
-    0.92417, 0.89617, 0.86214, 0.82252, 0.77826, 0.73058, 0.68084, 0.63037, 0.58033, 0.53167,
-    0.48481, 0.43757, 0.39182, 0.74179, 0.66154, 0.58916, 0.52423, 0.46620, 0.41446, 0.36839,
-    0.32744, 0.29104, 0.25870, 0.22999, 0.20450, 0.18186, 0.16175, 0.14388, 0.12801, 0.11391,
-    0.10137, 0.09023, 0.08032, 0.07150, 0.06366, 0.05669, 0.05048, 0.04496, 0.04004, 0.03567,
-    0.03177, 0.02830, 0.02521, 0.02246, 0.02001, 0.01782, 0.01588, 0.01414, 0.01260, 0.01122,
-    0.00999};
+constexpr std::array<double, 101> kMixedShareOpposed = {  // sign -1
+    0.99995, 0.99994, 0.99992, 0.99990, 0.99997, 0.99997, 0.99997, 0.99997, 0.99997, 0.99996, 0.99996, 0.99995,
+    0.99994, 0.99992, 0.99989, 0.99985, 0.99978, 0.99967, 0.99950, 0.99923, 0.99881, 0.99815, 0.99715, 0.99561,
+    0.99329, 0.98986, 0.98489, 0.97791, 0.96851, 0.95646, 0.94193, 0.92553, 0.90827, 0.89119, 0.87483, 0.85891,
+    0.84231, 0.82344, 0.80088, 0.77379, 0.74147, 0.69878, 0.64974, 0.59859, 0.54779, 0.49881, 0.45247, 0.40919,
+    0.36917, 0.33243, 0.29887, 0.26834, 0.24068, 0.21568, 0.19313, 0.17282, 0.15457, 0.13818, 0.12348, 0.11031,
+    0.09851, 0.08795866, 0.07851631, 0.07007435, 0.06252978, 0.05578949, 0.0497695, 0.04439422, 0.03959566,
+    0.03531278, 0.0314908, 0.02808064, 0.0250383, 0.02232444, 0.01990383, 0.01774496, 0.0158197, 0.01410287,
+    0.01257201, 0.01120705, 0.009990061, 0.008905055, 0.007937751, 0.007075411, 0.006306667, 0.005621379, 0.0050105,
+    0.004465963, 0.003980572, 0.003547909, 0.003162252, 0.002818499, 0.002512101, 0.002239, 0.00199558, 0.001778618,
+    0.001585239, 0.00141288, 0.001259259, 0.001122338, 0.001000302};
+constexpr std::array<double, 101> kMixedShareAligned = {  // sign +1
+    0.99995, 0.99994, 0.99992, 0.99990, 0.99997, 0.99997, 0.99997, 0.99997, 0.99997, 0.99996, 0.99996, 0.99995,
+    0.99994, 0.99992, 0.99989, 0.99985, 0.99978, 0.99967, 0.99949, 0.99921, 0.99878, 0.99810, 0.99704, 0.99539,
+    0.99286, 0.98901, 0.98326, 0.97482, 0.96280, 0.94621, 0.92417, 0.89617, 0.86214, 0.82252, 0.77826, 0.73058,
+    0.68084, 0.63037, 0.58033, 0.53167, 0.48481, 0.43757, 0.39182, 0.74179, 0.66154, 0.58916, 0.52423, 0.46620,
+    0.41446, 0.36839, 0.32744, 0.29104, 0.25870, 0.22999, 0.20450, 0.18186, 0.16175, 0.14388, 0.12801, 0.11391,
+    0.10137, 0.09022817, 0.08031904, 0.07150632, 0.06366723, 0.05669299, 0.05048718, 0.04496429, 0.04004849,
+    0.03567247, 0.03177652, 0.02830759, 0.02521858, 0.02246764, 0.02001757, 0.01783531, 0.01589146, 0.01415988,
+    0.01261729, 0.01124302, 0.01001863, 0.00892775, 0.007955779, 0.007089731, 0.006318042, 0.005630414, 0.005017677,
+    0.004471664, 0.0039851, 0.003551506, 0.00316511, 0.002820769, 0.002513903, 0.002240432, 0.001996718, 0.001779522,
+    0.001585957, 0.001413451, 0.001259712, 0.001122697, 0.001000588};
 // b / a of the same solutions (the fillet's end on q2 as a share of its start on q1): 1 for
 // the pair alone, kEndShare for the curvature jump alone
-constexpr std::array<double, 81> kMixedEndOpposed = {  // sign -1
-    1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000,
-    1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 0.99999, 0.99999,
-    0.99997, 0.99994, 0.99989, 0.99978, 0.99956, 0.99915, 0.99835, 0.99684, 0.99410, 0.98927,
-    0.98115, 0.96828, 0.94920, 0.92295, 0.88961, 0.85059, 0.80830, 0.76552, 0.72461, 0.68710,
-    0.65385, 0.62618, 0.60303, 0.58329, 0.56625, 0.55141, 0.53840, 0.52696, 0.51686, 0.50791,
-    0.49997, 0.49293, 0.48666, 0.48108, 0.47612, 0.47170, 0.46776, 0.46425, 0.46112, 0.45833,
-    0.45584, 0.45362, 0.45164, 0.44988, 0.44830, 0.44689, 0.44563, 0.44451, 0.44351, 0.44260,
-    0.44179, 0.44106, 0.44040, 0.43980, 0.43925, 0.43874, 0.43827, 0.43781, 0.43736, 0.43691,
-    0.43645};
-constexpr std::array<double, 81> kMixedEndAligned = {  // sign +1
-    1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000,
-    1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00001, 1.00001,
-    1.00003, 1.00006, 1.00011, 1.00022, 1.00044, 1.00086, 1.00166, 1.00317, 1.00594, 1.01085,
-    1.01921, 1.03276, 1.05352, 1.08348, 1.12408, 1.17566, 1.23717, 1.30630, 1.38005, 1.45538,
-    1.52939, 1.59698, 1.65829, 0.27765, 0.29695, 0.31349, 0.32780, 0.34024, 0.35113, 0.36068,
-    0.36909, 0.37651, 0.38306, 0.38887, 0.39402, 0.39858, 0.40263, 0.40623, 0.40943, 0.41228,
-    0.41481, 0.41706, 0.41906, 0.42084, 0.42242, 0.42383, 0.42508, 0.42619, 0.42718, 0.42806,
-    0.42883, 0.42951, 0.43010, 0.43062, 0.43107, 0.43145, 0.43176, 0.43201, 0.43219, 0.43231,
-    0.43234};
+constexpr std::array<double, 101> kMixedEndOpposed = {  // sign -1
+    1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000,
+    1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 0.99999, 0.99999, 0.99997, 0.99994, 0.99989, 0.99978,
+    0.99956, 0.99915, 0.99835, 0.99684, 0.99410, 0.98927, 0.98115, 0.96828, 0.94920, 0.92295, 0.88961, 0.85059,
+    0.80830, 0.76552, 0.72461, 0.68710, 0.65385, 0.62618, 0.60303, 0.58329, 0.56625, 0.55141, 0.53840, 0.52696,
+    0.51686, 0.50791, 0.49997, 0.49293, 0.48666, 0.48108, 0.47612, 0.47170, 0.46776, 0.46425, 0.46112, 0.45833,
+    0.45584, 0.4536329, 0.4516565, 0.4498943, 0.4483233, 0.4469226, 0.4456737, 0.4445604, 0.4435678, 0.4426828,
+    0.441894, 0.4411907, 0.4405638, 0.4400049, 0.4395067, 0.4390626, 0.4386668, 0.4383139, 0.4379994, 0.4377191,
+    0.4374692, 0.4372464, 0.4370479, 0.436871, 0.4367133, 0.4365727, 0.4364474, 0.4363357, 0.4362362, 0.4361475,
+    0.4360684, 0.435998, 0.4359351, 0.4358792, 0.4358293, 0.4357848, 0.4357452, 0.4357098, 0.4356784, 0.4356503,
+    0.4356253};
+constexpr std::array<double, 101> kMixedEndAligned = {  // sign +1
+    1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000,
+    1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00000, 1.00001, 1.00001, 1.00003, 1.00006, 1.00011, 1.00022,
+    1.00044, 1.00086, 1.00166, 1.00317, 1.00594, 1.01085, 1.01921, 1.03276, 1.05352, 1.08348, 1.12408, 1.17566,
+    1.23717, 1.30630, 1.38005, 1.45538, 1.52939, 1.59698, 1.65829, 0.27765, 0.29695, 0.31349, 0.32780, 0.34024,
+    0.35113, 0.36068, 0.36909, 0.37651, 0.38306, 0.38887, 0.39402, 0.39858, 0.40263, 0.40623, 0.40943, 0.41228,
+    0.41481, 0.4170696, 0.4190745, 0.4208592, 0.4224482, 0.4238632, 0.4251233, 0.4262457, 0.4272454, 0.428136,
+    0.4289294, 0.4296362, 0.430266, 0.4308271, 0.4313271, 0.4317726, 0.4321695, 0.4325233, 0.4328385, 0.4331194,
+    0.4333698, 0.4335928, 0.4337917, 0.4339688, 0.4341267, 0.4342674, 0.4343928, 0.4345046, 0.4346042, 0.434693,
+    0.4347721, 0.4348426, 0.4349054, 0.4349614, 0.4350113, 0.4350558, 0.4350955, 0.4351308, 0.4351623, 0.4351903,
+    0.4352154};
 constexpr double kMixedAlignedJump = 0.104494;  // log10 rho of the change of branch (sign +1)
 // the solutions either side of it
 constexpr BiclothoidMixedShares kMixedJumpBelow{0.38784, 1.66353};
@@ -140,13 +150,20 @@ BiclothoidMixedShares biclothoid_mixed_shares(double rho, bool aligned) {
   const double x = rho > 0 ? std::log10(rho) : kMixedLogRhoMin;
   if (x <= kMixedLogRhoMin) return {start.front(), end.front()};
   const double x_end = kMixedLogRhoMin + kMixedLogRhoStep * static_cast<double>(last);
-  if (x >= x_end) return {start.back() * std::pow(10.0, x_end) / rho, end.back()};
+  if (x >= x_end) {
+    // towards the curvature jump alone as 1 / rho: rho F to its start's limit at u -> 0
+    // (biclothoid_curvature_jump_start), the end share to kEndShare
+    const double rho_end = std::pow(10.0, x_end);
+    const double limit = std::exp(biclothoid_curvature_jump_start(0.0, 0.0));
+    const double fade = rho_end / rho;
+    return {(limit + (start.back() * rho_end - limit) * fade) / rho, kEndShare + (end.back() - kEndShare) * fade};
+  }
   // linear in log share against log rho between the nodes either side of x; in the node
   // interval holding the change of branch, between the node on x's side and that side's
   // solution at the change
   const double u = (x - kMixedLogRhoMin) / kMixedLogRhoStep;
   const auto i = std::clamp(static_cast<std::ptrdiff_t>(u), std::ptrdiff_t{0}, last - 1);
-  const auto node = [&](const std::array<double, 81>& f, std::ptrdiff_t k) { return f[static_cast<std::size_t>(k)]; };
+  const auto node = [&](const std::array<double, 101>& f, std::ptrdiff_t k) { return f[static_cast<std::size_t>(k)]; };
   double x0 = kMixedLogRhoMin + kMixedLogRhoStep * static_cast<double>(i);
   double x1 = x0 + kMixedLogRhoStep;
   BiclothoidMixedShares lo{node(start, i), node(end, i)};
@@ -421,11 +438,20 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
     a_model *= std::exp(biclothoid_curvature_jump_start(work.q1.kappa * a, work.q2.kappa * a) - 0.25 * kReached);
   }
   // at a tangent jump, the arcs' own curvatures at first order in kappa a
-  // (biclothoid_arc_sensitivity), with a at most the start cap (kappa a <= pi / 4)
+  // (biclothoid_arc_sensitivity), with a at most the start cap (kappa a <= pi / 4); where the
+  // curvature jump acts too, also their second order as at the curvature jump alone, by the
+  // share w of the deviation it makes at the model's start (dev = A a + B a^2, the pair's
+  // A = tol / a_angle and the jump's B = tol / a_curvature^2: w = B a / (A + B a))
   if (tangent_jump) {
     const BiclothoidArcSensitivity g = biclothoid_arc_sensitivity(delta);
     const double a = std::min(a_model, a_cap);
-    a_model *= std::exp(std::copysign(1.0, delta) * (g.in * work.q1.kappa + g.out * work.q2.kappa) * a);
+    double log_shift = std::copysign(1.0, delta) * (g.in * work.q1.kappa + g.out * work.q2.kappa) * a;
+    if (mixed) {
+      const double w = a_model * a_angle / (a_curvature * a_curvature + a_model * a_angle);
+      log_shift += w * (biclothoid_curvature_jump_start(work.q1.kappa * a, work.q2.kappa * a) -
+                        biclothoid_curvature_jump_start(0.0, 0.0));
+    }
+    a_model *= std::exp(log_shift);
   }
   // the end bound, as a start distance, where the model's fillet would end past it: b_cap where
   // there is a tangent jump (the line-line pair is symmetric, b = a), b_cap / kEndShare at a

@@ -139,8 +139,9 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
 // delta (kappa2 - kappa1) > 0, the curvature jump turning the path the way the tangent jump
 // does, on the corner as Algorithm 2 solves it (from the more curved shape, section 6). Tables
 // of Algorithm 2's own small-fillet solutions (their source is in biclothoid_tolerance.cpp):
-// start 1 (to 5e-5) and end 1 below rho = 0.01; above 100 start falls as 1 / rho and end is
-// kEndShare's 0.435 (the curvature jump alone).
+// start 1 (to 5e-5) and end 1 below rho = 0.01; above 1000 rho start tends as 1 / rho to the
+// curvature jump alone's limit, 1.00046 (biclothoid_curvature_jump_start), and end to
+// kEndShare's 0.435.
 struct BiclothoidMixedShares {
   double start;
   double end;
