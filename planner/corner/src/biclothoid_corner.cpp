@@ -61,6 +61,10 @@ CornerFit line_pair_fit(const CornerInput& corner, const PlanarCorner& geometry)
 CornerFit fit_biclothoid_corner(const CornerInput& corner) {
   const PlanarCorner geometry = planar_corner(corner.in, corner.out);
   if (auto special = clothoid_special_case(corner, geometry)) return *special;
+  return fit_biclothoid_in_plane(corner, geometry);
+}
+
+CornerFit fit_biclothoid_in_plane(const CornerInput& corner, const PlanarCorner& geometry) {
   if (geometry.lines) return line_pair_fit(corner, geometry);
   const double tolerance = corner.spec.parameter;
   const double start_distance = corner.spec.start_distance;  // > 0: sized by it, not by tolerance

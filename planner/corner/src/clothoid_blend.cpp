@@ -181,7 +181,7 @@ CornerFit fit_clothoid_corner(const CornerInput& corner) {
   // seed 002 (Makino) treats lines only: corners with arcs get a biclothoid fillet (seed 004), which is the
   // symmetric pair again where both moves are lines
   if (!geometry.lines) {
-    CornerFit fit = fit_biclothoid_corner(corner);
+    CornerFit fit = fit_biclothoid_in_plane(corner, geometry);
     // a non-planar corner makes the biclothoid fall back to a Bezier in turn
     fit.fallback = fit.fallback == Fallback::kBezier ? Fallback::kBiclothoidBezier : Fallback::kBiclothoid;
     const double cap = corner.spec.kappa_max;

@@ -738,6 +738,32 @@ TEST(Biclothoid, TheArcSensitivityStartsLargeTurnsWithinTheBand) {
             << worst_pair << "; " << one_solve << " in one solve\n";
 }
 
+// fit_biclothoid_in_plane, given the plane and past the special cases, is fit_biclothoid_corner:
+// the same fit on random corners of every kind (the clothoid method calls it for its corners
+// with an arc, which have found both already).
+TEST(Biclothoid, TheFitInItsPlaneIsTheCornerFit) {
+  const int cases = test::property_cases(400);
+  int compared = 0;
+  for (int i = 0; i < cases; ++i) {
+    const std::uint64_t seed = 7700 + static_cast<std::uint64_t>(i);
+    auto rng = test::make_rng(seed);
+    const CornerInput input = test::random_corner(rng, static_cast<test::CornerKind>(i % 4), Method::kBiclothoid).input;
+    const PlanarCorner geometry = planar_corner(input.in, input.out);
+    if (clothoid_special_case(input, geometry)) continue;
+    const CornerFit direct = fit_biclothoid_corner(input);
+    const CornerFit in_plane = fit_biclothoid_in_plane(input, geometry);
+    EXPECT_EQ(direct.outcome.ok(), in_plane.outcome.ok()) << test::seed_text(seed);
+    EXPECT_EQ(direct.trim_in, in_plane.trim_in) << test::seed_text(seed);
+    EXPECT_EQ(direct.trim_out, in_plane.trim_out) << test::seed_text(seed);
+    EXPECT_EQ(direct.parameter_used, in_plane.parameter_used) << test::seed_text(seed);
+    EXPECT_EQ(direct.note, in_plane.note) << test::seed_text(seed);
+    EXPECT_EQ(direct.transition.size(), in_plane.transition.size()) << test::seed_text(seed);
+    EXPECT_EQ(direct.corner_case, in_plane.corner_case) << test::seed_text(seed);
+    ++compared;
+  }
+  EXPECT_GT(compared, cases / 2);
+}
+
 // The mixed tables above log10 rho = 1, recomputed as their comment says: at every fifth node,
 // the start whose deviation is half the band inside the tolerance on the corner whose arc
 // turns by u1 = kappa_1 a_curvature = 0.01 over it (the turn delta that gives it: the pair's

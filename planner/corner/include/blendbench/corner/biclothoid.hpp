@@ -195,4 +195,9 @@ BiclothoidStartFit fit_biclothoid_from_start(const CornerShapes& shapes, double 
 // The clothoid segments of a biclothoid in 3D (pieces of zero length omitted).
 std::vector<Segment> to_segments(const Biclothoid& curve, const CornerPlane& plane);
 
+// fit_biclothoid_corner (corner.hpp) for a corner whose plane is known (planar_corner) and that
+// is none of clothoid_special_case's cases: the clothoid method's corners with an arc, which
+// have found both already (planar_corner is about 6 % of such a fit).
+CornerFit fit_biclothoid_in_plane(const CornerInput& corner, const PlanarCorner& geometry);
+
 }  // namespace blendbench
