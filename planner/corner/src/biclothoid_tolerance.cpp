@@ -54,6 +54,9 @@ constexpr double kMaxArcTurn = 0.25 * std::numbers::pi;
 // kMixedJumpAbove). The harmonic blend 1 / hypot(1 / a_angle, 1 / a_curvature) used before is up to 59 % too long below the change of branch and 22 % too short above it
 // (within 5 % at sign -1): the first solve landed far enough out that 4.5 % of the random
 // corners with an arc needed three or four solves.
+// biclothoid_curvature_jump_start at u -> 0 (its fit's constant term, below): log(a / a_curvature)
+// of the small fillet at a curvature jump alone, the limit the mixed shares tend to
+constexpr double kCurvatureJumpAtZero = 4.633901e-4;
 constexpr double kMixedLogRhoMin = -2.0;
 constexpr double kMixedLogRhoStep = 0.05;
 constexpr std::array<double, 101> kMixedShareOpposed = {  // sign -1
@@ -154,7 +157,7 @@ BiclothoidMixedShares biclothoid_mixed_shares(double rho, bool aligned) {
     // towards the curvature jump alone as 1 / rho: rho F to its start's limit at u -> 0
     // (biclothoid_curvature_jump_start), the end share to kEndShare
     const double rho_end = std::pow(10.0, x_end);
-    const double limit = std::exp(biclothoid_curvature_jump_start(0.0, 0.0));
+    const double limit = std::exp(kCurvatureJumpAtZero);
     const double fade = rho_end / rho;
     return {(limit + (start.back() * rho_end - limit) * fade) / rho, kEndShare + (end.back() - kEndShare) * fade};
   }
@@ -208,11 +211,10 @@ double biclothoid_curvature_jump_start(double u1, double u2) {
     u1 *= kRange / size;
     u2 *= kRange / size;
   }
-  constexpr double kAtZero = 4.633901e-4;
   constexpr double kU1U1 = -4.836173e-3;
   constexpr double kU1U2 = -1.137315e-2;
   constexpr double kU2U2 = -8.226727e-4;
-  const double value = kAtZero + u1 * (kU1U1 * u1 + kU1U2 * u2) + kU2U2 * u2 * u2;
+  const double value = kCurvatureJumpAtZero + u1 * (kU1U1 * u1 + kU1U2 * u2) + kU2U2 * u2 * u2;
   return std::isfinite(value) ? value : 0.0;
 }
 
@@ -448,8 +450,7 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
     double log_shift = std::copysign(1.0, delta) * (g.in * work.q1.kappa + g.out * work.q2.kappa) * a;
     if (mixed) {
       const double w = a_model * a_angle / (a_curvature * a_curvature + a_model * a_angle);
-      log_shift += w * (biclothoid_curvature_jump_start(work.q1.kappa * a, work.q2.kappa * a) -
-                        biclothoid_curvature_jump_start(0.0, 0.0));
+      log_shift += w * (biclothoid_curvature_jump_start(work.q1.kappa * a, work.q2.kappa * a) - kCurvatureJumpAtZero);
     }
     a_model *= std::exp(log_shift);
   }

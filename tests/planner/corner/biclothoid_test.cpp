@@ -834,6 +834,18 @@ TEST(Biclothoid, ACurvatureDominatedMixedCornerTakesOneSolve) {
   std::cout << checked << " corners, " << one_solve << " in one solve\n";
 }
 
+// A tangent corner of a curvature jump alone, fixed by u_i = kappa_i a_curvature and the
+// tolerance: a_curvature = sqrt(42 tol / |jump|) with jump = (u2 - u1) / a_curvature gives
+// a_curvature = 42 tol / |u2 - u1|.
+struct CurvatureJumpCorner {
+  CornerShapes shapes;
+  double a_curvature;
+};
+CurvatureJumpCorner curvature_jump_corner(double u1, double u2, double tol) {
+  const double a_c = 42 * tol / std::abs(u2 - u1);
+  return {CornerShapes{{0.0, u1 / a_c}, {0.0, u2 / a_c}}, a_c};
+}
+
 // The start at a curvature jump alone against Algorithm 2's solutions it was fitted to
 // (biclothoid_curvature_jump_start): on the grid u_i = 0.2 k and on random (u1, u2) with
 // |u2| <= |u1| <= 0.8, at tolerances of 0.1 um to 10 mm (the function is one of u alone), the
@@ -842,8 +854,7 @@ TEST(Biclothoid, ACurvatureDominatedMixedCornerTakesOneSolve) {
 // along the same ray; not a number: 0.
 TEST(Biclothoid, TheCurvatureJumpStartIsAlgorithm2sSolution) {
   const auto check = [](double u1, double u2, double tol, const std::string& where) {
-    const double a_c = 42 * tol / std::abs(u2 - u1);  // a_c = sqrt(42 tol / |jump|), jump = (u2 - u1) / a_c
-    const CornerShapes shapes{{0.0, u1 / a_c}, {0.0, u2 / a_c}};
+    const auto [shapes, a_c] = curvature_jump_corner(u1, u2, tol);
     const double exact = log_start_at_tolerance(shapes, a_c, tol) - std::log(a_c);
     EXPECT_NEAR(biclothoid_curvature_jump_start(u1, u2), exact, 3e-5) << where << " u " << u1 << ", " << u2 << " tol " << tol;
     return std::abs(biclothoid_curvature_jump_start(u1, u2) - exact);
@@ -892,8 +903,7 @@ TEST(Biclothoid, ACurvatureJumpAloneTakesOneSolve) {
     const double u2 = test::uniform(rng, -1, 1) * u1;
     if (std::abs(u2 - u1) < 1e-3) continue;
     const double tol = test::log_uniform(rng, 1e-7, 1e-2);
-    const double a_c = 42 * tol / std::abs(u2 - u1);
-    const CornerShapes shapes{{0.0, u1 / a_c}, {0.0, u2 / a_c}};
+    const auto [shapes, a_c] = curvature_jump_corner(u1, u2, tol);
     const BiclothoidToleranceFit fit = fit_biclothoid_with_tolerance(shapes, tol, 1e3 * a_c, 1e3 * a_c);
     ASSERT_TRUE(fit.outcome.ok()) << test::seed_text(seed) << ": " << fit.outcome.message;
     ASSERT_FALSE(fit.swapped) << test::seed_text(seed);
