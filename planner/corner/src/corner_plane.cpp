@@ -37,7 +37,42 @@ double shape_angle(const PlanarShape& shape, double sigma) { return shape.theta 
 
 Vec3 to_space(const CornerPlane& plane, const Vec2& p) { return plane.origin + p.x() * plane.x + p.y() * plane.y; }
 
+namespace {
+
+// planar_corner for two lines, the commonest corner and the clothoid methods' fast path: the
+// general code's arithmetic for lines (segment.cpp's point and tangent, so every result is the
+// same to the bit), without the variant dispatch, the curvature vectors (zero), the arc
+// checks and the second atan2.
+PlanarCorner line_corner(const Line& in, const Line& out) {
+  PlanarCorner pc;
+  pc.lines = true;
+  pc.planar = true;           // two lines through the corner span their normal's plane
+  pc.same_curvature = true;   // both curvature vectors are zero
+  const Vec3 d1 = in.p1 - in.p0;
+  const double len_in = d1.norm();
+  const Vec3 d2 = out.p1 - out.p0;
+  const double len_out = d2.norm();
+  const Vec3 t1 = len_in > 0 ? Vec3(d1 / len_in) : Vec3::Zero();
+  const Vec3 t2 = len_out > 0 ? Vec3(d2 / len_out) : Vec3::Zero();
+  pc.angle = angle_between(t1, t2);
+  const Vec3 turn = t1.cross(t2);
+  const Vec3 normal = turn.norm() > 0 ? Vec3(turn.normalized()) : any_perpendicular(t1);
+  // point(in, length(in)): p0 + d1 * (len / len), and len / len is exactly 1
+  pc.plane.origin = len_in > 0 ? Vec3(in.p0 + d1) : in.p0;
+  pc.plane.x = (t1 - t1.dot(normal) * normal).normalized();
+  pc.plane.y = normal.cross(pc.plane.x);
+  pc.shapes.q1 = PlanarShape{0.0, 0.0};
+  // the plane's normal is t1 x t2, so t2 turns by +angle from x
+  pc.shapes.q2 = PlanarShape{pc.angle, 0.0};
+  return pc;
+}
+
+}  // namespace
+
 PlanarCorner planar_corner(const Primitive& in, const Primitive& out) {
+  const Line* line1 = std::get_if<Line>(&in);
+  const Line* line2 = std::get_if<Line>(&out);
+  if (line1 && line2) return line_corner(*line1, *line2);
   PlanarCorner pc;
   const double len_in = length(in);
   const Vec3 corner = point(in, len_in);

@@ -9,6 +9,8 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <variant>
+#include <vector>
 
 #include "support/input_error.hpp"
 #include "support/corner_check.hpp"
@@ -397,6 +399,52 @@ TEST(Biclothoid, NonPlanarCornersFallBackToBezier) {
   EXPECT_EQ(fit_biclothoid_corner(h).fallback, Fallback::kBezier);
   // a line in the arc's plane is planar
   EXPECT_TRUE(planar_corner(arc, Line{end, end + Vec3(-0.3, 0.5, 0.0)}).planar);
+}
+
+// Two lines take planar_corner's line fast path: its corner frame is exactly the one the
+// segments' own point and tangent give (the general path's arithmetic), on random corners and on
+// the collinear, reversing and zero-length ones.
+TEST(CornerPlane, LineCornersAreTheSegmentsOwnFrame) {
+  const std::uint64_t seed = 4242;
+  auto rng = test::make_rng(seed);
+  std::vector<CornerInput> corners;
+  const Vec3 a(0.01, -0.02, 0.03);
+  const Vec3 d(0.3, 0.1, -0.2);
+  corners.push_back(corner_between(Line{a - d, a}, Line{a, a + 2 * d}, 0.1 * kMm));  // collinear
+  corners.push_back(corner_between(Line{a - d, a}, Line{a, a - d}, 0.1 * kMm));      // reversal
+  corners.push_back(corner_between(Line{a, a}, Line{a, a + d}, 0.1 * kMm));          // zero-length in
+  corners.push_back(corner_between(Line{a - d, a}, Line{a, a}, 0.1 * kMm));          // zero-length out
+  const int cases = test::property_cases(4000);
+  for (int i = 0; i < cases; ++i) {
+    corners.push_back(test::random_corner(rng, test::CornerKind::kLineLine, Method::kBiclothoid).input);
+  }
+  for (std::size_t i = 0; i < corners.size(); ++i) {
+    SCOPED_TRACE(test::seed_text(seed) + " corner " + std::to_string(i));
+    const Line& in = std::get<Line>(corners[i].in);
+    const Line& out = std::get<Line>(corners[i].out);
+    const PlanarCorner pc = planar_corner(in, out);
+    const Vec3 t1 = tangent(in, length(in));
+    const Vec3 t2 = tangent(out, 0.0);
+    EXPECT_TRUE(pc.lines && pc.planar && pc.same_curvature);
+    EXPECT_FALSE(pc.same_circle);
+    EXPECT_EQ(pc.plane.origin, point(in, length(in)));
+    EXPECT_EQ(pc.angle, angle_between(t1, t2));
+    EXPECT_EQ(pc.shapes.q1.theta, 0.0);
+    EXPECT_EQ(pc.shapes.q1.kappa, 0.0);
+    EXPECT_EQ(pc.shapes.q2.theta, pc.angle);
+    EXPECT_EQ(pc.shapes.q2.kappa, 0.0);
+    if (length(in) > 0) {  // a zero-length incoming move has no direction to frame
+      EXPECT_NEAR(pc.plane.x.norm(), 1.0, 1e-12);
+      EXPECT_NEAR(pc.plane.y.norm(), 1.0, 1e-12);
+      EXPECT_NEAR(pc.plane.x.dot(pc.plane.y), 0.0, 1e-12);
+      EXPECT_NEAR((pc.plane.x - t1).norm(), 0.0, 1e-9);  // t1 x t2 of a tiny turn: ~eps / angle
+    }
+    // the outgoing tangent is the shape's: cos, sin of q2.theta in the plane
+    if (length(in) > 0 && length(out) > 0) {
+      const Vec3 along = std::cos(pc.shapes.q2.theta) * pc.plane.x + std::sin(pc.shapes.q2.theta) * pc.plane.y;
+      EXPECT_NEAR((along - t2).norm(), 0.0, 1e-9);
+    }
+  }
 }
 
 // Case i of the property tests' random corners (seed 1000 + i, kind i % 4) when Algorithm 2
