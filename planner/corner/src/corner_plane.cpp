@@ -39,10 +39,10 @@ Vec3 to_space(const CornerPlane& plane, const Vec2& p) { return plane.origin + p
 
 namespace {
 
-// planar_corner for two lines, the commonest corner and the clothoid methods' fast path: the
-// general code's arithmetic for lines (segment.cpp's point and tangent, so every result is the
-// same to the bit), without the variant dispatch, the curvature vectors (zero), the arc
-// checks and the second atan2.
+// planar_corner for two lines, the commonest corner and the clothoid methods' fast path:
+// segment.cpp's point and tangent arithmetic for lines (so every result is what the general
+// code gave them, to the bit), without the variant dispatch, the curvature vectors (zero) and
+// the arc checks; the general code below handles corners with an arc only.
 PlanarCorner line_corner(const Line& in, const Line& out) {
   PlanarCorner pc;
   pc.lines = true;
@@ -82,9 +82,8 @@ PlanarCorner planar_corner(const Primitive& in, const Primitive& out) {
   const Vec3 k1 = curvature_vector(in, len_in);
   const Vec3 k2 = curvature_vector(out, 0.0);
   pc.same_curvature = (k1 - k2).norm() <= 1e-9 * std::max({k1.norm(), k2.norm(), 1e-300});
-  const Arc* arc1 = std::get_if<Arc>(&in);
+  const Arc* arc1 = std::get_if<Arc>(&in);  // from here on, at least one move is an arc
   const Arc* arc2 = std::get_if<Arc>(&out);
-  pc.lines = !arc1 && !arc2;
   if (arc1 && arc2) {
     pc.same_circle = (arc1->center - arc2->center).norm() <= 1e-9 * arc1->radius &&
                      std::abs(arc1->radius - arc2->radius) <= 1e-9 * arc1->radius && arc1->rise == 0 &&
@@ -92,18 +91,12 @@ PlanarCorner planar_corner(const Primitive& in, const Primitive& out) {
                      arc1->u.cross(arc1->v).cross(arc2->u.cross(arc2->v)).norm() <= kPlanarAngle;
   }
 
-  // the plane normal: the arc's axis, or the lines' common normal oriented with the turn
-  Vec3 normal;
-  if (arc1) normal = arc1->u.cross(arc1->v).normalized();
-  else if (arc2) normal = arc2->u.cross(arc2->v).normalized();
-  else if (t1.cross(t2).norm() > 0) normal = t1.cross(t2).normalized();
-  else normal = any_perpendicular(t1);
+  // the plane normal: the (first) arc's axis
+  const Vec3 normal = arc1 ? Vec3(arc1->u.cross(arc1->v).normalized()) : Vec3(arc2->u.cross(arc2->v).normalized());
 
-  // planar: no helix, every line in the plane, every arc axis along the normal (two lines
-  // through the corner always span one, their normal's plane)
+  // planar: no helix, every line in the plane, every arc axis along the normal
   pc.planar = true;
   for (const Primitive* prim : {&in, &out}) {
-    if (pc.lines) break;
     if (const Arc* arc = std::get_if<Arc>(prim)) {
       if (arc->rise != 0 || arc->u.cross(arc->v).normalized().cross(normal).norm() > kPlanarAngle) pc.planar = false;
     } else {
@@ -121,8 +114,7 @@ PlanarCorner planar_corner(const Primitive& in, const Primitive& out) {
     return (arc->u.cross(arc->v).dot(normal) > 0 ? 1.0 : -1.0) / arc->radius;
   };
   pc.shapes.q1 = PlanarShape{0.0, signed_curvature(in)};
-  // two lines: the plane's normal is t1 x t2, so t2 turns by +angle from x (no second atan2)
-  const double theta2 = pc.lines ? pc.angle : std::atan2(t2.dot(pc.plane.y), t2.dot(pc.plane.x));
+  const double theta2 = std::atan2(t2.dot(pc.plane.y), t2.dot(pc.plane.x));
   pc.shapes.q2 = PlanarShape{theta2, signed_curvature(out)};
   return pc;
 }
