@@ -4,8 +4,8 @@
 
 #include "blendbench/corner/biclothoid.hpp"
 
-#include <algorithm>
 #include <string>
+#include <utility>
 
 #include "biclothoid_internal.hpp"
 #include "blendbench/core/format.hpp"
@@ -32,27 +32,15 @@ bool use_fillet(const Outcome& outcome, const BiclothoidSolution& fillet, const 
 }
 
 // Two lines: the symmetric fillet in closed form (seed 004 section 7.1, seed 002 (Makino) eq. 9),
-// shrunk to the shorter available length. One named result, so it is built in place (the
+// sized as the clothoid method sizes it (line_pair). One named result, so it is built in place (the
 // line-line fit is the fast path: a move of the fit on return was a few per cent of it).
 CornerFit line_pair_fit(const CornerInput& corner, const PlanarCorner& geometry) {
-  const double tolerance = corner.spec.parameter;
   const double start_distance = corner.spec.start_distance;  // > 0: sized by it, not by tolerance
   CornerFit fit;
   fit.corner_case = geometry.angle <= kTangentAngle ? CornerCase::kTangent : CornerCase::kRegular;
-  const ClothoidPairShape shape = clothoid_pair_shape(geometry.angle);
-  ClothoidPair pair = start_distance > 0 ? clothoid_pair_for_tangent_length(shape, start_distance)
-                                         : clothoid_pair_for_deviation(shape, tolerance);
-  const double available = std::min(corner.in_available, corner.out_available);
-  if (pair.tangent_length > available) {
-    const double asked = start_distance > 0 ? start_distance : tolerance;
-    pair = clothoid_pair_for_tangent_length(shape, available);
-    fit.note = pair_shrunk_note(start_distance > 0, asked, start_distance > 0 ? pair.tangent_length : pair.deviation,
-                                corner);
-  }
-  fit.transition = clothoid_pair_segments(pair, shape, geometry.plane);
-  fit.trim_in = pair.tangent_length;
-  fit.trim_out = pair.tangent_length;
-  fit.parameter_used = start_distance > 0 ? pair.tangent_length : pair.deviation;
+  LinePair line = line_pair(corner, geometry.angle, start_distance);
+  use_line_pair(line, geometry.plane, start_distance > 0 ? line.pair.tangent_length : line.pair.deviation, fit);
+  fit.note = std::move(line.shrink_note);
   return fit;
 }
 

@@ -87,6 +87,29 @@ std::vector<Segment> clothoid_pair_segments(const ClothoidPair& pair, const Clot
   return out;
 }
 
+LinePair line_pair(const CornerInput& corner, double angle, double start_distance) {
+  LinePair line;
+  line.shape = clothoid_pair_shape(angle);
+  const bool by_start = start_distance > 0;
+  line.pair = by_start ? clothoid_pair_for_tangent_length(line.shape, start_distance)
+                       : clothoid_pair_for_deviation(line.shape, corner.spec.parameter);
+  const double available = std::min(corner.in_available, corner.out_available);
+  if (line.pair.tangent_length > available) {
+    line.pair = clothoid_pair_for_tangent_length(line.shape, available);
+    line.shrink_note =
+        pair_shrunk_note(by_start, by_start ? start_distance : corner.spec.parameter,
+                         by_start ? line.pair.tangent_length : line.pair.deviation, corner);
+  }
+  return line;
+}
+
+void use_line_pair(const LinePair& line, const CornerPlane& plane, double parameter_used, CornerFit& fit) {
+  fit.transition = clothoid_pair_segments(line.pair, line.shape, plane);
+  fit.trim_in = line.pair.tangent_length;
+  fit.trim_out = line.pair.tangent_length;
+  fit.parameter_used = parameter_used;
+}
+
 ClothoidArcClothoid clothoid_arc_clothoid(double alpha, double kappa, double clothoid_length) {
   ClothoidArcClothoid cac;
   cac.alpha = alpha;
@@ -206,24 +229,16 @@ CornerFit fit_clothoid_corner(const CornerInput& corner) {
   const char* const short_move = corner.in_available <= corner.out_available ? "incoming" : "outgoing";
 
   // the pair at the tolerance, shrunk to the available tangent length
-  const ClothoidPairShape shape = clothoid_pair_shape(alpha);
-  ClothoidPair pair = clothoid_pair_for_deviation(shape, tolerance);
-  std::string shrink_note;
-  if (pair.tangent_length > available) {
-    pair = clothoid_pair_for_tangent_length(shape, available);
-    shrink_note = pair_shrunk_note(false, tolerance, pair.deviation, corner);
-  }
+  LinePair line = line_pair(corner, alpha, 0.0);
+  const ClothoidPair& pair = line.pair;
   // the pair as the transition, with its note (the fit itself is returned by the caller: a
   // copy of it out of the lambda cost an allocation per line-line fit)
   const auto use_pair = [&](std::string note) {
-    fit.transition = clothoid_pair_segments(pair, shape, geometry.plane);
-    fit.trim_in = pair.tangent_length;
-    fit.trim_out = pair.tangent_length;
-    fit.parameter_used = pair.deviation;
+    use_line_pair(line, geometry.plane, pair.deviation, fit);
     fit.note = std::move(note);
   };
   if (cap <= 0 || pair.kappa_peak <= cap) {
-    use_pair(std::move(shrink_note));
+    use_pair(std::move(line.shrink_note));
     return fit;
   }
 
@@ -240,7 +255,7 @@ CornerFit fit_clothoid_corner(const CornerInput& corner) {
                                       short_move + " move, which has " + format_mm(available);
     std::string note = "peak curvature " + format_per_mm(pair.kappa_peak) + " exceeds kappa_max " + format_per_mm(cap) + ": " + why +
                        "; the clothoid pair is kept";
-    if (!shrink_note.empty()) note += "; " + shrink_note;
+    if (!line.shrink_note.empty()) note += "; " + line.shrink_note;
     use_pair(std::move(note));
     return fit;
   }

@@ -13,6 +13,7 @@
 // For Makino's pair, X = a C(u), Y = a S(u) with u = sqrt(alpha / pi) (eq. 9:
 // u_max = sqrt(phi_max / 90 deg), phi_max = alpha / 2), so d and T are linear in the scale a.
 
+#include <string>
 #include <vector>
 
 #include "blendbench/corner/corner_plane.hpp"
@@ -57,6 +58,20 @@ ClothoidPair clothoid_pair_for_tangent_length(const ClothoidPairShape& shape, do
 // (-T, 0) + a (C(u), S(u)) is a closed form (seed 002 eq. 9), heading alpha / 2.
 std::vector<Segment> clothoid_pair_segments(const ClothoidPair& pair, const ClothoidPairShape& shape,
                                             const CornerPlane& plane);
+
+// The line-line pair as both clothoid methods size it (seed 002 eq. 9, seed 004 section 7.1):
+// by `start_distance` where it is > 0 (the biclothoid's start_distance; the clothoid method
+// passes 0), else by the corner's tolerance (spec.parameter), shrunk to the shorter available
+// move with pair_shrunk_note's note (empty where it fits).
+struct LinePair {
+  ClothoidPairShape shape;
+  ClothoidPair pair;
+  std::string shrink_note;
+};
+LinePair line_pair(const CornerInput& corner, double angle, double start_distance);
+// The pair as the fit's transition (clothoid_pair_segments in the corner's plane), trimming its
+// tangent length from both moves; parameter_used is what the method reports as used.
+void use_line_pair(const LinePair& line, const CornerPlane& plane, double parameter_used, CornerFit& fit);
 
 // seed 002 figs. 12-13: clothoid (0 -> kappa over clothoid_length), arc of curvature kappa,
 // clothoid (kappa -> 0), symmetric, for a corner of deflection alpha (0 < alpha < pi);
