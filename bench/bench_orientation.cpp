@@ -25,7 +25,8 @@ Program zigzag(int n, bool oriented, Method method) {
   for (int k = 0; k < n; ++k) {
     const double heading = (k % 2 == 0 ? 1 : -1) * M_PI / 6;
     const Vec3 next = p + 0.02 * Vec3(std::cos(heading), std::sin(heading), 0);
-    Move move;
+    // built in place (a copy of a Move drew a GCC 12 -Wmaybe-uninitialized false positive)
+    Move& move = program.moves.emplace_back();
     move.geometry = Line{p, next};
     move.limits = {0.25, 2.5, 2.5, 50.0};
     move.transition = {method, 0.005};
@@ -35,7 +36,6 @@ Program zigzag(int n, bool oriented, Method method) {
       q = Quat(Eigen::AngleAxisd(10 * M_PI / 180, axis)) * q;
       move.orientation = q;
     }
-    program.moves.push_back(move);
     p = next;
   }
   return program;

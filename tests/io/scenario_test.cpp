@@ -245,9 +245,19 @@ TEST(Scenario, DeepNestingAndAliasBombsAreRefusedBeforeTheyCost) {
   // nine aliases of nine aliases of ...: 9^9 nodes from a few hundred bytes
   std::string bomb = "name: bomb\na0: &a0 [x, x, x, x, x, x, x, x, x]\n";
   for (int i = 1; i <= 9; ++i) {
+    // appended piece by piece: "literal" + std::string drew GCC 12's -Wrestrict false positive
     const std::string p = "*a" + std::to_string(i - 1);
-    bomb += "a" + std::to_string(i) + ": &a" + std::to_string(i) + " [" + p;
-    for (int k = 1; k < 9; ++k) bomb += ", " + p;
+    const std::string name = std::to_string(i);
+    bomb += "a";
+    bomb += name;
+    bomb += ": &a";
+    bomb += name;
+    bomb += " [";
+    bomb += p;
+    for (int k = 1; k < 9; ++k) {
+      bomb += ", ";
+      bomb += p;
+    }
     bomb += "]\n";
   }
   expect_error(bomb, 8, "a6[5]", "more than 4000000 YAML nodes (aliases counted as the nodes they repeat)");

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <vector>
@@ -172,7 +173,7 @@ MetricsOptions position_only(const Vec3& end, double tolerance) {
   MetricsOptions opt;
   opt.end_point = end;
   opt.settle_tolerance = tolerance;
-  opt.settle_speed_tolerance = INFINITY;
+  opt.settle_speed_tolerance = std::numeric_limits<double>::infinity();
   opt.settle_window = 0;
   return opt;
 }

@@ -82,17 +82,18 @@ PlanarCorner planar_corner(const Primitive& in, const Primitive& out) {
   const Vec3 k1 = curvature_vector(in, len_in);
   const Vec3 k2 = curvature_vector(out, 0.0);
   pc.same_curvature = (k1 - k2).norm() <= 1e-9 * std::max({k1.norm(), k2.norm(), 1e-300});
-  const Arc* arc1 = std::get_if<Arc>(&in);  // from here on, at least one move is an arc
-  const Arc* arc2 = std::get_if<Arc>(&out);
-  if (arc1 && arc2) {
-    pc.same_circle = (arc1->center - arc2->center).norm() <= 1e-9 * arc1->radius &&
-                     std::abs(arc1->radius - arc2->radius) <= 1e-9 * arc1->radius && arc1->rise == 0 &&
-                     arc2->rise == 0 &&
-                     arc1->u.cross(arc1->v).cross(arc2->u.cross(arc2->v)).norm() <= kPlanarAngle;
+  // from here on, at least one move is an arc: the plane normal is the (first) arc's axis. (By
+  // reference through std::get: GCC 12 saw a null dereference in the get_if pointers here.)
+  const bool arc_in = std::holds_alternative<Arc>(in);
+  if (arc_in && std::holds_alternative<Arc>(out)) {
+    const Arc& arc1 = std::get<Arc>(in);
+    const Arc& arc2 = std::get<Arc>(out);
+    pc.same_circle = (arc1.center - arc2.center).norm() <= 1e-9 * arc1.radius &&
+                     std::abs(arc1.radius - arc2.radius) <= 1e-9 * arc1.radius && arc1.rise == 0 && arc2.rise == 0 &&
+                     arc1.u.cross(arc1.v).cross(arc2.u.cross(arc2.v)).norm() <= kPlanarAngle;
   }
-
-  // the plane normal: the (first) arc's axis
-  const Vec3 normal = arc1 ? Vec3(arc1->u.cross(arc1->v).normalized()) : Vec3(arc2->u.cross(arc2->v).normalized());
+  const Arc& axis_arc = std::get<Arc>(arc_in ? in : out);
+  const Vec3 normal = axis_arc.u.cross(axis_arc.v).normalized();
 
   // planar: no helix, every line in the plane, every arc axis along the normal
   pc.planar = true;

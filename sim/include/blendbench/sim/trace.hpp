@@ -38,11 +38,24 @@ struct JointLimits {
 //   tau              the motor torque applied from t to the next servo tick, after saturation;
 //   tcp, tcp_cmd     the tool centre point of the actual links and of the reference (m), and
 //   rotation, rotation_cmd their orientations (base frame).
+// (Every field starts at zero, the rotations at the identity: a sample built field by field,
+// as the tests build them, holds no indeterminate values.)
 struct TraceSample {
   double t = 0;  // s
-  JointVector q_cmd, qd_cmd, q_motor_cmd, q_measured, following_error, q_motor, qd_motor, q, qd, tau;
-  Vec3 tcp_cmd, tcp;
-  Eigen::Quaterniond rotation_cmd, rotation;
+  JointVector q_cmd = JointVector::Zero();
+  JointVector qd_cmd = JointVector::Zero();
+  JointVector q_motor_cmd = JointVector::Zero();
+  JointVector q_measured = JointVector::Zero();
+  JointVector following_error = JointVector::Zero();
+  JointVector q_motor = JointVector::Zero();
+  JointVector qd_motor = JointVector::Zero();
+  JointVector q = JointVector::Zero();
+  JointVector qd = JointVector::Zero();
+  JointVector tau = JointVector::Zero();
+  Vec3 tcp_cmd = Vec3::Zero();
+  Vec3 tcp = Vec3::Zero();
+  Eigen::Quaterniond rotation_cmd = Eigen::Quaterniond::Identity();
+  Eigen::Quaterniond rotation = Eigen::Quaterniond::Identity();
 };
 
 // One sample per setpoint, t = k / setpoint_rate_hz, from 0 to the end of the reference plus
