@@ -33,7 +33,7 @@ constexpr int kGuessOnlyIterations = 8;
 }  // namespace
 
 std::optional<Solve> biclothoid_detail::fit_at(const CornerShapes& shapes, double a, double guess_length,
-                                              double guess_b, Effort effort) {
+                                              double guess_b, Effort effort, const ClothoidPairShape* turn_shape) {
   const bool full = effort == Effort::kFull;
   if (!(a > 0) || !std::isfinite(a)) return std::nullopt;
   const PlanarShape& q1 = shapes.q1;
@@ -60,7 +60,8 @@ std::optional<Solve> biclothoid_detail::fit_at(const CornerShapes& shapes, doubl
   if (!(guess_length > 0 && guess_b > 0)) {
     const double jump = std::abs(q1.kappa - q2.kappa);
     if (std::abs(delta) / 6 > jump * a / 42) {
-      const ClothoidPair pair = clothoid_pair_for_tangent_length(std::abs(delta), a);
+      const ClothoidPair pair = turn_shape ? clothoid_pair_for_tangent_length(*turn_shape, a)
+                                           : clothoid_pair_for_tangent_length(std::abs(delta), a);
       guess_length = 2 * pair.half_length;
       guess_b = a;
     } else {

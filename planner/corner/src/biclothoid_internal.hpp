@@ -11,6 +11,7 @@
 #include <optional>
 
 #include "blendbench/corner/biclothoid.hpp"
+#include "blendbench/corner/clothoid_blend.hpp"
 
 namespace blendbench::biclothoid_detail {
 
@@ -113,9 +114,11 @@ struct Solve {
 // seed 004 (Shahzadeh et al.) Algorithm 1 (biclothoid_fit.cpp): fit_biclothoid_at with the sensitivities.
 // `Effort::kGuessOnly`: Newton from the guess alone, a few iterations, none of the other
 // starts or the bracket scan (a solve that is only worth it if it is quick).
+// `turn_shape`, when given, is clothoid_pair_shape(|delta|) of this corner's turn, for the cold
+// guess's line-line pair (a caller that has it saves the Fresnel integrals).
 enum class Effort { kFull, kGuessOnly };
 std::optional<Solve> fit_at(const CornerShapes& shapes, double a, double guess_length, double guess_b,
-                            Effort effort = Effort::kFull);
+                            Effort effort = Effort::kFull, const ClothoidPairShape* turn_shape = nullptr);
 
 // Where the larger directed distance D is attained, for its derivative with respect to the
 // start distance a (fit_biclothoid_with_tolerance): the fillet point V(s) and the unit vector u

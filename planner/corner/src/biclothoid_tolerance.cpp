@@ -289,6 +289,9 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
   const double a_cap = caps.a;
   const double b_cap = caps.b;
   const bool tangent_jump = std::abs(corner_turn(work)) > 1e-9;
+  // the line-line pair's shape at this turn, for the model below and the first solve's cold
+  // guess (its Fresnel integrals once, not three times)
+  const ClothoidPairShape turn_shape = tangent_jump ? clothoid_pair_shape(std::abs(corner_turn(work))) : ClothoidPairShape{};
 
   struct Trial {
     BiclothoidSolution fillet;
@@ -329,7 +332,7 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
     }
     if (store.size() == kMaxTrials) return nullptr;
     ++result.solves;
-    const auto sol = fit_at(work, a, guess_len, guess_b);
+    const auto sol = fit_at(work, a, guess_len, guess_b, Effort::kFull, tangent_jump ? &turn_shape : nullptr);
     if (!sol) return nullptr;
     store.push_back(Trial{sol->fillet, sol->dlen_da, sol->db_da, {}, {}, false});
     return &store.back();
@@ -422,7 +425,7 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
   // dev ~ |kappa jump| a^2 / 42 for the curvature jump; where both act, the share of the pair's
   // start that small fillets take (biclothoid_mixed_shares)
   const double kappa_jump = std::abs(work.q1.kappa - work.q2.kappa);
-  const ClothoidPair pair = tangent_jump ? clothoid_pair_for_deviation(std::abs(delta), tolerance) : ClothoidPair{};
+  const ClothoidPair pair = tangent_jump ? clothoid_pair_for_deviation(turn_shape, tolerance) : ClothoidPair{};
   const double a_angle = tangent_jump ? pair.tangent_length : std::numeric_limits<double>::infinity();
   const double a_curvature =
       kappa_jump > 0 ? std::sqrt(42.0 * tolerance / kappa_jump) : std::numeric_limits<double>::infinity();
@@ -496,7 +499,7 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
     // pair's shape, b = a)
     double end_share = shares.end;
     if (mixed) {
-      const double tol_there = clothoid_pair_for_tangent_length(std::abs(delta), b_cap).deviation;
+      const double tol_there = clothoid_pair_for_tangent_length(turn_shape, b_cap).deviation;
       const double rho_there = b_cap / std::sqrt(42.0 * tol_there / kappa_jump);
       const double there = biclothoid_mixed_shares(rho_there, delta * (work.q2.kappa - work.q1.kappa) > 0).end;
       if (there > 0) end_share = there;  // (not a number where the pair has no deviation)
