@@ -288,10 +288,11 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
   const Caps caps = fillet_caps(work, a_max, b_max);
   const double a_cap = caps.a;
   const double b_cap = caps.b;
-  const bool tangent_jump = std::abs(corner_turn(work)) > 1e-9;
+  const double delta = corner_turn(work);
+  const bool tangent_jump = std::abs(delta) > 1e-9;
   // the line-line pair's shape at this turn, for the model below and the first solve's cold
   // guess (its Fresnel integrals once, not three times)
-  const ClothoidPairShape turn_shape = tangent_jump ? clothoid_pair_shape(std::abs(corner_turn(work))) : ClothoidPairShape{};
+  const ClothoidPairShape turn_shape = tangent_jump ? clothoid_pair_shape(std::abs(delta)) : ClothoidPairShape{};
 
   struct Trial {
     BiclothoidSolution fillet;
@@ -418,7 +419,6 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
   // (deviation ~ a^p, p = 1 at a tangent jump, 2 at a curvature jump only, so y is nearly
   // linear in x), secant steps where the slope is not usable, bisection once bracketed steps
   // leave the bracket, stopping at -kReached <= y <= 0.
-  const double delta = corner_turn(work);
   const double x_cap = std::log(a_cap);
   // a first start distance from the small-fillet models: the line-line pair for the tangent
   // jump (deviation ~ a) and, from seed 004 table 1 (arc R10 -> line at 0.1 mm: a = 6.5 mm),
