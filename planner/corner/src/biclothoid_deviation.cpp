@@ -436,9 +436,10 @@ Measured biclothoid_detail::measure_deviation(const BiclothoidSolution& fillet, 
     const double g_lo = l.d[0].distance - l.d[1].distance;
     // from the false-position point of the bracket (g is nearly linear across it), not its
     // midpoint: over the property tests' random arc corners 6.7 samples of the fillet per
-    // measure instead of 7.6-7.9, and the same crossing to the last bit. The fillet's ends carry
-    // a stand-in distance to the piece they do not lie on, so a bracket with an end starts at
-    // the midpoint.
+    // measure instead of 7.6-7.9, and on every corner measured (those 6000 and every scenario's)
+    // the same crossing to the last bit, Newton's fixed point. The fillet's ends carry a
+    // stand-in distance to the piece they do not lie on, so a bracket with an end starts at the
+    // midpoint.
     double s = 0.5 * (lo + hi);
     if (l.s > 0 && r.s < len) {
       const double g_hi = r.d[0].distance - r.d[1].distance;
