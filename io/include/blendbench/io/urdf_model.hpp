@@ -12,10 +12,10 @@
 //             length (the distance to the next joint or to the tip, at least kMinLinkLength);
 //   inertia   each such link a uniform solid rod of radius kRodRadius from its joint to the
 //             next one: I_axis = m r^2 / 2, I_across = m (3 r^2 + l^2) / 12 about its centre;
-//   effort    for a joint with effort <= 0: kEffortMargin times the largest gravity torque the
-//             outboard links can exert (g times the sum over them of mass times the distance of
-//             their centre from the joint at q = 0, the stretched arm's bound), at least
-//             kMinEffort.
+//   effort    for a joint with effort <= 0: kEffortMargin times a bound of the gravity torque
+//             the outboard links exert in any configuration (g times the sum over them of mass
+//             times the length of the chain of offsets from the joint to their centre, which no
+//             configuration's distance exceeds), at least kMinEffort.
 
 #include <string>
 #include <vector>
