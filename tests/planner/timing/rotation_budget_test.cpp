@@ -44,19 +44,34 @@ Rates rates_at(const PathPiece& piece, double x) {
 struct Ratios {
   double velocity = 0, acceleration = 0, jerk = 0;
 };
+Ratios ratios_on(const PathPiece& piece, double x_local, const TimedSample& x) {
+  const Rates r = rates_at(piece, x_local);
+  const AngularLimits& lim = piece.orientation->limits;
+  const Vec3 omega = r.rho * x.v;
+  const Vec3 alpha = r.rho * x.a + r.d1 * x.v * x.v;
+  const Vec3 eta = r.rho * x.j + 3 * r.d1 * x.v * x.a + r.d2 * x.v * x.v * x.v;
+  return {omega.norm() / lim.velocity, alpha.norm() / lim.acceleration, eta.norm() / lim.jerk};
+}
 Ratios angular_ratios(const Path& path, const Timing& timing) {
   Ratios out;
   for (const TimedSample& x : timing.samples) {
     const Path::Location at = path.locate(x.s);
-    const PathPiece& piece = path.pieces()[at.piece];
-    const Rates r = rates_at(piece, at.s);
-    const AngularLimits& lim = piece.orientation->limits;
-    const Vec3 omega = r.rho * x.v;
-    const Vec3 alpha = r.rho * x.a + r.d1 * x.v * x.v;
-    const Vec3 eta = r.rho * x.j + 3 * r.d1 * x.v * x.a + r.d2 * x.v * x.v * x.v;
-    out.velocity = std::max(out.velocity, omega.norm() / lim.velocity);
-    out.acceleration = std::max(out.acceleration, alpha.norm() / lim.acceleration);
-    out.jerk = std::max(out.jerk, eta.norm() / lim.jerk);
+    Ratios here = ratios_on(path.pieces()[at.piece], at.s, x);
+    // A sample on a junction (locate gives the later piece) carries the jerk of the phase that
+    // arrives there or of the one that leaves, and the two pieces may have different limits:
+    // at a stop between moves, the last sample of the deceleration reaches the junction to
+    // rounding (v 1e-11 m/s) with the incoming move's jerk. So it is checked against the piece
+    // its phase belongs to, either side; the samples before and after check each phase against
+    // its own piece.
+    if (at.s == 0 && at.piece > 0) {
+      const PathPiece& before = path.pieces()[at.piece - 1];
+      const Ratios left = ratios_on(before, length(before.segment), x);
+      here = {std::min(here.velocity, left.velocity), std::min(here.acceleration, left.acceleration),
+              std::min(here.jerk, left.jerk)};
+    }
+    out.velocity = std::max(out.velocity, here.velocity);
+    out.acceleration = std::max(out.acceleration, here.acceleration);
+    out.jerk = std::max(out.jerk, here.jerk);
   }
   return out;
 }
