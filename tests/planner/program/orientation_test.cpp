@@ -164,7 +164,13 @@ TEST(OrientationSpline, InterpolatesWithContinuousSecondDerivativeAndNaturalEnds
       const auto [hi, dhi] = spline.at(knots[k] + h);
       // phi from the left reaches the knot's value (to first order over hl, the rest O(phi'' hl^2))
       ASSERT_LE((lo + hl * dlo - values[k]).norm(), 1e-9 * (1 + values[k].norm()) + scale * hl * hl) << test::seed_text(seed);
-      ASSERT_LE((dhi - dlo).norm(), 1e-4 * (1 + dhi.norm()) + 1e-5 * scale * (h + hl)) << test::seed_text(seed) << " knot " << k;
+      // phi' across the knot: continuous, so it changes only by phi'' (h + hl) between the two
+      // points (phi'' from the right's differences, twice for its change over hl; an allowance of
+      // 1e-5 of the bound `scale` instead, before, was exceeded at 20x the cases by a spline
+      // whose phi'' is 1.8e5 there: seed 5715, a change of 3.6e-3, all of it phi'' (h + hl),
+      // against 2.0e-3 allowed)
+      const double turn = second(knots[k], h).norm() * (h + hl);
+      ASSERT_LE((dhi - dlo).norm(), 1e-4 * (1 + dhi.norm()) + 2 * turn) << test::seed_text(seed) << " knot " << k;
       ASSERT_LE((second(knots[k], h) - second(knots[k] - hl, hl)).norm(), 1e-3 * scale) << test::seed_text(seed) << " knot " << k;
     }
     if (count == 2) {
