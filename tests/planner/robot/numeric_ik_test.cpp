@@ -56,7 +56,7 @@ TEST(NumericIk, AgreesWithBothClosedFormsWhenSeededNearTheBranch) {
     const std::uint64_t seed = 51;
     auto rng = test::make_rng(seed);
     double max_pos = 0, max_angle = 0, max_joint = 0, agreement_pos = 0, agreement_angle = 0;
-    long iterations = 0, solves = 0, clear = 0;
+    long iterations = 0, solves = 0, clear = 0, near_failures = 0;
     int max_iterations = 0;
     const int cases = test::property_cases(300);
     for (int n = 0; n < cases; ++n) {
@@ -67,6 +67,20 @@ TEST(NumericIk, AgreesWithBothClosedFormsWhenSeededNearTheBranch) {
         JointVector start = branch;
         for (Eigen::Index i = 0; i < 6; ++i) start[i] += test::uniform(rng, -kSeedDistance, kSeedDistance);
         const NumericIkResult r = numeric_ik(chain, pose, start);
+        const bool clear_branch = clear_of_singularities(closed, branch);
+        if (r.status != Status::kOk && !clear_branch) {
+          // Near a singularity the iteration may leave the seed's branch: at 20x the cases
+          // (seed 51, case 2489, UR) a seed 0.05 rad from a branch 0.07 from the wrist
+          // singularity and 0.09 rad inside q4's limit flowed across the elbow to a mirrored
+          // solution that needs q4 beyond its limit, and stopped on the limit (3e-4 m short; a
+          // smaller max_step flows there too). A local solver promises no more there: the
+          // failure must be a clean one, within the limits, and rare.
+          ASSERT_TRUE(r.status == Status::kJointLimit || r.status == Status::kNotConverged)
+              << test::seed_text(seed) << " case " << n;
+          ASSERT_TRUE(r.q.allFinite() && closed.within_limits(r.q)) << test::seed_text(seed) << " case " << n;
+          ++near_failures;
+          continue;
+        }
         ASSERT_EQ(r.status, Status::kOk) << test::seed_text(seed) << " case " << n << " branch " << branch.transpose();
         const Twist error = pose_error(pose, forward_kinematics(chain, r.q));
         const Twist agreement = pose_error(forward_kinematics(chain, branch), forward_kinematics(chain, r.q));
@@ -76,7 +90,7 @@ TEST(NumericIk, AgreesWithBothClosedFormsWhenSeededNearTheBranch) {
         max_angle = std::max(max_angle, error.tail<3>().norm());
         agreement_pos = std::max(agreement_pos, agreement.head<3>().norm());
         agreement_angle = std::max(agreement_angle, agreement.tail<3>().norm());
-        if (clear_of_singularities(closed, branch)) {
+        if (clear_branch) {
           ++clear;
           const double joint = (r.q - branch).cwiseAbs().maxCoeff();
           max_joint = std::max(max_joint, joint);
@@ -89,10 +103,15 @@ TEST(NumericIk, AgreesWithBothClosedFormsWhenSeededNearTheBranch) {
     }
     // most solves start clear of the singularities, so the branch check is not vacuous
     EXPECT_GT(clear, solves / 2);
+    // the failures near a singularity are rare: at 20x the cases 1 of 19,459 solves on the UR
+    // and 1 of 16,547 on the KR 6; allowed, one and one in 5,000 (so that the bound holds at
+    // any case count)
+    EXPECT_LE(near_failures, 1 + (solves + near_failures) / 5000) << near_failures << " failures near a singularity";
     std::cout << model << ": " << solves << " numeric solves over " << cases << " poses: pose error max " << max_pos
               << " m, " << max_angle << " rad; against the closed form " << agreement_pos << " m, " << agreement_angle
               << " rad, joints " << max_joint << " rad (" << clear << " clear of singularities); iterations mean "
-              << static_cast<double>(iterations) / static_cast<double>(solves) << ", max " << max_iterations << "\n";
+              << static_cast<double>(iterations) / static_cast<double>(solves) << ", max " << max_iterations << "; "
+              << near_failures << " failed near a singularity\n";
   }
 }
 

@@ -16,6 +16,12 @@
 // stops after max_iterations, or when lambda exceeds kNumericIkDampingMax (no step helps: a
 // local minimum of |e|, a joint limit in the way, or rounding at the solution). The result counts
 // as a solution when |dp| <= kIkPositionTol and |dw| <= kIkAngleTol (ik.hpp), whatever stopped it.
+//
+// A local solver: seeded near a solution that lies close to a singularity, it may flow to
+// another branch and, where that one lies beyond a limit, stop on the limit (kJointLimit, the
+// iterate within the limits). NumericIk.AgreesWithBothClosedFormsWhenSeededNearTheBranch
+// measures it at seeds 0.05 rad from every branch: about 1 in 17,000-19,000 solves, all of them
+// next to a singularity. In a run each sample is seeded from the one before it, far closer.
 
 #include "blendbench/core/status.hpp"
 #include "blendbench/robot/kinematics.hpp"
