@@ -87,17 +87,17 @@ inline Margins expect_valid(const Path& path, const Timing& timing, const std::s
   const double noise = 4 * kEps * std::max(path.length() + v_top * timing.cycle_time, 1e-300);
   for (std::size_t k = 0; k + 1 < x.size(); ++k) {
     const double v = (x[k + 1].s - x[k].s) / dt;
-    EXPECT_LE(v, widest(lim, k, k + 1).feed * (1 + kRel) + 2 * noise / dt) << where << " k=" << k;
+    EXPECT_LE(v, widest(path, x, lim, k, k + 1, zones).feed * (1 + kRel) + 2 * noise / dt) << where << " k=" << k;
   }
   for (std::size_t k = 1; k + 1 < x.size(); ++k) {
     const double a = (x[k + 1].s - 2 * x[k].s + x[k - 1].s) / (dt * dt);
-    const LocalLimits w = widest(lim, k - 1, k + 1);
+    const LocalLimits w = widest(path, x, lim, k - 1, k + 1, zones);
     EXPECT_LE(a, w.acceleration * (1 + kRel) + 4 * noise / (dt * dt)) << where << " k=" << k;
     EXPECT_GE(a, -w.deceleration * (1 + kRel) - 4 * noise / (dt * dt)) << where << " k=" << k;
   }
   for (std::size_t k = 1; k + 2 < x.size(); ++k) {
     const double j = (x[k + 2].s - 3 * x[k + 1].s + 3 * x[k].s - x[k - 1].s) / (dt * dt * dt);
-    EXPECT_LE(std::abs(j), widest(lim, k - 1, k + 2).jerk * (1 + kRel) + 8 * noise / (dt * dt * dt))
+    EXPECT_LE(std::abs(j), widest(path, x, lim, k - 1, k + 2, zones).jerk * (1 + kRel) + 8 * noise / (dt * dt * dt))
         << where << " k=" << k;
   }
 
@@ -219,7 +219,8 @@ inline CartesianMargins expect_cartesian_valid(const Path& path, const Timing& t
   for (std::size_t k = 1; k + 1 < x.size(); ++k) {
     if (crosses(k - 1, k + 1, true)) continue;
     const Vec3 a = (p[k + 1] - 2 * p[k] + p[k - 1]) / (dt * dt);
-    const double lim = std::max({widest[k - 1].a, widest[k].a, widest[k + 1].a});
+    const LocalLimits between = limits_between(path, x[k - 1].s, x[k + 1].s);
+    const double lim = std::max({widest[k - 1].a, widest[k].a, widest[k + 1].a, between.acceleration, between.deceleration});
     const double slack = 4 * noise / (dt * dt);
     m.fd_a = std::max(m.fd_a, (a.norm() - slack) / lim);
     EXPECT_LE(a.norm(), lim * (1 + kRel) + slack) << where << " finite-difference |a|, k=" << k;
@@ -228,7 +229,8 @@ inline CartesianMargins expect_cartesian_valid(const Path& path, const Timing& t
   for (std::size_t k = 1; k + 2 < x.size(); ++k) {
     if (crosses(k - 1, k + 2, false)) continue;
     const Vec3 j = (p[k + 2] - 3 * p[k + 1] + 3 * p[k] - p[k - 1]) / (dt * dt * dt);
-    const double lim = std::max({widest[k - 1].j, widest[k].j, widest[k + 1].j, widest[k + 2].j});
+    const double lim = std::max({widest[k - 1].j, widest[k].j, widest[k + 1].j, widest[k + 2].j,
+                                 limits_between(path, x[k - 1].s, x[k + 2].s).jerk});
     const double slack = 8 * noise / (dt * dt * dt);
     m.fd_j = std::max(m.fd_j, (j.norm() - slack) / lim);
     EXPECT_LE(j.norm(), lim * (1 + kRel) + slack) << where << " finite-difference |j|, k=" << k;

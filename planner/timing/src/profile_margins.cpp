@@ -35,6 +35,40 @@ LocalLimits widest(const std::vector<LocalLimits>& lim, std::size_t k0, std::siz
   return w;
 }
 
+LocalLimits limits_between(const Path& path, double s0, double s1, const std::vector<HandoverZone>& zones) {
+  LocalLimits w;
+  w.feed = 0;
+  w.acceleration = 0;
+  w.deceleration = 0;
+  w.jerk = 0;
+  const auto& pieces = path.pieces();
+  const std::size_t first = path.locate(s0).piece;
+  const std::size_t last = path.locate(s1).piece;
+  for (std::size_t k = first + 1; k < last; ++k) {
+    const Limits& lim = pieces[k].limits;
+    double feed = lim.velocity;
+    for (const HandoverZone& z : zones) {
+      if (z.piece == k) feed = std::max(feed, z.velocity);
+    }
+    w.feed = std::max(w.feed, feed);
+    w.acceleration = std::max(w.acceleration, lim.acceleration);
+    w.deceleration = std::max(w.deceleration, lim.deceleration);
+    w.jerk = std::max(w.jerk, lim.jerk);
+  }
+  return w;
+}
+
+LocalLimits widest(const Path& path, const std::vector<TimedSample>& samples, const std::vector<LocalLimits>& lim,
+                   std::size_t k0, std::size_t k1, const std::vector<HandoverZone>& zones) {
+  LocalLimits w = widest(lim, k0, k1);
+  const LocalLimits between = limits_between(path, samples[k0].s, samples[k1].s, zones);
+  w.feed = std::max(w.feed, between.feed);
+  w.acceleration = std::max(w.acceleration, between.acceleration);
+  w.deceleration = std::max(w.deceleration, between.deceleration);
+  w.jerk = std::max(w.jerk, between.jerk);
+  return w;
+}
+
 LocalLimits limits_at(const Path& path, double s, const std::vector<HandoverZone>& zones) {
   LocalLimits out;
   const auto& pieces = path.pieces();
@@ -87,11 +121,11 @@ ProfileMargins profile_margins(const Path& path, const Timing& timing, const std
   // axis terms: centred differences of the sampled positions
   for (std::size_t k = 1; k + 1 < x.size(); ++k) {
     const Vec3 a = (p[k + 1] - 2 * p[k] + p[k - 1]) / (dt * dt);
-    m.axis_acceleration = std::max(m.axis_acceleration, a.cwiseAbs().maxCoeff() / widest(lim, k - 1, k + 1).acceleration);
+    m.axis_acceleration = std::max(m.axis_acceleration, a.cwiseAbs().maxCoeff() / widest(path, x, lim, k - 1, k + 1).acceleration);
   }
   for (std::size_t k = 1; k + 2 < x.size(); ++k) {
     const Vec3 j = (p[k + 2] - 3 * p[k + 1] + 3 * p[k] - p[k - 1]) / (dt * dt * dt);
-    const double ratio = j.cwiseAbs().maxCoeff() / widest(lim, k - 1, k + 2).jerk;
+    const double ratio = j.cwiseAbs().maxCoeff() / widest(path, x, lim, k - 1, k + 2).jerk;
     if (ratio > 1 + kAxisSlack) m.axis_jerk_over_time += dt;
     if (ratio > m.axis_jerk) {
       m.axis_jerk = ratio;

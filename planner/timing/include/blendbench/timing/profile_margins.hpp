@@ -40,6 +40,17 @@ LocalLimits limits_at(const Path& path, double s, const std::vector<HandoverZone
 // stencil over those samples is held to.
 LocalLimits widest(const std::vector<LocalLimits>& lim, std::size_t k0, std::size_t k1);
 
+// The largest feed and rate limits of the pieces wholly between arc lengths s0 <= s1, past the
+// pieces at s0 and at s1 (fields as widest's; zero where there are none). A piece shorter than
+// a sample period can fall between two samples and carry none of them, while a difference
+// stencil over those samples spans its motion, under its own limits.
+LocalLimits limits_between(const Path& path, double s0, double s1, const std::vector<HandoverZone>& zones = {});
+
+// widest over samples k0..k1 of `samples` together with limits_between their arc lengths: the
+// limits of every piece the stencil's motion touches.
+LocalLimits widest(const Path& path, const std::vector<TimedSample>& samples, const std::vector<LocalLimits>& lim,
+                   std::size_t k0, std::size_t k1, const std::vector<HandoverZone>& zones = {});
+
 // The largest ratio value / limit found on a sampled profile (<= 1: within the limit), with the
 // limits of limits_at at each sample. The axis terms come from finite differences of the sampled
 // positions at the servo period (centred second and third differences), in the frame of the
