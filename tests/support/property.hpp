@@ -1,10 +1,12 @@
 #pragma once
-// Helpers for seeded property tests: the case count comes from BLENDBENCH_PROPERTY_CASES (so CI
-// and a developer can run more), and every failure message carries the seed to replay it.
+// Helpers for seeded property tests: the case count comes from BLENDBENCH_PROPERTY_CASES or
+// BLENDBENCH_PROPERTY_SCALE and the seeds from BLENDBENCH_PROPERTY_SEED (so CI and a developer can
+// run more cases, and other ones), and every failure message carries the seed to replay it.
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <random>
 #include <string>
@@ -29,9 +31,32 @@ inline int property_cases(int fallback) {
   return fallback;
 }
 
-// A generator seeded per case; `seed_text(seed)` goes into failure messages.
-inline std::mt19937_64 make_rng(std::uint64_t seed) { return std::mt19937_64(seed); }
-inline std::string seed_text(std::uint64_t seed) { return "seed=" + std::to_string(seed); }
+// The offset added to every seed a test asks for: BLENDBENCH_PROPERTY_SEED, a whole number (0,
+// the default, when unset, empty or not a number). Each test numbers its cases from a base of its
+// own (seed = base + case), so an offset of 10^7 or more moves every test onto cases that no
+// default run has drawn; bad text is not a silent 0 but a loud failure, so a typo cannot rerun
+// the default cases under another name.
+inline std::uint64_t seed_offset() {
+  const char* env = std::getenv("BLENDBENCH_PROPERTY_SEED");
+  if (env == nullptr || *env == '\0') return 0;
+  char* end = nullptr;
+  const unsigned long long value = std::strtoull(env, &end, 10);
+  if (*end != '\0' || *env == '-') {
+    std::fprintf(stderr, "BLENDBENCH_PROPERTY_SEED=%s is not a whole number\n", env);
+    std::abort();
+  }
+  return value;
+}
+
+// A generator seeded per case (the test's seed plus the offset above); `seed_text(seed)` goes into
+// failure messages and names the offset when one is set, so the line alone replays the case.
+inline std::mt19937_64 make_rng(std::uint64_t seed) { return std::mt19937_64(seed + seed_offset()); }
+inline std::string seed_text(std::uint64_t seed) {
+  const std::uint64_t offset = seed_offset();
+  std::string text = "seed=" + std::to_string(seed);
+  if (offset != 0) text += " (BLENDBENCH_PROPERTY_SEED=" + std::to_string(offset) + ")";
+  return text;
+}
 
 inline double uniform(std::mt19937_64& rng, double lo, double hi) {
   return std::uniform_real_distribution<double>(lo, hi)(rng);
