@@ -11,11 +11,13 @@
 
 #include <algorithm>
 #include <array>
-#include <cstdio>
+#include <charconv>
 #include <filesystem>
 #include <fstream>
 #include <random>
+#include <stdexcept>
 #include <string>
+#include <system_error>
 
 #include "support/input_error.hpp"
 #include "support/property.hpp"
@@ -142,11 +144,13 @@ struct TwinPrograms {
   std::string moves;  // the YAML list of moves (indented for `program:`)
 };
 
-// "17 digits": a value read back as the same double.
+// A value read back as the same double, in fixed notation: G-code numbers have no exponent, so
+// %.17g's 1.2e-05 (an angle or offset that changes by that much under G91) is no G-code word.
 std::string exact(double v) {
-  char text[40];
-  std::snprintf(text, sizeof text, "%.17g", v);
-  return text;
+  std::array<char, 400> text{};  // the longest fixed double within this test's range is far shorter
+  const auto [end, error] = std::to_chars(text.data(), text.data() + text.size(), v, std::chars_format::fixed);
+  if (error != std::errc()) throw std::runtime_error("exact: no room for the value");
+  return std::string(text.data(), end);
 }
 
 // A random program of 2-8 lines and XY arcs (G2/G3 by I, J) in mm, with random tool angles on
