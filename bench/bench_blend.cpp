@@ -9,6 +9,7 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <numbers>
@@ -235,6 +236,81 @@ void BM_BiclothoidRandom(benchmark::State& s, std::optional<test::CornerKind> ki
   s.counters["solves_mean"] = static_cast<double>(solves) / std::max(fits, 1);
   s.counters["over_2_solves"] = static_cast<double>(over_two) / std::max(fits, 1);
 }
+// What a one-solve fit is made of: over the random corners of one kind whose tolerance fit
+// (Algorithm 2) took a single solve of Algorithm 1 (the median fit's case), each part timed on its
+// own, the fastest of the benchmark's repetitions kept per corner, and its median reported (us):
+// the whole corner (fit_biclothoid_corner: plane, fit, output), the corner plane
+// (planar_corner), the tolerance fit (fit_biclothoid_with_tolerance), Algorithm 1 alone from its
+// cold guess at the start distance the fit found (fit_biclothoid_at, in the fit's orientation:
+// from the more curved move), and the deviation of the fitted fillet both ways
+// (biclothoid_deviation; inside the fit the measure stops refining the smaller direction, so it
+// costs somewhat less there). The two big parts are each needed once by any fit that is checked
+// against its tolerance.
+void BM_BiclothoidParts(benchmark::State& state, test::CornerKind kind) {
+  struct Part {
+    CornerInput input;
+    PlanarCorner geometry;
+    CornerShapes work;  // the fit's orientation
+    double a = 0;       // its start distance there
+    BiclothoidSolution fillet;
+  };
+  std::vector<Part> parts;
+  for (int i = 0; i < 8000; ++i) {
+    if (static_cast<test::CornerKind>(i % 4) != kind) continue;
+    auto rng = test::make_rng(1000 + static_cast<std::uint64_t>(i));
+    Part p;
+    p.input = test::random_corner(rng, kind, Method::kBiclothoid).input;
+    p.geometry = planar_corner(p.input.in, p.input.out);
+    if (!p.geometry.planar) continue;
+    const BiclothoidToleranceFit fit = fit_biclothoid_with_tolerance(p.geometry.shapes, p.input.spec.parameter,
+                                                                     p.input.in_available, p.input.out_available);
+    if (fit.solves != 1 || !fit.outcome.ok()) continue;
+    p.work = p.geometry.shapes;
+    p.a = fit.fillet.a;
+    if (fit.swapped) {
+      p.work.q1 = PlanarShape{p.geometry.shapes.q2.theta + std::numbers::pi, -p.geometry.shapes.q2.kappa};
+      p.work.q2 = PlanarShape{p.geometry.shapes.q1.theta + std::numbers::pi, -p.geometry.shapes.q1.kappa};
+      p.a = fit.fillet.b;
+    }
+    p.fillet = fit.fillet;
+    parts.push_back(p);
+  }
+  constexpr std::size_t kParts = 5;
+  std::vector<std::array<double, kParts>> best(parts.size());
+  for (auto& b : best) b.fill(1e30);
+  using Clock = std::chrono::steady_clock;
+  // as in `distribution`: the result is released after the clock stops
+  const auto time = [](double& slot, const auto& f) {
+    const auto t0 = Clock::now();
+    auto result = f();
+    const auto t1 = Clock::now();
+    benchmark::DoNotOptimize(result);
+    slot = std::min(slot, std::chrono::duration<double, std::micro>(t1 - t0).count());
+  };
+  for (auto _ : state) {
+    for (std::size_t k = 0; k < parts.size(); ++k) {
+      const Part& p = parts[k];
+      time(best[k][0], [&] { return fit_biclothoid_corner(p.input); });
+      time(best[k][1], [&] { return planar_corner(p.input.in, p.input.out); });
+      time(best[k][2], [&] {
+        return fit_biclothoid_with_tolerance(p.geometry.shapes, p.input.spec.parameter, p.input.in_available,
+                                             p.input.out_available);
+      });
+      time(best[k][3], [&] { return fit_biclothoid_at(p.work, p.a); });
+      time(best[k][4], [&] { return biclothoid_deviation(p.fillet, p.geometry.shapes); });
+    }
+  }
+  const std::array<const char*, kParts> names = {"corner_p50_us", "plane_p50_us", "tolerance_fit_p50_us",
+                                                 "algorithm1_p50_us", "deviation_p50_us"};
+  for (std::size_t j = 0; j < kParts; ++j) {
+    std::vector<double> column;
+    column.reserve(best.size());
+    for (const auto& b : best) column.push_back(b[j]);
+    std::nth_element(column.begin(), column.begin() + static_cast<std::ptrdiff_t>(column.size() / 2), column.end());
+    state.counters[names[j]] = column.empty() ? 0.0 : column[column.size() / 2];
+  }
+  state.counters["corners"] = static_cast<double>(parts.size());
+}
 void BM_ClothoidRandom(benchmark::State& s, test::CornerKind kind) {
   distribution(s, kind, Method::kClothoid, fit_clothoid_corner);
 }
@@ -247,6 +323,9 @@ BENCHMARK_CAPTURE(BM_BiclothoidRandom, LineArc, test::CornerKind::kLineArc)->Ite
 BENCHMARK_CAPTURE(BM_BiclothoidRandom, ArcLine, test::CornerKind::kArcLine)->Iterations(5);
 BENCHMARK_CAPTURE(BM_BiclothoidRandom, ArcArc, test::CornerKind::kArcArc)->Iterations(5);
 BENCHMARK_CAPTURE(BM_BiclothoidRandom, All, std::nullopt)->Iterations(5);
+BENCHMARK_CAPTURE(BM_BiclothoidParts, LineArc, test::CornerKind::kLineArc)->Iterations(5);
+BENCHMARK_CAPTURE(BM_BiclothoidParts, ArcLine, test::CornerKind::kArcLine)->Iterations(5);
+BENCHMARK_CAPTURE(BM_BiclothoidParts, ArcArc, test::CornerKind::kArcArc)->Iterations(5);
 BENCHMARK_CAPTURE(BM_ClothoidRandom, LineLine, test::CornerKind::kLineLine)->Iterations(5);
 BENCHMARK_CAPTURE(BM_ClothoidRandom, LineArc, test::CornerKind::kLineArc)->Iterations(5);
 BENCHMARK_CAPTURE(BM_ClothoidRandom, ArcLine, test::CornerKind::kArcLine)->Iterations(5);
