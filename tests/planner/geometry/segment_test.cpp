@@ -5,10 +5,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <vector>
 
 #include "support/property.hpp"
+#include "support/random_geometry.hpp"
 
 namespace blendbench {
 namespace {
@@ -41,6 +43,46 @@ TEST(Segment, ArcAndHelixAgreeWithFiniteDifferences) {
       const Vec3 k = derivative([&](double x) { return tangent(seg, x); }, s, 1e-5);
       EXPECT_TRUE(k.isApprox(curvature_vector(seg, s), 1e-6)) << "rise=" << rise << " s=" << s;
     }
+  }
+}
+
+// An arc's points are rounded at the scale of where they lie and of its length, not of its
+// radius: the blend of a nearly straight corner has a radius of hundreds of metres to 10^7 m and
+// its centre as far away, and a sampled path's third differences (the jerk a controller reads
+// from its setpoints) must see the arc's own 1 / R^2, not rounding at eps R (with the points
+// taken through the centre, the 351 m blend of a random program read 1e-6 of its jerk limit too
+// much at 1 ms; at 10^4 m the differences below fail by orders of magnitude).
+TEST(Segment, AnArcOfAnyRadiusIsRoundedAtItsOwnScale) {
+  const std::uint64_t seed = 31;
+  auto rng = test::make_rng(seed);
+  const int cases = test::property_cases(2000);
+  constexpr double kEps = std::numeric_limits<double>::epsilon();
+  for (int c = 0; c < cases; ++c) {
+    const double radius = std::pow(10.0, test::uniform(rng, -3, 7));
+    const Vec3 u = test::random_unit(rng);
+    const Vec3 v = (test::random_unit(rng).cross(u)).normalized();
+    const Vec3 start(test::uniform(rng, -1, 1), test::uniform(rng, -1, 1), test::uniform(rng, -1, 1));
+    const double len = std::min(test::uniform(rng, 1e-3, 0.1), 3.0 * radius);
+    const Arc arc{start - radius * u, u, v, radius, len / radius, 0.0};
+    const Segment seg = arc;
+    // rounding allowed: a few eps of where the points lie and of the arc's size
+    const double scale = start.norm() + len;
+    EXPECT_LE((point(seg, 0.0) - start).norm(), 4 * kEps * (scale + radius)) << test::seed_text(seed) << " case " << c;
+    // chords: |p(s2) - p(s1)| = 2 R sin((s2 - s1) / (2 R))
+    const double s1 = test::uniform(rng, 0, len);
+    const double s2 = test::uniform(rng, 0, len);
+    const double chord = 2 * radius * std::sin(std::abs(s2 - s1) / (2 * radius));
+    EXPECT_NEAR((point(seg, s2) - point(seg, s1)).norm(), chord, 64 * kEps * scale)
+        << test::seed_text(seed) << " case " << c << " radius " << radius;
+    // third differences at 64 steps: the arc's own h^3 / R^2, and rounding at the points' scale
+    const double h = len / 64;
+    double worst = 0;
+    for (int k = 0; k + 3 <= 64; ++k) {
+      const double s = k * h;
+      const Vec3 d3 = point(seg, s + 3 * h) - 3 * point(seg, s + 2 * h) + 3 * point(seg, s + h) - point(seg, s);
+      worst = std::max(worst, d3.norm() - h * h * h / (radius * radius));
+    }
+    EXPECT_LE(worst, 64 * kEps * scale) << test::seed_text(seed) << " case " << c << " radius " << radius;
   }
 }
 
