@@ -6,11 +6,14 @@
 #include <cmath>
 #include <iostream>
 #include <numbers>
+#include <string>
+#include <vector>
 
 #include "support/input_error.hpp"
 #include "support/property.hpp"
 #include "blendbench/core/input_error.hpp"
 #include "blendbench/io/urdf_chain.hpp"
+#include "blendbench/robot/singularity.hpp"
 
 namespace blendbench {
 namespace {
@@ -309,22 +312,36 @@ TEST(Ik, SolvesAnyPlacementOfTheUrGeometry) {
 }
 
 TEST(Ik, PolishingAbsorbsASmallDeviationFromTheUrPattern) {
-  // axis 6 tilted by 2e-7 rad and moved by 3e-7 m: still accepted, still exact
+  // axis 6 tilted by 2e-7 rad and moved by 3e-7 m: still accepted, still exact. Within a
+  // singularity's threshold (singularity.hpp) the polishing may find no solution: at 20x the
+  // cases (seed 25 at BLENDBENCH_PROPERTY_SEED=70000000, case 3111) a configuration 5e-4 rad
+  // from the stretched elbow; there the failure must be clean, say why, and be rare.
   KinematicChain chain = ur_chain(kUr5e);
   chain.joints[5].origin = chain.joints[5].origin * Eigen::Translation3d(3e-7, 0, 0) *
                            Eigen::AngleAxisd(2e-7, Vec3::UnitY());
   const IkSolver ik(chain);
   const std::uint64_t seed = 25;
   auto rng = test::make_rng(seed);
-  for (int n = 0; n < test::property_cases(200); ++n) {
+  const int cases = test::property_cases(200);
+  int near_failures = 0;
+  for (int n = 0; n < cases; ++n) {
     const JointVector q = random_q_within(chain, rng);
     const Eigen::Isometry3d pose = forward_kinematics(chain, q);
     const IkSolver::Result result = ik.solve(pose, perturbed(q, rng, 0.05));
-    ASSERT_TRUE(result.outcome.ok()) << test::seed_text(seed) << " case " << n << ": " << result.outcome.message;
+    if (!result.outcome.ok()) {
+      const std::vector<SingularityMeasure> measures = singularity_measures(ik, q);
+      const bool near = std::any_of(measures.begin(), measures.end(),
+                                    [](const SingularityMeasure& m) { return std::abs(m.value) < m.threshold; });
+      ASSERT_TRUE(near) << test::seed_text(seed) << " case " << n << ": " << result.outcome.message;
+      EXPECT_NE(result.outcome.message.find("singular"), std::string::npos) << test::seed_text(seed) << " case " << n;
+      ++near_failures;
+      continue;
+    }
     const Twist error = pose_error(pose, forward_kinematics(chain, result.q));
     ASSERT_LT(error.head<3>().norm(), kRoundTripPos) << test::seed_text(seed) << " case " << n;
     ASSERT_LT(error.tail<3>().norm(), kRoundTripAngle) << test::seed_text(seed) << " case " << n;
   }
+  EXPECT_LE(near_failures, 1 + cases / 1000) << near_failures << " failures near a singularity; " << test::seed_text(seed);
 }
 
 void expect_not_ur(const KinematicChain& chain, const std::string& why) {
