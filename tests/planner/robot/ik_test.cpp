@@ -341,7 +341,9 @@ TEST(Ik, PolishingAbsorbsASmallDeviationFromTheUrPattern) {
     ASSERT_LT(error.head<3>().norm(), kRoundTripPos) << test::seed_text(seed) << " case " << n;
     ASSERT_LT(error.tail<3>().norm(), kRoundTripAngle) << test::seed_text(seed) << " case " << n;
   }
+  // measured: 4 of 40,000 cases over 10 offsets at 20x (0-2 per offset)
   EXPECT_LE(near_failures, 1 + cases / 1000) << near_failures << " failures near a singularity; " << test::seed_text(seed);
+  std::cout << near_failures << " of " << cases << " polishings failed near a singularity\n";
 }
 
 void expect_not_ur(const KinematicChain& chain, const std::string& why) {
