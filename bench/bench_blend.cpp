@@ -265,13 +265,8 @@ void BM_BiclothoidParts(benchmark::State& state, test::CornerKind kind) {
     const BiclothoidToleranceFit fit = fit_biclothoid_with_tolerance(p.geometry.shapes, p.input.spec.parameter,
                                                                      p.input.in_available, p.input.out_available);
     if (fit.solves != 1 || !fit.outcome.ok()) continue;
-    p.work = p.geometry.shapes;
-    p.a = fit.fillet.a;
-    if (fit.swapped) {
-      p.work.q1 = PlanarShape{p.geometry.shapes.q2.theta + std::numbers::pi, -p.geometry.shapes.q2.kappa};
-      p.work.q2 = PlanarShape{p.geometry.shapes.q1.theta + std::numbers::pi, -p.geometry.shapes.q1.kappa};
-      p.a = fit.fillet.b;
-    }
+    p.work = fit.swapped ? reversed(p.geometry.shapes) : p.geometry.shapes;
+    p.a = fit.swapped ? fit.fillet.b : fit.fillet.a;
     p.fillet = fit.fillet;
     parts.push_back(p);
   }

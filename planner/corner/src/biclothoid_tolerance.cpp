@@ -278,13 +278,9 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
                                                      double b_max) {
   BiclothoidToleranceFit result;
   // section 6: fit from the more curved shape to the less curved one
-  CornerShapes work = shapes;
   result.swapped = std::abs(shapes.q2.kappa) > std::abs(shapes.q1.kappa);
-  if (result.swapped) {
-    work.q1 = PlanarShape{shapes.q2.theta + kPi, -shapes.q2.kappa};
-    work.q2 = PlanarShape{shapes.q1.theta + kPi, -shapes.q1.kappa};
-    std::swap(a_max, b_max);
-  }
+  const CornerShapes work = result.swapped ? reversed(shapes) : shapes;
+  if (result.swapped) std::swap(a_max, b_max);
   const Caps caps = fillet_caps(work, a_max, b_max);
   const double a_cap = caps.a;
   const double b_cap = caps.b;
@@ -353,9 +349,7 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
   const auto solve_from_end = [&](double guess_a, double guess_len, Effort effort, bool* past_cap) -> Trial* {
     if (tried_end_bound || store.size() == kMaxTrials) return nullptr;
     tried_end_bound = true;
-    CornerShapes back = work;
-    back.q1 = PlanarShape{work.q2.theta + kPi, -work.q2.kappa};
-    back.q2 = PlanarShape{work.q1.theta + kPi, -work.q1.kappa};
+    const CornerShapes back = reversed(work);
     ++result.solves;
     const auto sol = fit_at(back, b_cap, guess_len, guess_a, effort);
     if (!sol || !(sol->db_da > 0)) return nullptr;

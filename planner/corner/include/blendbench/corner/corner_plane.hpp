@@ -7,6 +7,7 @@
 // in rad measured counter-clockwise from the x axis, curvature signed (positive turns left),
 // lengths in m.
 
+#include <numbers>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -37,6 +38,13 @@ struct CornerShapes {
   PlanarShape q1;
   PlanarShape q2;
 };
+
+// The same corner travelled backwards: q2 turned round comes in, q1 turned round goes out
+// (a fillet of it from a to b is the forward fillet from b to a, reversed).
+inline CornerShapes reversed(const CornerShapes& shapes) {
+  return {PlanarShape{shapes.q2.theta + std::numbers::pi, -shapes.q2.kappa},
+          PlanarShape{shapes.q1.theta + std::numbers::pi, -shapes.q1.kappa}};
+}
 
 // The plane of a corner in 3D: the corner point and an orthonormal basis (x, y) of the plane;
 // 2D corner coordinates map to origin + px x + py y.
