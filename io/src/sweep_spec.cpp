@@ -108,7 +108,7 @@ void read_range(const SweepReader& r, const YAML::Node& node, const std::string&
   }
   if (steps < 2) r.fail(steps_node, field + ".steps", "a range needs at least 2 steps (give one value as a list: [x])");
   // refused before its values are made: no sweep takes more points than this, and a range of
-  // 4,444,443 steps once asked for 1 GiB of value texts (found by tests/fuzz/fuzz_sweep)
+  // 44,444,443 steps once asked for 1 GiB of value texts (found by tests/fuzz/fuzz_sweep)
   if (static_cast<std::size_t>(steps) > kMaxSweepPoints) {
     r.fail(steps_node, field + ".steps",
            std::to_string(steps) + " steps exceed the " + std::to_string(kMaxSweepPoints) +
