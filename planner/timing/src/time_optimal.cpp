@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 
 #include "intervals.hpp"
@@ -21,21 +22,32 @@ constexpr double kRoundingMargin = 1e-12;
 // Relative margin on a Bezier's scanned maximum sharpness (as for its caps).
 constexpr double kBezierScanMargin = 4e-9;
 
-// One cell of the grid: its length, its MVC (m^2/s^2), the accelerations available on it as
-// functions of y (the smallest curvature on it), and the bound at its start knot.
+// One cell of the grid: its length, its MVC (m^2/s^2), the smallest curvature on it and its
+// piece, whose vector limits bound the speed changes on it. Kept to 32 bytes: on CAM output
+// (10^5 tiny lines, each corner two clothoids of 32 cells or more) the grid has millions of
+// cells, and writing them was most of the plan's time (first-touch page faults).
 struct Cell {
   double length = 0;
   double mvc = 0;
-  double kappa = 0;  // the smallest curvature on the cell (1/m)
-  double acceleration = 0, deceleration = 0;  // m/s^2, the vector limits of its piece
-  bool cartesian = false;
-  double knot = kInf;  // bound on y at the cell's start (a junction's), m^2/s^2
-  // the largest rate of y speeding up (slowing down) at y: 2 a_t
-  [[nodiscard]] double rise(double y) const { return 2 * available(acceleration, y); }
-  [[nodiscard]] double fall(double y) const { return 2 * available(deceleration, y); }
-  [[nodiscard]] double available(double a, double y) const {
+  double kappa = 0;         // 1/m
+  std::uint32_t piece = 0;  // a path of 2^32 pieces would need over a terabyte for its pieces
+};
+
+// The largest rates of y = v^2 speeding up (rise) and slowing down (fall) on a cell at y: 2 a_t
+// with the acceleration the normal part kappa y leaves (cartesian mode) or the tangential
+// limit itself (path mode).
+struct Rates {
+  const std::vector<PieceModel>& models;
+  bool cartesian;
+  [[nodiscard]] double rise(const Cell& c, double y) const {
+    return 2 * available(models[c.piece].vector.acceleration, c, y);
+  }
+  [[nodiscard]] double fall(const Cell& c, double y) const {
+    return 2 * available(models[c.piece].vector.deceleration, c, y);
+  }
+  [[nodiscard]] double available(double a, const Cell& c, double y) const {
     if (!cartesian) return a;
-    const double n = kappa * y;  // the normal acceleration kappa v^2
+    const double n = c.kappa * y;  // the normal acceleration kappa v^2
     return n >= a ? 0.0 : a * std::sqrt(1 - (n / a) * (n / a));
   }
 };
@@ -148,10 +160,24 @@ double time_optimal_bound(const Path& path, const TimingOptions& options, const 
     }
     at_start[jn.next] = v * v;
   }
-  // the grid: every interval, cut finer on curved pieces
+  // the grid: every interval, cut finer on curved pieces; counted first, so that the cells are
+  // written once into memory of their exact size
   const double h_path = path.length() * kBoundCellShare;
+  const auto cells_on = [&](const Interval& iv) {
+    const Segment& segment = pieces[iv.piece].segment;
+    // lines and (path mode) circular arcs: one cell, their constraints constant along them
+    const bool arc = std::holds_alternative<Arc>(segment);
+    const bool curved = !std::holds_alternative<Line>(segment) && (cartesian || !arc);
+    if (!curved) return 1;
+    const double h = std::min(length(segment) / (arc ? kBoundCellsPerArc : kBoundCellsPerCurve), h_path);
+    return std::max(1, static_cast<int>(std::ceil(iv.length() / h)));
+  };
+  std::size_t count = 0;
+  for (const Interval& iv : intervals) count += static_cast<std::size_t>(cells_on(iv));
   std::vector<Cell> cells;
-  cells.reserve(intervals.size());
+  cells.reserve(count);
+  // y at the knots, first the junctions' bounds
+  std::vector<double> y(count + 1, kInf);
   std::size_t last_piece = pieces.size();
   double c_max = 0;
   std::vector<Span1> parts;
@@ -160,48 +186,45 @@ double time_optimal_bound(const Path& path, const TimingOptions& options, const 
     const PathPiece& piece = pieces[iv.piece];
     const Limits& lim = models[iv.piece].vector;
     const double len = length(piece.segment);
-    // lines and (path mode) circular arcs: one cell, their constraints constant along them
-    const bool arc = std::holds_alternative<Arc>(piece.segment);
-    const bool curved = !std::holds_alternative<Line>(piece.segment) && (cartesian || !arc);
     if (iv.piece != last_piece && std::holds_alternative<Bezier>(piece.segment)) {
       c_max = max_sharpness(piece.segment, 0, len) * (1 + kBezierScanMargin);
     }
     if (iv.piece != last_piece) u = std::numeric_limits<double>::quiet_NaN();
-    const double h = curved ? std::min(len / (arc ? kBoundCellsPerArc : kBoundCellsPerCurve), h_path) : kInf;
-    const int n = curved ? std::max(1, static_cast<int>(std::ceil(iv.length() / h))) : 1;
+    const int n = cells_on(iv);
     const double a_n = cartesian ? std::min(lim.acceleration, lim.deceleration) : lim.acceleration;
     const double local0 = iv.s0 - path.offset(iv.piece);
     cut(piece.segment, local0, local0 + iv.length(), n, u, parts);
+    if (iv.piece != last_piece && !cells.empty()) y[cells.size()] = at_start[iv.piece];
     for (int i = 0; i < n; ++i) {
+      const Span1& part = parts[static_cast<std::size_t>(i)];
       Cell c;
-      c.length = parts[static_cast<std::size_t>(i)].length;
-      c.kappa = min_curvature(piece.segment, parts[static_cast<std::size_t>(i)], c_max);
+      c.length = part.length;
+      c.kappa = min_curvature(piece.segment, part, c_max);
       // the angular velocity limit is a velocity limit too (R1, intervals.cpp)
       const double v_rot = models[iv.piece].rotation_speed;
       c.mvc = std::min({iv.terms.feed * iv.terms.feed, c.kappa > 0 ? a_n / c.kappa : kInf, v_rot * v_rot});
-      c.acceleration = lim.acceleration;
-      c.deceleration = lim.deceleration;
-      c.cartesian = cartesian;
-      if (i == 0 && iv.piece != last_piece && !cells.empty()) c.knot = at_start[iv.piece];
+      c.piece = static_cast<std::uint32_t>(iv.piece);
       cells.push_back(c);
     }
     last_piece = iv.piece;
   }
 
   // y at the knots: under the knot bounds and both adjacent cells' MVC, then the passes
+  const Rates rates{models, cartesian};
   const std::size_t n = cells.size();
-  std::vector<double> y(n + 1, 0.0);
-  for (std::size_t k = 1; k < n; ++k) y[k] = std::min({cells[k].knot, cells[k - 1].mvc, cells[k].mvc});
+  y[0] = 0;
+  y[n] = 0;
+  for (std::size_t k = 1; k < n; ++k) y[k] = std::min({y[k], cells[k - 1].mvc, cells[k].mvc});
   for (std::size_t k = 0; k < n; ++k) {
-    y[k + 1] = std::min(y[k + 1], y[k] + cells[k].length * cells[k].rise(y[k]));
+    y[k + 1] = std::min(y[k + 1], y[k] + cells[k].length * rates.rise(cells[k], y[k]));
   }
-  for (std::size_t k = n; k-- > 0;) y[k] = std::min(y[k], y[k + 1] + cells[k].length * cells[k].fall(y[k + 1]));
+  for (std::size_t k = n; k-- > 0;) y[k] = std::min(y[k], y[k + 1] + cells[k].length * rates.fall(cells[k], y[k + 1]));
 
   // each cell's time under the envelope
   double total = 0;
   for (std::size_t k = 0; k < n; ++k) {
     const Cell& c = cells[k];
-    total += cell_time(c.length, c.mvc, y[k], c.rise(y[k]), y[k + 1], c.fall(y[k + 1]));
+    total += cell_time(c.length, c.mvc, y[k], rates.rise(c, y[k]), y[k + 1], rates.fall(c, y[k + 1]));
   }
   return total * (1 - kRoundingMargin);
 }
