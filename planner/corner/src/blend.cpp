@@ -199,6 +199,9 @@ Path blend_moves(const Program& program) {
   }
 
   Path path;
+  std::size_t count = n;  // at most a piece per move and the transitions' pieces
+  for (const CornerFit& fit : fits) count += fit.transition.size();
+  path.reserve(count);
   bool stop_next = false;  // the next appended piece starts at rest
   // appends a piece, recording the tangent kink at its start; a kink left at a Buffered
   // junction forces a stop (seed 001 (controller manual, line-to-line), seed 003 (controller
@@ -335,6 +338,7 @@ Path blend(const Program& program) {
   const Path blended = blend_moves(merged.program);
   // the pieces and reports with the program's own move and corner indices
   Path path;
+  path.reserve(blended.pieces().size());
   for (PathPiece piece : blended.pieces()) {
     if (piece.move >= 0) piece.move = static_cast<int>(merged.first[static_cast<std::size_t>(piece.move)]);
     if (piece.corner >= 0) piece.corner = static_cast<int>(merged.last[static_cast<std::size_t>(piece.corner)]);

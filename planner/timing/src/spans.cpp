@@ -56,9 +56,13 @@ std::vector<char> anchor_knots(const std::vector<Interval>& iv, const std::vecto
   return anchor;
 }
 
-// The spans between consecutive active knots.
-std::vector<Span> make_spans(const std::vector<Interval>& iv, const std::vector<char>& active) {
-  std::vector<Span> spans;
+// The spans between consecutive active knots, into `spans` (cleared; its memory is kept, so
+// that the rounds of plan_spans write the same pages again).
+void make_spans(const std::vector<Interval>& iv, const std::vector<char>& active, std::vector<Span>& spans) {
+  spans.clear();
+  std::size_t count = 1;  // a span from each active inner knot, and the first
+  for (std::size_t k = 1; k < iv.size(); ++k) count += active[k] != 0 ? 1 : 0;
+  spans.reserve(count);
   for (std::size_t i = 0; i < iv.size();) {
     std::size_t j = i + 1;
     while (j < iv.size() && active[j] == 0) ++j;
@@ -71,7 +75,6 @@ std::vector<Span> make_spans(const std::vector<Interval>& iv, const std::vector<
     spans.push_back(sp);
     i = j;
   }
-  return spans;
 }
 
 // Distance (m) of the change between w0 and w1 on span sp.
@@ -84,11 +87,11 @@ double change_distance(const Span& sp, double w0, double w1) {
 // Whether a span can go from w0 to w1 (the change alone fits in its length).
 bool fits(const Span& sp, double w0, double w1) { return change_distance(sp, w0, w1) <= sp.length(); }
 
-// Knot velocities of the spans: bounded by `cap` (one per span end), reachable backward
-// (braking in time) and forward (speeding up) with the jerk-limited formulas.
-std::vector<double> knot_velocities(const std::vector<Span>& spans, const std::vector<double>& cap) {
+// Knot velocities of the spans, in place of the caps in `w` (one per span end): bounded by
+// them, reachable backward (braking in time) and forward (speeding up) with the jerk-limited
+// formulas.
+void knot_velocities(const std::vector<Span>& spans, std::vector<double>& w) {
   const std::size_t n = spans.size();
-  std::vector<double> w = cap;
   // backward: the highest velocity that still slows down to the next knot's
   for (std::size_t i = n; i-- > 0;) {
     const Span& sp = spans[i];
@@ -116,7 +119,6 @@ std::vector<double> knot_velocities(const std::vector<Span>& spans, const std::v
       w[i + 1] = std::nextafter(reachable_velocity(w[i], sp.length(), sp.limits.acceleration, sp.limits.jerk, w[i + 1]), 0.0);
     }
   }
-  return w;
 }
 
 // Plans the curve of span sp from w0 to w1 with peak bound v_peak (>= both); returns
@@ -195,7 +197,8 @@ std::vector<Span> fine_alternative(const Span& sp, double w0, double w1, const s
     bound.push_back(i == sp.first ? w0 : cap[i]);
   }
   bound.push_back(w1);
-  const std::vector<double> w = knot_velocities(fine, bound);
+  std::vector<double> w = bound;
+  knot_velocities(fine, w);
   if (w.front() != w0 || w.back() != w1) return {};
   for (std::size_t k = 0; k < fine.size(); ++k) {
     if (!shape(fine[k], w[k], w[k + 1], iv).ok()) return {};
@@ -239,11 +242,11 @@ void plan_spans(const std::vector<Interval>& iv, const std::vector<double>& knot
   };
   std::vector<Checked> checked(n);
   for (int round = 0;; ++round) {
-    spans = make_spans(iv, active);
-    std::vector<double> span_cap(spans.size() + 1);
-    for (std::size_t i = 0; i < spans.size(); ++i) span_cap[i] = cap[spans[i].first];
-    span_cap.back() = cap[n];
-    w = knot_velocities(spans, span_cap);
+    make_spans(iv, active, spans);
+    w.resize(spans.size() + 1);
+    for (std::size_t i = 0; i < spans.size(); ++i) w[i] = cap[spans[i].first];
+    w.back() = cap[n];
+    knot_velocities(spans, w);
     bool clean = true;
     for (std::size_t i = 0; i < spans.size(); ++i) {
       const Span& sp = spans[i];

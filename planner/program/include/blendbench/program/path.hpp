@@ -64,6 +64,12 @@ class Path {
  public:
   // Appends a piece; its start must coincide with the current end (asserted in debug builds).
   void append(PathPiece piece);
+  // Room for `count` pieces in all, so that appending them moves none (a piece is some 400
+  // bytes, and a CAM program has hundreds of thousands).
+  void reserve(std::size_t count) {
+    pieces_.reserve(count);
+    offsets_.reserve(count + 1);
+  }
 
   [[nodiscard]] const std::vector<PathPiece>& pieces() const { return pieces_; }
   [[nodiscard]] double length() const { return offsets_.empty() ? 0.0 : offsets_.back(); }
