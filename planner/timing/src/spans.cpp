@@ -186,7 +186,7 @@ Outcome shape(Span& sp, double w0, double w1, const std::vector<Interval>& iv) {
 std::vector<Span> fine_alternative(const Span& sp, double w0, double w1, const std::vector<Interval>& iv,
                                    const std::vector<double>& cap) {
   std::vector<Span> fine;
-  std::vector<double> bound;
+  std::vector<double> w;  // the knots' bounds, then their velocities
   for (std::size_t i = sp.first; i < sp.last; ++i) {
     Span one = sp;
     one.first = i;
@@ -194,10 +194,9 @@ std::vector<Span> fine_alternative(const Span& sp, double w0, double w1, const s
     one.s0 = i == sp.first ? sp.s0 : iv[i].s0;
     one.s1 = i + 1 == sp.last ? sp.s1 : iv[i].s1;
     fine.push_back(one);
-    bound.push_back(i == sp.first ? w0 : cap[i]);
+    w.push_back(i == sp.first ? w0 : cap[i]);
   }
-  bound.push_back(w1);
-  std::vector<double> w = bound;
+  w.push_back(w1);
   knot_velocities(fine, w);
   if (w.front() != w0 || w.back() != w1) return {};
   for (std::size_t k = 0; k < fine.size(); ++k) {
