@@ -65,19 +65,21 @@ std::pair<std::size_t, std::size_t> parse_shard(const std::string& text) {
   return {std::stoul(i), std::stoul(k)};
 }
 
-// Validates the points `indices` (the first of each hash is enough); a refused point's scenario is
-// written to its folder so the loader's message names a file that exists.
-void validate_points(const SweepPlan& plan, const std::vector<std::size_t>& indices, const fs::path& out_dir) {
-  for (const std::size_t i : indices) {
-    const SweepPoint& point = plan.points[i];
-    const fs::path file = point_dir(out_dir, point) / "scenario.yaml";
-    try {
-      validate_point(plan, point, file.string());
-    } catch (const InputError&) {
-      write_file_atomic(file, point.scenario_text);
-      throw;
-    }
+// Validates one point; a refused point's scenario is written to its folder so the loader's message
+// names a file that exists.
+void validate_in(const SweepPlan& plan, const SweepPoint& point, const fs::path& out_dir) {
+  const fs::path file = point_dir(out_dir, point) / "scenario.yaml";
+  try {
+    validate_point(plan, point, file.string());
+  } catch (const InputError&) {
+    write_file_atomic(file, point.scenario_text);
+    throw;
   }
+}
+
+// Validates the points `indices` (the first of each hash is enough).
+void validate_points(const SweepPlan& plan, const std::vector<std::size_t>& indices, const fs::path& out_dir) {
+  for (const std::size_t i : indices) validate_in(plan, plan.points[i], out_dir);
 }
 
 // The plan file, rewritten only when it changes.
@@ -363,7 +365,10 @@ int sweep_command(const SweepCommand& command, std::ostream& out) {
   const fs::path out_dir = fs::absolute(command.out_dir.empty() ? "results/runs/sweeps/" + fs::path(command.file).stem().string()
                                                                 : command.out_dir)
                                .lexically_normal();
-  const SweepPlan plan = expand_sweep(spec);
+  // the first point is validated as soon as it exists: an axis that makes no valid scenario is
+  // refused before the whole product is expanded
+  const SweepPlan plan =
+      expand_sweep(spec, [&](const SweepPlan& first, const SweepPoint& point) { validate_in(first, point, out_dir); });
   const int jobs = command.jobs > 0 ? command.jobs : sweep_detail::available_cores();
   if (command.slurm) return run_slurm(command, plan, out_dir, out);
   if (!command.shard.empty()) return run_shard(command, plan, out_dir, jobs, out);

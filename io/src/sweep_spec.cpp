@@ -491,7 +491,13 @@ SweepSpec load_sweep(const std::string& path) {
   return parse_sweep(read_file_text(path, "sweep file"), path, dir.empty() ? "." : dir);
 }
 
-SweepPlan expand_sweep(const SweepSpec& spec) {
+std::size_t sweep_point_count(const SweepSpec& spec) {
+  std::size_t count = 1;
+  for (const SweepAxis& axis : spec.axes) count *= axis.values.size();
+  return count;
+}
+
+SweepPlan expand_sweep(const SweepSpec& spec, const SweepPointCheck& check_first) {
   SweepPlan plan;
   plan.spec = spec;
   plan.base_dir = fs::path(spec.scenario).parent_path().string();
@@ -518,8 +524,7 @@ SweepPlan expand_sweep(const SweepSpec& spec) {
     }
   }
 
-  std::size_t count = 1;
-  for (const SweepAxis& axis : spec.axes) count *= axis.values.size();
+  const std::size_t count = sweep_point_count(spec);
   std::vector<YAML::Node> values;  // every axis value parsed once, axis by axis
   std::vector<std::size_t> offset;
   for (const SweepAxis& axis : spec.axes) {
@@ -570,6 +575,7 @@ SweepPlan expand_sweep(const SweepSpec& spec) {
     parts.push_back(point.scenario_text);
     point.hash = content_hash(parts);
     plan.points.push_back(std::move(point));
+    if (index == 0 && check_first) check_first(plan, plan.points.front());
   }
   return plan;
 }
@@ -584,7 +590,7 @@ std::string point_values_text(const SweepSpec& spec, const SweepPoint& point) {
 
 void validate_point(const SweepPlan& plan, const SweepPoint& point, const std::string& file_name) {
   const SweepSpec& spec = plan.spec;
-  const std::string which = "point " + std::to_string(point.index) + " of " + std::to_string(plan.points.size()) + " (" +
+  const std::string which = "point " + std::to_string(point.index) + " of " + std::to_string(sweep_point_count(spec)) + " (" +
                             point_values_text(spec, point) + ")";
   try {
     const Scenario scenario = parse_scenario(point.scenario_text, file_name, plan.base_dir);

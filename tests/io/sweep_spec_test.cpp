@@ -324,6 +324,37 @@ TEST(Expansion, BadValuesNameTheAxisThePointAndTheLoadersMessage) {
   EXPECT_TRUE(has(m.detail(), "unknown value 'spline'")) << m.what();
 }
 
+// The first point is checked as soon as it exists, before the rest of the product is expanded:
+// an axis path the loader refuses (a key created where none may be) costs one point, not all
+// (found by tests/fuzz/fuzz_sweep: such a sweep of 21,000 steps took 5 s to refuse). The message
+// counts the whole product.
+TEST(Expansion, FirstPointIsCheckedBeforeTheRestIsExpanded) {
+  const SweepSpec bad = parse(tiny_sweep("axes:\n  variants[1].transition.no_such_key: {from: 1, to: 2, steps: 5000}\n"));
+  int calls = 0;
+  const InputError e = error_of([&] {
+    (void)expand_sweep(bad, [&](const SweepPlan& plan, const SweepPoint& point) {
+      ++calls;
+      EXPECT_EQ(plan.points.size(), 1U);
+      EXPECT_EQ(point.index, 0U);
+      validate_point(plan, point, "p0.yaml");
+    });
+  });
+  EXPECT_EQ(calls, 1);
+  EXPECT_EQ(e.field(), "axes.variants[1].transition.no_such_key") << e.what();
+  EXPECT_TRUE(has(e.detail(), "point 0 of 5000 (")) << e.what();
+
+  // a sweep the check accepts is expanded whole, the check called on its first point only
+  calls = 0;
+  const SweepPlan good = expand_sweep(parse(tiny_sweep("axes:\n  defaults.velocity: [100, 150, 200]\n")),
+                                      [&](const SweepPlan& plan, const SweepPoint& point) {
+                                        ++calls;
+                                        validate_point(plan, point, "p0.yaml");
+                                      });
+  EXPECT_EQ(calls, 1);
+  EXPECT_EQ(good.points.size(), 3U);
+  EXPECT_EQ(sweep_point_count(good.spec), 3U);
+}
+
 // The hash is a function of the content: equal texts and variants give equal hashes, and it
 // changes with a value or with the selection.
 TEST(Expansion, HashFollowsTheContent) {

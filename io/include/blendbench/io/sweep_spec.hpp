@@ -18,6 +18,7 @@
 // problem is an InputError naming the sweep file, line, column and key.
 
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -114,12 +115,20 @@ struct SweepPlan {
 // The largest product of axes a sweep may have.
 constexpr std::size_t kMaxSweepPoints = 100000;
 
+// The number of points of the sweep: the product of its axes' value counts.
+std::size_t sweep_point_count(const SweepSpec& spec);
+
+// Called on the first point as soon as it is expanded (the plan then holds that point only), so
+// that an axis that makes no valid scenario is refused before the rest of a product of up to
+// kMaxSweepPoints points is expanded. It throws to refuse.
+using SweepPointCheck = std::function<void(const SweepPlan& plan, const SweepPoint& point)>;
+
 // Expands the sweep: loads the base scenario's YAML, and for every point of the product sets each
 // axis' path to the point's value (creating missing mapping keys; a missing or out-of-range list
 // element, or a key below a scalar, is an error). Checks that the selected variants exist and
-// that no two axes set the same value. Does not validate the points (validate_point does).
-// Throws InputError naming the axis and the point.
-SweepPlan expand_sweep(const SweepSpec& spec);
+// that no two axes set the same value. Validates no point itself except through `check_first`
+// (validate_point validates one). Throws InputError naming the axis and the point.
+SweepPlan expand_sweep(const SweepSpec& spec, const SweepPointCheck& check_first = {});
 
 // Validates one point as the loader does (parse_scenario on its text with `file_name` for
 // messages and the plan's base_dir), and that it has the selected variants. Throws InputError
