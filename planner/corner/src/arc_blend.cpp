@@ -23,7 +23,8 @@
 //   (`*_available`), the transition adds no loop (its signed turning equals that of the
 //   programmed path it replaces, or it is a short arc, |turn| <= pi, that cuts a loop off where
 //   the arcs cross twice) and makes no detour (at most 4 times the length it replaces).
-// - when no circle exists for the requested d (tangency behind the corner, a loop, a detour), the
+// - when no circle exists for the requested d (tangency behind the corner, a loop, a detour, or a
+//   circle so near the other move's circle that where it touches it is ill-conditioned), the
 //   rule is applied with the roles swapped (the smaller-radius move shortened by d; fallback
 //   "smaller_radius_shortened"; this keeps near-tangent corners blended with the full d); when
 //   that fails too, or T2 lies beyond the available part, d is shrunk (bisection on the seed 003 rule)
@@ -74,6 +75,14 @@ constexpr double kIntersection = 1e-12;
 constexpr double kTurnTol = 1e-6;
 // a transition longer than this many times the path it replaces is a detour, not a transition
 constexpr double kMaxDetour = 4.0;
+// relative: a transition circle whose radius is within this fraction of the other circle's is
+// refused. It runs within that fraction of the radius of the other circle all the way, so its
+// point of tangency, where the two circles touch, is fixed by differences of that size between
+// inputs of full size: at 6e-10 (a near-tangent corner, theta = 8e-5 rad, whose corner distance
+// fell where the second intersection of the two circles makes T1 nearly tangent to the other
+// circle) it lay 4.4 rad round the circle and the arc built on it missed T1 by 3e-9 of its
+// length. The rule with the roles swapped (or a shorter d) then applies.
+constexpr double kCoincidentCircle = 1e-6;
 // m: the smallest corner distance the shrink search tries (1 um, far below robot resolution)
 constexpr double kMinShrink = 1e-6;
 constexpr int kBisections = 60;
@@ -268,6 +277,10 @@ Candidate solve_planar(const Corner& k, const Plane& pl, bool fixed_in, double d
         return cand;
       }
       kappa = num / den;
+      if (std::abs(kappa * oc.rho - 1) <= kCoincidentCircle) {
+        cand.why = "the transition circle nearly coincides with the other arc (where it touches it is ill-conditioned)";
+        return cand;
+      }
       const Vec3 n2 = n2_dir / g_norm;
       rel2 = -oc.rho * n2;
       chord = rel2 - w;

@@ -713,6 +713,41 @@ void check_fit(const CornerInput& corner, const CornerFit& fit, const std::strin
   }
 }
 
+// Two circles turning the same way that cross at a small angle theta meet again a distance of
+// about 2 theta / (kappa_in - kappa_out) on; halfway, the larger circle runs parallel to the
+// smaller at a distance of theta^2 / (2 (kappa_in - kappa_out)). With the corner distance there,
+// the circle tangent to the larger move at T1 and to the smaller is the smaller circle itself to
+// within that distance, touching it anywhere round its circumference (found by the property test
+// below: 0.5 nm from it, 4.4 rad back, an arc that missed T1 by 3e-9 of its length). As d nears
+// that point the seed 003 circle's tangency moves back round the smaller circle (continuously:
+// 0.1 mm at 0.9 d, 1.3 mm at 0.99 d, ever closer to the smaller circle); where it comes within
+// 1e-6 of its radius it is refused and the rule swapped, which keeps the transition local. Every
+// fit stays continuous and G1.
+TEST(ArcBlendArcArc, NearTangentCirclesAtTheirParallelPointStayLocal) {
+  const double r_in = 0.053285325576692;  // the smaller circle
+  const double r_out = 0.08141912261056658;
+  const double theta = 8.2830522556456078e-05;
+  const double d_parallel = theta / (1 / r_in - 1 / r_out);
+  for (const double sign : {1.0, -1.0}) {
+    const Vec3 t_in = Vec3::UnitX();
+    const Vec3 t_out(std::cos(sign * theta), std::sin(sign * theta), 0);
+    const Arc in = arc_ending_at(Vec3::Zero(), t_in, sign * Vec3::UnitZ().cross(t_in), r_in, 5.25);
+    const Arc out = arc_starting_at(Vec3::Zero(), t_out, sign * Vec3::UnitZ().cross(t_out), r_out, 3.9);
+    for (const double f : {0.5, 0.9, 0.99, 0.999, 0.99999, 0.9999999, 1.0, 1.0000001, 1.00001, 1.001, 1.01, 1.1, 1.5}) {
+      const CornerInput corner = make_corner(in, out, f * d_parallel);
+      const CornerFit fit = fit_arc_corner(corner);
+      ASSERT_TRUE(fit.outcome.ok()) << fit.outcome.message;
+      const Joins joins = measure_joins(corner, fit);
+      EXPECT_LE(joins.gap, kPosRel * joins.size) << "sign " << sign << " d/d_parallel " << f;
+      EXPECT_LE(joins.angle, kG1) << "sign " << sign << " d/d_parallel " << f;
+      if (std::abs(f - 1) <= 1e-5) {
+        EXPECT_EQ(fit.fallback, Fallback::kSmallerRadiusShortened) << "sign " << sign << " d/d_parallel " << f;
+        EXPECT_LE(std::max(fit.trim_in, fit.trim_out), 4 * d_parallel) << "sign " << sign << " d/d_parallel " << f;
+      }
+    }
+  }
+}
+
 TEST(ArcBlendProperty, RandomPlanarCornersAreContinuousAndTangent) {
   const int n = test::property_cases(20000);
   Worst worst;
