@@ -102,7 +102,7 @@ double curvature_speed_limit(double kappa, double sharpness, double a_max, doubl
 }
 
 void measure_corner(CornerReport& report, const std::vector<Segment>& transition, const Primitive& in,
-                    const Primitive& out, double a_max, double j_max) {
+                    const Primitive& out, double a_max, double j_max, double exact_deviation) {
   report.length = 0;
   report.kappa_max = 0;
   report.sharpness_max = 0;
@@ -135,6 +135,11 @@ void measure_corner(CornerReport& report, const std::vector<Segment>& transition
     report.kappa_max = std::max(report.kappa_max, max_curvature(seg, 0, len));
     report.sharpness_max = std::max(report.sharpness_max, max_sharpness(seg, 0, len));
   }
+  report.feed_max = curvature_speed_limit(report.kappa_max, report.sharpness_max, a_max, j_max);
+  if (exact_deviation >= 0) {
+    report.deviation = exact_deviation;
+    return;
+  }
   // the programmed path replaced by the transition: the trimmed end of `in` and start of `out`
   std::vector<Segment> replaced;
   if (report.trim_in > 0) replaced.push_back(to_segment(sub_segment(in, len_in - report.trim_in, len_in)));
@@ -149,7 +154,6 @@ void measure_corner(CornerReport& report, const std::vector<Segment>& transition
   double replaced_length = 0;
   for (const Segment& seg : replaced) replaced_length += length(seg);
   report.deviation = hausdorff_within(transition, replaced, kDeviationTolerance * std::max(report.length, replaced_length));
-  report.feed_max = curvature_speed_limit(report.kappa_max, report.sharpness_max, a_max, j_max);
 }
 
 namespace {
@@ -248,7 +252,8 @@ Path blend_moves(const Program& program) {
     report.trim_out = fit.trim_out;
     report.stop = fit.stop;
     report.curvature_steps = move.transition.curvature_steps;
-    measure_corner(report, fit.transition, move.geometry, next.geometry, next.limits.acceleration, next.limits.jerk);
+    measure_corner(report, fit.transition, move.geometry, next.geometry, next.limits.acceleration, next.limits.jerk,
+                   fit.exact_deviation);
     stop_next = stop_next || fit.stop;
     const Limits lim = transition_limits(move, next);
     // where the transition's limits were written: the next move's (acceleration, deceleration,

@@ -108,6 +108,7 @@ void use_line_pair(const LinePair& line, const CornerPlane& plane, double parame
   fit.trim_in = line.pair.tangent_length;
   fit.trim_out = line.pair.tangent_length;
   fit.parameter_used = parameter_used;
+  fit.exact_deviation = line.pair.deviation;
 }
 
 ClothoidArcClothoid clothoid_arc_clothoid(double alpha, double kappa, double clothoid_length) {

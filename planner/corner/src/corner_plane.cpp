@@ -55,11 +55,18 @@ PlanarCorner line_corner(const Line& in, const Line& out) {
   const Vec3 t1 = len_in > 0 ? Vec3(d1 / len_in) : Vec3::Zero();
   const Vec3 t2 = len_out > 0 ? Vec3(d2 / len_out) : Vec3::Zero();
   pc.angle = angle_between(t1, t2);
-  const Vec3 turn = t1.cross(t2);
+  // The plane's x axis is the incoming tangent itself, so a fillet starts on the incoming line
+  // to the bit, and its normal t1 x t2 is made perpendicular to it. At a turn theta the cross
+  // product's rounding (1e-16 of its unit factors) tilts its direction by 1e-16 / theta out of
+  // the perpendicular; x was t1 projected off that normal, which at theta = 1e-8 rad moved a
+  // 0.16 mm fillet's start 4e-13 m off the line (1.3e-9 of its size) and, towards the tangent
+  // threshold kTangentAngle = 1e-9 rad, by up to 1e-7 of the fillet's tangent length.
+  Vec3 turn = t1.cross(t2);
+  turn -= turn.dot(t1) * t1;
   const Vec3 normal = turn.norm() > 0 ? Vec3(turn.normalized()) : any_perpendicular(t1);
   // point(in, length(in)): p0 + d1 * (len / len), and len / len is exactly 1
   pc.plane.origin = len_in > 0 ? Vec3(in.p0 + d1) : in.p0;
-  pc.plane.x = (t1 - t1.dot(normal) * normal).normalized();
+  pc.plane.x = t1;
   pc.plane.y = normal.cross(pc.plane.x);
   pc.shapes.q1 = PlanarShape{0.0, 0.0};
   // the plane's normal is t1 x t2, so t2 turns by +angle from x

@@ -44,9 +44,10 @@ MergedProgram merge_collinear(const Program& program);
 
 // Fills the measured fields of a report (length, deviation, kappa_max, sharpness_max,
 // feed_max) from the transition pieces and the programmed moves. `a_max` (m/s^2) and `j_max`
-// (m/s^3) feed eq. 25-27 of 004.
+// (m/s^3) feed eq. 25-27 of 004. `exact_deviation` >= 0 (CornerFit::exact_deviation) is the
+// deviation in closed form, reported as it is; otherwise it is measured (hausdorff_within).
 void measure_corner(CornerReport& report, const std::vector<Segment>& transition, const Primitive& in,
-                    const Primitive& out, double a_max, double j_max);
+                    const Primitive& out, double a_max, double j_max, double exact_deviation = -1);
 
 // seed 004 eq. 25-27: the highest constant path speed (m/s) on a curve of curvature kappa (1/m)
 // and sharpness c (1/m^2) that keeps the axis acceleration and jerk within a_max and j_max.

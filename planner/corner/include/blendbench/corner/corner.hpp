@@ -42,6 +42,11 @@ struct CornerFit {
   std::string note;      // e.g. the parameter was shrunk because a move is short
   double parameter_used = 0;
   bool stop = false;  // velocity must go to zero here (Buffered at a remaining kink)
+  // m, >= 0 where the fit has the Hausdorff distance between its transition and the path it
+  // replaces in closed form (then the blender reports it instead of measuring it): the
+  // symmetric clothoid pair between two lines, whose farthest points are the corner and the
+  // pair's midpoint (seed 004 section 7.1). -1: the blender measures it.
+  double exact_deviation = -1;
 };
 
 // Reversals, shared by every method. A corner whose tangent turns by theta >= pi -
