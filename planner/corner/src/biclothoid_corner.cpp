@@ -78,6 +78,7 @@ CornerFit fit_biclothoid_in_plane(const CornerInput& corner, const PlanarCorner&
         fit_biclothoid_from_start(geometry.shapes, start_distance, corner.in_available, corner.out_available);
     if (!use_fillet(start_fit.outcome, start_fit.fillet, corner, geometry.plane, fit)) return fit;
     fit.parameter_used = start_fit.fillet.a;
+    fit.exact_deviation = start_fit.deviation.max();
     using Limit = BiclothoidStartFit::Limit;
     if (start_fit.limit != Limit::kNone) {
       const char* why = start_fit.limit == Limit::kIncoming
@@ -95,6 +96,7 @@ CornerFit fit_biclothoid_in_plane(const CornerInput& corner, const PlanarCorner&
       fit_biclothoid_with_tolerance(geometry.shapes, tolerance, corner.in_available, corner.out_available);
   if (!use_fillet(tol_fit.outcome, tol_fit.fillet, corner, geometry.plane, fit)) return fit;
   fit.parameter_used = tol_fit.deviation.max();
+  fit.exact_deviation = fit.parameter_used;
   if (tol_fit.limited) {
     fit.note = lengths_note("deviation ", fit.parameter_used, " below the tolerance ", tolerance,
                            "the fillet is limited by the move lengths (or an eighth of a turn of an arc)");

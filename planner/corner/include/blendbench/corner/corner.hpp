@@ -43,9 +43,11 @@ struct CornerFit {
   double parameter_used = 0;
   bool stop = false;  // velocity must go to zero here (Buffered at a remaining kink)
   // m, >= 0 where the fit has the Hausdorff distance between its transition and the path it
-  // replaces in closed form (then the blender reports it instead of measuring it): the
-  // symmetric clothoid pair between two lines, whose farthest points are the corner and the
-  // pair's midpoint (seed 004 section 7.1). -1: the blender measures it.
+  // replaces already, to the corner report's precision (then the blender reports it instead of
+  // measuring it again): in closed form for the symmetric clothoid pair between two lines, whose
+  // farthest points are the corner and the pair's midpoint; measured by the fit for a
+  // biclothoid with an arc (seed 004 section 7.1, biclothoid_deviation). -1: the blender
+  // measures it.
   double exact_deviation = -1;
 };
 
