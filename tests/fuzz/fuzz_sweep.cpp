@@ -28,10 +28,11 @@ constexpr std::size_t kFuzzPoints = 256;
 void bound_points(blendbench::SweepSpec& spec) {
   std::size_t product = 1;
   for (blendbench::SweepAxis& axis : spec.axes) {
+    // an axis has at least one value (parse_sweep), and its labels match its values
     const std::size_t keep = std::max<std::size_t>(1, std::min(axis.values.size(), kFuzzPoints / product));
-    axis.values.resize(std::min(axis.values.size(), keep));
-    axis.labels.resize(std::min(axis.labels.size(), keep));
-    product *= axis.values.size();
+    axis.values.resize(keep);
+    axis.labels.resize(keep);
+    product *= keep;
   }
 }
 

@@ -248,6 +248,22 @@ TEST(Blend, PropertyEveryExactStopAtAKinkStops) {
   }
 }
 
+// The pieces of corner 0's transition in a blended two-move program.
+std::vector<Segment> transition_of(const Path& path) {
+  std::vector<Segment> transition;
+  for (const PathPiece& piece : path.pieces()) {
+    if (piece.corner == 0) transition.push_back(piece.segment);
+  }
+  return transition;
+}
+
+// The programmed path corner 0's transition replaces: the trimmed end of move 0 and start of move 1.
+std::vector<Segment> replaced_of(const Program& program, const CornerReport& r) {
+  const Primitive& in = program.moves[0].geometry;
+  const Primitive& out = program.moves[1].geometry;
+  return {to_segment(sub_segment(in, length(in) - r.trim_in, length(in))), to_segment(sub_segment(out, 0.0, r.trim_out))};
+}
+
 TEST(Blend, PropertyCornerDeviationAgreesWithADenseScan) {
   const int cases = test::property_cases(32);
   double worst = 0;
@@ -261,15 +277,9 @@ TEST(Blend, PropertyCornerDeviationAgreesWithADenseScan) {
       const Program program = corner_program(corner_rng, theta, i % 4 >= 2, i % 2 == 1, i % 8 < 4, method, parameter);
       const Path path = blend(program);
       const CornerReport& r = path.corners[0];
-      std::vector<Segment> transition;
-      for (const PathPiece& piece : path.pieces()) {
-        if (piece.corner == 0) transition.push_back(piece.segment);
-      }
+      const std::vector<Segment> transition = transition_of(path);
       if (transition.empty() || r.trim_in <= 0 || r.trim_out <= 0) continue;
-      const Primitive& in = program.moves[0].geometry;
-      const Primitive& out = program.moves[1].geometry;
-      const std::vector<Segment> replaced = {to_segment(sub_segment(in, length(in) - r.trim_in, length(in))),
-                                             to_segment(sub_segment(out, 0.0, r.trim_out))};
+      const std::vector<Segment> replaced = replaced_of(program, r);
       const double size = std::max(r.length, r.trim_in + r.trim_out);
       const double dense = hausdorff(transition, replaced, size / 4096);
       const std::string where = test::seed_text(seed) + " " + std::string(to_string(method));
@@ -285,9 +295,9 @@ TEST(Blend, PropertyCornerDeviationAgreesWithADenseScan) {
 // closed form (the corner's distance to the pair's midpoint, CornerFit::exact_deviation), and
 // the report takes it instead of measuring: on random line-line corners (turns from 1e-8 rad to
 // near reversal, sized by tolerance or start distance, moves long or short enough to shrink the
-// pair) it starts and ends on the lines and agrees with the measured Hausdorff distance (hausdorff_within, as the report measured
-// it before) to 1e-12 of the corner's size (and 1e-15 m), far inside the 1e-9 the measure
-// promises.
+// pair) the pair starts and ends on the lines and its deviation agrees with the measured
+// Hausdorff distance (hausdorff_within, as the report measured it before) to 1e-12 of the
+// corner's size (and 1e-15 m), far inside the 1e-9 the measure promises.
 TEST(Blend, PropertyLineLinePairsReportTheirClosedFormDeviation) {
   const int cases = test::property_cases(2000);
   double worst = 0;
@@ -311,16 +321,10 @@ TEST(Blend, PropertyLineLinePairsReportTheirClosedFormDeviation) {
     }
     const Path path = blend(program);
     const CornerReport& r = path.corners.at(0);
-    std::vector<Segment> transition;
-    for (const PathPiece& piece : path.pieces()) {
-      if (piece.corner == 0) transition.push_back(piece.segment);
-    }
+    const std::vector<Segment> transition = transition_of(path);
     const std::string where = test::seed_text(seed) + " " + std::string(to_string(method)) + " theta " + std::to_string(theta);
     ASSERT_FALSE(transition.empty()) << where << " " << r.note;
-    const Primitive& in = program.moves[0].geometry;
-    const Primitive& out = program.moves[1].geometry;
-    const std::vector<Segment> replaced = {to_segment(sub_segment(in, length(in) - r.trim_in, length(in))),
-                                           to_segment(sub_segment(out, 0.0, r.trim_out))};
+    const std::vector<Segment> replaced = replaced_of(program, r);
     const double size = std::max(r.length, r.trim_in + r.trim_out);
     // the pair starts and ends on the lines: its plane's x axis is the incoming tangent itself
     // (corner_plane.cpp; projected, it put the start 1.3e-9 of the corner's size off the line at
