@@ -38,9 +38,11 @@ struct ClothoidMoments {
   Vec2 m0 = Vec2::Zero();  // m
   Vec2 m1 = Vec2::Zero();  // m^2
   Vec2 m2 = Vec2::Zero();  // m^3
+  Vec2 t_end = Vec2::Zero();  // the unit tangent at len
 };
-ClothoidMoments clothoid_moments(double theta0, double kappa0, double c, double len) {
+ClothoidMoments clothoid_moments(const Vec2& t0, double kappa0, double c, double len) {
   ClothoidMoments out;
+  out.t_end = t0;
   if (!(len > 0)) return out;
   const double kappa_max = std::max(std::abs(kappa0), std::abs(kappa0 + c * len));
   const double phase = 0.5 * kappa_max * len + 0.125 * std::abs(c) * len * len;
@@ -52,6 +54,8 @@ ClothoidMoments clothoid_moments(double theta0, double kappa0, double c, double 
   double m1y = 0;
   double m2x = 0;
   double m2y = 0;
+  double tx = t0.x();  // the unit tangent at the start of panel j
+  double ty = t0.y();
   for (int j = 0; j < panels; ++j) {
     const double m = h * (2 * j + 1);
     const double beta = (kappa0 + c * m) * h;
@@ -64,8 +68,16 @@ ClothoidMoments clothoid_moments(double theta0, double kappa0, double c, double 
     double s1i = 0;
     double s2r = series::kInverse[3];
     double s2i = 0;
+    double er = 1;  // sum of e_n, n even
+    double ei = 0;
+    double or_ = 0;  // n odd
+    double oi = 0;
     for (std::size_t n = 0; n + 5 < series::kInverse.size(); n += 2) {
       e.step_two(n);
+      er += e.re;
+      ei += e.im;
+      or_ += e.prev_re;
+      oi += e.prev_im;
       s0r += e.re * series::kInverse[n + 3];
       s0i += e.im * series::kInverse[n + 3];
       s1r += e.prev_re * series::kInverse[n + 3];
@@ -76,9 +88,14 @@ ClothoidMoments clothoid_moments(double theta0, double kappa0, double c, double 
     }
     // the panel's moments in its frame, turned by theta(m); in scalars, as an Eigen 2-vector
     // built from two scalars and read back as a pair stalls store forwarding
-    const double theta = theta0 + (kappa0 + 0.5 * c * m) * m;
-    const double cs = std::cos(theta);
-    const double sn = std::sin(theta);
+    // R = T(m - h) / P(-1), P(tau) = sum e_n tau^n; T(m + h) = R P(1)
+    const double pr = er - or_;
+    const double pi = ei - oi;
+    const double inv = 1 / (pr * pr + pi * pi);
+    const double cs = (tx * pr + ty * pi) * inv;
+    const double sn = (ty * pr - tx * pi) * inv;
+    tx = cs * (er + or_) - sn * (ei + oi);
+    ty = sn * (er + or_) + cs * (ei + oi);
     const double w = 2 * h;
     const double p0r = w * s0r;
     const double p0i = w * s0i;
@@ -99,6 +116,7 @@ ClothoidMoments clothoid_moments(double theta0, double kappa0, double c, double 
   out.m1.y() = m1y;
   out.m2.x() = m2x;
   out.m2.y() = m2y;
+  out.t_end = Vec2(tx, ty);
   return out;
 }
 
@@ -183,14 +201,19 @@ PointSlopes point_slopes(const Biclothoid& curve, const ClothoidMoments& first, 
 PointSlopes biclothoid_detail::point_slopes_at(const Biclothoid& curve, double s, Vec2& offset) {
   s = std::clamp(s, 0.0, length(curve));
   const ClothoidMoments first =
-      clothoid_moments(curve.start.theta, curve.start.kappa, curve.c, std::min(s, curve.s1));
+      clothoid_moments(direction(curve.start.theta), curve.start.kappa, curve.c, std::min(s, curve.s1));
   const ClothoidMoments second =
-      s > curve.s1 ? clothoid_moments(curve.mid.theta, curve.mid.kappa, -curve.c, s - curve.s1) : ClothoidMoments{};
+      s > curve.s1 ? clothoid_moments(first.t_end, curve.mid.kappa, -curve.c, s - curve.s1) : ClothoidMoments{};
   offset = first.m0 + second.m0;
   return point_slopes(curve, first, second);
 }
 
 std::optional<BiclothoidEnd> biclothoid_end(const Posture& start, double kappa_e, double dtheta, double length) {
+  return biclothoid_end(start, direction(start.theta), kappa_e, dtheta, length);
+}
+
+std::optional<BiclothoidEnd> biclothoid_end(const Posture& start, const Vec2& start_tangent, double kappa_e,
+                                            double dtheta, double length) {
   if (!(length > 0) || !std::isfinite(length)) return std::nullopt;
   const TurnProfile profile = turn_profile(start.kappa, kappa_e, dtheta, length);
   const double c = profile.c;
@@ -201,13 +224,13 @@ std::optional<BiclothoidEnd> biclothoid_end(const Posture& start, double kappa_e
   curve.c = c;
   curve.s1 = s1;
   curve.s2 = length - s1;
-  const ClothoidMoments first = clothoid_moments(start.theta, start.kappa, c, s1);
+  const ClothoidMoments first = clothoid_moments(start_tangent, start.kappa, c, s1);
   curve.mid.p = start.p + first.m0;
   curve.mid.kappa = start.kappa + c * s1;
   curve.mid.theta = start.theta + (start.kappa + 0.5 * c * s1) * s1;
-  const ClothoidMoments second = clothoid_moments(curve.mid.theta, curve.mid.kappa, -c, curve.s2);
+  const ClothoidMoments second = clothoid_moments(first.t_end, curve.mid.kappa, -c, curve.s2);
   out.p = curve.mid.p + second.m0;
-  out.tangent = direction(start.theta + dtheta);
+  out.tangent = second.t_end;
   const PointSlopes slopes = point_slopes(curve, first, second);
   out.d_length = out.tangent + slopes.d_length;
   out.d_turn = slopes.d_turn;
@@ -231,11 +254,15 @@ Posture posture_at(const Biclothoid& curve, double s) {
 
 Posture end_posture(const Biclothoid& curve) { return posture_at(curve, length(curve)); }
 
-Biclothoid reversed(const Biclothoid& curve) {
+Biclothoid reversed(const Biclothoid& curve) { return reversed(curve, end_posture(curve).p); }
+
+Biclothoid reversed(const Biclothoid& curve, const Vec2& end) {
   // the two clothoids still meet at the curvature extremum: the reversed curve's mid is the
-  // same point, so only the end is integrated; its curvature and angle as make_biclothoid
-  // gives them (the first clothoid's end, to the last bit)
-  const Posture e = end_posture(curve);
+  // same point, so only the end is needed; its curvature and angle as make_biclothoid gives
+  // them (the first clothoid's end, to the last bit)
+  const double t = curve.s2;
+  const Posture& pm = curve.mid;
+  const Posture e{end, pm.kappa - curve.c * t, pm.theta + (pm.kappa - 0.5 * curve.c * t) * t};
   Biclothoid back;
   back.start = Posture{e.p, -e.kappa, e.theta + kPi};
   back.c = -curve.c;

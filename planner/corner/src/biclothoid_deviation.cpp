@@ -28,7 +28,7 @@ class Piece {
         start_(lo == 0 ? Vec2::Zero() : shape_point(q, lo)),
         end_(hi == 0 ? Vec2::Zero() : shape_point(q, hi)) {
     if (q.kappa != 0) {
-      normal_ = Vec2(-std::sin(q.theta), std::cos(q.theta));
+      normal_ = perp(q.t);
       centre_ = normal_ / q.kappa;
       radius_ = 1.0 / std::abs(q.kappa);
       // the radial directions at the ends, ordered counter-clockwise
@@ -37,7 +37,7 @@ class Piece {
       if (q.kappa < 0) std::swap(from_, to_);
       wide_ = std::abs(q.kappa) * (hi - lo) > kPi;
     } else {
-      dir_ = direction(q.theta);
+      dir_ = q.t;
     }
   }
 
@@ -502,7 +502,7 @@ Measured biclothoid_detail::measure_deviation(const BiclothoidSolution& fillet, 
     if (!(c.distance > farthest.distance)) return;
     farthest = {c.distance, c.s, c.distance > 0 ? Vec2((c.point - x) / c.distance) : Vec2::Zero()};
   };
-  const std::array<Vec2, 2> corner_tangent = {direction(q1.theta), direction(q2.theta)};
+  const std::array<Vec2, 2> corner_tangent = {q1.t, q2.t};
   const auto from_original = [&](double sigma, std::size_t side) {
     const ShapeAt x = shape_at(side == 0 ? q1 : q2, corner_tangent[side], sigma);
     const FilletClosest c = closest_on_fillet(table, x.p, guess);

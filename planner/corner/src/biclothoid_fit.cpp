@@ -29,6 +29,10 @@ constexpr double kSolveTolerance = 1e-13;
 // evaluations on average over the property tests' random corners, so 8 is ample; a solve that
 // needs more is on its way to another root or none
 constexpr int kGuessOnlyIterations = 8;
+// The least turn of a fillet whose guess is checked for a hairpin (rad; fit_at; below it the
+// chord is not even computed): the hairpins among the property tests' random corners turn by
+// 3.2-3.4 rad, where the symmetric pair is 2.3-2.8 chords long (1.33 at 2 rad).
+constexpr double kHairpinTurn = 2.0;
 
 }  // namespace
 
@@ -39,7 +43,7 @@ std::optional<Solve> biclothoid_detail::fit_at(const CornerShapes& shapes, doubl
   const PlanarShape& q1 = shapes.q1;
   const PlanarShape& q2 = shapes.q2;
   const double delta = corner_turn(shapes);
-  const ShapeAt on_q1 = shape_at(q1, direction(q1.theta), -a);
+  const ShapeAt on_q1 = shape_at(q1, q1.t, -a);
   const Posture start{on_q1.p, q1.kappa, shape_angle(q1, -a)};
   // the fillet turns as much as the path it replaces: kappa1 a + delta + kappa2 b
   const double base_turn = delta + q1.kappa * a;
@@ -69,14 +73,28 @@ std::optional<Solve> biclothoid_detail::fit_at(const CornerShapes& shapes, doubl
       guess_b = kEndShare * a;
     }
   }
+  // a hairpin: near a reversal, where an arc curls its move back across the other one, the
+  // fillet turns by more than the corner (by Theta = |delta + kappa1 a + kappa2 b|, up to pi / 2
+  // more) between a start and an end far closer together than a and b. There the guess is
+  // the length of the symmetric pair that turns by Theta between the guessed start and end
+  // (biclothoid_hairpin_length): the pair at the corner's turn and tangent length a guessed up
+  // to 36 times too long, and Newton, which at most halves L per step, took five or six more
+  // evaluations per solve (near-reversal corners with an arc were the slowest fits, 11-15 us).
+  if (const double turn = std::abs(base_turn + q2.kappa * guess_b); turn > kHairpinTurn) {
+    const double chord = (shape_at(q2, q2.t, guess_b).p - start.p).norm();
+    if (4 * chord < guess_length) {
+      const double hairpin = biclothoid_hairpin_length(chord, turn);
+      if (hairpin > 0) guess_length = std::min(guess_length, hairpin);
+    }
+  }
 
   if (q2.kappa == 0) {
     // q2 is a line: the end angle is fixed, so one equation in L: the end lies on the line,
     // f(L) = t2 x p(L) = 0 with f' = t2 x dp/dL. Newton from the guess (L at most halves or
     // doubles per step) converges to the root nearest the guess; once a sign change brackets
     // it, steps leaving the bracket bisect it. A bracket search if that fails.
-    const Vec2 t2 = direction(q2.theta);
-    const auto eval = [&](double len) { return biclothoid_end(start, 0.0, base_turn, len); };
+    const Vec2 t2 = q2.t;
+    const auto eval = [&](double len) { return biclothoid_end(start, on_q1.t, 0.0, base_turn, len); };
     const auto offset = [&](double len) { return cross(t2, eval(len)->p); };
     if (cross(t2, start.p) == 0) return std::nullopt;
     const double scale = a + guess_b;
@@ -90,7 +108,7 @@ std::optional<Solve> biclothoid_detail::fit_at(const CornerShapes& shapes, doubl
       // f(L(a), a) = 0 and b = t2 . p(L(a), a)
       const Vec2 dp_da = end_da(e);
       const double dlen_da = -cross(t2, dp_da) / cross(t2, e.d_length);
-      return Solve{{e.curve, a, b}, dlen_da, t2.dot(e.d_length * dlen_da + dp_da)};
+      return Solve{{e.curve, a, b}, dlen_da, t2.dot(e.d_length * dlen_da + dp_da), e.p};
     };
     double x = guess_length;
     auto e = eval(x);
@@ -157,9 +175,9 @@ std::optional<Solve> biclothoid_detail::fit_at(const CornerShapes& shapes, doubl
     Vec2 r;
     Eigen::Matrix2d jac;
   };
-  const Vec2 t2 = direction(q2.theta);
+  const Vec2 t2 = q2.t;
   const auto evaluate = [&](double len, double b) -> std::optional<Eval> {
-    const auto e = biclothoid_end(start, q2.kappa, base_turn + q2.kappa * b, len);
+    const auto e = biclothoid_end(start, on_q1.t, q2.kappa, base_turn + q2.kappa * b, len);
     if (!e) return std::nullopt;
     const ShapeAt on_q2 = shape_at(q2, t2, b);
     Eval ev{*e, e->p - on_q2.p, Eigen::Matrix2d()};
@@ -172,7 +190,7 @@ std::optional<Solve> biclothoid_detail::fit_at(const CornerShapes& shapes, doubl
     if (!((ev.end.p - start.p).norm() > kMinChordRatio * (a + b))) return std::nullopt;
     // r(L(a), b(a), a) = 0: J d(L, b)/da = -dr/da
     const Vec2 slope = -(ev.jac.inverse() * end_da(ev.end));
-    return Solve{{ev.end.curve, a, b}, slope.x(), slope.y()};
+    return Solve{{ev.end.curve, a, b}, slope.x(), slope.y(), ev.end.p};
   };
   const auto solve_from = [&](double len, double b) -> std::optional<Solve> {
     auto cur = evaluate(len, b);
@@ -207,6 +225,16 @@ std::optional<Solve> biclothoid_detail::fit_at(const CornerShapes& shapes, doubl
     if (auto sol = solve_from(a * (1 + ratio), a * ratio)) return sol;
   }
   return std::nullopt;
+}
+
+// The pair's half has the displacement scale (C(u), S(u)) in its start's frame and the length
+// scale u; the chord bisects the turn, so half the chord is scale (C(u) cos(turn / 2) +
+// S(u) sin(turn / 2)) (derived here).
+double biclothoid_hairpin_length(double chord, double turn) {
+  if (!(turn > 0) || !(chord >= 0)) return 0.0;
+  const ClothoidPairShape shape = clothoid_pair_shape(turn);
+  const double half_chord = shape.c * shape.cos_half + shape.s * shape.sin_half;  // per unit scale
+  return half_chord > 0 ? chord * shape.u / half_chord : 0.0;
 }
 
 std::optional<BiclothoidSolution> fit_biclothoid_at(const CornerShapes& shapes, double a, double guess_length,

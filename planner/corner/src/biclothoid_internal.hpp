@@ -110,6 +110,7 @@ struct Solve {
   BiclothoidSolution fillet;
   double dlen_da = 0;  // d length / d a
   double db_da = 0;    // d b / d a
+  Vec2 end = Vec2::Zero();  // the fillet's end point, from Algorithm 1's last evaluation
 };
 // seed 004 (Shahzadeh et al.) Algorithm 1 (biclothoid_fit.cpp): fit_biclothoid_at with the sensitivities.
 // `Effort::kGuessOnly`: Newton from the guess alone, a few iterations, none of the other

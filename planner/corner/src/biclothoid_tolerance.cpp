@@ -229,14 +229,14 @@ namespace {
 std::optional<std::pair<double, double>> crossing(const PlanarShape& q1, const PlanarShape& q2, double a_max,
                                                   double b_max) {
   const auto centre = [](const PlanarShape& q) -> Vec2 {
-    return Vec2(-std::sin(q.theta), std::cos(q.theta)) / q.kappa;
+    return Vec2(perp(q.t) / q.kappa);
   };
   if (q1.kappa == 0 && q2.kappa == 0) return std::nullopt;
   if (std::abs(std::remainder(q2.theta - q1.theta, 2 * kPi)) <= kTangentAngle) return std::nullopt;
   Vec2 x = Vec2::Zero();
   if (q1.kappa == 0 || q2.kappa == 0) {
     const PlanarShape& line = q1.kappa == 0 ? q1 : q2;
-    const Vec2 t = direction(line.theta);
+    const Vec2 t = line.t;
     x = 2 * t.dot(centre(q1.kappa == 0 ? q2 : q1)) * t;
   } else {
     const Vec2 c1 = centre(q1);
@@ -245,7 +245,7 @@ std::optional<std::pair<double, double>> crossing(const PlanarShape& q1, const P
     x = 2 * (c1 - c1.dot(d) / d.squaredNorm() * d);
   }
   const auto sigma = [&](const PlanarShape& q) {
-    if (q.kappa == 0) return x.dot(direction(q.theta));
+    if (q.kappa == 0) return x.dot(q.t);
     const Vec2 c = centre(q);
     return std::atan2(cross(-c, x - c), (-c).dot(x - c)) / q.kappa;
   };
@@ -294,6 +294,7 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
     BiclothoidSolution fillet;
     double dlen_da = 0;  // sensitivities of Algorithm 1 (Solve)
     double db_da = 0;
+    Vec2 end = Vec2::Zero();  // the fillet's end point (Solve)
     Deviation deviation;
     Witness witness;
     bool measured = false;
@@ -331,7 +332,7 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
     ++result.solves;
     const auto sol = fit_at(work, a, guess_len, guess_b, Effort::kFull, tangent_jump ? &turn_shape : nullptr);
     if (!sol) return nullptr;
-    store.push_back(Trial{sol->fillet, sol->dlen_da, sol->db_da, {}, {}, false});
+    store.push_back(Trial{sol->fillet, sol->dlen_da, sol->db_da, sol->end, {}, {}, false});
     return &store.back();
   };
   // Algorithm 1 from the other end: the fillet that ends exactly at the end bound (b = b_cap),
@@ -360,8 +361,9 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
       if (past_cap) *past_cap = true;
       return nullptr;
     }
-    BiclothoidSolution forward{reversed(sol->fillet.curve), sol->fillet.b, b_cap};
-    store.push_back(Trial{forward, sol->dlen_da / sol->db_da, 1 / sol->db_da, {}, {}, false});
+    BiclothoidSolution forward{reversed(sol->fillet.curve, sol->end), sol->fillet.b, b_cap};
+    store.push_back(
+        Trial{forward, sol->dlen_da / sol->db_da, 1 / sol->db_da, sol->fillet.curve.start.p, {}, {}, false});
     return &store.back();
   };
   const auto solve_at_end_bound = [&](const Trial& from) -> Trial* {
@@ -596,7 +598,7 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
   result.deviation = best->deviation;
   result.fillet = best->fillet;
   if (result.swapped) {
-    result.fillet.curve = reversed(best->fillet.curve);
+    result.fillet.curve = reversed(best->fillet.curve, best->end);
     result.fillet.a = best->fillet.b;
     result.fillet.b = best->fillet.a;
   }

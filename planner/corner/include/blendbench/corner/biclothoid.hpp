@@ -62,6 +62,9 @@ struct BiclothoidEnd {
   Vec2 d_turn = Vec2::Zero();    // d p / d dtheta (m/rad)
 };
 std::optional<BiclothoidEnd> biclothoid_end(const Posture& start, double kappa_e, double dtheta, double length);
+// The same, given the start's unit tangent (direction(start.theta)).
+std::optional<BiclothoidEnd> biclothoid_end(const Posture& start, const Vec2& start_tangent, double kappa_e,
+                                            double dtheta, double length);
 
 double length(const Biclothoid& curve);
 // The posture at arc length s in [0, length] (clamped).
@@ -69,6 +72,9 @@ Posture posture_at(const Biclothoid& curve, double s);
 Posture end_posture(const Biclothoid& curve);
 // The same curve traversed backwards (a biclothoid again: c -> -c, s1 <-> s2).
 Biclothoid reversed(const Biclothoid& curve);
+// The same, given the curve's end point (as biclothoid_end found it), which then is not
+// integrated again.
+Biclothoid reversed(const Biclothoid& curve, const Vec2& end);
 
 // seed 004 Algorithm 1 (derived here: the paper gives only its first lines): the biclothoid that
 // starts G2 on q1 at distance `a` before the corner and ends G2 on q2. Unknowns: its length L
@@ -168,6 +174,14 @@ BiclothoidArcSensitivity biclothoid_arc_sensitivity(double turn);
 // (biclothoid_tolerance.cpp), within 2.2e-5 of them for |u2| <= |u1| <= 0.8; farther out, its
 // value where the ray to (u1, u2) leaves that range (at most -1.3e-2; not a number: 0).
 double biclothoid_curvature_jump_start(double u1, double u2);
+
+// The length of the symmetric clothoid pair (curvature 0 at both ends, seed 002 (Makino)) that
+// turns by `turn` (rad) between two points `chord` apart: chord u / (C(u) cos(turn / 2) +
+// S(u) sin(turn / 2)), u = sqrt(turn / pi), C and S the Fresnel integrals; 0 where no such pair
+// exists (turn <= 0, or beyond 1.46 pi, where the pair's ends would cross).
+// Algorithm 1's guess for a fillet that turns by more than the corner between nearby points
+// (a hairpin, near a reversal: fit_biclothoid_at).
+double biclothoid_hairpin_length(double chord, double turn);
 
 // The other way to size a fillet (seed 004 Algorithm 1 alone): it starts `start_distance` (m, > 0)
 // before the corner on q1. The start distance is capped as in the tolerance fit (a_max, an

@@ -7,6 +7,7 @@
 // in rad measured counter-clockwise from the x axis, curvature signed (positive turns left),
 // lengths in m.
 
+#include <cmath>
 #include <numbers>
 #include <optional>
 #include <string>
@@ -23,10 +24,16 @@ using Vec2 = Eigen::Vector2d;
 
 // A programmed move near the corner: a line (kappa = 0) or a circle through the origin (the
 // corner) with tangent angle `theta` there; sigma is the signed arc length from the corner
-// along the direction of travel (negative before the corner).
+// along the direction of travel (negative before the corner). `t` is the unit tangent there,
+// (cos theta, sin theta), computed once by the constructor: the biclothoid fit needs it in
+// every solve and every deviation measure (make a new shape rather than change theta).
 struct PlanarShape {
+  PlanarShape() = default;
+  PlanarShape(double angle, double curvature)
+      : theta(angle), kappa(curvature), t(std::cos(angle), std::sin(angle)) {}
   double theta = 0;
   double kappa = 0;
+  Vec2 t = Vec2::UnitX();
 };
 
 Vec2 shape_point(const PlanarShape& shape, double sigma);
