@@ -276,6 +276,7 @@ Biclothoid reversed(const Biclothoid& curve, const Vec2& end) {
 
 std::vector<Segment> to_segments(const Biclothoid& curve, const CornerPlane& plane) {
   std::vector<Segment> out;
+  out.reserve(2);  // one allocation, not a second one and a move for the second piece
   const auto piece = [&](const Posture& at, double c, double len) {
     if (!(len > 0)) return;
     const double cs = std::cos(at.theta);

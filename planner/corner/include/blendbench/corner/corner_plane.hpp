@@ -27,10 +27,12 @@ using Vec2 = Eigen::Vector2d;
 // along the direction of travel (negative before the corner). `t` is the unit tangent there,
 // (cos theta, sin theta), computed once by the constructor: the biclothoid fit needs it in
 // every solve and every deviation measure (make a new shape rather than change theta).
+// planar_corner passes the tangent it has, its move's tangent in the plane's frame.
 struct PlanarShape {
   PlanarShape() = default;
   PlanarShape(double angle, double curvature)
       : theta(angle), kappa(curvature), t(std::cos(angle), std::sin(angle)) {}
+  PlanarShape(double angle, double curvature, const Vec2& tangent) : theta(angle), kappa(curvature), t(tangent) {}
   double theta = 0;
   double kappa = 0;
   Vec2 t = Vec2::UnitX();
