@@ -38,7 +38,7 @@ CornerFit line_pair_fit(const CornerInput& corner, const PlanarCorner& geometry)
   const double start_distance = corner.spec.start_distance;  // > 0: sized by it, not by tolerance
   CornerFit fit;
   fit.corner_case = geometry.angle <= kTangentAngle ? CornerCase::kTangent : CornerCase::kRegular;
-  LinePair line = line_pair(corner, geometry.angle, start_distance);
+  LinePair line = line_pair(corner, geometry, start_distance);
   use_line_pair(line, geometry.plane, start_distance > 0 ? line.pair.tangent_length : line.pair.deviation, fit);
   fit.note = std::move(line.shrink_note);
   return fit;

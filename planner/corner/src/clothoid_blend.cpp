@@ -48,6 +48,26 @@ ClothoidPairShape clothoid_pair_shape(double alpha) {
   return shape;
 }
 
+ClothoidPairShape clothoid_pair_shape(double alpha, double cos_alpha, double sin_alpha) {
+  ClothoidPairShape shape;
+  shape.alpha = alpha;
+  shape.u = std::sqrt(alpha / kPi);
+  const FresnelCS f = fresnel(shape.u);
+  shape.c = f.c;
+  shape.s = f.s;
+  // each half-angle formula on the side where 1 +- cos(alpha) does not cancel, the other half
+  // from sin(alpha) = 2 sin(alpha / 2) cos(alpha / 2): both within a few ulp of their inputs, as
+  // cos and sin of an alpha computed from the same cosine and sine are
+  if (cos_alpha >= 0) {
+    shape.cos_half = std::sqrt(0.5 * (1 + cos_alpha));
+    shape.sin_half = 0.5 * sin_alpha / shape.cos_half;
+  } else {
+    shape.sin_half = std::sqrt(0.5 * (1 - cos_alpha));
+    shape.cos_half = 0.5 * sin_alpha / shape.sin_half;
+  }
+  return shape;
+}
+
 ClothoidPair clothoid_pair_for_deviation(const ClothoidPairShape& shape, double deviation) {
   return pair_of_scale(shape, deviation * shape.cos_half / shape.s);
 }
@@ -87,9 +107,10 @@ std::vector<Segment> clothoid_pair_segments(const ClothoidPair& pair, const Clot
   return out;
 }
 
-LinePair line_pair(const CornerInput& corner, double angle, double start_distance) {
+LinePair line_pair(const CornerInput& corner, const PlanarCorner& geometry, double start_distance) {
   LinePair line;
-  line.shape = clothoid_pair_shape(angle);
+  const Vec2& turn = geometry.shapes.q2.t;  // (cos, sin) of the turn (line_corner)
+  line.shape = clothoid_pair_shape(geometry.angle, turn.x(), turn.y());
   const bool by_start = start_distance > 0;
   line.pair = by_start ? clothoid_pair_for_tangent_length(line.shape, start_distance)
                        : clothoid_pair_for_deviation(line.shape, corner.spec.parameter);
@@ -230,7 +251,7 @@ CornerFit fit_clothoid_corner(const CornerInput& corner) {
   const char* const short_move = corner.in_available <= corner.out_available ? "incoming" : "outgoing";
 
   // the pair at the tolerance, shrunk to the available tangent length
-  LinePair line = line_pair(corner, alpha, 0.0);
+  LinePair line = line_pair(corner, geometry, 0.0);
   const ClothoidPair& pair = line.pair;
   // the pair as the transition, with its note (the fit itself is returned by the caller: a
   // copy of it out of the lambda cost an allocation per line-line fit)

@@ -74,7 +74,9 @@ PlanarCorner line_corner(const Line& in, const Line& out) {
   // 0.16 mm fillet's start 4e-13 m off the line (1.3e-9 of its size) and, towards the tangent
   // threshold kTangentAngle = 1e-9 rad, by up to 1e-7 of the fillet's tangent length.
   turn -= turn.dot(t1) * t1;
-  const Vec3 normal = turn.norm() > 0 ? Vec3(turn.normalized()) : any_perpendicular(t1);
+  // turn.normalized(), whose squared norm is also the test
+  const double turn_squared = turn.squaredNorm();
+  const Vec3 normal = turn_squared > 0 ? Vec3(turn / std::sqrt(turn_squared)) : any_perpendicular(t1);
   // point(in, length(in)): p0 + d1 * (len / len), and len / len is exactly 1
   pc.plane.origin = len_in > 0 ? Vec3(in.p0 + d1) : in.p0;
   pc.plane.x = t1;

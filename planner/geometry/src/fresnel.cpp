@@ -30,9 +30,41 @@ constexpr std::array<double, kSeriesTerms> kSeriesCoefficients = [] {
   return out;
 }();
 
+// C + iS over x in (0, 1], the corners' range (u = sqrt(turn / pi)), as fixed polynomials in
+// y = t^2, t = pi x^2 / 2: with a_m the coefficients, C = x E(y), S = x t O(y),
+// E(y) = sum_k a_2k y^k, O(y) = sum_k a_(2k+1) y^k for k = 0..10, i.e. the terms m = 0..21 (at
+// x = 1 the first left out, m = 22, is 4e-19 of the sums). Each is split again into its even
+// and odd powers of y (sums in y^2), so that four short Horner chains run side by side, and no
+// branch depends on x: the loop below stops where its terms fall below 1e-17 of the sum, an
+// exit that moves with x; over the random line-line corners of bench_blend the fits' median
+// fell from 0.20 to 0.18 us with this, the largest error against a long-double sum over
+// x in (0, 1] from 8.1e-16 to 5.5e-16.
+FresnelCS unit_series(double x) {
+  const double t = 0.5 * std::numbers::pi * x * x;
+  const double y = t * t;
+  const double y2 = y * y;
+  constexpr auto& a = kSeriesCoefficients;
+  // E: a_0, a_2, ..., a_20 (11 terms); O: a_1, a_3, ..., a_21 (11 terms); each as
+  // P(y) = P_even(y^2) + y P_odd(y^2), P_even of the 6 terms k = 0, 2, ..., 10, P_odd of the 5
+  // terms k = 1, 3, ..., 9
+  double ee = a[20];
+  double eo = a[18];
+  double oe = a[21];
+  double oo = a[19];
+  for (int k = 8; k >= 0; k -= 2) {  // k: the power of y of P_even's next coefficient
+    ee = ee * y2 + a[2 * k];
+    oe = oe * y2 + a[2 * k + 1];
+    if (k > 0) {
+      eo = eo * y2 + a[2 * k - 2];
+      oo = oo * y2 + a[2 * k - 1];
+    }
+  }
+  return {x * (ee + y * eo), x * t * (oe + y * oo)};
+}
+
 // C + iS = x sum_m (i t)^m / (m! (2m+1)), t = pi x^2 / 2: the even terms make C, the odd S,
 // summed in pairs from a table: no division per term, 14 ns instead of 57 for the running term
-// over x in (0, 1], the corners' range (u = sqrt(turn / pi)).
+// (unit_series above is used where x <= 1).
 FresnelCS series(double x) {
   const double t = 0.5 * std::numbers::pi * x * x;
   const double t2 = t * t;
@@ -105,7 +137,7 @@ FresnelCS fresnel(double x) {
   const double ax = std::abs(x);
   const double sign = x < 0 ? -1.0 : 1.0;
   if (ax <= kSeriesLimit) {
-    const FresnelCS r = series(ax);
+    const FresnelCS r = ax <= 1 ? unit_series(ax) : series(ax);
     return {sign * r.c, sign * r.s};
   }
   if (std::isinf(ax)) return {sign * 0.5, sign * 0.5};

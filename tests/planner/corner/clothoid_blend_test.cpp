@@ -3,7 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <string>
 
@@ -247,6 +249,40 @@ TEST(ClothoidPair, RandomCornersAreG2WithinToleranceAndCap) {
   }
   EXPECT_GT(capped, 0);
   EXPECT_GT(unmet, 0);
+}
+
+// The shape from the turn's cosine and sine (a line corner's fast path) is the shape from the
+// angle to rounding: the half-angle formulas against cos and sin of alpha / 2, at turns
+// log-uniform from 1e-9 rad and uniform up to the reversal threshold, with the cosine and sine
+// rounded as a corner's dot and cross products round them.
+TEST(ClothoidPair, ShapeFromTheTurnsCosineAndSineIsTheShapeFromItsAngle) {
+  const int cases = test::property_cases(20000);
+  double worst = 0;
+  for (int i = 0; i < cases; ++i) {
+    const std::uint64_t seed = 9500 + static_cast<std::uint64_t>(i);
+    auto rng = test::make_rng(seed);
+    const double alpha = i % 2 == 0 ? test::log_uniform(rng, 1e-9, 3.1) : test::uniform(rng, 1e-3, 3.14);
+    const Vec3 t1(1, 0, 0);
+    const Vec3 t2(std::cos(alpha), std::sin(alpha), 0);
+    const double sin_alpha = t1.cross(t2).norm();
+    const double cos_alpha = t1.dot(t2);
+    const double angle = std::atan2(sin_alpha, cos_alpha);
+    const ClothoidPairShape from_angle = clothoid_pair_shape(angle);
+    const ClothoidPairShape from_turn = clothoid_pair_shape(angle, cos_alpha, sin_alpha);
+    EXPECT_EQ(from_turn.u, from_angle.u) << test::seed_text(seed);
+    EXPECT_EQ(from_turn.c, from_angle.c) << test::seed_text(seed);
+    EXPECT_EQ(from_turn.s, from_angle.s) << test::seed_text(seed);
+    // relative to each value, within a few ulp (the cosine near a reversal and the sine at small
+    // turns are small, and carry the rounding of the inputs they come from, as cos and sin do)
+    const double cos_error = std::abs(from_turn.cos_half - from_angle.cos_half) / from_angle.cos_half;
+    const double sin_error = std::abs(from_turn.sin_half - from_angle.sin_half) / from_angle.sin_half;
+    const double bound = 1e-15 + 4e-16 / std::min(from_angle.cos_half, from_angle.sin_half);
+    EXPECT_LE(cos_error, bound) << test::seed_text(seed) << " alpha=" << alpha;
+    EXPECT_LE(sin_error, bound) << test::seed_text(seed) << " alpha=" << alpha;
+    worst = std::max({worst, cos_error, sin_error});
+  }
+  std::printf("half-angle cosine and sine from the turn: largest relative difference %.2e over %d turns\n", worst,
+              cases);
 }
 
 TEST(ClothoidPair, SquareThroughTheBlender) {

@@ -49,6 +49,10 @@ struct ClothoidPairShape {
   double sin_half = 0;  // sin(alpha / 2)
 };
 ClothoidPairShape clothoid_pair_shape(double alpha);
+// The same from the turn's cosine and sine as well (as a corner of two lines has them, from its
+// tangents' dot and cross products): the half angle's cosine and sine by the half-angle
+// formulas instead of a sine and cosine of alpha / 2.
+ClothoidPairShape clothoid_pair_shape(double alpha, double cos_alpha, double sin_alpha);
 ClothoidPair clothoid_pair_for_deviation(const ClothoidPairShape& shape, double deviation);
 ClothoidPair clothoid_pair_for_tangent_length(const ClothoidPairShape& shape, double tangent_length);
 
@@ -59,7 +63,8 @@ ClothoidPair clothoid_pair_for_tangent_length(const ClothoidPairShape& shape, do
 std::vector<Segment> clothoid_pair_segments(const ClothoidPair& pair, const ClothoidPairShape& shape,
                                             const CornerPlane& plane);
 
-// The line-line pair as both clothoid methods size it (seed 002 eq. 9, seed 004 section 7.1):
+// The line-line pair as both clothoid methods size it (seed 002 eq. 9, seed 004 section 7.1), at a
+// corner of two lines (geometry.lines: its outgoing tangent in the plane is the turn's cosine and sine):
 // by `start_distance` where it is > 0 (the biclothoid's start_distance; the clothoid method
 // passes 0), else by the corner's tolerance (spec.parameter), shrunk to the shorter available
 // move with pair_shrunk_note's note (empty where it fits).
@@ -68,7 +73,7 @@ struct LinePair {
   ClothoidPair pair;
   std::string shrink_note;
 };
-LinePair line_pair(const CornerInput& corner, double angle, double start_distance);
+LinePair line_pair(const CornerInput& corner, const PlanarCorner& geometry, double start_distance);
 // The pair as the fit's transition (clothoid_pair_segments in the corner's plane), trimming its
 // tangent length from both moves; parameter_used is what the method reports as used.
 void use_line_pair(const LinePair& line, const CornerPlane& plane, double parameter_used, CornerFit& fit);
