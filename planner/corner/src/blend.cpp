@@ -306,6 +306,9 @@ bool mergeable(const Move& a, const Move& b) {
 MergedProgram merge_collinear(const Program& program) {
   MergedProgram out;
   const auto& moves = program.moves;
+  out.program.moves.reserve(moves.size());
+  out.first.reserve(moves.size());
+  out.last.reserve(moves.size());
   std::vector<Vec3> vertices;
   for (std::size_t k = 0; k < moves.size();) {
     // grow the run k..m greedily while its inner vertices stay on the chord
@@ -338,6 +341,12 @@ MergedProgram merge_collinear(const Program& program) {
 
 Path blend(const Program& program) {
   validate(program);
+  // only a move with a merge tolerance (G64 Q) starts a run: without one the program blends as
+  // it is, without the merged copy of every move (at 10^5 CAM lines, 35 MB written and dropped,
+  // 9 % of blending them on fresh memory)
+  const bool may_merge =
+      std::any_of(program.moves.begin(), program.moves.end(), [](const Move& m) { return m.transition.merge_tolerance > 0; });
+  if (!may_merge) return oriented(program) ? orient_path(blend_moves(program), program) : blend_moves(program);
   const MergedProgram merged = merge_collinear(program);
   if (merged.moves_merged == 0) return oriented(program) ? orient_path(blend_moves(program), program) : blend_moves(program);
   const Path blended = blend_moves(merged.program);
