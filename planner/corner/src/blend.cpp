@@ -346,8 +346,7 @@ Path blend(const Program& program) {
   // 9 % of blending them on fresh memory)
   const bool may_merge =
       std::any_of(program.moves.begin(), program.moves.end(), [](const Move& m) { return m.transition.merge_tolerance > 0; });
-  if (!may_merge) return oriented(program) ? orient_path(blend_moves(program), program) : blend_moves(program);
-  const MergedProgram merged = merge_collinear(program);
+  const MergedProgram merged = may_merge ? merge_collinear(program) : MergedProgram{};
   if (merged.moves_merged == 0) return oriented(program) ? orient_path(blend_moves(program), program) : blend_moves(program);
   const Path blended = blend_moves(merged.program);
   // the pieces and reports with the program's own move and corner indices

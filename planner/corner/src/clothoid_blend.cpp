@@ -34,38 +34,35 @@ ClothoidPair pair_of_scale(const ClothoidPairShape& shape, double scale) {
   return pair;
 }
 
-}  // namespace
-
-ClothoidPairShape clothoid_pair_shape(double alpha) {
+// The shape of turn alpha given its half angle's cosine and sine.
+ClothoidPairShape pair_shape(double alpha, double cos_half, double sin_half) {
   ClothoidPairShape shape;
   shape.alpha = alpha;
   shape.u = std::sqrt(alpha / kPi);
   const FresnelCS f = fresnel(shape.u);
   shape.c = f.c;
   shape.s = f.s;
-  shape.cos_half = std::cos(0.5 * alpha);
-  shape.sin_half = std::sin(0.5 * alpha);
+  shape.cos_half = cos_half;
+  shape.sin_half = sin_half;
   return shape;
 }
 
+}  // namespace
+
+ClothoidPairShape clothoid_pair_shape(double alpha) {
+  return pair_shape(alpha, std::cos(0.5 * alpha), std::sin(0.5 * alpha));
+}
+
 ClothoidPairShape clothoid_pair_shape(double alpha, double cos_alpha, double sin_alpha) {
-  ClothoidPairShape shape;
-  shape.alpha = alpha;
-  shape.u = std::sqrt(alpha / kPi);
-  const FresnelCS f = fresnel(shape.u);
-  shape.c = f.c;
-  shape.s = f.s;
   // each half-angle formula on the side where 1 +- cos(alpha) does not cancel, the other half
   // from sin(alpha) = 2 sin(alpha / 2) cos(alpha / 2): both within a few ulp of their inputs, as
   // cos and sin of an alpha computed from the same cosine and sine are
   if (cos_alpha >= 0) {
-    shape.cos_half = std::sqrt(0.5 * (1 + cos_alpha));
-    shape.sin_half = 0.5 * sin_alpha / shape.cos_half;
-  } else {
-    shape.sin_half = std::sqrt(0.5 * (1 - cos_alpha));
-    shape.cos_half = 0.5 * sin_alpha / shape.sin_half;
+    const double cos_half = std::sqrt(0.5 * (1 + cos_alpha));
+    return pair_shape(alpha, cos_half, 0.5 * sin_alpha / cos_half);
   }
-  return shape;
+  const double sin_half = std::sqrt(0.5 * (1 - cos_alpha));
+  return pair_shape(alpha, 0.5 * sin_alpha / sin_half, sin_half);
 }
 
 ClothoidPair clothoid_pair_for_deviation(const ClothoidPairShape& shape, double deviation) {
