@@ -8,6 +8,8 @@
 #include <cmath>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "biclothoid_internal.hpp"
 #include "blendbench/geometry/phase_series.hpp"
 #include "blendbench/geometry/segment.hpp"
@@ -40,84 +42,248 @@ struct ClothoidMoments {
   Vec2 m2 = Vec2::Zero();  // m^3
   Vec2 t_end = Vec2::Zero();  // the unit tangent at len
 };
-ClothoidMoments clothoid_moments(const Vec2& t0, double kappa0, double c, double len) {
-  ClothoidMoments out;
-  out.t_end = t0;
-  if (!(len > 0)) return out;
-  const double kappa_max = std::max(std::abs(kappa0), std::abs(kappa0 + c * len));
-  const double phase = 0.5 * kappa_max * len + 0.125 * std::abs(c) * len * len;
-  const int panels = std::max(1, static_cast<int>(std::ceil(phase / kMomentPanelPhase)));
-  const double h = 0.5 * len / panels;
-  double m0x = 0;
-  double m0y = 0;
-  double m1x = 0;
-  double m1y = 0;
-  double m2x = 0;
-  double m2y = 0;
-  double tx = t0.x();  // the unit tangent at the start of panel j
-  double ty = t0.y();
-  for (int j = 0; j < panels; ++j) {
-    const double m = h * (2 * j + 1);
-    const double beta = (kappa0 + c * m) * h;
-    const double gamma = c * h * h;
-    // the Taylor coefficients e_n (n even) and e_{n-1} of the integrand
-    series::PhaseTaylor e{.b = beta, .g = gamma};
-    double s0r = 1;
-    double s0i = 0;
-    double s1r = 0;
-    double s1i = 0;
-    double s2r = series::kInverse[3];
-    double s2i = 0;
-    double er = 1;  // sum of e_n, n even
-    double ei = 0;
-    double or_ = 0;  // n odd
-    double oi = 0;
-    for (std::size_t n = 0; n + 5 < series::kInverse.size(); n += 2) {
-      e.step_two(n);
-      er += e.re;
-      ei += e.im;
-      or_ += e.prev_re;
-      oi += e.prev_im;
-      s0r += e.re * series::kInverse[n + 3];
-      s0i += e.im * series::kInverse[n + 3];
-      s1r += e.prev_re * series::kInverse[n + 3];
-      s1i += e.prev_im * series::kInverse[n + 3];
-      s2r += e.re * series::kInverse[n + 5];
-      s2i += e.im * series::kInverse[n + 5];
-      if (e.below(1e-18)) break;
+
+// One panel's series in its own frame (beta, gamma as above): the even and odd parts of
+// P(+-1), P(tau) = sum e_n tau^n, and S_0, S_1, S_2. Its recurrence is a chain of dependent
+// multiplications, so a fillet's two clothoids sum theirs side by side (panel_series_pair).
+struct PanelSeries {
+  series::PhaseTaylor e;
+  double er = 1;  // sum of e_n, n even
+  double ei = 0;
+  double or_ = 0;  // n odd
+  double oi = 0;
+  double s0r = 1;
+  double s0i = 0;
+  double s1r = 0;
+  double s1i = 0;
+  double s2r = series::kInverse[3];
+  double s2i = 0;
+
+  PanelSeries(double beta, double gamma) : e{.b = beta, .g = gamma} {}
+
+  // the terms n + 1 and n + 2; true once they are below the stop
+  bool step(std::size_t n) noexcept {
+    e.step_two(n);
+    er += e.re;
+    ei += e.im;
+    or_ += e.prev_re;
+    oi += e.prev_im;
+    s0r += e.re * series::kInverse[n + 3];
+    s0i += e.im * series::kInverse[n + 3];
+    s1r += e.prev_re * series::kInverse[n + 3];
+    s1i += e.prev_im * series::kInverse[n + 3];
+    s2r += e.re * series::kInverse[n + 5];
+    s2i += e.im * series::kInverse[n + 5];
+    return e.below(1e-18);
+  }
+  static constexpr bool more(std::size_t n) { return n + 5 < series::kInverse.size(); }
+  // the terms from n + 1 on, to the stop
+  void finish(std::size_t n) noexcept {
+    for (; more(n); n += 2) {
+      if (step(n)) return;
     }
+  }
+  void sum() noexcept { finish(0); }
+};
+
+// Two panels' series side by side, one in each lane of 2-arrays (a packed register each): the
+// recurrence is a chain of dependent operations, so the pair takes about as long as one, in the
+// registers that one takes. Each lane takes the same operations in the same order as a series on
+// its own, and a lane that stops leaves the other to go on alone: the same sums to the last bit.
+void panel_series_pair(PanelSeries& a, PanelSeries& b) noexcept {
+  using Pair = Eigen::Array2d;
+  const Pair beta(a.e.b, b.e.b);
+  const Pair gamma(a.e.g, b.e.g);
+  Pair re = Pair::Ones();
+  Pair im = Pair::Zero();
+  Pair prev_re = Pair::Zero();
+  Pair prev_im = Pair::Zero();
+  Pair er = Pair::Ones();
+  Pair ei = Pair::Zero();
+  Pair or_ = Pair::Zero();
+  Pair oi = Pair::Zero();
+  Pair s0r = Pair::Ones();
+  Pair s0i = Pair::Zero();
+  Pair s1r = Pair::Zero();
+  Pair s1i = Pair::Zero();
+  Pair s2r = Pair::Constant(series::kInverse[3]);
+  Pair s2i = Pair::Zero();
+  // lane k back into its series, its terms summed to n + 2
+  const auto lane = [&](PanelSeries& out, Eigen::Index k) {
+    out.e.re = re[k];
+    out.e.im = im[k];
+    out.e.prev_re = prev_re[k];
+    out.e.prev_im = prev_im[k];
+    out.er = er[k];
+    out.ei = ei[k];
+    out.or_ = or_[k];
+    out.oi = oi[k];
+    out.s0r = s0r[k];
+    out.s0i = s0i[k];
+    out.s1r = s1r[k];
+    out.s1i = s1i[k];
+    out.s2r = s2r[k];
+    out.s2i = s2i[k];
+  };
+  for (std::size_t n = 0; PanelSeries::more(n); n += 2) {
+    // series::PhaseTaylor::step_two and PanelSeries::step, lane by lane
+    const double p = series::kInverse[n + 1];
+    const double q = series::kInverse[n + 2];
+    const Pair c1 = beta * p;
+    const Pair c2 = gamma * p;
+    const Pair c3 = -beta * c1 * q;
+    const Pair c4 = gamma * q;
+    const Pair c5 = -beta * c2 * q;
+    const Pair odd_re = -(c1 * im + c2 * prev_im);
+    const Pair odd_im = c1 * re + c2 * prev_re;
+    const Pair even_re = (c3 * re + c5 * prev_re) - c4 * im;
+    const Pair even_im = (c3 * im + c5 * prev_im) + c4 * re;
+    prev_re = odd_re;
+    prev_im = odd_im;
+    re = even_re;
+    im = even_im;
+    er += re;
+    ei += im;
+    or_ += prev_re;
+    oi += prev_im;
+    s0r += re * series::kInverse[n + 3];
+    s0i += im * series::kInverse[n + 3];
+    s1r += prev_re * series::kInverse[n + 3];
+    s1i += prev_im * series::kInverse[n + 3];
+    s2r += re * series::kInverse[n + 5];
+    s2i += im * series::kInverse[n + 5];
+    const Pair size = re.abs() + im.abs() + prev_re.abs() + prev_im.abs();
+    const bool a_done = size[0] < 1e-18;
+    const bool b_done = size[1] < 1e-18;
+    if (a_done || b_done) {
+      lane(a, 0);
+      lane(b, 1);
+      if (!a_done) a.finish(n + 2);
+      if (!b_done) b.finish(n + 2);
+      return;
+    }
+  }
+  lane(a, 0);
+  lane(b, 1);
+}
+
+// The moments of a clothoid, panel by panel (see clothoid_moments).
+class MomentSum {
+ public:
+  MomentSum(const Vec2& t0, double kappa0, double c, double len) : kappa0_(kappa0), c_(c), tx_(t0.x()), ty_(t0.y()) {
+    if (!(len > 0)) return;
+    const double kappa_max = std::max(std::abs(kappa0), std::abs(kappa0 + c * len));
+    const double phase = 0.5 * kappa_max * len + 0.125 * std::abs(c) * len * len;
+    panels_ = std::max(1, static_cast<int>(std::ceil(phase / kMomentPanelPhase)));
+    h_ = 0.5 * len / panels_;
+  }
+  [[nodiscard]] int panels() const { return panels_; }
+  // panel j's series, not yet summed
+  [[nodiscard]] PanelSeries series(int j) const { return {(kappa0_ + c_ * mid(j)) * h_, c_ * h_ * h_}; }
+  // adds panel j (the next one) from its summed series
+  void add(int j, const PanelSeries& p) {
+    const double m = mid(j);
+    const double h = h_;
     // the panel's moments in its frame, turned by theta(m); in scalars, as an Eigen 2-vector
     // built from two scalars and read back as a pair stalls store forwarding
-    // R = T(m - h) / P(-1), P(tau) = sum e_n tau^n; T(m + h) = R P(1)
-    const double pr = er - or_;
-    const double pi = ei - oi;
+    // R = T(m - h) / P(-1); T(m + h) = R P(1)
+    const double pr = p.er - p.or_;
+    const double pi = p.ei - p.oi;
     const double inv = 1 / (pr * pr + pi * pi);
-    const double cs = (tx * pr + ty * pi) * inv;
-    const double sn = (ty * pr - tx * pi) * inv;
-    tx = cs * (er + or_) - sn * (ei + oi);
-    ty = sn * (er + or_) + cs * (ei + oi);
+    const double cs = (tx_ * pr + ty_ * pi) * inv;
+    const double sn = (ty_ * pr - tx_ * pi) * inv;
+    tx_ = cs * (p.er + p.or_) - sn * (p.ei + p.oi);
+    ty_ = sn * (p.er + p.or_) + cs * (p.ei + p.oi);
     const double w = 2 * h;
-    const double p0r = w * s0r;
-    const double p0i = w * s0i;
-    const double p1r = w * (m * s0r + h * s1r);
-    const double p1i = w * (m * s0i + h * s1i);
-    const double p2r = w * (m * m * s0r + 2 * m * h * s1r + h * h * s2r);
-    const double p2i = w * (m * m * s0i + 2 * m * h * s1i + h * h * s2i);
-    m0x += cs * p0r - sn * p0i;
-    m0y += sn * p0r + cs * p0i;
-    m1x += cs * p1r - sn * p1i;
-    m1y += sn * p1r + cs * p1i;
-    m2x += cs * p2r - sn * p2i;
-    m2y += sn * p2r + cs * p2i;
+    const double p0r = w * p.s0r;
+    const double p0i = w * p.s0i;
+    const double p1r = w * (m * p.s0r + h * p.s1r);
+    const double p1i = w * (m * p.s0i + h * p.s1i);
+    const double p2r = w * (m * m * p.s0r + 2 * m * h * p.s1r + h * h * p.s2r);
+    const double p2i = w * (m * m * p.s0i + 2 * m * h * p.s1i + h * h * p.s2i);
+    m0x_ += cs * p0r - sn * p0i;
+    m0y_ += sn * p0r + cs * p0i;
+    m1x_ += cs * p1r - sn * p1i;
+    m1y_ += sn * p1r + cs * p1i;
+    m2x_ += cs * p2r - sn * p2i;
+    m2y_ += sn * p2r + cs * p2i;
   }
-  out.m0.x() = m0x;
-  out.m0.y() = m0y;
-  out.m1.x() = m1x;
-  out.m1.y() = m1y;
-  out.m2.x() = m2x;
-  out.m2.y() = m2y;
-  out.t_end = Vec2(tx, ty);
-  return out;
+  // every panel, two at a time
+  void add_all() {
+    int j = 0;
+    for (; j + 1 < panels_; j += 2) {
+      PanelSeries a = series(j);
+      PanelSeries b = series(j + 1);
+      panel_series_pair(a, b);
+      add(j, a);
+      add(j + 1, b);
+    }
+    if (j < panels_) {
+      PanelSeries a = series(j);
+      a.sum();
+      add(j, a);
+    }
+  }
+  [[nodiscard]] Vec2 tangent() const { return {tx_, ty_}; }
+  // the second clothoid of a fillet starts with the first's end tangent
+  void start_with(const Vec2& t0) {
+    tx_ = t0.x();
+    ty_ = t0.y();
+  }
+  [[nodiscard]] ClothoidMoments result() const {
+    ClothoidMoments out;
+    out.m0 = Vec2(m0x_, m0y_);
+    out.m1 = Vec2(m1x_, m1y_);
+    out.m2 = Vec2(m2x_, m2y_);
+    out.t_end = Vec2(tx_, ty_);
+    return out;
+  }
+
+ private:
+  [[nodiscard]] double mid(int j) const { return h_ * (2 * j + 1); }
+  double kappa0_;
+  double c_;
+  int panels_ = 0;
+  double h_ = 0;
+  double tx_;  // the unit tangent at the start of the next panel
+  double ty_;
+  double m0x_ = 0;
+  double m0y_ = 0;
+  double m1x_ = 0;
+  double m1y_ = 0;
+  double m2x_ = 0;
+  double m2y_ = 0;
+};
+
+ClothoidMoments clothoid_moments(const Vec2& t0, double kappa0, double c, double len) {
+  MomentSum sum(t0, kappa0, c, len);
+  sum.add_all();
+  return sum.result();
+}
+
+// Both clothoids of a fillet (kappa0 -> peak over s1 at slope c, back at -c over s2): as
+// clothoid_moments on each, the second from the first's end tangent; where each is one panel
+// (a fillet that turns by up to about pi), the two series side by side.
+struct FilletMoments {
+  ClothoidMoments first;
+  ClothoidMoments second;
+};
+FilletMoments fillet_moments(const Vec2& t0, double kappa0, double c, double s1, double s2) {
+  MomentSum first(t0, kappa0, c, s1);
+  MomentSum second(Vec2::Zero(), kappa0 + c * s1, -c, s2);
+  if (first.panels() == 1 && second.panels() == 1) {
+    PanelSeries a = first.series(0);
+    PanelSeries b = second.series(0);
+    panel_series_pair(a, b);
+    first.add(0, a);
+    second.start_with(first.tangent());
+    second.add(0, b);
+  } else {
+    first.add_all();
+    second.start_with(first.tangent());
+    second.add_all();
+  }
+  return {first.result(), second.result()};
 }
 
 // Derivation of eq. 11-13 in a form without the 0/0 of eq. 11 at kappa0 = kappa_e: with peak
@@ -224,11 +390,12 @@ std::optional<BiclothoidEnd> biclothoid_end(const Posture& start, const Vec2& st
   curve.c = c;
   curve.s1 = s1;
   curve.s2 = length - s1;
-  const ClothoidMoments first = clothoid_moments(start_tangent, start.kappa, c, s1);
+  const FilletMoments moments = fillet_moments(start_tangent, start.kappa, c, s1, curve.s2);
+  const ClothoidMoments& first = moments.first;
+  const ClothoidMoments& second = moments.second;
   curve.mid.p = start.p + first.m0;
   curve.mid.kappa = start.kappa + c * s1;
   curve.mid.theta = start.theta + (start.kappa + 0.5 * c * s1) * s1;
-  const ClothoidMoments second = clothoid_moments(first.t_end, curve.mid.kappa, -c, curve.s2);
   out.p = curve.mid.p + second.m0;
   out.tangent = second.t_end;
   const PointSlopes slopes = point_slopes(curve, first, second);

@@ -10,6 +10,8 @@
 #include <complex>
 #include <limits>
 
+#include <Eigen/Core>
+
 #include "biclothoid_internal.hpp"
 #include "blendbench/geometry/phase_series.hpp"
 
@@ -122,8 +124,15 @@ class FilletTable {
   };
 
   explicit FilletTable(const Biclothoid& curve) : curve_(curve) {
-    add_clothoid(curve.start, curve.c, curve.s1, 0.0);
-    add_clothoid(curve.mid, -curve.c, curve.s2, curve.s1);
+    plan_clothoid(curve.start, curve.c, curve.s1, 0.0);
+    plan_clothoid(curve.mid, -curve.c, curve.s2, curve.s1);
+    if (overflow_) return;
+    // the panels' series two at a time (their recurrences side by side), then their positions
+    // in order, each panel from the end of the one before
+    std::size_t k = 0;
+    for (; k + 1 < count_; k += 2) series_pair(k, k + 1);
+    if (k < count_) series_one(k);
+    for (std::size_t j = 0; j < count_; ++j) place(j);
   }
 
   [[nodiscard]] double length() const { return curve_.s1 + curve_.s2; }
@@ -173,7 +182,62 @@ class FilletTable {
     std::array<Vec2, kMaxTerms> integral;  // coef / (n + 1)
   };
 
-  void add_clothoid(const Posture& from, double c, double len, double offset) {
+  // A panel's series while its coefficients are summed: the Taylor coefficients e_n in t (not
+  // scaled by h) of exp(i (kappa t + c t^2 / 2)), turned by exp(i theta(mid)) into the panel's
+  // coef_n and integral_n = coef_n / (n + 1), and the even and odd parts of
+  // sum_n integral_n h^(n+1), which give the positions at mid -+ h.
+  struct PanelSeries {
+    series::PhaseTaylor e;
+    double h;
+    double rot_re;
+    double rot_im;
+    double h_pow;  // h^(n+1)
+    double even_re = 0;
+    double even_im = 0;
+    double odd_re = 0;
+    double odd_im = 0;
+
+    // in scalars: an Eigen 2-vector built from two scalars goes through memory, and reading
+    // it back as a pair cannot be forwarded from the two stores (a stall per coefficient)
+    void store(Panel& panel, std::size_t u, double re, double im, double hp) {
+      const double coef_re = rot_re * re - rot_im * im;
+      const double coef_im = rot_re * im + rot_im * re;
+      const double int_re = coef_re * series::kInverse[u + 1];
+      const double int_im = coef_im * series::kInverse[u + 1];
+      panel.coef[u].x() = coef_re;
+      panel.coef[u].y() = coef_im;
+      panel.integral[u].x() = int_re;
+      panel.integral[u].y() = int_im;
+      if (u % 2 == 0) {
+        even_re += int_re * hp;
+        even_im += int_im * hp;
+      } else {
+        odd_re += int_re * hp;
+        odd_im += int_im * hp;
+      }
+    }
+    // the terms n and n + 1; true once the next two are below 1e-15 of the panel's size
+    bool step(Panel& panel, std::size_t n) {
+      store(panel, n, e.re, e.im, h_pow);
+      e.step_two(n);
+      store(panel, n + 1, e.prev_re, e.prev_im, h_pow * h);
+      h_pow *= h * h;
+      const double tail = std::abs(e.re) + std::abs(e.im) + (std::abs(e.prev_re) + std::abs(e.prev_im)) / h;
+      return tail * h_pow < 1e-15 * h;
+    }
+    // the terms from n on, to the stop; returns the count
+    std::size_t finish(Panel& panel, std::size_t n) {
+      while (n + 2 <= kMaxTerms) {
+        const bool done = step(panel, n);
+        n += 2;
+        if (done) break;
+      }
+      return n;
+    }
+  };
+
+  // The panels of one clothoid (local phase below 1 rad), placed but not yet summed.
+  void plan_clothoid(const Posture& from, double c, double len, double offset) {
     if (!(len > 0)) return;
     const double kappa_max = std::max(std::abs(from.kappa), std::abs(from.kappa + c * len));
     const double phase = 0.5 * kappa_max * len + 0.125 * std::abs(c) * len * len;
@@ -183,71 +247,172 @@ class FilletTable {
       return;
     }
     const double h = 0.5 * len / static_cast<double>(pieces);
-    Vec2 edge = from.p;  // position at the start of the next panel
     for (std::size_t j = 0; j < pieces; ++j) {
-      Panel& panel = panels_[count_++];
+      Panel& panel = panels_[count_];
       const double m = h * static_cast<double>(2 * j + 1);
       panel.start = offset + m - h;
       panel.mid = offset + m;
-      const double kappa = from.kappa + c * m;
       const double theta = from.theta + (from.kappa + 0.5 * c * m) * m;
-      const std::complex<double> rot(std::cos(theta), std::sin(theta));
-      // Taylor coefficients e_n in t (not scaled by h) of exp(i (kappa t + c t^2 / 2)); the even
-      // and odd parts of sum_n coef_n h^(n+1) / (n+1) give the positions at mid -+ h
-      series::PhaseTaylor e{.b = kappa, .g = c};
-      double h_pow = h;  // h^(n+1)
-      double even_re = 0;
-      double even_im = 0;
-      double odd_re = 0;
-      double odd_im = 0;
-      std::size_t n = 0;
-      // in scalars: an Eigen 2-vector built from two scalars goes through memory, and reading
-      // it back as a pair cannot be forwarded from the two stores (a stall per coefficient)
-      const auto store = [&](std::size_t u, double re, double im, double hp) {
-        const double coef_re = rot.real() * re - rot.imag() * im;
-        const double coef_im = rot.real() * im + rot.imag() * re;
-        const double int_re = coef_re * series::kInverse[u + 1];
-        const double int_im = coef_im * series::kInverse[u + 1];
-        panel.coef[u].x() = coef_re;
-        panel.coef[u].y() = coef_im;
-        panel.integral[u].x() = int_re;
-        panel.integral[u].y() = int_im;
-        if (u % 2 == 0) {
-          even_re += int_re * hp;
-          even_im += int_im * hp;
-        } else {
-          odd_re += int_re * hp;
-          odd_im += int_im * hp;
-        }
-      };
-      while (n + 2 <= kMaxTerms) {
-        store(n, e.re, e.im, h_pow);
-        e.step_two(n);
-        store(n + 1, e.prev_re, e.prev_im, h_pow * h);
-        n += 2;
-        h_pow *= h * h;
-        // the next two terms are below 1e-15 of the panel's size
-        const double tail = std::abs(e.re) + std::abs(e.im) + (std::abs(e.prev_re) + std::abs(e.prev_im)) / h;
-        if (tail * h_pow < 1e-15 * h) break;
-      }
-      panel.terms = static_cast<int>(n);
-      for (std::size_t u = n; u < kMaxTerms && u % 4 != 0; ++u) {
-        panel.coef[u] = Vec2::Zero();
-        panel.integral[u] = Vec2::Zero();
-      }
-      // base = edge - p_poly(-h) = edge - (odd - even) ... with p_poly(t) = t sum integral_n t^n
-      const double br = even_re - odd_re;
-      const double bi = even_im - odd_im;
-      const double er = even_re + odd_re;
-      const double ei = even_im + odd_im;
-      panel.base = edge + Vec2(br, bi);
-      edge = panel.base + Vec2(er, ei);
+      Plan& plan = plans_[count_];
+      plan.kappa = from.kappa + c * m;
+      plan.c = c;
+      plan.h = h;
+      plan.theta = theta;
+      plan.first = j == 0;
+      plan.from = from.p;
+      ++count_;
     }
   }
 
+  [[nodiscard]] PanelSeries start_series(std::size_t k) const {
+    const Plan& plan = plans_[k];
+    return PanelSeries{.e = {.b = plan.kappa, .g = plan.c},
+                       .h = plan.h,
+                       .rot_re = std::cos(plan.theta),
+                       .rot_im = std::sin(plan.theta),
+                       .h_pow = plan.h};
+  }
+
+  // The end of panel k's series: its term count (the coefficients past it zero up to a multiple
+  // of 4, for `at`'s four chains) and its position sums.
+  void end_series(std::size_t k, const PanelSeries& series, std::size_t n) {
+    Panel& panel = panels_[k];
+    panel.terms = static_cast<int>(n);
+    for (std::size_t u = n; u < kMaxTerms && u % 4 != 0; ++u) {
+      panel.coef[u] = Vec2::Zero();
+      panel.integral[u] = Vec2::Zero();
+    }
+    Plan& plan = plans_[k];
+    plan.even = Vec2(series.even_re, series.even_im);
+    plan.odd = Vec2(series.odd_re, series.odd_im);
+  }
+
+  void series_one(std::size_t k) {
+    PanelSeries series = start_series(k);
+    end_series(k, series, series.finish(panels_[k], 0));
+  }
+
+  // Panels j and k side by side, one in each lane of 2-arrays (a packed register each): each
+  // lane takes the same operations in the same order as PanelSeries::step, and a lane that
+  // stops leaves the other to go on alone, so the coefficients are those of series_one to the
+  // last bit.
+  void series_pair(std::size_t j, std::size_t k) {
+    using Pair = Eigen::Array2d;
+    PanelSeries a = start_series(j);
+    PanelSeries b = start_series(k);
+    Panel& pa = panels_[j];
+    Panel& pb = panels_[k];
+    const Pair kappa(a.e.b, b.e.b);
+    const Pair gamma(a.e.g, b.e.g);
+    const Pair h(a.h, b.h);
+    const Pair rot_re(a.rot_re, b.rot_re);
+    const Pair rot_im(a.rot_im, b.rot_im);
+    Pair h_pow = h;
+    Pair re = Pair::Ones();
+    Pair im = Pair::Zero();
+    Pair prev_re = Pair::Zero();
+    Pair prev_im = Pair::Zero();
+    Pair even_re = Pair::Zero();
+    Pair even_im = Pair::Zero();
+    Pair odd_re = Pair::Zero();
+    Pair odd_im = Pair::Zero();
+    const auto store = [&](std::size_t u, const Pair& e_re, const Pair& e_im, const Pair& hp) {
+      const Pair coef_re = rot_re * e_re - rot_im * e_im;
+      const Pair coef_im = rot_re * e_im + rot_im * e_re;
+      const Pair int_re = coef_re * series::kInverse[u + 1];
+      const Pair int_im = coef_im * series::kInverse[u + 1];
+      pa.coef[u] = Vec2(coef_re[0], coef_im[0]);
+      pb.coef[u] = Vec2(coef_re[1], coef_im[1]);
+      pa.integral[u] = Vec2(int_re[0], int_im[0]);
+      pb.integral[u] = Vec2(int_re[1], int_im[1]);
+      if (u % 2 == 0) {
+        even_re += int_re * hp;
+        even_im += int_im * hp;
+      } else {
+        odd_re += int_re * hp;
+        odd_im += int_im * hp;
+      }
+    };
+    // lane i back into its series
+    const auto lane = [&](PanelSeries& out, Eigen::Index i) {
+      out.e.re = re[i];
+      out.e.im = im[i];
+      out.e.prev_re = prev_re[i];
+      out.e.prev_im = prev_im[i];
+      out.h_pow = h_pow[i];
+      out.even_re = even_re[i];
+      out.even_im = even_im[i];
+      out.odd_re = odd_re[i];
+      out.odd_im = odd_im[i];
+    };
+    std::size_t n = 0;
+    while (n + 2 <= kMaxTerms) {
+      store(n, re, im, h_pow);
+      // series::PhaseTaylor::step_two, lane by lane
+      const double p = series::kInverse[n + 1];
+      const double q = series::kInverse[n + 2];
+      const Pair c1 = kappa * p;
+      const Pair c2 = gamma * p;
+      const Pair c3 = -kappa * c1 * q;
+      const Pair c4 = gamma * q;
+      const Pair c5 = -kappa * c2 * q;
+      const Pair odd_term_re = -(c1 * im + c2 * prev_im);
+      const Pair odd_term_im = c1 * re + c2 * prev_re;
+      const Pair even_term_re = (c3 * re + c5 * prev_re) - c4 * im;
+      const Pair even_term_im = (c3 * im + c5 * prev_im) + c4 * re;
+      prev_re = odd_term_re;
+      prev_im = odd_term_im;
+      re = even_term_re;
+      im = even_term_im;
+      store(n + 1, prev_re, prev_im, h_pow * h);
+      h_pow *= h * h;
+      n += 2;
+      const Pair tail = re.abs() + im.abs() + (prev_re.abs() + prev_im.abs()) / h;
+      const Pair bound = tail * h_pow;
+      const bool a_done = bound[0] < 1e-15 * a.h;
+      const bool b_done = bound[1] < 1e-15 * b.h;
+      if (a_done || b_done) {
+        lane(a, 0);
+        lane(b, 1);
+        end_series(j, a, a_done ? n : a.finish(pa, n));
+        end_series(k, b, b_done ? n : b.finish(pb, n));
+        return;
+      }
+    }
+    lane(a, 0);
+    lane(b, 1);
+    end_series(j, a, n);
+    end_series(k, b, n);
+  }
+
+  // Panel k's position at its midpoint: base = edge - p_poly(-h) = edge - (odd - even), with
+  // p_poly(t) = t sum integral_n t^n and edge the end of the panel before (the clothoid's start
+  // for its first).
+  void place(std::size_t k) {
+    const Plan& plan = plans_[k];
+    if (plan.first) edge_ = plan.from;
+    Panel& panel = panels_[k];
+    panel.base = edge_ + (plan.even - plan.odd);
+    edge_ = panel.base + (plan.even + plan.odd);
+  }
+
+  // how to build each panel (plan_clothoid), and its position sums once built
+  struct Plan {
+    double kappa;  // at mid
+    double c;
+    double h;      // half-width
+    double theta;  // tangent angle at mid
+    bool first;    // the first panel of its clothoid, which starts at `from`
+    Vec2 from;
+    Vec2 even;
+    Vec2 odd;
+  };
+
   Biclothoid curve_;
   std::array<Panel, kMaxPanels> panels_;
+  std::array<Plan, kMaxPanels> plans_;
   std::size_t count_ = 0;
+  Vec2 edge_ = Vec2::Zero();  // place: the end of the panel placed last
   bool overflow_ = false;
 };
 
