@@ -232,7 +232,7 @@ std::optional<std::pair<double, double>> crossing(const PlanarShape& q1, const P
     return Vec2(perp(q.t) / q.kappa);
   };
   if (q1.kappa == 0 && q2.kappa == 0) return std::nullopt;
-  if (std::abs(std::remainder(q2.theta - q1.theta, 2 * kPi)) <= kTangentAngle) return std::nullopt;
+  if (std::abs(angle_turn(q1.theta, q2.theta)) <= kTangentAngle) return std::nullopt;
   Vec2 x = Vec2::Zero();
   if (q1.kappa == 0 || q2.kappa == 0) {
     const PlanarShape& line = q1.kappa == 0 ? q1 : q2;
@@ -249,9 +249,12 @@ std::optional<std::pair<double, double>> crossing(const PlanarShape& q1, const P
     const Vec2 c = centre(q);
     return std::atan2(cross(-c, x - c), (-c).dot(x - c)) / q.kappa;
   };
+  // each condition before the next angle is computed (an arc's takes an atan2)
+  if (!(x.norm() > 0)) return std::nullopt;
   const double s1 = sigma(q1);
+  if (!(s1 < 0 && -s1 <= a_max)) return std::nullopt;
   const double s2 = sigma(q2);
-  if (!(x.norm() > 0) || !(s1 < 0 && -s1 <= a_max) || !(s2 > 0 && s2 <= b_max)) return std::nullopt;
+  if (!(s2 > 0 && s2 <= b_max)) return std::nullopt;
   return std::make_pair(-s1, s2);
 }
 
