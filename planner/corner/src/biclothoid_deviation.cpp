@@ -20,15 +20,12 @@ using namespace biclothoid_detail;  // the helpers private to the biclothoid sou
 namespace {
 
 // The piece sigma in [lo, hi] of a shape, prepared for many distance queries: for a circle its
-// centre and the radial directions of its ends, so that no angle is computed per query.
+// centre and the radial directions of its ends, so that no angle is computed per query. Its end
+// points come from the caller, who has them (the fillet's start on q1) or computes them once.
 class Piece {
  public:
-  Piece(const PlanarShape& q, double lo, double hi)
-      : q_(q),
-        lo_(lo),
-        hi_(hi),
-        start_(lo == 0 ? Vec2::Zero() : shape_point(q, lo)),
-        end_(hi == 0 ? Vec2::Zero() : shape_point(q, hi)) {
+  Piece(const PlanarShape& q, double lo, double hi, const Vec2& start, const Vec2& end)
+      : q_(q), lo_(lo), hi_(hi), start_(start), end_(end) {
     if (q.kappa != 0) {
       normal_ = perp(q.t);
       centre_ = normal_ / q.kappa;
@@ -529,7 +526,10 @@ Measured biclothoid_detail::measure_deviation(const BiclothoidSolution& fillet, 
   // fillet -> original: exact distances to the two pieces of U. The distance to U is the
   // smaller of the distances to q1[-a, 0] and q2[0, b]; its maximum is either a smooth maximum
   // of one of them or (at a tangent jump) where they are equal.
-  const std::array<Piece, 2> pieces = {Piece(q1, -a, 0.0), Piece(q2, 0.0, b)};
+  // q1 from the fillet's start (Algorithm 1 placed it there) to the corner, q2 from the corner
+  // to the point where the fillet ends on it
+  const std::array<Piece, 2> pieces = {Piece(q1, -a, 0.0, curve.start.p, Vec2::Zero()),
+                                       Piece(q2, 0.0, b, Vec2::Zero(), shape_at(q2, q2.t, b).p)};
   struct FilletSample {
     double s;
     Vec2 p;  // V(s)

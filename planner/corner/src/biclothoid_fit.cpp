@@ -24,7 +24,7 @@ namespace {
 constexpr double kMinChordRatio = 1e-6;
 // Algorithm 1 stops when the end misses q2 by less than this fraction of a + b (the blender's
 // continuity needs 1e-9).
-constexpr double kSolveTolerance = 1e-13;
+constexpr double kSolveTolerance = 1e-12;
 // Newton iterations of a solve from its guess alone (Effort::kGuessOnly): warm solves take 2.1-2.3
 // evaluations on average over the property tests' random corners, so 8 is ample; a solve that
 // needs more is on its way to another root or none

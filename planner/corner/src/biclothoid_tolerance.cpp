@@ -146,6 +146,24 @@ constexpr std::array<double, 33> kArcSensitivityOut = {
 
 }  // namespace
 
+namespace {
+// The natural logarithms of a mixed-share table's nodes (0: start aligned, 1: start opposed,
+// 2: end aligned, 3: end opposed), taken on first use.
+template <int kTable>
+const std::array<double, 101>& log_nodes() {
+  static const std::array<double, 101> logs = [] {
+    const auto& f = kTable == 0 ? kMixedShareAligned
+                    : kTable == 1 ? kMixedShareOpposed
+                    : kTable == 2 ? kMixedEndAligned
+                                  : kMixedEndOpposed;
+    std::array<double, 101> out{};
+    for (std::size_t k = 0; k < f.size(); ++k) out[k] = std::log(f[k]);
+    return out;
+  }();
+  return logs;
+}
+}  // namespace
+
 BiclothoidMixedShares biclothoid_mixed_shares(double rho, bool aligned) {
   const auto& start = aligned ? kMixedShareAligned : kMixedShareOpposed;
   const auto& end = aligned ? kMixedEndAligned : kMixedEndOpposed;
@@ -171,7 +189,8 @@ BiclothoidMixedShares biclothoid_mixed_shares(double rho, bool aligned) {
   double x1 = x0 + kMixedLogRhoStep;
   BiclothoidMixedShares lo{node(start, i), node(end, i)};
   BiclothoidMixedShares hi{node(start, i + 1), node(end, i + 1)};
-  if (aligned && x0 < kMixedAlignedJump && kMixedAlignedJump < x1) {
+  const bool at_jump = aligned && x0 < kMixedAlignedJump && kMixedAlignedJump < x1;
+  if (at_jump) {
     if (x < kMixedAlignedJump) {
       x1 = kMixedAlignedJump;
       hi = kMixedJumpBelow;
@@ -181,8 +200,16 @@ BiclothoidMixedShares biclothoid_mixed_shares(double rho, bool aligned) {
     }
   }
   const double t = (x - x0) / (x1 - x0);
-  const auto interpolate = [t](double f0, double f1) { return std::exp(std::log(f0) + t * (std::log(f1) - std::log(f0))); };
-  return {interpolate(lo.start, hi.start), interpolate(lo.end, hi.end)};
+  const auto interpolate = [t](double log_f0, double log_f1) { return std::exp(log_f0 + t * (log_f1 - log_f0)); };
+  // the nodes' logarithms, taken once (each fit interpolates once, and four logarithms were 2-3 %
+  // of a fit with an arc); those of the solutions at the change of branch, rarely needed, here
+  if (at_jump) {
+    return {interpolate(std::log(lo.start), std::log(hi.start)), interpolate(std::log(lo.end), std::log(hi.end))};
+  }
+  const auto& log_start = aligned ? log_nodes<0>() : log_nodes<1>();
+  const auto& log_end = aligned ? log_nodes<2>() : log_nodes<3>();
+  const auto k0 = static_cast<std::size_t>(i);
+  return {interpolate(log_start[k0], log_start[k0 + 1]), interpolate(log_end[k0], log_end[k0 + 1])};
 }
 
 BiclothoidArcSensitivity biclothoid_arc_sensitivity(double turn) {
@@ -291,7 +318,10 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
   const bool tangent_jump = std::abs(delta) > 1e-9;
   // the line-line pair's shape at this turn, for the model below and the first solve's cold
   // guess (its Fresnel integrals once, not three times)
-  const ClothoidPairShape turn_shape = tangent_jump ? clothoid_pair_shape(std::abs(delta)) : ClothoidPairShape{};
+  // (its half angle's cosine and sine from the tangents' dot and cross products, not a sincos)
+  const ClothoidPairShape turn_shape =
+      tangent_jump ? clothoid_pair_shape(std::abs(delta), work.q1.t.dot(work.q2.t), std::abs(cross(work.q1.t, work.q2.t)))
+                   : ClothoidPairShape{};
 
   struct Trial {
     BiclothoidSolution fillet;
@@ -418,7 +448,12 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
   // (deviation ~ a^p, p = 1 at a tangent jump, 2 at a curvature jump only, so y is nearly
   // linear in x), secant steps where the slope is not usable, bisection once bracketed steps
   // leave the bracket, stopping at -kReached <= y <= 0.
-  const double x_cap = std::log(a_cap);
+  // log a_cap, once it is needed (a fit whose first trial lands in the band never needs it)
+  double x_cap_value = std::numeric_limits<double>::quiet_NaN();
+  const auto x_cap = [&] {
+    if (std::isnan(x_cap_value)) x_cap_value = std::log(a_cap);
+    return x_cap_value;
+  };
   // a first start distance from the small-fillet models: the line-line pair for the tangent
   // jump (deviation ~ a) and, from seed 004 table 1 (arc R10 -> line at 0.1 mm: a = 6.5 mm),
   // dev ~ |kappa jump| a^2 / 42 for the curvature jump; where both act, the share of the pair's
@@ -529,7 +564,7 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
         best = cur.trial;
         best_y = cur.y;
       }
-      if (cur.y >= -kReached || cur.x >= x_cap - 1e-12) break;
+      if (cur.y >= -kReached || cur.x >= x_cap() - 1e-12) break;
     } else {
       hi = std::min(hi, cur.x);
     }
@@ -586,7 +621,7 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
     } else if (std::isfinite(lo) && !(next > lo)) {
       next = lo + std::log(2.0);
     }
-    next = std::min(next, x_cap);
+    next = std::min(next, x_cap());
     prev = cur;
     cur = evaluate(next);
   }

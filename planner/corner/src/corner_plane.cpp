@@ -97,11 +97,9 @@ PlanarCorner planar_corner(const Primitive& in, const Primitive& out) {
   PlanarCorner pc;
   const double len_in = length(in);
   const Vec3 corner = point(in, len_in);
-  const Vec3 t1 = tangent(in, len_in);
-  const Vec3 t2 = tangent(out, 0.0);
+  const auto [t1, k1] = tangent_and_curvature(in, len_in);
+  const auto [t2, k2] = tangent_and_curvature(out, 0.0);
   pc.angle = angle_between(t1, t2);
-  const Vec3 k1 = curvature_vector(in, len_in);
-  const Vec3 k2 = curvature_vector(out, 0.0);
   pc.same_curvature = (k1 - k2).norm() <= 1e-9 * std::max({k1.norm(), k2.norm(), 1e-300});
   // from here on, at least one move is an arc: the plane normal is the (first) arc's axis. (By
   // reference through std::get: GCC 12 saw a null dereference in the get_if pointers here.)

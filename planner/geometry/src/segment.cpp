@@ -190,6 +190,18 @@ Vec3 curvature_vector(const Arc& arc, double s) {
   return -arc.radius * (std::cos(phi) * arc.u + std::sin(phi) * arc.v) / (g * g);
 }
 
+namespace {
+// tangent(arc, s) and curvature_vector(arc, s), their expressions as they stand above
+TangentCurvature arc_tangent_and_curvature(const Arc& arc, double s) {
+  const double g = arc_speed(arc);
+  const double phi = clamp_s(s, length(arc)) / g;
+  const double sn = std::sin(phi);
+  const double cs = std::cos(phi);
+  const Vec3 d = arc.radius * (-sn * arc.u + cs * arc.v) + arc_pitch(arc) * arc.u.cross(arc.v);
+  return {d / g, -arc.radius * (cs * arc.u + sn * arc.v) / (g * g)};
+}
+}  // namespace
+
 Arc sub_segment(const Arc& arc, double s0, double s1) {
   const double g = arc_speed(arc);
   const double len = length(arc);
@@ -402,6 +414,11 @@ Vec3 curvature_vector(const Segment& segment, double s) {
 }
 Vec3 curvature_vector(const Primitive& primitive, double s) {
   return std::visit([s](const auto& x) { return curvature_vector(x, s); }, primitive);
+}
+
+TangentCurvature tangent_and_curvature(const Primitive& primitive, double s) {
+  if (const Arc* arc = std::get_if<Arc>(&primitive)) return arc_tangent_and_curvature(*arc, s);
+  return {tangent(primitive, s), curvature_vector(primitive, s)};
 }
 
 Primitive sub_segment(const Primitive& primitive, double s0, double s1) {

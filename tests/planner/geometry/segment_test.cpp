@@ -86,6 +86,35 @@ TEST(Segment, AnArcOfAnyRadiusIsRoundedAtItsOwnScale) {
   }
 }
 
+TEST(Segment, TangentAndCurvatureTogetherAreEachOnItsOwnToTheBit) {
+  // arcs and helices of any size and sweep, lines, at random and clamped arc lengths
+  const std::uint64_t seed = 47;
+  auto rng = test::make_rng(seed);
+  const int cases = test::property_cases(2000);
+  for (int c = 0; c < cases; ++c) {
+    const double radius = std::pow(10.0, test::uniform(rng, -4, 4));
+    const Vec3 u = test::random_unit(rng);
+    const Vec3 v = (test::random_unit(rng).cross(u)).normalized();
+    const Vec3 centre(test::uniform(rng, -1, 1), test::uniform(rng, -1, 1), test::uniform(rng, -1, 1));
+    const double rise = c % 3 == 0 ? test::uniform(rng, -1, 1) * radius : 0.0;
+    const Arc arc{centre, u, v, radius, test::uniform(rng, 1e-6, 4 * std::numbers::pi), rise};
+    const Line line{centre, centre + radius * u};
+    for (const Primitive& prim : {Primitive{arc}, Primitive{line}}) {
+      const double len = length(prim);
+      for (const double s : {0.0, len, test::uniform(rng, 0, len), -len, 2 * len}) {
+        const TangentCurvature both = tangent_and_curvature(prim, s);
+        const Vec3 t = tangent(prim, s);
+        const Vec3 k = curvature_vector(prim, s);
+        for (Eigen::Index i = 0; i < 3; ++i) {
+          // bitwise equal (EXPECT_EQ on doubles: 0 and -0 aside, the same numbers)
+          EXPECT_EQ(both.tangent[i], t[i]) << test::seed_text(seed) << " case " << c << " s " << s;
+          EXPECT_EQ(both.curvature[i], k[i]) << test::seed_text(seed) << " case " << c << " s " << s;
+        }
+      }
+    }
+  }
+}
+
 TEST(Segment, SubArcKeepsTheSameCurve) {
   const Arc arc{Vec3(0, 0, 0), Vec3(0, 1, 0), Vec3(-1, 0, 0), 2.0, 2.0, 0.4};
   const Arc part = sub_segment(arc, 0.7, 2.9);

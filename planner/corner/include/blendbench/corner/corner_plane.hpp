@@ -49,10 +49,11 @@ struct CornerShapes {
 };
 
 // The same corner travelled backwards: q2 turned round comes in, q1 turned round goes out
-// (a fillet of it from a to b is the forward fillet from b to a, reversed).
+// (a fillet of it from a to b is the forward fillet from b to a, reversed). Each unit tangent
+// is negated, exactly, not recomputed from the turned angle.
 inline CornerShapes reversed(const CornerShapes& shapes) {
-  return {PlanarShape{shapes.q2.theta + std::numbers::pi, -shapes.q2.kappa},
-          PlanarShape{shapes.q1.theta + std::numbers::pi, -shapes.q1.kappa}};
+  return {PlanarShape{shapes.q2.theta + std::numbers::pi, -shapes.q2.kappa, -shapes.q2.t},
+          PlanarShape{shapes.q1.theta + std::numbers::pi, -shapes.q1.kappa, -shapes.q1.t}};
 }
 
 // The plane of a corner in 3D: the corner point and an orthonormal basis (x, y) of the plane;

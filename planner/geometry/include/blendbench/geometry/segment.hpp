@@ -111,6 +111,14 @@ Vec3 curvature_vector(const Clothoid& clothoid, double s);
 Vec3 curvature_vector(const Segment& segment, double s);
 Vec3 curvature_vector(const Primitive& primitive, double s);
 
+// tangent and curvature_vector at s together, the same vectors to the bit (an arc's from one
+// sine and cosine of its angle instead of two).
+struct TangentCurvature {
+  Vec3 tangent;
+  Vec3 curvature;
+};
+TangentCurvature tangent_and_curvature(const Primitive& primitive, double s);
+
 // d^3 p / ds^3 = d(kappa N)/ds = -kappa^2 T + kappa' N + kappa tau B (1/m^2; kappa' = d kappa/ds,
 // tau the torsion): with the path speed v, tangential acceleration a_t and jerk j_t, the TCP's
 // jerk is j_t T + 3 v a_t (kappa N) + v^3 d^3p/ds^3. Zero on a line.
