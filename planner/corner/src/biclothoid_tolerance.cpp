@@ -276,8 +276,11 @@ std::optional<std::pair<double, double>> crossing(const PlanarShape& q1, const P
     const Vec2 c = centre(q);
     return std::atan2(cross(-c, x - c), (-c).dot(x - c)) / q.kappa;
   };
-  // each condition before the next angle is computed (an arc's takes an atan2)
-  if (!(x.norm() > 0)) return std::nullopt;
+  // each condition before the next angle is computed (an arc's takes an atan2); the arc length
+  // from the corner to x along either move is at least the chord |x|, so a chord longer than
+  // either cap fails without them
+  const double chord = x.norm();
+  if (!(chord > 0) || chord > a_max || chord > b_max) return std::nullopt;
   const double s1 = sigma(q1);
   if (!(s1 < 0 && -s1 <= a_max)) return std::nullopt;
   const double s2 = sigma(q2);
