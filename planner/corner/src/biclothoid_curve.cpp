@@ -44,25 +44,27 @@ struct ClothoidMoments {
 };
 
 // One panel's series in its own frame (beta, gamma as above): the even and odd parts of
-// P(+-1), P(tau) = sum e_n tau^n, and S_0, S_1, S_2. Its recurrence is a chain of dependent
-// multiplications, so a fillet's two clothoids sum theirs side by side (panel_series_pair).
-struct PanelSeries {
-  series::PhaseTaylor e;
-  double er = 1;  // sum of e_n, n even
-  double ei = 0;
-  double or_ = 0;  // n odd
-  double oi = 0;
-  double s0r = 1;
-  double s0i = 0;
-  double s1r = 0;
-  double s1i = 0;
-  double s2r = series::kInverse[3];
-  double s2i = 0;
+// P(+-1), P(tau) = sum e_n tau^n, and S_0, S_1, S_2. T is double for one panel, or a 2-array for
+// two side by side (series::BasicPhaseTaylor): the recurrence is a chain of dependent
+// multiplications, so a fillet's two clothoids sum theirs together (panel_series_pair).
+template <class T>
+struct BasicPanelSeries {
+  series::BasicPhaseTaylor<T> e;
+  T er = series::filled<T>(1);  // sum of e_n, n even
+  T ei = series::filled<T>(0);
+  T or_ = series::filled<T>(0);  // n odd
+  T oi = series::filled<T>(0);
+  T s0r = series::filled<T>(1);
+  T s0i = series::filled<T>(0);
+  T s1r = series::filled<T>(0);
+  T s1i = series::filled<T>(0);
+  T s2r = series::filled<T>(series::kInverse[3]);
+  T s2i = series::filled<T>(0);
 
-  PanelSeries(double beta, double gamma) : e{.b = beta, .g = gamma} {}
+  BasicPanelSeries(const T& beta, const T& gamma) : e{.b = beta, .g = gamma} {}
 
-  // the terms n + 1 and n + 2; true once they are below the stop
-  bool step(std::size_t n) noexcept {
+  // the terms n + 1 and n + 2
+  void step(std::size_t n) noexcept {
     e.step_two(n);
     er += e.re;
     ei += e.im;
@@ -74,92 +76,54 @@ struct PanelSeries {
     s1i += e.prev_im * series::kInverse[n + 3];
     s2r += e.re * series::kInverse[n + 5];
     s2i += e.im * series::kInverse[n + 5];
-    return e.below(1e-18);
   }
   static constexpr bool more(std::size_t n) { return n + 5 < series::kInverse.size(); }
-  // the terms from n + 1 on, to the stop
-  void finish(std::size_t n) noexcept {
-    for (; more(n); n += 2) {
-      if (step(n)) return;
-    }
-  }
-  void sum() noexcept { finish(0); }
+  // the series stop once two successive terms are below 1e-18 (lane by lane)
+  [[nodiscard]] T size() const noexcept { return e.size(); }
 };
+using PanelSeries = BasicPanelSeries<double>;
 
-// Two panels' series side by side, one in each lane of 2-arrays (a packed register each): the
-// recurrence is a chain of dependent operations, so the pair takes about as long as one, in the
-// registers that one takes. Each lane takes the same operations in the same order as a series on
-// its own, and a lane that stops leaves the other to go on alone: the same sums to the last bit.
+// the terms from n + 1 on, to the stop
+void finish(PanelSeries& p, std::size_t n) noexcept {
+  for (; PanelSeries::more(n); n += 2) {
+    p.step(n);
+    if (p.size() < 1e-18) return;
+  }
+}
+
+// Two panels' series side by side, one in each lane of 2-arrays (a packed register each), in
+// the registers one takes. A lane that stops leaves the other to go on alone: the same sums, to
+// the last bit, as each panel on its own.
 void panel_series_pair(PanelSeries& a, PanelSeries& b) noexcept {
   using Pair = Eigen::Array2d;
-  const Pair beta(a.e.b, b.e.b);
-  const Pair gamma(a.e.g, b.e.g);
-  Pair re = Pair::Ones();
-  Pair im = Pair::Zero();
-  Pair prev_re = Pair::Zero();
-  Pair prev_im = Pair::Zero();
-  Pair er = Pair::Ones();
-  Pair ei = Pair::Zero();
-  Pair or_ = Pair::Zero();
-  Pair oi = Pair::Zero();
-  Pair s0r = Pair::Ones();
-  Pair s0i = Pair::Zero();
-  Pair s1r = Pair::Zero();
-  Pair s1i = Pair::Zero();
-  Pair s2r = Pair::Constant(series::kInverse[3]);
-  Pair s2i = Pair::Zero();
-  // lane k back into its series, its terms summed to n + 2
+  BasicPanelSeries<Pair> both(Pair(a.e.b, b.e.b), Pair(a.e.g, b.e.g));
+  // lane k back into its series
   const auto lane = [&](PanelSeries& out, Eigen::Index k) {
-    out.e.re = re[k];
-    out.e.im = im[k];
-    out.e.prev_re = prev_re[k];
-    out.e.prev_im = prev_im[k];
-    out.er = er[k];
-    out.ei = ei[k];
-    out.or_ = or_[k];
-    out.oi = oi[k];
-    out.s0r = s0r[k];
-    out.s0i = s0i[k];
-    out.s1r = s1r[k];
-    out.s1i = s1i[k];
-    out.s2r = s2r[k];
-    out.s2i = s2i[k];
+    out.e.re = both.e.re[k];
+    out.e.im = both.e.im[k];
+    out.e.prev_re = both.e.prev_re[k];
+    out.e.prev_im = both.e.prev_im[k];
+    out.er = both.er[k];
+    out.ei = both.ei[k];
+    out.or_ = both.or_[k];
+    out.oi = both.oi[k];
+    out.s0r = both.s0r[k];
+    out.s0i = both.s0i[k];
+    out.s1r = both.s1r[k];
+    out.s1i = both.s1i[k];
+    out.s2r = both.s2r[k];
+    out.s2i = both.s2i[k];
   };
   for (std::size_t n = 0; PanelSeries::more(n); n += 2) {
-    // series::PhaseTaylor::step_two and PanelSeries::step, lane by lane
-    const double p = series::kInverse[n + 1];
-    const double q = series::kInverse[n + 2];
-    const Pair c1 = beta * p;
-    const Pair c2 = gamma * p;
-    const Pair c3 = -beta * c1 * q;
-    const Pair c4 = gamma * q;
-    const Pair c5 = -beta * c2 * q;
-    const Pair odd_re = -(c1 * im + c2 * prev_im);
-    const Pair odd_im = c1 * re + c2 * prev_re;
-    const Pair even_re = (c3 * re + c5 * prev_re) - c4 * im;
-    const Pair even_im = (c3 * im + c5 * prev_im) + c4 * re;
-    prev_re = odd_re;
-    prev_im = odd_im;
-    re = even_re;
-    im = even_im;
-    er += re;
-    ei += im;
-    or_ += prev_re;
-    oi += prev_im;
-    s0r += re * series::kInverse[n + 3];
-    s0i += im * series::kInverse[n + 3];
-    s1r += prev_re * series::kInverse[n + 3];
-    s1i += prev_im * series::kInverse[n + 3];
-    s2r += re * series::kInverse[n + 5];
-    s2i += im * series::kInverse[n + 5];
-    const Pair size = re.abs() + im.abs() + prev_re.abs() + prev_im.abs();
+    both.step(n);
+    const Pair size = both.size();
     const bool a_done = size[0] < 1e-18;
     const bool b_done = size[1] < 1e-18;
     if (a_done || b_done) {
       lane(a, 0);
       lane(b, 1);
-      if (!a_done) a.finish(n + 2);
-      if (!b_done) b.finish(n + 2);
+      if (!a_done) finish(a, n + 2);
+      if (!b_done) finish(b, n + 2);
       return;
     }
   }
@@ -220,7 +184,7 @@ class MomentSum {
     }
     if (j < panels_) {
       PanelSeries a = series(j);
-      a.sum();
+      finish(a, 0);
       add(j, a);
     }
   }

@@ -182,29 +182,30 @@ class FilletTable {
   // A panel's series while its coefficients are summed: the Taylor coefficients e_n in t (not
   // scaled by h) of exp(i (kappa t + c t^2 / 2)), turned by exp(i theta(mid)) into the panel's
   // coef_n and integral_n = coef_n / (n + 1), and the even and odd parts of
-  // sum_n integral_n h^(n+1), which give the positions at mid -+ h.
-  struct PanelSeries {
-    series::PhaseTaylor e;
-    double h;
-    double rot_re;
-    double rot_im;
-    double h_pow;  // h^(n+1)
-    double even_re = 0;
-    double even_im = 0;
-    double odd_re = 0;
-    double odd_im = 0;
+  // sum_n integral_n h^(n+1), which give the positions at mid -+ h. T is double for one panel,
+  // or a 2-array for two side by side, one in each lane (series::BasicPhaseTaylor).
+  template <class T>
+  struct BasicPanelSeries {
+    series::BasicPhaseTaylor<T> e;
+    T h;
+    T rot_re;
+    T rot_im;
+    T h_pow;  // h^(n+1)
+    T even_re = series::filled<T>(0);
+    T even_im = series::filled<T>(0);
+    T odd_re = series::filled<T>(0);
+    T odd_im = series::filled<T>(0);
 
-    // in scalars: an Eigen 2-vector built from two scalars goes through memory, and reading
-    // it back as a pair cannot be forwarded from the two stores (a stall per coefficient)
-    void store(Panel& panel, std::size_t u, double re, double im, double hp) {
-      const double coef_re = rot_re * re - rot_im * im;
-      const double coef_im = rot_re * im + rot_im * re;
-      const double int_re = coef_re * series::kInverse[u + 1];
-      const double int_im = coef_im * series::kInverse[u + 1];
-      panel.coef[u].x() = coef_re;
-      panel.coef[u].y() = coef_im;
-      panel.integral[u].x() = int_re;
-      panel.integral[u].y() = int_im;
+    // term u from its e_u (parts re, im) and h^(u+1); `write(u, coef_re, coef_im, int_re,
+    // int_im)` stores it (in scalars: an Eigen 2-vector built from two scalars goes through
+    // memory, and reading it back as a pair cannot be forwarded from the two stores)
+    template <class Write>
+    void store(std::size_t u, const T& re, const T& im, const T& hp, const Write& write) {
+      const T coef_re = rot_re * re - rot_im * im;
+      const T coef_im = rot_re * im + rot_im * re;
+      const T int_re = coef_re * series::kInverse[u + 1];
+      const T int_im = coef_im * series::kInverse[u + 1];
+      write(u, coef_re, coef_im, int_re, int_im);
       if (u % 2 == 0) {
         even_re += int_re * hp;
         even_im += int_im * hp;
@@ -213,25 +214,40 @@ class FilletTable {
         odd_im += int_im * hp;
       }
     }
-    // the terms n and n + 1; true once the next two are below 1e-15 of the panel's size
-    bool step(Panel& panel, std::size_t n) {
-      store(panel, n, e.re, e.im, h_pow);
+    // the terms n and n + 1; returns the bound on the next two, which stop the series once
+    // below 1e-15 of the panel's size (1e-15 h)
+    template <class Write>
+    T step(std::size_t n, const Write& write) {
+      store(n, e.re, e.im, h_pow, write);
       e.step_two(n);
-      store(panel, n + 1, e.prev_re, e.prev_im, h_pow * h);
+      store(n + 1, e.prev_re, e.prev_im, h_pow * h, write);
       h_pow *= h * h;
-      const double tail = std::abs(e.re) + std::abs(e.im) + (std::abs(e.prev_re) + std::abs(e.prev_im)) / h;
-      return tail * h_pow < 1e-15 * h;
-    }
-    // the terms from n on, to the stop; returns the count
-    std::size_t finish(Panel& panel, std::size_t n) {
-      while (n + 2 <= kMaxTerms) {
-        const bool done = step(panel, n);
-        n += 2;
-        if (done) break;
-      }
-      return n;
+      const T tail = series::magnitude(e.re) + series::magnitude(e.im) +
+                     (series::magnitude(e.prev_re) + series::magnitude(e.prev_im)) / h;
+      return tail * h_pow;
     }
   };
+  using PanelSeries = BasicPanelSeries<double>;
+
+  // Writes a scalar series' terms into `panel`.
+  static auto writer(Panel& panel) {
+    return [&panel](std::size_t u, double coef_re, double coef_im, double int_re, double int_im) {
+      panel.coef[u].x() = coef_re;
+      panel.coef[u].y() = coef_im;
+      panel.integral[u].x() = int_re;
+      panel.integral[u].y() = int_im;
+    };
+  }
+  // The terms from n on, to the stop; returns the count.
+  static std::size_t finish(PanelSeries& series, Panel& panel, std::size_t n) {
+    const auto write = writer(panel);
+    while (n + 2 <= kMaxTerms) {
+      const bool done = series.step(n, write) < 1e-15 * series.h;
+      n += 2;
+      if (done) break;
+    }
+    return n;
+  }
 
   // The panels of one clothoid (local phase below 1 rad), placed but not yet summed.
   void plan_clothoid(const Posture& from, double c, double len, double offset) {
@@ -286,93 +302,53 @@ class FilletTable {
 
   void series_one(std::size_t k) {
     PanelSeries series = start_series(k);
-    end_series(k, series, series.finish(panels_[k], 0));
+    end_series(k, series, finish(series, panels_[k], 0));
   }
 
-  // Panels j and k side by side, one in each lane of 2-arrays (a packed register each): each
-  // lane takes the same operations in the same order as PanelSeries::step, and a lane that
-  // stops leaves the other to go on alone, so the coefficients are those of series_one to the
-  // last bit.
+  // Panels j and k side by side, one in each lane of 2-arrays (a packed register each); a lane
+  // that stops leaves the other to go on alone, so the coefficients are those of series_one to
+  // the last bit.
   void series_pair(std::size_t j, std::size_t k) {
     using Pair = Eigen::Array2d;
     PanelSeries a = start_series(j);
     PanelSeries b = start_series(k);
     Panel& pa = panels_[j];
     Panel& pb = panels_[k];
-    const Pair kappa(a.e.b, b.e.b);
-    const Pair gamma(a.e.g, b.e.g);
-    const Pair h(a.h, b.h);
-    const Pair rot_re(a.rot_re, b.rot_re);
-    const Pair rot_im(a.rot_im, b.rot_im);
-    Pair h_pow = h;
-    Pair re = Pair::Ones();
-    Pair im = Pair::Zero();
-    Pair prev_re = Pair::Zero();
-    Pair prev_im = Pair::Zero();
-    Pair even_re = Pair::Zero();
-    Pair even_im = Pair::Zero();
-    Pair odd_re = Pair::Zero();
-    Pair odd_im = Pair::Zero();
-    const auto store = [&](std::size_t u, const Pair& e_re, const Pair& e_im, const Pair& hp) {
-      const Pair coef_re = rot_re * e_re - rot_im * e_im;
-      const Pair coef_im = rot_re * e_im + rot_im * e_re;
-      const Pair int_re = coef_re * series::kInverse[u + 1];
-      const Pair int_im = coef_im * series::kInverse[u + 1];
+    BasicPanelSeries<Pair> both{.e = {.b = Pair(a.e.b, b.e.b), .g = Pair(a.e.g, b.e.g)},
+                                .h = Pair(a.h, b.h),
+                                .rot_re = Pair(a.rot_re, b.rot_re),
+                                .rot_im = Pair(a.rot_im, b.rot_im),
+                                .h_pow = Pair(a.h_pow, b.h_pow)};
+    const auto write = [&](std::size_t u, const Pair& coef_re, const Pair& coef_im, const Pair& int_re,
+                           const Pair& int_im) {
       pa.coef[u] = Vec2(coef_re[0], coef_im[0]);
       pb.coef[u] = Vec2(coef_re[1], coef_im[1]);
       pa.integral[u] = Vec2(int_re[0], int_im[0]);
       pb.integral[u] = Vec2(int_re[1], int_im[1]);
-      if (u % 2 == 0) {
-        even_re += int_re * hp;
-        even_im += int_im * hp;
-      } else {
-        odd_re += int_re * hp;
-        odd_im += int_im * hp;
-      }
     };
     // lane i back into its series
     const auto lane = [&](PanelSeries& out, Eigen::Index i) {
-      out.e.re = re[i];
-      out.e.im = im[i];
-      out.e.prev_re = prev_re[i];
-      out.e.prev_im = prev_im[i];
-      out.h_pow = h_pow[i];
-      out.even_re = even_re[i];
-      out.even_im = even_im[i];
-      out.odd_re = odd_re[i];
-      out.odd_im = odd_im[i];
+      out.e.re = both.e.re[i];
+      out.e.im = both.e.im[i];
+      out.e.prev_re = both.e.prev_re[i];
+      out.e.prev_im = both.e.prev_im[i];
+      out.h_pow = both.h_pow[i];
+      out.even_re = both.even_re[i];
+      out.even_im = both.even_im[i];
+      out.odd_re = both.odd_re[i];
+      out.odd_im = both.odd_im[i];
     };
     std::size_t n = 0;
     while (n + 2 <= kMaxTerms) {
-      store(n, re, im, h_pow);
-      // series::PhaseTaylor::step_two, lane by lane
-      const double p = series::kInverse[n + 1];
-      const double q = series::kInverse[n + 2];
-      const Pair c1 = kappa * p;
-      const Pair c2 = gamma * p;
-      const Pair c3 = -kappa * c1 * q;
-      const Pair c4 = gamma * q;
-      const Pair c5 = -kappa * c2 * q;
-      const Pair odd_term_re = -(c1 * im + c2 * prev_im);
-      const Pair odd_term_im = c1 * re + c2 * prev_re;
-      const Pair even_term_re = (c3 * re + c5 * prev_re) - c4 * im;
-      const Pair even_term_im = (c3 * im + c5 * prev_im) + c4 * re;
-      prev_re = odd_term_re;
-      prev_im = odd_term_im;
-      re = even_term_re;
-      im = even_term_im;
-      store(n + 1, prev_re, prev_im, h_pow * h);
-      h_pow *= h * h;
+      const Pair bound = both.step(n, write);
       n += 2;
-      const Pair tail = re.abs() + im.abs() + (prev_re.abs() + prev_im.abs()) / h;
-      const Pair bound = tail * h_pow;
       const bool a_done = bound[0] < 1e-15 * a.h;
       const bool b_done = bound[1] < 1e-15 * b.h;
       if (a_done || b_done) {
         lane(a, 0);
         lane(b, 1);
-        end_series(j, a, a_done ? n : a.finish(pa, n));
-        end_series(k, b, b_done ? n : b.finish(pb, n));
+        end_series(j, a, a_done ? n : finish(a, pa, n));
+        end_series(k, b, b_done ? n : finish(b, pb, n));
         return;
       }
     }

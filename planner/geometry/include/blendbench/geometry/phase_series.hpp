@@ -7,6 +7,9 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <type_traits>
+
+#include <Eigen/Core>
 
 namespace blendbench::series {
 
@@ -17,43 +20,73 @@ inline constexpr std::array<double, 48> kInverse = [] {
   return inv;
 }();
 
+// The magnitude of a coefficient part: of a scalar, or lane by lane of an Eigen array (series
+// summed side by side, one in each lane).
+inline double magnitude(double x) noexcept { return std::abs(x); }
+template <class Derived>
+auto magnitude(const Eigen::ArrayBase<Derived>& x) {
+  return x.abs();
+}
+
+// A number of T's kind with every lane v: the scalar v, or an array filled with it.
+template <class T>
+T filled(double v) {
+  if constexpr (std::is_same_v<T, double>) {
+    return v;
+  } else {
+    return T::Constant(v);
+  }
+}
+
 // The coefficients e_n of exp(i phi(t)) = sum e_n t^n obey, from f' = i (b + g t) f,
 //   e_{n+1} = i (b e_n + g e_{n-1}) / (n + 1).
 // Two steps at once, both from (e_n, e_{n-1}), halve the chain of dependent operations:
 //   e_{n+2} = [(-b^2 / (n+1) + i g) e_n - b g / (n+1) e_{n-1}] / (n + 2).
 // Kept in scalars: an Eigen 2-vector or std::complex built from two scalars and read back as a
-// pair goes through memory and stalls store forwarding once per coefficient.
-struct PhaseTaylor {
-  double b;
-  double g;
-  double re = 1;  // e_n, n even (e_0 = 1)
-  double im = 0;
-  double prev_re = 0;  // e_{n-1}
-  double prev_im = 0;
+// pair goes through memory and stalls store forwarding once per coefficient. T is double for
+// one series, or an Eigen array for as many series side by side, one in each lane (the chain is
+// latency-bound, so two take about as long as one); each lane takes the operations of the scalar
+// recurrence in the same order, so its coefficients are the scalar ones to the last bit.
+template <class T>
+struct BasicPhaseTaylor {
+  T b;
+  T g;
+  T re = filled<T>(1);  // e_n, n even (e_0 = 1)
+  T im = filled<T>(0);
+  T prev_re = filled<T>(0);  // e_{n-1}
+  T prev_im = filled<T>(0);
 
   // From (e_{n-1}, e_n) to (e_{n+1}, e_{n+2}).
   void step_two(std::size_t n) noexcept {
     const double p = kInverse[n + 1];
     const double q = kInverse[n + 2];
-    const double c1 = b * p;
-    const double c2 = g * p;
-    const double c3 = -b * c1 * q;
-    const double c4 = g * q;
-    const double c5 = -b * c2 * q;
-    const double odd_re = -(c1 * im + c2 * prev_im);
-    const double odd_im = c1 * re + c2 * prev_re;
-    const double even_re = (c3 * re + c5 * prev_re) - c4 * im;
-    const double even_im = (c3 * im + c5 * prev_im) + c4 * re;
+    const T c1 = b * p;
+    const T c2 = g * p;
+    const T c3 = -b * c1 * q;
+    const T c4 = g * q;
+    const T c5 = -b * c2 * q;
+    const T odd_re = -(c1 * im + c2 * prev_im);
+    const T odd_im = c1 * re + c2 * prev_re;
+    const T even_re = (c3 * re + c5 * prev_re) - c4 * im;
+    const T even_im = (c3 * im + c5 * prev_im) + c4 * re;
     prev_re = odd_re;
     prev_im = odd_im;
     re = even_re;
     im = even_im;
   }
 
-  // Both current coefficients below `tolerance` (1-norm of the parts).
-  [[nodiscard]] bool below(double tolerance) const noexcept {
-    return std::abs(re) + std::abs(im) + std::abs(prev_re) + std::abs(prev_im) < tolerance;
+  // The 1-norm of the current coefficients' parts (lane by lane).
+  [[nodiscard]] T size() const noexcept {
+    return magnitude(re) + magnitude(im) + magnitude(prev_re) + magnitude(prev_im);
+  }
+
+  // One series: both current coefficients below `tolerance` (1-norm of the parts).
+  [[nodiscard]] bool below(double tolerance) const noexcept
+    requires std::is_same_v<T, double>
+  {
+    return size() < tolerance;
   }
 };
+using PhaseTaylor = BasicPhaseTaylor<double>;
 
 }  // namespace blendbench::series
