@@ -144,9 +144,6 @@ constexpr std::array<double, 33> kArcSensitivityOut = {
     -0.167217, -0.180546, -0.194888, -0.210388, -0.227211, -0.245559, -0.265668, -0.287825, -0.312379, -0.339757,
     -0.370491, -0.405249, -0.444450};
 
-}  // namespace
-
-namespace {
 // The natural logarithms of a mixed-share table's nodes (0: start aligned, 1: start opposed,
 // 2: end aligned, 3: end opposed), taken on first use.
 template <int kTable>
@@ -162,6 +159,7 @@ const std::array<double, 101>& log_nodes() {
   }();
   return logs;
 }
+
 }  // namespace
 
 BiclothoidMixedShares biclothoid_mixed_shares(double rho, bool aligned) {
@@ -320,8 +318,8 @@ BiclothoidToleranceFit fit_biclothoid_with_tolerance(const CornerShapes& shapes,
   const double delta = corner_turn(work);
   const bool tangent_jump = std::abs(delta) > 1e-9;
   // the line-line pair's shape at this turn, for the model below and the first solve's cold
-  // guess (its Fresnel integrals once, not three times)
-  // (its half angle's cosine and sine from the tangents' dot and cross products, not a sincos)
+  // guess (its Fresnel integrals once, not three times; its half angle's cosine and sine from
+  // the tangents' dot and cross products, not a sincos)
   const ClothoidPairShape turn_shape =
       tangent_jump ? clothoid_pair_shape(std::abs(delta), work.q1.t.dot(work.q2.t), std::abs(cross(work.q1.t, work.q2.t)))
                    : ClothoidPairShape{};
