@@ -177,30 +177,31 @@ Vec3 point(const Arc& arc, double s) {
   return start + arc.radius * (2 * sh * ch * arc.v - 2 * sh * sh * arc.u) + arc_pitch(arc) * phi * arc.u.cross(arc.v);
 }
 
+namespace {
+// An arc's angle phi at arc length s (clamped), g = ds/dphi.
+double arc_angle(const Arc& arc, double s, double g) { return clamp_s(s, length(arc)) / g; }
+// Its unit tangent and curvature vector at phi, from sin(phi) and cos(phi): d2p/dphi2 is radial,
+// divided by (ds/dphi)^2.
+Vec3 arc_tangent(const Arc& arc, double g, double sn, double cs) {
+  const Vec3 d = arc.radius * (-sn * arc.u + cs * arc.v) + arc_pitch(arc) * arc.u.cross(arc.v);
+  return d / g;
+}
+Vec3 arc_curvature(const Arc& arc, double g, double sn, double cs) {
+  return -arc.radius * (cs * arc.u + sn * arc.v) / (g * g);
+}
+}  // namespace
+
 Vec3 tangent(const Arc& arc, double s) {
-  const double phi = clamp_s(s, length(arc)) / arc_speed(arc);
-  const Vec3 d = arc.radius * (-std::sin(phi) * arc.u + std::cos(phi) * arc.v) + arc_pitch(arc) * arc.u.cross(arc.v);
-  return d / arc_speed(arc);
+  const double g = arc_speed(arc);
+  const double phi = arc_angle(arc, s, g);
+  return arc_tangent(arc, g, std::sin(phi), std::cos(phi));
 }
 
 Vec3 curvature_vector(const Arc& arc, double s) {
-  const double phi = clamp_s(s, length(arc)) / arc_speed(arc);
   const double g = arc_speed(arc);
-  // d2p/dphi2 is radial; divide by (ds/dphi)^2.
-  return -arc.radius * (std::cos(phi) * arc.u + std::sin(phi) * arc.v) / (g * g);
+  const double phi = arc_angle(arc, s, g);
+  return arc_curvature(arc, g, std::sin(phi), std::cos(phi));
 }
-
-namespace {
-// tangent(arc, s) and curvature_vector(arc, s), their expressions as they stand above
-TangentCurvature arc_tangent_and_curvature(const Arc& arc, double s) {
-  const double g = arc_speed(arc);
-  const double phi = clamp_s(s, length(arc)) / g;
-  const double sn = std::sin(phi);
-  const double cs = std::cos(phi);
-  const Vec3 d = arc.radius * (-sn * arc.u + cs * arc.v) + arc_pitch(arc) * arc.u.cross(arc.v);
-  return {d / g, -arc.radius * (cs * arc.u + sn * arc.v) / (g * g)};
-}
-}  // namespace
 
 Arc sub_segment(const Arc& arc, double s0, double s1) {
   const double g = arc_speed(arc);
@@ -417,7 +418,14 @@ Vec3 curvature_vector(const Primitive& primitive, double s) {
 }
 
 TangentCurvature tangent_and_curvature(const Primitive& primitive, double s) {
-  if (const Arc* arc = std::get_if<Arc>(&primitive)) return arc_tangent_and_curvature(*arc, s);
+  if (const Arc* arc = std::get_if<Arc>(&primitive)) {
+    // tangent and curvature_vector from one sine and cosine
+    const double g = arc_speed(*arc);
+    const double phi = arc_angle(*arc, s, g);
+    const double sn = std::sin(phi);
+    const double cs = std::cos(phi);
+    return {arc_tangent(*arc, g, sn, cs), arc_curvature(*arc, g, sn, cs)};
+  }
   return {tangent(primitive, s), curvature_vector(primitive, s)};
 }
 
