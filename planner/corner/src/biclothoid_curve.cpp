@@ -365,6 +365,52 @@ std::optional<BiclothoidEnd> biclothoid_end(const Posture& start, const Vec2& st
   const PointSlopes slopes = point_slopes(curve, first, second);
   out.d_length = out.tangent + slopes.d_length;
   out.d_turn = slopes.d_turn;
+  out.kappa_e = kappa_e;
+  out.turn = dtheta;
+  out.peak_tangent = first.t_end;
+  out.peak_moment = first.m2;
+  return out;
+}
+
+// The peak point of the moved curve (derived here). With theta(u) = theta0 + kappa0 u + c u^2 / 2
+// on the first clothoid, the new peak V'(s1 + ds1) under c -> c + dc is
+//   V(s1) + int_0^s1 (T' - T) du + int_s1^(s1 + ds1) T' du,   T'(u) = T(u) exp(i dc u^2 / 2),
+// and to second order in dc, third in ds1 (the peak slides along the old clothoid, whose
+// tangent turns by kappa_m ds1 + c ds1^2 / 2), with A_2 = int_0^s1 u^2 T du, T = T(s1),
+// kappa_m = kappa0 + c s1,
+//   V' = V(s1) + i dc A_2 / 2 + T ds1 + i (dc s1^2 / 2 + kappa_m ds1 / 2 + c ds1^2 / 6) T ds1
+//        - kappa_m^2 ds1^3 / 6 T;
+// the terms left out are ~dc^2 s1^5 / 8, kappa^3 ds1^4 / 24 and dc s1 ds1^2 / 2, all below
+// 2e-13 of the length within the bounds below (1e-13 from dc at 1e-6 / L^2).
+std::optional<BiclothoidEnd> biclothoid_end_moved(const BiclothoidEnd& from, double length_step, double turn_step) {
+  constexpr double kPeakStep = 1e-5;   // |ds1| / L
+  constexpr double kShapeStep = 1e-6;  // |dc| L^2
+  const Biclothoid& old = from.curve;
+  const double len = length(old) + length_step;
+  if (!(len > 0) || !std::isfinite(len)) return std::nullopt;
+  const double turn = from.turn + turn_step;
+  const TurnProfile profile = turn_profile(old.start.kappa, from.kappa_e, turn, len);
+  const double dc = profile.c - old.c;
+  const double ds1 = profile.s1 - old.s1;
+  if (!(std::abs(ds1) <= kPeakStep * len) || !(std::abs(dc) * len * len <= kShapeStep)) return std::nullopt;
+  BiclothoidEnd out = from;
+  Biclothoid& curve = out.curve;
+  const Posture& start = old.start;
+  curve.c = profile.c;
+  curve.s1 = profile.s1;
+  curve.s2 = len - profile.s1;
+  curve.mid.kappa = start.kappa + curve.c * curve.s1;
+  curve.mid.theta = start.theta + (start.kappa + 0.5 * curve.c * curve.s1) * curve.s1;
+  const Vec2& t = from.peak_tangent;
+  const double s1 = old.s1;
+  const double km = old.mid.kappa;
+  curve.mid.p = old.mid.p + perp(0.5 * dc * from.peak_moment) +
+                ds1 * ((1 - km * km * ds1 * ds1 / 6) * t +
+                       (0.5 * dc * s1 * s1 + 0.5 * km * ds1 + old.c * ds1 * ds1 / 6) * perp(t));
+  out.p = from.p + length_step * from.d_length + turn_step * from.d_turn;
+  // the end tangent turned by turn_step (to second order: turn steps here are ~1e-7 rad)
+  out.tangent = (1 - 0.5 * turn_step * turn_step) * from.tangent + turn_step * perp(from.tangent);
+  out.turn = turn;
   return out;
 }
 

@@ -25,6 +25,14 @@ constexpr double kMinChordRatio = 1e-6;
 // Algorithm 1 stops when the end misses q2 by less than this fraction of a + b (the blender's
 // continuity needs 1e-9).
 constexpr double kSolveTolerance = 1e-12;
+// Algorithm 1's last Newton step is taken without evaluating the end there (biclothoid_end_moved)
+// where the step's predicted miss, |f''| h^2 / 2 with f'' from the change of the slopes (the
+// Jacobian) since the point before, is below this fraction of kSolveTolerance. Evaluated there
+// anyway over 40,000 of the property tests' random corners (16,600 such steps, as many with an
+// arc at the end as with a line), the end missed by at most 12 % of the tolerance; the moved
+// curve's peak point was within 9e-15 and its end within 2.5e-13 of the fillet's a + b of the
+// evaluated ones. It saves the third of the three evaluations most solves took.
+constexpr double kPredictedShare = 0.125;
 // Newton iterations of a solve from its guess alone (Effort::kGuessOnly): warm solves take 2.1-2.3
 // evaluations on average over the property tests' random corners, so 8 is ample; a solve that
 // needs more is on its way to another root or none
@@ -114,6 +122,7 @@ std::optional<Solve> biclothoid_detail::fit_at(const CornerShapes& shapes, doubl
     auto e = eval(x);
     double prev_x = 0;
     double prev_f = 0;
+    double prev_slope = 0;
     double lo = 0;  // a bracket [lo, hi] once hi > 0, f(lo) of sign lo_sign
     double hi = 0;
     bool lo_positive = false;
@@ -130,7 +139,18 @@ std::optional<Solve> biclothoid_detail::fit_at(const CornerShapes& shapes, doubl
         hi = std::max(prev_x, x);
         lo_positive = ((lo == x ? f : prev_f) > 0);
       }
-      double next = x - f / cross(t2, e->d_length);
+      const double slope = cross(t2, e->d_length);
+      double next = x - f / slope;
+      // the Newton step's end, f(next) ~ f'' (next - x)^2 / 2, from the slopes here and at the
+      // point before: within the tolerance, the solution there without another evaluation
+      if (prev_x > 0 && std::isfinite(next) && (hi <= 0 || (next > lo && next < hi))) {
+        const double curvature = (slope - prev_slope) / (x - prev_x);
+        if (0.5 * std::abs(curvature) * (next - x) * (next - x) <= kPredictedShare * f_tol) {
+          if (const auto moved = biclothoid_end_moved(*e, next - x, 0.0)) {
+            if (auto sol = finish(*moved)) return sol;
+          }
+        }
+      }
       if (hi > 0) {
         if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
         if (hi - lo <= 1e-15 * hi) break;
@@ -140,6 +160,7 @@ std::optional<Solve> biclothoid_detail::fit_at(const CornerShapes& shapes, doubl
       }
       prev_x = x;
       prev_f = f;
+      prev_slope = slope;
       x = next;
       e = eval(x);
     }
@@ -194,6 +215,10 @@ std::optional<Solve> biclothoid_detail::fit_at(const CornerShapes& shapes, doubl
   };
   const auto solve_from = [&](double len, double b) -> std::optional<Solve> {
     auto cur = evaluate(len, b);
+    // the point before and its Jacobian, once there is one
+    bool has_prev = false;
+    Vec2 prev_point = Vec2::Zero();
+    Eigen::Matrix2d prev_jac = Eigen::Matrix2d::Zero();
     for (int it = 0; it < (full ? 25 : kGuessOnlyIterations) && cur; ++it) {
       const double scale = a + b;
       if (cur->r.norm() <= kSolveTolerance * scale) return accept(*cur, b);
@@ -203,10 +228,24 @@ std::optional<Solve> biclothoid_detail::fit_at(const CornerShapes& shapes, doubl
       double lambda = 1;
       if (std::abs(step.x()) > 0.5 * len) lambda = std::min(lambda, 0.5 * len / std::abs(step.x()));
       if (std::abs(step.y()) > 0.5 * b) lambda = std::min(lambda, 0.5 * b / std::abs(step.y()));
+      // the full Newton step's miss, ~|r''| |step|^2 / 2, with |r''| bounded by the change of
+      // the Jacobian since the point before (Frobenius norm): within the tolerance, the
+      // solution there without another evaluation
+      if (has_prev && lambda == 1) {
+        const double curvature = (cur->jac - prev_jac).norm() / (Vec2(len, b) - prev_point).norm();
+        if (0.5 * curvature * step.squaredNorm() <= kPredictedShare * kSolveTolerance * (a + b + step.y())) {
+          if (const auto moved = biclothoid_end_moved(cur->end, step.x(), q2.kappa * step.y())) {
+            if (auto sol = accept(Eval{*moved, Vec2::Zero(), cur->jac}, b + step.y())) return sol;
+          }
+        }
+      }
       bool accepted = false;
       for (int half = 0; half < 12 && !accepted; ++half, lambda *= 0.5) {
         auto next = evaluate(len + lambda * step.x(), b + lambda * step.y());
         if (next && next->r.norm() < cur->r.norm()) {
+          has_prev = true;
+          prev_point = Vec2(len, b);
+          prev_jac = cur->jac;
           len += lambda * step.x();
           b += lambda * step.y();
           cur = std::move(next);

@@ -176,6 +176,61 @@ TEST(Biclothoid, EndDerivativesMatchCentralDifferences) {
   EXPECT_FALSE(biclothoid_end(Posture{}, 0, 1, 0.0));
 }
 
+// biclothoid_end_moved, Algorithm 1's last step without new moments, against biclothoid_end at the
+// moved length and turn: the curve the same (c and s1 to rounding, the peak point to its
+// second-order model's miss), the end point off by no more than the steps' squares (the linear
+// model's miss, |p''| h^2 / 2 with |p''| below 10 / L here), and no curve where the peak would
+// move too far for its second-order terms.
+TEST(Biclothoid, AMovedEndIsTheEvaluatedOneForShortSteps) {
+  const std::uint64_t seed = 29;
+  auto rng = test::make_rng(seed);
+  const int cases = test::property_cases(2000);
+  int moved_count = 0;
+  for (int i = 0; i < cases; ++i) {
+    const Posture start{Vec2(test::uniform(rng, -1, 1), test::uniform(rng, -1, 1)), test::uniform(rng, -2, 2),
+                        test::uniform(rng, -kPi, kPi)};
+    const double len = test::uniform(rng, 0.1, 2);
+    const double ke = i % 4 == 0 ? start.kappa : test::uniform(rng, -2, 2);
+    const double dth = test::uniform(rng, -2, 2);
+    const auto from = biclothoid_end(start, ke, dth, len);
+    ASSERT_TRUE(from);
+    // steps of Algorithm 1's last Newton step (1e-9 to 1e-6 of the length and the turn), either sign
+    const double size = std::pow(10.0, test::uniform(rng, -9, -6));
+    const double dl = (i % 2 == 0 ? size : -size) * len;
+    const double dt = (i % 3 == 0 ? 0.0 : test::uniform(rng, -1, 1) * size);
+    const auto moved = biclothoid_end_moved(*from, dl, dt);
+    const auto exact = biclothoid_end(start, ke, dth + dt, len + dl);
+    ASSERT_TRUE(exact);
+    if (!moved) {
+      // only where the peak moves by more than 1e-5 of the length or c by more than 1e-6 / L^2
+      EXPECT_TRUE(std::abs(exact->curve.s1 - from->curve.s1) > 1e-5 * (len + dl) ||
+                  std::abs(exact->curve.c - from->curve.c) * (len + dl) * (len + dl) > 1e-6)
+          << test::seed_text(seed) << " case " << i;
+      continue;
+    }
+    ++moved_count;
+    // (the moved length is the old curve's s1 + s2 plus the step, rounded differently)
+    EXPECT_NEAR(moved->curve.c, exact->curve.c, 1e-14 * (std::abs(exact->curve.c) + 1 / (len * len)))
+        << test::seed_text(seed) << " case " << i;
+    EXPECT_NEAR(moved->curve.s1, exact->curve.s1, 1e-14 * len) << test::seed_text(seed) << " case " << i;
+    // the peak's model misses by ~dc^2 s1^5 / 8, below 2e-13 L at steps of 1e-6; below that, the
+    // two moment sums' rounding (each within 1e-14 L of the peak, EndDerivativesMatchCentralDifferences)
+    // differ by up to 1.8e-14 L over 50,000 cases
+    const double step = std::hypot(dl, dt * len);
+    EXPECT_NEAR((moved->curve.mid.p - exact->curve.mid.p).norm(), 0.0, 3e-14 * len + 0.2 * step * step / len)
+        << test::seed_text(seed) << " case " << i;
+    EXPECT_NEAR((moved->p - exact->p).norm(), 0.0, 5 * step * step / len + 3e-14 * len)
+        << test::seed_text(seed) << " case " << i;
+    EXPECT_NEAR((moved->tangent - exact->tangent).norm(), 0.0, 1e-14) << test::seed_text(seed) << " case " << i;
+  }
+  // the bound on c keeps out the longer steps on sharper fillets (a quarter of these, log-uniform
+  // up to 1e-6; Algorithm 1's last steps are mostly 1e-9 to 1e-7)
+  EXPECT_GE(moved_count, cases / 2) << test::seed_text(seed);
+  // a step of a tenth of the length moves the peak by far more than the bound
+  const auto far = biclothoid_end_moved(*biclothoid_end(Posture{}, 1.0, 1.0, 1.0), 0.1, 0.0);
+  EXPECT_FALSE(far);
+}
+
 TEST(Biclothoid, ReversedIsTheSameCurveBackwards) {
   const Biclothoid curve = *biclothoid_from_turn(Posture{Vec2(1, 2), 0.3, 0.4}, -0.7, 1.1, 3.0);
   const Biclothoid back = reversed(curve);

@@ -60,11 +60,27 @@ struct BiclothoidEnd {
   Vec2 tangent = Vec2::Zero();   // unit tangent at the end
   Vec2 d_length = Vec2::Zero();  // d p / d length (dimensionless)
   Vec2 d_turn = Vec2::Zero();    // d p / d dtheta (m/rad)
+  double kappa_e = 0;            // 1/m, as asked
+  double turn = 0;               // rad, dtheta as asked
+  // for biclothoid_end_moved: the first clothoid's unit tangent at the peak (s1) and its
+  // tangent's second moment about the start, int_0^s1 u^2 T(u) du (m^3)
+  Vec2 peak_tangent = Vec2::Zero();
+  Vec2 peak_moment = Vec2::Zero();
 };
 std::optional<BiclothoidEnd> biclothoid_end(const Posture& start, double kappa_e, double dtheta, double length);
 // The same, given the start's unit tangent (direction(start.theta)).
 std::optional<BiclothoidEnd> biclothoid_end(const Posture& start, const Vec2& start_tangent, double kappa_e,
                                             double dtheta, double length);
+// biclothoid_end at the length and turn of `from` moved by `length_step` and `turn_step`, without
+// new moments, for Algorithm 1's last Newton step (where both are ~1e-7 of the length and the
+// turn): the curve exact (c and s1 from the new length and turn, the peak point carried by its
+// derivatives to second order, derived in biclothoid_curve.cpp; ~1e-16 of the length off the
+// new curve's peak), the end point linear in the steps (off by their squares: the caller knows
+// how much that is) and the end's derivatives those of `from`. nullopt where the peak moves by
+// more than 1e-5 of the length or the sharpness c by more than 1e-6 / length^2 (s1 is
+// ill-conditioned where c -> 0, and the second-order terms would not do), or for a
+// non-positive length.
+std::optional<BiclothoidEnd> biclothoid_end_moved(const BiclothoidEnd& from, double length_step, double turn_step);
 
 double length(const Biclothoid& curve);
 // The posture at arc length s in [0, length] (clamped).
