@@ -630,9 +630,10 @@ Measured biclothoid_detail::measure_deviation(const BiclothoidSolution& fillet, 
   dev.fillet_to_original = top.value();
 
   // original -> fillet: for a point of U its closest point on V (Newton); the maximum over U on
-  // each side of the corner, where U has its kink, with the corner as a shared candidate. Seeds:
-  // the foot on U of the fillet -> original maximum (a common normal of both curves, where a
-  // smooth maximum of this direction lies too) and each side's midpoint as a guard.
+  // each side of the corner, where U has its kink, with the corner as a shared candidate. A side
+  // whose maximum is inside it (by the corner's slope, below) is sampled at the foot on U of the
+  // fillet -> original maximum (a common normal of both curves, where a smooth maximum of this
+  // direction lies too) and at its midpoint, to bracket that maximum.
   double guess = curve.s1;
   struct Farthest {
     double distance = -1;
