@@ -99,10 +99,7 @@ void panel_series_pair(PanelSeries& a, PanelSeries& b) noexcept {
   BasicPanelSeries<Pair> both(Pair(a.e.b, b.e.b), Pair(a.e.g, b.e.g));
   // lane k back into its series
   const auto lane = [&](PanelSeries& out, Eigen::Index k) {
-    out.e.re = both.e.re[k];
-    out.e.im = both.e.im[k];
-    out.e.prev_re = both.e.prev_re[k];
-    out.e.prev_im = both.e.prev_im[k];
+    out.e = series::lane(both.e, k);
     out.er = both.er[k];
     out.ei = both.ei[k];
     out.or_ = both.or_[k];

@@ -328,10 +328,7 @@ class FilletTable {
     };
     // lane i back into its series
     const auto lane = [&](PanelSeries& out, Eigen::Index i) {
-      out.e.re = both.e.re[i];
-      out.e.im = both.e.im[i];
-      out.e.prev_re = both.e.prev_re[i];
-      out.e.prev_im = both.e.prev_im[i];
+      out.e = series::lane(both.e, i);
       out.h_pow = both.h_pow[i];
       out.even_re = both.even_re[i];
       out.even_im = both.even_im[i];

@@ -89,4 +89,12 @@ struct BasicPhaseTaylor {
 };
 using PhaseTaylor = BasicPhaseTaylor<double>;
 
+// Lane i of series summed side by side, as a series of its own (to go on alone where the other
+// lane stopped).
+template <class T>
+PhaseTaylor lane(const BasicPhaseTaylor<T>& both, Eigen::Index i) {
+  return {.b = both.b[i], .g = both.g[i], .re = both.re[i], .im = both.im[i], .prev_re = both.prev_re[i],
+          .prev_im = both.prev_im[i]};
+}
+
 }  // namespace blendbench::series
