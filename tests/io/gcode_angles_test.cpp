@@ -22,6 +22,7 @@
 #include "support/input_error.hpp"
 #include "support/property.hpp"
 #include "support/random_geometry.hpp"
+#include "support/scratch.hpp"
 
 namespace blendbench {
 namespace {
@@ -236,8 +237,8 @@ TEST(Scenario, GcodeAnglesLoadAsTheSameProgramAsTheYamlMoves) {
   constexpr double kSamePoint = 1e-9;  // m: written with 17 digits, incremental sums round
   constexpr double kSameAngle = 1e-9;  // rad
   const char* names[] = {"roll", "pitch", "yaw"};
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "blendbench_gcode_angles_test";
-  std::filesystem::create_directories(dir);
+  const test::ScratchDir scratch("gcode_angles_test");
+  const std::filesystem::path& dir = scratch.path();
   const int cases = test::property_cases(200);
   int oriented_moves = 0;
   for (int c = 0; c < cases; ++c) {
@@ -303,8 +304,8 @@ TEST(Scenario, TheTorchSeamInGcodeIsTheTorchSeam) {
 // The mapping is checked where it is written: each of roll, pitch, yaw once, all three given,
 // only with a G-code program; without it the program's A, B, C are refused at their place.
 TEST(Scenario, GcodeAnglesMappingIsCheckedWhereItIsWritten) {
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "blendbench_gcode_angles_test";
-  std::filesystem::create_directories(dir);
+  const test::ScratchDir scratch("gcode_angles_test");
+  const std::filesystem::path& dir = scratch.path();
   const std::filesystem::path file = dir / "angles.ngc";
   std::ofstream(file) << "G21 G90 F600\nG1 X10 A180 B0 C0\nG1 Y10 C45\n";
   const std::string program = "  gcode: \"" + file.string() + "\"\n";

@@ -11,6 +11,7 @@
 
 #include "support/input_error.hpp"
 #include "support/property.hpp"
+#include "support/scratch.hpp"
 
 namespace blendbench {
 namespace {
@@ -540,8 +541,9 @@ TEST(Scenario, ToolFrameBranchChangeAndUrdfOnlySettings) {
   EXPECT_TRUE(k.robot.mjcf.ends_with("models/kr6_like_rigid.xml")) << k.robot.mjcf;
   EXPECT_FALSE(k.robot.mjcf_from_urdf);
   // a URDF alone (no MJCF beside it): the dynamics from the URDF, with an inertia estimate if asked
-  const std::string alone = ::testing::TempDir() + "alone.urdf";
-  std::filesystem::copy_file(test::source_path("models/kr6_like.urdf"), alone, std::filesystem::copy_options::overwrite_existing);
+  const test::ScratchDir scratch("scenario_test");
+  const std::string alone = (scratch / "alone.urdf").string();
+  std::filesystem::copy_file(test::source_path("models/kr6_like.urdf"), alone);
   const Scenario u = parse(replaced(kValid, at, at + "robot: {urdf: " + alone + ", estimate_inertia: {total_mass_kg: 30}}\n"));
   EXPECT_TRUE(u.robot.mjcf_from_urdf);
   EXPECT_EQ(u.robot.mjcf, "");

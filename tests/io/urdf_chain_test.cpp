@@ -9,6 +9,7 @@
 
 #include "support/input_error.hpp"
 #include "support/property.hpp"
+#include "support/scratch.hpp"
 #include "blendbench/core/input_error.hpp"
 
 namespace blendbench {
@@ -16,11 +17,11 @@ namespace {
 
 constexpr double kExact = 1e-12;  // m, rad: values written in the file
 
-// Writes `text` to a file in the test's temporary directory and returns its path.
+// Writes `text` to <name>.urdf in this test process's own directory (removed at exit) and returns
+// its path: the tests run side by side and write files of the same names.
 std::string write_file(const std::string& name, const std::string& text) {
-  const std::string path = ::testing::TempDir() + "urdf_chain_test_" + name + ".urdf";
-  std::ofstream(path) << text;
-  return path;
+  static const test::ScratchDir dir("urdf_chain_test");
+  return dir.write(name + ".urdf", text);
 }
 
 // A six-joint arm with fixed joints before, between and after the movable ones; `joint4` is
@@ -150,7 +151,8 @@ TEST(UrdfChain, FindsTheChainFromTheRootToTheOneLeafByDefault) {
 }
 
 TEST(UrdfChain, RejectsUnreadableAndInvalidFiles) {
-  const std::string missing = ::testing::TempDir() + "no_such_file.urdf";
+  const test::ScratchDir dir("urdf_chain_test");
+  const std::string missing = (dir / "no_such_file.urdf").string();
   expect_input_error(missing, "", "cannot open");
   const std::string broken = write_file("broken", "<robot name='x'><link name='a'></robot>");
   expect_input_error(broken, "", "not a valid URDF");

@@ -15,6 +15,7 @@
 #include "blendbench/sim/simulator.hpp"
 #include "support/input_error.hpp"
 #include "support/property.hpp"
+#include "support/scratch.hpp"
 
 namespace blendbench {
 namespace {
@@ -28,10 +29,10 @@ std::string text_of(const std::string& path) {
   return text.str();
 }
 
+// Writes `text` to <name>.urdf in this test process's own directory (removed at exit).
 std::string write_file(const std::string& name, const std::string& text) {
-  const std::string path = ::testing::TempDir() + name + ".urdf";
-  std::ofstream(path) << text;
-  return path;
+  static const test::ScratchDir dir("urdf_model_test");
+  return dir.write(name + ".urdf", text);
 }
 
 // The total mass of the moving bodies (every body but the world).

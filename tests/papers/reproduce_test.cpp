@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "blendbench/core/input_error.hpp"
+#include "support/scratch.hpp"
 
 namespace blendbench {
 namespace {
@@ -172,8 +173,8 @@ TEST(Reproduce000, TheProgramUsesACubicAndAQuartic) {
 }
 
 TEST(Reproduce, WritesTheReportAndRejectsAnUnknownName) {
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() / "blendbench_reproduce_test";
-  std::filesystem::remove_all(dir);
+  const test::ScratchDir scratch("reproduce_test");
+  const std::filesystem::path dir = scratch / "out";
   std::ostringstream log;
   EXPECT_EQ(reproduce("000", dir, false, log), 0);
   std::ifstream readme(dir / "000" / "README.md");
@@ -188,7 +189,6 @@ TEST(Reproduce, WritesTheReportAndRejectsAnUnknownName) {
   EXPECT_EQ(j["runs"].size(), 3u);
   EXPECT_TRUE(std::filesystem::exists(dir / "000" / "profile_exact_stop.csv"));
   EXPECT_THROW(reproduce("003", dir, false, log), InputError);
-  std::filesystem::remove_all(dir);
 }
 
 TEST(Reproduce004, MarkdownHasEveryTable) {
