@@ -46,6 +46,36 @@ constexpr double kHairpinTurn = 2.0;
 
 }  // namespace
 
+// By scaling, as biclothoid_curvature_jump_start (seed 004 is silent): with lengths in units of
+// a the corner is fixed by u_i = kappa_i a, so log(L / a) and log(b / a) are functions of
+// (u1, u2), even in them, whose u -> 0 limits are the small fillet's (kEndShare). Their
+// quadratics, fitted here by least squares to Algorithm 1's solutions (Newton from that limit
+// to 1e-12) on the grid u_i = (pi / 80) k, 0 < u1 <= pi / 4, |u2| <= pi / 4, u1 != u2 (800
+// corners), with the constant terms held at the limits: within 2.9e-5 (L) and 4.9e-5 (b) of
+// every one, the largest beside u1 = u2 at the grid's edge. With the limits alone as the guess,
+// the end missed by 5e-3 of the fillet's size at the eighth-turn cap (|u1| = pi / 4, where a
+// third of the property tests' random fits with an arc are capped), and Algorithm 1 took three
+// or four evaluations there; from this guess, two (its first Newton step lands within the
+// predicted-step bound, kPredictedShare).
+BiclothoidJumpFillet biclothoid_curvature_jump_fillet(double u1, double u2) {
+  constexpr double kRange = kPi / 4;
+  const double size = std::max(std::abs(u1), std::abs(u2));
+  if (!(size <= kRange)) {
+    if (!std::isfinite(size)) return {1 + kEndShare, kEndShare};
+    u1 *= kRange / size;
+    u2 *= kRange / size;
+  }
+  constexpr double kLengthU1U1 = -9.3493732e-3;
+  constexpr double kLengthU1U2 = 1.0435115e-2;
+  constexpr double kLengthU2U2 = 3.2240993e-3;
+  constexpr double kEndU1U1 = -4.7945311e-3;
+  constexpr double kEndU1U2 = 1.4757704e-2;
+  constexpr double kEndU2U2 = 4.2615296e-3;
+  const double log_length = u1 * (kLengthU1U1 * u1 + kLengthU1U2 * u2) + kLengthU2U2 * u2 * u2;
+  const double log_end = u1 * (kEndU1U1 * u1 + kEndU1U2 * u2) + kEndU2U2 * u2 * u2;
+  return {(1 + kEndShare) * std::exp(log_length), kEndShare * std::exp(log_end)};
+}
+
 std::optional<Solve> biclothoid_detail::fit_at(const CornerShapes& shapes, double a, double guess_length,
                                               double guess_b, Effort effort, const ClothoidPairShape* turn_shape) {
   const bool full = effort == Effort::kFull;
@@ -66,9 +96,11 @@ std::optional<Solve> biclothoid_detail::fit_at(const CornerShapes& shapes, doubl
   };
 
   // a cold guess: the symmetric line-line fillet with tangent length a where the tangent jump
-  // dominates, else the small fillet of a curvature jump alone, b = kEndShare a and L = a + b
-  // (both the limits of small fillets; L = 1.5 a, b = a / 2 before, from seed 004 table 1's
-  // fillets, took 0.4 more evaluations per cold solve over the property tests' random corners).
+  // dominates, else the fillet of a curvature jump alone at the arcs' kappa_i a
+  // (biclothoid_curvature_jump_fillet; its small-fillet limit, b = kEndShare a and L = a + b,
+  // before: L = 1.5 a, b = a / 2, from seed 004 table 1's fillets, took 0.4 more evaluations per
+  // cold solve over the property tests' random corners than that limit, which took 2.3 to 2.8
+  // on the random tangent corners with two arcs where this guess takes 2.0).
   // Which dominates: the deviation of the pair grows like |delta| a / 6, that of a curvature
   // jump like |kappa1 - kappa2| a^2 / 42 (see fit_biclothoid_with_tolerance).
   if (!(guess_length > 0 && guess_b > 0)) {
@@ -79,8 +111,9 @@ std::optional<Solve> biclothoid_detail::fit_at(const CornerShapes& shapes, doubl
       guess_length = 2 * pair.half_length;
       guess_b = a;
     } else {
-      guess_length = (1 + kEndShare) * a;
-      guess_b = kEndShare * a;
+      const BiclothoidJumpFillet fillet = biclothoid_curvature_jump_fillet(q1.kappa * a, q2.kappa * a);
+      guess_length = fillet.length * a;
+      guess_b = fillet.end * a;
     }
   }
   // a hairpin: near a reversal, where an arc curls its move back across the other one, the

@@ -1019,6 +1019,64 @@ TEST(Biclothoid, TheCurvatureJumpStartIsAlgorithm2sSolution) {
   EXPECT_EQ(biclothoid_curvature_jump_start(std::numeric_limits<double>::infinity(), 0.1), 0.0);
 }
 
+// Algorithm 1's cold guess at a curvature jump alone against the solutions it was fitted to
+// (biclothoid_curvature_jump_fillet): on the grid u_i = (pi / 16) k and on random (u1, u2) with
+// |u_i| <= pi / 4 at start distances of 1 um to 1 m (the shares are functions of u alone), the
+// fillet Algorithm 1 finds from the guess is the model's to 3.5e-5 (log L) and 5.5e-5 (log b),
+// and it is the fillet it found from the small-fillet limit, the guess before (the same branch
+// of solutions). A coefficient moved by 1e-4 moves the model by 6e-5 at the range's edge.
+TEST(Biclothoid, TheCurvatureJumpFilletIsAlgorithm1sSolution) {
+  double worst_length = 0;
+  double worst_end = 0;
+  const auto check = [&](double u1, double u2, double a, const std::string& where) {
+    const CornerShapes shapes{{0.0, u1 / a}, {0.0, u2 / a}};
+    const auto from_model = fit_biclothoid_at(shapes, a);
+    const auto from_limit = fit_biclothoid_at(shapes, a, (1 + 0.4354205) * a, 0.4354205 * a);
+    ASSERT_TRUE(from_model && from_limit) << where << " u " << u1 << ", " << u2;
+    EXPECT_NEAR(length(from_model->curve), length(from_limit->curve), 1e-9 * a) << where;
+    EXPECT_NEAR(from_model->b, from_limit->b, 1e-9 * a) << where;
+    const BiclothoidJumpFillet model = biclothoid_curvature_jump_fillet(u1, u2);
+    const double length_error = std::abs(std::log(model.length * a / length(from_model->curve)));
+    const double end_error = std::abs(std::log(model.end * a / from_model->b));
+    EXPECT_LE(length_error, 3.5e-5) << where << " u " << u1 << ", " << u2 << " a " << a;
+    EXPECT_LE(end_error, 5.5e-5) << where << " u " << u1 << ", " << u2 << " a " << a;
+    worst_length = std::max(worst_length, length_error);
+    worst_end = std::max(worst_end, end_error);
+  };
+  constexpr double kStep = std::numbers::pi / 16;
+  int checked = 0;
+  for (int i = -4; i <= 4; ++i) {
+    for (int j = -4; j <= 4; ++j) {
+      if (i == j) continue;
+      check(kStep * i, kStep * j, 1e-3, "grid");
+      ++checked;
+    }
+  }
+  const int cases = test::property_cases(200);
+  for (int i = 0; i < cases; ++i) {
+    const std::uint64_t seed = 9300 + static_cast<std::uint64_t>(i);
+    auto rng = test::make_rng(seed);
+    const double u1 = test::uniform(rng, -4 * kStep, 4 * kStep);
+    const double u2 = test::uniform(rng, -4 * kStep, 4 * kStep);
+    if (std::abs(u2 - u1) < 1e-3) continue;
+    check(u1, u2, test::log_uniform(rng, 1e-6, 1.0), test::seed_text(seed));
+    ++checked;
+  }
+  std::cout << checked << " corners: the model within " << worst_length << " (log L) and " << worst_end
+            << " (log b) of Algorithm 1's fillet\n";
+  // the small-fillet limit at u -> 0, even in u, the range's edge along the ray beyond it, and
+  // the limit where u is not a number
+  const BiclothoidJumpFillet zero = biclothoid_curvature_jump_fillet(0.0, 0.0);
+  EXPECT_DOUBLE_EQ(zero.length, 1 + 0.4354205);
+  EXPECT_DOUBLE_EQ(zero.end, 0.4354205);
+  EXPECT_DOUBLE_EQ(biclothoid_curvature_jump_fillet(-0.3, 0.2).end, biclothoid_curvature_jump_fillet(0.3, -0.2).end);
+  EXPECT_DOUBLE_EQ(biclothoid_curvature_jump_fillet(1.6, -0.4).length,
+                   biclothoid_curvature_jump_fillet(std::numbers::pi / 4, -std::numbers::pi / 16).length);
+  const BiclothoidJumpFillet nan = biclothoid_curvature_jump_fillet(std::numeric_limits<double>::quiet_NaN(), 0.1);
+  EXPECT_DOUBLE_EQ(nan.length, zero.length);
+  EXPECT_DOUBLE_EQ(nan.end, zero.end);
+}
+
 // So Algorithm 2 takes one solve at a curvature jump alone: on random tangent corners (arcs of
 // u1 = kappa_1 a_curvature up to 0.75, so the start cap, pi / 4 / |kappa_1|, stays beyond the
 // fillet, and a less curved second one, either way), tolerances of 0.1 um to 10 mm, the first

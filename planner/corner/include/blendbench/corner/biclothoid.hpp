@@ -191,6 +191,20 @@ BiclothoidArcSensitivity biclothoid_arc_sensitivity(double turn);
 // value where the ray to (u1, u2) leaves that range (at most -1.3e-2; not a number: 0).
 double biclothoid_curvature_jump_start(double u1, double u2);
 
+// Algorithm 1's fillet at a curvature jump alone (a tangent corner) at start distance a: its
+// length L and end distance b as shares of a, against u_i = kappa_i a. Even in (u1, u2) (a
+// mirror image flips both), tending to 1 + 0.4354 and 0.4354 as u -> 0 (the small fillet's end
+// share, derived in biclothoid_internal.hpp); quadratics in their logarithms fitted to Algorithm
+// 1's own solutions (biclothoid_fit.cpp), within 3e-5 (L) and 5e-5 (b) of them for |u1|, |u2| <=
+// pi / 4 (a fillet replaces at most an eighth of a turn of an arc); farther out, the value
+// where the ray to (u1, u2) leaves that range; not a number: the u -> 0 limit. Algorithm 1's
+// cold guess where the curvature jump dominates.
+struct BiclothoidJumpFillet {
+  double length;  // L / a
+  double end;     // b / a
+};
+BiclothoidJumpFillet biclothoid_curvature_jump_fillet(double u1, double u2);
+
 // The length of the symmetric clothoid pair (curvature 0 at both ends, seed 002 (Makino)) that
 // turns by `turn` (rad) between two points `chord` apart: chord u / (C(u) cos(turn / 2) +
 // S(u) sin(turn / 2)), u = sqrt(turn / pi), C and S the Fresnel integrals; 0 where no such pair
