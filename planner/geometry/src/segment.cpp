@@ -422,8 +422,11 @@ TangentCurvature tangent_and_curvature(const Primitive& primitive, double s) {
     // tangent and curvature_vector from one sine and cosine
     const double g = arc_speed(*arc);
     const double phi = arc_angle(*arc, s, g);
-    const double sn = std::sin(phi);
-    const double cs = std::cos(phi);
+    // at the arc's start (where a corner's outgoing arc is asked) the sine and cosine are exact
+    // without the call
+    const bool start = phi == 0;
+    const double sn = start ? 0.0 : std::sin(phi);
+    const double cs = start ? 1.0 : std::cos(phi);
     return {arc_tangent(*arc, g, sn, cs), arc_curvature(*arc, g, sn, cs)};
   }
   return {tangent(primitive, s), curvature_vector(primitive, s)};
