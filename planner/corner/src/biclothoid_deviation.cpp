@@ -551,10 +551,32 @@ Measured biclothoid_detail::measure_deviation(const BiclothoidSolution& fillet, 
       const double flat = 1e-9 * top.value() / len;
       Bracket br{l.s, sl, r.s, sr};
       FilletSample at = l.value() >= r.value() ? l : r;
+      // the first step: the maximum of the cubic through both samples' values and slopes
+      // (Hermite), where both are interior (the fillet's ends carry stand-in slopes)
+      double first = -1;
+      if (l.s > 0 && r.s < len) {
+        // its slope in t = (s - l.s) / h is the quadratic s0 + lin t + quad t^2 from s0 to s1 whose
+        // integral over [0, 1] is the rise m; s0 > 0 > s1, so it has one root in (0, 1)
+        const double h = r.s - l.s;
+        const double s0 = sl * h;
+        const double s1 = sr * h;
+        const double m = r.value() - l.value();
+        const double quad = 3 * (s0 + s1) - 6 * m;
+        const double lin = s1 - s0 - quad;
+        const double disc = lin * lin - 4 * quad * s0;
+        if (disc >= 0) {
+          const double q = -0.5 * (lin + std::copysign(std::sqrt(disc), lin));
+          for (const double t : {q != 0 ? s0 / q : -1.0, quad != 0 ? q / quad : -1.0}) {
+            if (t > 0 && t < 1) first = l.s + t * h;
+          }
+        }
+      }
       for (int it = 0; it < 30 && br.x1 - br.x0 > 1e-6 * len; ++it) {
         const auto k = static_cast<std::size_t>(at.active());
         double next = (br.x0 * br.f1 - br.x1 * br.f0) / (br.f1 - br.f0);
-        if (at.second[k] < 0) {
+        if (it == 0 && first > br.x0 && first < br.x1) {
+          next = first;
+        } else if (at.second[k] < 0) {
           const double newton = at.s - at.slope[k] / at.second[k];
           if (newton > br.x0 && newton < br.x1) next = newton;
         }
