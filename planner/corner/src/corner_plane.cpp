@@ -117,6 +117,10 @@ PlanarCorner planar_corner(const Primitive& in, const Primitive& out) {
   // planar: no helix, every line in the plane, every arc axis along the normal
   pc.planar = true;
   for (const Primitive* prim : {&in, &out}) {
+    if (prim == (arc_in ? &in : &out)) {
+      if (axis_arc.rise != 0) pc.planar = false;  // its axis is the normal (their cross product is 0)
+      continue;
+    }
     if (const Arc* arc = std::get_if<Arc>(prim)) {
       if (arc->rise != 0 || arc->u.cross(arc->v).normalized().cross(normal).norm() > kPlanarAngle) pc.planar = false;
     } else {

@@ -35,12 +35,16 @@ double gauss_legendre(const F& f, double a, double b) {
 // terms decay like 1/n! and summing them loses at most a factor e in rounding.
 constexpr double kClothoidPanelPhase = 1.0;
 
-// 1 / n for n = 0 .. 40 (entry 0 unused), so the recurrence needs no division.
 double clamp_s(double s, double len) { return std::clamp(s, 0.0, len); }
 
 // Helix helpers: b = rise per radian along w.
 double arc_pitch(const Arc& arc) { return arc.rise / arc.sweep; }
-double arc_speed(const Arc& arc) { return std::hypot(arc.radius, arc_pitch(arc)); }  // ds/dphi
+// ds/dphi; of a planar arc its radius's magnitude, which is what hypot(r, +-0) returns, without
+// the call (an arc's length, points and tangents take it several times per corner fit)
+double arc_speed(const Arc& arc) {
+  if (arc.rise == 0 && arc.sweep != 0) return std::abs(arc.radius);
+  return std::hypot(arc.radius, arc_pitch(arc));
+}
 
 // Derivative control points (hodograph) of a Bezier curve.
 std::vector<Vec3> hodograph(const std::vector<Vec3>& p) {
