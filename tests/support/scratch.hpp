@@ -3,7 +3,6 @@
 // processes share it, whether ctest runs them side by side or two builds run their suites at
 // once) and removed with everything in it when the object goes.
 
-#include <gtest/gtest.h>
 #include <stdlib.h>  // mkdtemp
 
 #include <filesystem>
