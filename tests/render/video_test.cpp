@@ -9,6 +9,8 @@
 #include <map>
 #include <string>
 
+#include "support/scratch.hpp"
+
 namespace blendbench {
 namespace {
 
@@ -17,12 +19,6 @@ namespace fs = std::filesystem;
 // A fresh directory per test, removed afterwards.
 class VideoWriterTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    std::string pattern = (fs::temp_directory_path() / "blendbench-video-XXXXXX").string();
-    ASSERT_NE(mkdtemp(pattern.data()), nullptr);
-    dir_ = pattern;
-  }
-  void TearDown() override { fs::remove_all(dir_); }
 
   [[nodiscard]] std::vector<std::string> entries() const {
     std::vector<std::string> names;
@@ -30,7 +26,8 @@ class VideoWriterTest : public ::testing::Test {
     return names;
   }
 
-  fs::path dir_;
+  const test::ScratchDir scratch_{"video"};
+  const fs::path& dir_ = scratch_.path();
 };
 
 // A frame with a moving gradient, so the encoder has something to encode.

@@ -56,6 +56,20 @@ inline double angle_turn(double from, double to) {
   return d;
 }
 
+// (u1, u2) moved along its ray onto the square |u_i| <= range where it lies outside it; false
+// where it is not finite. The small-fillet fits in u_i = kappa_i a
+// (biclothoid_curvature_jump_start, biclothoid_curvature_jump_fillet) hold on such a square and
+// keep their edge's value beyond it (their quadratics would run off without bound).
+inline bool onto_range(double range, double& u1, double& u2) {
+  const double size = std::max(std::abs(u1), std::abs(u2));
+  if (!std::isfinite(size)) return false;
+  if (size > range) {
+    u1 *= range / size;
+    u2 *= range / size;
+  }
+  return true;
+}
+
 // Turn of the programmed corner: the tangent jump delta in (-pi, pi].
 inline double corner_turn(const CornerShapes& shapes) { return angle_turn(shapes.q1.theta, shapes.q2.theta); }
 

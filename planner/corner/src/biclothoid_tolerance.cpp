@@ -229,14 +229,9 @@ BiclothoidArcSensitivity biclothoid_arc_sensitivity(double turn) {
 // within 1.9e-5 of every one (the largest at u = (-0.8, -0.72)); quartic terms would take it
 // to 6e-8. (seed 004 is silent: its 42, from table 1, is the u -> 0 limit to 0.1 %.)
 double biclothoid_curvature_jump_start(double u1, double u2) {
-  // outside the fitted range, its edge along the same direction (the quadratic would fall
-  // without bound)
+  // outside the fitted range, its edge along the same direction
   constexpr double kRange = 0.8;
-  const double size = std::max(std::abs(u1), std::abs(u2));
-  if (size > kRange) {
-    u1 *= kRange / size;
-    u2 *= kRange / size;
-  }
+  if (!onto_range(kRange, u1, u2)) return 0.0;
   constexpr double kU1U1 = -4.836173e-3;
   constexpr double kU1U2 = -1.137315e-2;
   constexpr double kU2U2 = -8.226727e-4;

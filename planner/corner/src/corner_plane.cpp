@@ -114,19 +114,15 @@ PlanarCorner planar_corner(const Primitive& in, const Primitive& out) {
   const Arc& axis_arc = std::get<Arc>(arc_in ? in : out);
   const Vec3 normal = axis_arc.u.cross(axis_arc.v).normalized();
 
-  // planar: no helix, every line in the plane, every arc axis along the normal
-  pc.planar = true;
-  for (const Primitive* prim : {&in, &out}) {
-    if (prim == (arc_in ? &in : &out)) {
-      if (axis_arc.rise != 0) pc.planar = false;  // its axis is the normal (their cross product is 0)
-      continue;
-    }
-    if (const Arc* arc = std::get_if<Arc>(prim)) {
-      if (arc->rise != 0 || arc->u.cross(arc->v).normalized().cross(normal).norm() > kPlanarAngle) pc.planar = false;
-    } else {
-      const Line& line = std::get<Line>(*prim);
-      if (std::abs((line.p1 - line.p0).normalized().dot(normal)) > kPlanarAngle) pc.planar = false;
-    }
+  // planar: no helix, every line in the plane, every arc axis along the normal (the normal's own
+  // arc has it by construction, so only the other move is checked)
+  pc.planar = axis_arc.rise == 0;
+  const Primitive& other = arc_in ? out : in;
+  if (const Arc* arc = std::get_if<Arc>(&other)) {
+    if (arc->rise != 0 || arc->u.cross(arc->v).normalized().cross(normal).norm() > kPlanarAngle) pc.planar = false;
+  } else {
+    const Line& line = std::get<Line>(other);
+    if (std::abs((line.p1 - line.p0).normalized().dot(normal)) > kPlanarAngle) pc.planar = false;
   }
 
   pc.plane.origin = corner;
