@@ -77,7 +77,7 @@ FilletFeeds fillet_feeds(const Path& path) {
 // Corners whose transition parameter the blender shrank because a move is short.
 int shrunk(const Path& path) {
   return static_cast<int>(std::count_if(path.corners.begin(), path.corners.end(), [](const CornerReport& c) {
-    return c.note.find("shrunk") != std::string::npos;
+    return c.note.text().find("shrunk") != std::string::npos;
   }));
 }
 

@@ -87,7 +87,7 @@ nlohmann::json corner_json(const CornerReport& c) {
         {"method", std::string(to_string(c.method))},
         {"case", std::string(to_string(c.corner_case))},
         {"fallback", std::string(to_string(c.fallback))},
-        {"note", c.note},
+        {"note", c.note.text()},
         {"parameter_mm", c.parameter / kMm},
         {"length_mm", c.length / kMm},
         {"deviation_mm", c.deviation / kMm},

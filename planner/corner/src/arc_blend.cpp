@@ -542,7 +542,7 @@ CornerFit fit_planar(const Corner& k, const Plane& pl, bool larger_in, double d_
     if (reversal && !fit.transition.empty()) {
       fit.corner_case = CornerCase::kReversal;
       const std::string u_turn = "the moves part at the reversal: a U-turn arc joins them";
-      fit.note = fit.note.empty() ? u_turn : u_turn + "; " + fit.note;
+      fit.note = fit.note.empty() ? u_turn : u_turn + "; " + fit.note.text();
     }
     return fit;
   };

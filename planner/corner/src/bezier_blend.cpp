@@ -395,7 +395,7 @@ CornerFit fit_bezier_corner(const CornerInput& corner) {
   }
   fit.corner_case = angle <= kTangentAngle ? CornerCase::kTangent : curve.non_planar ? CornerCase::kNonPlanar : CornerCase::kRegular;
   fit.fallback = curve.fallback;
-  if (!curve.fallback_why.empty()) fit.note = fit.note.empty() ? curve.fallback_why : fit.note + "; " + curve.fallback_why;
+  if (!curve.fallback_why.empty()) fit.note += (fit.note.empty() ? "" : "; ") + curve.fallback_why;
   fit.trim_in = l;
   fit.trim_out = l;
   fit.transition.emplace_back(std::move(bezier));

@@ -81,12 +81,13 @@ CornerFit fit_biclothoid_in_plane(const CornerInput& corner, const PlanarCorner&
     fit.exact_deviation = start_fit.deviation.max();
     using Limit = BiclothoidStartFit::Limit;
     if (start_fit.limit != Limit::kNone) {
-      const char* why = start_fit.limit == Limit::kIncoming
-                            ? "limited by the incoming move (or an eighth of a turn of its arc)"
-                        : start_fit.limit == Limit::kOutgoing
-                            ? "the fillet must end within the outgoing move (or an eighth of a turn of its arc)"
-                            : "004 Algorithm 1 found no fillet starting further out";
-      fit.note = lengths_note("start distance shrunk from ", start_distance, " to ", start_fit.fillet.a, why);
+      const Note::Literal why =
+          start_fit.limit == Limit::kIncoming
+              ? Note::Literal("limited by the incoming move (or an eighth of a turn of its arc)")
+          : start_fit.limit == Limit::kOutgoing
+              ? Note::Literal("the fillet must end within the outgoing move (or an eighth of a turn of its arc)")
+              : Note::Literal("004 Algorithm 1 found no fillet starting further out");
+      fit.note = Note::lengths("start distance shrunk from ", start_distance, " to ", start_fit.fillet.a, why);
     }
     return fit;
   }
@@ -98,10 +99,10 @@ CornerFit fit_biclothoid_in_plane(const CornerInput& corner, const PlanarCorner&
   fit.parameter_used = tol_fit.deviation.max();
   fit.exact_deviation = fit.parameter_used;
   if (tol_fit.limited) {
-    fit.note = lengths_note("deviation ", fit.parameter_used, " below the tolerance ", tolerance,
+    fit.note = Note::lengths("deviation ", fit.parameter_used, " below the tolerance ", tolerance,
                            "the fillet is limited by the move lengths (or an eighth of a turn of an arc)");
   } else if (!tol_fit.converged) {
-    fit.note = lengths_note("deviation ", fit.parameter_used, " below the tolerance ", tolerance,
+    fit.note = Note::lengths("deviation ", fit.parameter_used, " below the tolerance ", tolerance,
                            "the tolerance loop (004 Algorithm 2) stopped before reaching it");
   }
   return fit;

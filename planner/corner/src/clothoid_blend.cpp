@@ -252,7 +252,7 @@ CornerFit fit_clothoid_corner(const CornerInput& corner) {
   const ClothoidPair& pair = line.pair;
   // the pair as the transition, with its note (the fit itself is returned by the caller: a
   // copy of it out of the lambda cost an allocation per line-line fit)
-  const auto use_pair = [&](std::string note) {
+  const auto use_pair = [&](Note note) {
     use_line_pair(line, geometry.plane, pair.deviation, fit);
     fit.note = std::move(note);
   };
@@ -274,7 +274,7 @@ CornerFit fit_clothoid_corner(const CornerInput& corner) {
                                       short_move + " move, which has " + format_mm(available);
     std::string note = "peak curvature " + format_per_mm(pair.kappa_peak) + " exceeds kappa_max " + format_per_mm(cap) + ": " + why +
                        "; the clothoid pair is kept";
-    if (!line.shrink_note.empty()) note += "; " + line.shrink_note;
+    if (!line.shrink_note.empty()) note += "; " + line.shrink_note.text();
     use_pair(std::move(note));
     return fit;
   }

@@ -176,10 +176,12 @@ std::optional<CornerFit> clothoid_special_case(const CornerInput& corner, const 
   return std::nullopt;
 }
 
-std::string pair_shrunk_note(bool by_start_distance, double asked, double used, const CornerInput& corner) {
-  return lengths_note(by_start_distance ? "start distance shrunk from " : "deviation shrunk from ", asked, " to ", used,
-                      corner.in_available <= corner.out_available ? "the incoming move is short"
-                                                                  : "the outgoing move is short");
+Note pair_shrunk_note(bool by_start_distance, double asked, double used, const CornerInput& corner) {
+  return Note::lengths(by_start_distance ? Note::Literal("start distance shrunk from ")
+                                         : Note::Literal("deviation shrunk from "),
+                       asked, " to ", used,
+                       corner.in_available <= corner.out_available ? Note::Literal("the incoming move is short")
+                                                                   : Note::Literal("the outgoing move is short"));
 }
 
 }  // namespace blendbench

@@ -181,7 +181,7 @@ TEST(ArcBlendLineLine, CornerDistanceIsShrunkToTheAvailableLengthWithANote) {
   EXPECT_DOUBLE_EQ(fit.parameter_used, 0.004);
   EXPECT_DOUBLE_EQ(fit.trim_in, 0.004);
   EXPECT_DOUBLE_EQ(fit.trim_out, 0.004);
-  EXPECT_NE(fit.note.find("shrunk from 10 mm to 4 mm"), std::string::npos) << fit.note;
+  EXPECT_NE(fit.note.text().find("shrunk from 10 mm to 4 mm"), std::string::npos) << fit.note;
   EXPECT_NEAR(as_arc(fit.transition[0]).radius, 0.004, kExact);
 }
 
@@ -238,7 +238,7 @@ TEST(ArcBlendLineArc, ShortArcShrinksTheCornerDistanceToWhereTheTangencyFits) {
   EXPECT_NEAR(fit.parameter_used, d_expected, 1e-12);
   EXPECT_NEAR(fit.trim_in, d_expected, 1e-12);
   EXPECT_NEAR(fit.trim_out, 0.005, 1e-12);
-  EXPECT_NE(fit.note.find("shrunk"), std::string::npos);
+  EXPECT_NE(fit.note.text().find("shrunk"), std::string::npos);
   const Joins joins = measure_joins(corner, fit);
   EXPECT_LE(joins.gap, kPosRel * joins.size);
   EXPECT_LE(joins.angle, kG1);
@@ -541,7 +541,7 @@ TEST(ArcBlendLineArc, ArcShorterThanTheCornerDistanceIsReplacedWhole) {
   ASSERT_TRUE(fit.outcome.ok());
   EXPECT_EQ(fit.fallback, Fallback::kSmallerRadiusShortened);
   EXPECT_DOUBLE_EQ(fit.trim_out, length(out));
-  EXPECT_NE(fit.note.find("shrunk from 1 mm to 0.0005 mm"), std::string::npos) << fit.note;
+  EXPECT_NE(fit.note.text().find("shrunk from 1 mm to 0.0005 mm"), std::string::npos) << fit.note;
   const Joins joins = measure_joins(corner, fit);
   EXPECT_LE(joins.gap, kPosRel * joins.size + 1e-16);
   EXPECT_LE(joins.angle, kG1);

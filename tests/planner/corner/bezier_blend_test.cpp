@@ -241,7 +241,7 @@ TEST(BezierBlend, Algorithm1OneShortMoveUsesHalfTheShorter) {
   EXPECT_DOUBLE_EQ(fit.trim_in, 3 * kMm);
   EXPECT_DOUBLE_EQ(fit.trim_out, 3 * kMm);
   EXPECT_DOUBLE_EQ(fit.parameter_used, 3 * kMm);
-  EXPECT_NE(fit.note.find("TP shrunk from 5 mm to 3 mm: the outgoing move is short"), std::string::npos) << fit.note;
+  EXPECT_NE(fit.note.text().find("TP shrunk from 5 mm to 3 mm: the outgoing move is short"), std::string::npos) << fit.note;
 }
 
 TEST(BezierBlend, Algorithm1BothShortMovesUseHalfTheShorter) {
@@ -332,7 +332,7 @@ TEST(BezierBlend, LineCircleCoplanarSCurveFallsBackToTheQuartic) {
   ASSERT_TRUE(fit.outcome.ok()) << fit.outcome.message;
   EXPECT_EQ(fit.corner_case, CornerCase::kRegular);
   EXPECT_EQ(fit.fallback, Fallback::kQuartic);
-  EXPECT_NE(fit.note.find("the coplanar cubic of eq. 10-13 is not usable"), std::string::npos) << fit.note;
+  EXPECT_NE(fit.note.text().find("the coplanar cubic of eq. 10-13 is not usable"), std::string::npos) << fit.note;
   EXPECT_EQ(only_bezier(fit).degree(), 4);
   expect_g2(c, fit);
 }
@@ -445,7 +445,7 @@ TEST(BezierBlend, TpBeyondAHalfTurnOfASmallArcIsShrunk) {
   const CornerFit fit = fit_bezier_corner(c);
   ASSERT_TRUE(fit.outcome.ok());
   EXPECT_NEAR(fit.trim_out, kPi * r, kExact);
-  EXPECT_NE(fit.note.find("half-turn"), std::string::npos) << fit.note;
+  EXPECT_NE(fit.note.text().find("half-turn"), std::string::npos) << fit.note;
   expect_g2(c, fit);
 }
 
@@ -716,7 +716,7 @@ TEST(BezierBlendProperty, RandomProgramsBlendToG2Paths) {
     ASSERT_EQ(path.corners.size(), program.moves.size() - 1);
     for (const CornerReport& r : path.corners) {
       // only a fillet that would be a cusp is refused (corner.hpp: radius below 1 % of TP)
-      EXPECT_TRUE(r.fallback != Fallback::kExactStop || r.note.find("would be a cusp") != std::string::npos) << r.note;
+      EXPECT_TRUE(r.fallback != Fallback::kExactStop || r.note.text().find("would be a cusp") != std::string::npos) << r.note;
       EXPECT_TRUE(std::isfinite(r.deviation) && std::isfinite(r.kappa_max) && std::isfinite(r.sharpness_max));
       EXPECT_LE(r.deviation, r.parameter * (1 + 1e-6) + 1e-12) << r.corner_case;
       EXPECT_LE(r.parameter, program.moves[static_cast<std::size_t>(r.index)].transition.parameter);

@@ -393,7 +393,7 @@ TEST(Biclothoid, ShortMovesLimitTheFilletAndSaySo) {
   ASSERT_TRUE(fit.outcome.ok());
   EXPECT_LE(fit.trim_in, 1 * kMm);
   EXPECT_LT(fit.parameter_used, 0.1 * kMm);
-  EXPECT_NE(fit.note.find("limited by the move lengths"), std::string::npos) << fit.note;
+  EXPECT_NE(fit.note.text().find("limited by the move lengths"), std::string::npos) << fit.note;
   EXPECT_TRUE(test::is_g2(test::check_fit(c, fit))) << "short move";
   const test::FitCheck check = test::check_fit(c, fit);
   EXPECT_NEAR(check.deviation, fit.parameter_used, 1e-6 * fit.parameter_used);
@@ -403,7 +403,7 @@ TEST(Biclothoid, ShortMovesLimitTheFilletAndSaySo) {
   lines.out_available = 0.5 * kMm;
   const CornerFit shrunk = fit_biclothoid_corner(lines);
   EXPECT_DOUBLE_EQ(shrunk.trim_out, 0.5 * kMm);
-  EXPECT_NE(shrunk.note.find("outgoing move is short"), std::string::npos) << shrunk.note;
+  EXPECT_NE(shrunk.note.text().find("outgoing move is short"), std::string::npos) << shrunk.note;
 }
 
 TEST(Biclothoid, SpecialCorners) {
@@ -1318,8 +1318,8 @@ TEST(BiclothoidStartDistance, ShrinksToTheLargestFilletThatEndsWithinTheOutgoing
   EXPECT_LT(fit.trim_in, 10 * kMm);
   EXPECT_LE(fit.trim_out, c.out_available);
   EXPECT_GE(fit.trim_out, c.out_available * (1 - 1e-6)) << "the largest that fits";
-  EXPECT_NE(fit.note.find("start distance shrunk from 10 mm"), std::string::npos) << fit.note;
-  EXPECT_NE(fit.note.find("outgoing move"), std::string::npos) << fit.note;
+  EXPECT_NE(fit.note.text().find("start distance shrunk from 10 mm"), std::string::npos) << fit.note;
+  EXPECT_NE(fit.note.text().find("outgoing move"), std::string::npos) << fit.note;
   EXPECT_TRUE(test::is_g2(test::check_fit(c, fit)));
   // the incoming move limits it too
   CornerInput short_in = by_start_distance(corner_between(moves[1], moves[2], 0.0), 10 * kMm);
@@ -1327,7 +1327,7 @@ TEST(BiclothoidStartDistance, ShrinksToTheLargestFilletThatEndsWithinTheOutgoing
   const CornerFit capped = fit_biclothoid_corner(short_in);
   ASSERT_TRUE(capped.outcome.ok());
   EXPECT_NEAR(capped.trim_in, 2 * kMm, 1e-15);
-  EXPECT_NE(capped.note.find("incoming move"), std::string::npos) << capped.note;
+  EXPECT_NE(capped.note.text().find("incoming move"), std::string::npos) << capped.note;
 }
 
 TEST(BiclothoidStartDistance, RandomCornersStartWhereAskedOrSayWhyNot) {
@@ -1356,8 +1356,8 @@ TEST(BiclothoidStartDistance, RandomCornersStartWhereAskedOrSayWhyNot) {
     } else {
       ++shrunk;
       EXPECT_LT(fit.trim_in, asked) << test::seed_text(seed);
-      EXPECT_NE(fit.note.find("start distance shrunk"), std::string::npos) << test::seed_text(seed) << fit.note;
-      no_solution += fit.note.find("found no fillet") != std::string::npos ? 1 : 0;
+      EXPECT_NE(fit.note.text().find("start distance shrunk"), std::string::npos) << test::seed_text(seed) << fit.note;
+      no_solution += fit.note.text().find("found no fillet") != std::string::npos ? 1 : 0;
     }
   }
   std::cout << cases << " corners, " << shrunk << " with the start distance shrunk, " << no_solution

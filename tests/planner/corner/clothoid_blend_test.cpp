@@ -154,15 +154,15 @@ TEST(ClothoidArcClothoid, UnreachableCapKeepsThePairAndSaysWhy) {
   ASSERT_TRUE(fit.outcome.ok());
   EXPECT_EQ(fit.corner_case, CornerCase::kCurvatureCapUnmet);
   EXPECT_EQ(fit.transition.size(), 2u);
-  EXPECT_NE(fit.note.find("exceeds kappa_max"), std::string::npos) << fit.note;
-  EXPECT_NE(fit.note.find("deviates"), std::string::npos) << fit.note;
+  EXPECT_NE(fit.note.text().find("exceeds kappa_max"), std::string::npos) << fit.note;
+  EXPECT_NE(fit.note.text().find("deviates"), std::string::npos) << fit.note;
   EXPECT_DOUBLE_EQ(fit.parameter_used, 1 * kMm);
   // with short moves the capped curve would not fit either: the note names the move
   c = line_corner(kPi / 2, 1 * kMm, 500.0, 0.01);
   c.out_available = 1 * kMm;
   const CornerFit short_fit = fit_clothoid_corner(c);
   EXPECT_EQ(short_fit.corner_case, CornerCase::kCurvatureCapUnmet);
-  EXPECT_NE(short_fit.note.find("outgoing"), std::string::npos) << short_fit.note;
+  EXPECT_NE(short_fit.note.text().find("outgoing"), std::string::npos) << short_fit.note;
   EXPECT_LE(short_fit.trim_out, 1 * kMm);
 }
 
@@ -173,7 +173,7 @@ TEST(ClothoidPair, ShortMovesShrinkTheDeviation) {
   ASSERT_TRUE(fit.outcome.ok());
   EXPECT_DOUBLE_EQ(fit.trim_in, 2 * kMm);
   EXPECT_LT(fit.parameter_used, 5 * kMm);
-  EXPECT_NE(fit.note.find("incoming move is short"), std::string::npos) << fit.note;
+  EXPECT_NE(fit.note.text().find("incoming move is short"), std::string::npos) << fit.note;
   EXPECT_NEAR(test::check_fit(c, fit).deviation, fit.parameter_used, 1e-6 * fit.parameter_used);
   EXPECT_TRUE(test::is_g2(test::check_fit(c, fit))) << "short";
 }
@@ -204,7 +204,7 @@ TEST(ClothoidPair, CornersWithArcsFallBackToBiclothoids) {
   const CornerFit fit = fit_clothoid_corner(c);
   ASSERT_TRUE(fit.outcome.ok());
   EXPECT_EQ(fit.fallback, Fallback::kBiclothoid);
-  EXPECT_NE(fit.note.find("does not cap curvature"), std::string::npos) << fit.note;
+  EXPECT_NE(fit.note.text().find("does not cap curvature"), std::string::npos) << fit.note;
   EXPECT_EQ(fit.corner_case, CornerCase::kCurvatureCapUnmet);
   EXPECT_TRUE(test::is_g2(test::check_fit(c, fit))) << "line-arc";
   EXPECT_LE(test::check_fit(c, fit).deviation, 0.1 * kMm * (1 + kDeviationSlack));

@@ -71,7 +71,7 @@ std::vector<Segment> clothoid_pair_segments(const ClothoidPair& pair, const Clot
 struct LinePair {
   ClothoidPairShape shape;
   ClothoidPair pair;
-  std::string shrink_note;
+  Note shrink_note;
 };
 LinePair line_pair(const CornerInput& corner, const PlanarCorner& geometry, double start_distance);
 // The pair as the fit's transition (clothoid_pair_segments in the corner's plane), trimming its

@@ -10,6 +10,7 @@
 #include "blendbench/program/corner_case.hpp"
 #include "blendbench/program/program.hpp"
 #include "blendbench/geometry/segment.hpp"
+#include "blendbench/core/note.hpp"
 #include "blendbench/core/status.hpp"
 
 namespace blendbench {
@@ -39,7 +40,7 @@ struct CornerFit {
   std::vector<Segment> transition;
   CornerCase corner_case = CornerCase::kRegular;
   Fallback fallback = Fallback::kNone;  // documented fallback used
-  std::string note;      // e.g. the parameter was shrunk because a move is short
+  Note note;            // e.g. the parameter was shrunk because a move is short (note.hpp)
   double parameter_used = 0;
   bool stop = false;  // velocity must go to zero here (Buffered at a remaining kink)
   // m, >= 0 where the fit has the Hausdorff distance between its transition and the path it

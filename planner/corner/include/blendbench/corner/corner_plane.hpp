@@ -93,7 +93,7 @@ std::optional<CornerFit> clothoid_special_case(const CornerInput& corner, const 
 
 // The note of a line-line clothoid pair shrunk to the shorter of its moves, as both clothoid
 // methods give it: "deviation (start distance, when `by_start_distance`) shrunk from <asked> to
-// <used>: the incoming (outgoing) move is short" (asked, used in m; lengths_note).
-std::string pair_shrunk_note(bool by_start_distance, double asked, double used, const CornerInput& corner);
+// <used>: the incoming (outgoing) move is short" (asked, used in m; formatted when read).
+Note pair_shrunk_note(bool by_start_distance, double asked, double used, const CornerInput& corner);
 
 }  // namespace blendbench

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "blendbench/core/note.hpp"
 #include "blendbench/program/corner_case.hpp"
 #include "blendbench/program/program.hpp"
 #include "blendbench/geometry/segment.hpp"
@@ -19,7 +20,7 @@ struct CornerReport {
   Method method = Method::kNone;
   CornerCase corner_case = CornerCase::kRegular;
   Fallback fallback = Fallback::kNone;
-  std::string note;                   // e.g. "parameter shrunk from 5 mm to 2.1 mm: move 3 is short"
+  Note note;                          // e.g. "parameter shrunk from 5 mm to 2.1 mm: move 3 is short" (note.hpp: made text when read)
   double parameter = 0;               // m: the transition parameter actually used (a biclothoid
                                       // sized by start distance: the start distance used)
   double length = 0;                  // m: transition length (0 for a kink or zero-length transition)
