@@ -397,14 +397,15 @@ CornerFit kink_fit(const Corner& k, CornerCase corner_case, double trim_in, doub
   return fit;
 }
 
-std::string shrink_note(double requested, double used, std::string_view why) {
-  return lengths_note("corner distance shrunk from ", requested, " to ", used, why);
+// "corner distance shrunk from <requested> to <used>: <why>", formatted when the report is read
+Note shrink_note(double requested, double used, Note::Literal why) {
+  return Note::lengths("corner distance shrunk from ", requested, " to ", used, why);
 }
 
 // seed 001: two lines.
 CornerFit fit_line_line(const Corner& k, double d_req) {
   const double d = std::min({d_req, k.avail_in, k.avail_out});
-  const std::string note = d < d_req ? shrink_note(d_req, d, "a move is short") : "";
+  const Note note = d < d_req ? shrink_note(d_req, d, "a move is short") : Note();
   const Vec3 p1 = point(*k.in, k.len_in - d);
   const Vec3 p2 = point(*k.out, d);
   CornerFit fit;
@@ -454,7 +455,7 @@ CornerFit fit_biarc(const Corner& k, double d_req) {
   fit.trim_out = d;
   fit.parameter_used = d;
   fit.note = "non-planar corner: both moves shortened by " + format_mm(d) + " and joined by two circular arcs";
-  if (d < d_req) fit.note += "; " + shrink_note(d_req, d, "a move is short");
+  if (d < d_req) fit.note += "; " + shrink_note(d_req, d, "a move is short").text();
   const Vec3 p1 = point(*k.in, k.len_in - d);
   const Vec3 t1 = tangent(*k.in, k.len_in - d);
   const Vec3 p2 = point(*k.out, d);
@@ -483,7 +484,7 @@ CornerFit fit_biarc(const Corner& k, double d_req) {
 // opposite direction -> both shortened by d, zero-distance transition.
 CornerFit fit_same_circle(const Corner& k, const Arc& a_in, bool same_direction, double d_req) {
   const double d = std::min({d_req, k.avail_in, k.avail_out});
-  const std::string note = d < d_req ? shrink_note(d_req, d, "a move is short") : "";
+  const Note note = d < d_req ? shrink_note(d_req, d, "a move is short") : Note();
   if (!same_direction) {
     CornerFit fit = kink_fit(k, CornerCase::kSameCircleOppositeDirection, d, d);
     fit.note = note;
@@ -563,7 +564,7 @@ CornerFit fit_planar(const Corner& k, const Plane& pl, bool larger_in, double d_
         fit.fallback = Fallback::kSmallerRadiusShortened;
         fit.note = "no transition arc with the larger-radius move shortened by " + format_mm(d) + " (" + cand.why +
                    "); the smaller-radius move is shortened instead";
-        if (d_swap < d_req) fit.note += "; " + shrink_note(d_req, d_swap, "the smaller-radius move is short");
+        if (d_swap < d_req) fit.note += "; " + shrink_note(d_req, d_swap, "the smaller-radius move is short").text();
         return finish(std::move(fit));
       }
     }
@@ -593,7 +594,7 @@ CornerFit fit_planar(const Corner& k, const Plane& pl, bool larger_in, double d_
     }
   }
   CornerFit fit = from_candidate(k, solve_planar(k, pl, larger_in, lo), lo);
-  fit.note = shrink_note(d_req, lo, cand.why);
+  fit.note = lengths_note("corner distance shrunk from ", d_req, " to ", lo, cand.why);
   return finish(std::move(fit));
 }
 
