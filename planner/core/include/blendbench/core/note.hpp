@@ -1,14 +1,15 @@
 #pragma once
 // A note for a report, built as text only when it is read. The corner fits say why a parameter
 // was shrunk or limited ("deviation 0.0312 mm below the tolerance 0.05 mm: ..."); formatting
-// the two lengths costs about 0.11 us, a twentieth of a whole biclothoid fit, and most notes of
-// a long program are never printed. So a fit records the lengths and the fixed words
-// (Note::lengths), and the text is made where the report is written or printed (text()).
+// the two lengths costs about 0.11 us, a twentieth of a whole biclothoid fit, and the text is
+// needed only where the report is written or printed. So a fit records the lengths and the
+// fixed words (Note::lengths), and the text is made there (text()).
 
 #include <iosfwd>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 
 namespace blendbench {
 
@@ -18,16 +19,17 @@ class Note {
   // keeps by reference. consteval, so a temporary string cannot be passed by mistake.
   class Literal {
    public:
-    consteval Literal(const char* text) : text_(text) {}  // NOLINT(google-explicit-constructor)
+    consteval Literal(const char* text) : text_(text) {}  // implicit: Note::lengths("shrunk from ", ...)
     std::string_view view() const noexcept { return text_; }
 
    private:
     std::string_view text_;
   };
 
+  // implicit, so a note is set from text as the string it was: fit.note = "..."
   Note() = default;
-  Note(std::string text) : rest_(std::move(text)) {}  // NOLINT(google-explicit-constructor)
-  Note(const char* text) : rest_(text) {}             // NOLINT(google-explicit-constructor)
+  Note(std::string text) : rest_(std::move(text)) {}
+  Note(const char* text) : rest_(text) {}
 
   // "<head><first> mm<link><second> mm: <why>" (first, second in m), as lengths_note
   // (format.hpp) writes it, formatted when text() is called
