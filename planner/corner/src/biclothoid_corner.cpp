@@ -8,7 +8,7 @@
 #include <utility>
 
 #include "biclothoid_internal.hpp"
-#include "blendbench/core/format.hpp"
+#include "blendbench/core/note.hpp"
 #include "blendbench/corner/clothoid_blend.hpp"
 #include "blendbench/corner/corner.hpp"
 
