@@ -398,8 +398,11 @@ CornerFit kink_fit(const Corner& k, CornerCase corner_case, double trim_in, doub
 }
 
 // "corner distance shrunk from <requested> to <used>: <why>", formatted when the report is read
+// (the one note whose reason is made at run time, a rejected candidate's, is built at once from
+// the same words)
+constexpr char kShrunkFrom[] = "corner distance shrunk from ";
 Note shrink_note(double requested, double used, Note::Literal why) {
-  return Note::lengths("corner distance shrunk from ", requested, " to ", used, why);
+  return Note::lengths(kShrunkFrom, requested, " to ", used, why);
 }
 
 // seed 001: two lines.
@@ -594,7 +597,7 @@ CornerFit fit_planar(const Corner& k, const Plane& pl, bool larger_in, double d_
     }
   }
   CornerFit fit = from_candidate(k, solve_planar(k, pl, larger_in, lo), lo);
-  fit.note = lengths_note("corner distance shrunk from ", d_req, " to ", lo, cand.why);
+  fit.note = lengths_note(kShrunkFrom, d_req, " to ", lo, cand.why);
   return finish(std::move(fit));
 }
 
