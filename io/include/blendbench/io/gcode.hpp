@@ -90,6 +90,8 @@
 //   no motion mode, and an angle beyond +-kMaxToolAngleDeg.
 
 #include <array>
+#include <cstddef>
+#include <map>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -105,6 +107,14 @@ inline constexpr double kZeroLengthMove = 1e-9;
 // The largest tool angle (degrees) a program may reach: 100 turns, far beyond any wrist, so that
 // G91 increments cannot grow without bound.
 inline constexpr double kMaxToolAngleDeg = 36000;
+
+// The most lines a program may execute (loops and calls count each pass): at about a
+// microsecond a line, a program that never ends is stopped within seconds, while 10^6 moves of
+// a loop-generated program (kMaxMoves) fit ten times over.
+inline constexpr std::size_t kMaxExecutedLines = 10'000'000;
+
+// The deepest subroutine calls may nest (a call that recurses without end stops here).
+inline constexpr std::size_t kMaxCallDepth = 100;
 
 // The angle of the tool orientation that a G-code angle word names (see "Tool angles").
 enum class ToolAngle { kRoll, kPitch, kYaw };
@@ -132,6 +142,12 @@ struct GcodeOptions {
   // Unit quaternion, program frame: the tool's orientation before the first line; only checks
   // that a zero-length move does not turn the tool.
   Quat start_orientation = Quat::Identity();
+  // The tool table: tool number -> length offset (m; X, Y, Z) that G43 H<n> applies. Empty by
+  // default: G43 of a tool not in it applies zero and notes it.
+  std::map<int, Vec3> tool_offsets;
+  // Bounds on the work (InputError beyond them): moves in the program, lines executed.
+  std::size_t max_moves = kMaxMoves;
+  std::size_t max_lines = kMaxExecutedLines;
 };
 
 struct GcodeResult {
