@@ -73,6 +73,7 @@ class Reader {
     const char c = at(i);
     if (c == '[') return expression(i, start, depth + 1);
     if (c == '#') return parameter_value(i, start, depth + 1);
+    // (depth counts brackets, parameter references, functions and signs: each a nesting)
     if (c == '+' || c == '-') {
       ++i;
       if (i >= size() || !(is_digit(at(i)) || at(i) == '.' || at(i) == '[' || at(i) == '#' || is_alpha(at(i)))) {
@@ -129,7 +130,7 @@ class Reader {
   // The number of a numbered parameter (after its '#'), checked to be an integer in range.
   int parameter_number(std::size_t& i, std::size_t hash, std::size_t start, int depth) {
     if (i >= size()) fail(hash, so_far(start, i), "'#' with no parameter number or name after it");
-    const double n = real_value(i, start, depth + 1);
+    const double n = real_value(i, start, depth);
     const double rounded = std::round(n);
     if (std::abs(n - rounded) > kIntegerTolerance || rounded < 1 || rounded > kMaxParameter) {
       fail(hash, so_far(hash, i),
@@ -168,14 +169,14 @@ class Reader {
   }
 
   double binary(std::size_t& i, std::size_t start, int depth, int min_precedence) {
-    double left = real_value(i, start, depth + 1);
+    double left = real_value(i, start, depth);
     while (true) {
       std::size_t after = i;
       const std::optional<Op> op = peek_operator(after);
       if (!op || precedence(*op) < min_precedence) return left;
       const std::size_t op_at = i;
       i = after;
-      const double right = binary(i, start, depth + 1, precedence(*op) + 1);
+      const double right = binary(i, start, depth, precedence(*op) + 1);
       left = apply(*op, left, right, op_at, start);
     }
   }
@@ -261,7 +262,7 @@ class Reader {
       ++i;
       return params_.named(pname) ? 1.0 : 0.0;
     }
-    const double x = expression(i, start, depth + 1);
+    const double x = expression(i, start, depth);
     const auto domain = [&](bool ok, const char* what) {
       if (!ok) fail(begin, so_far(start, i), name + " of " + std::to_string(x) + ": " + what);
     };
@@ -269,7 +270,7 @@ class Reader {
     if (name == "ATAN") {
       if (at(i) != '/' || at(i + 1) != '[') fail(i, so_far(start, i + 1), "ATAN takes two values, ATAN[y]/[x]");
       ++i;
-      const double xx = expression(i, start, depth + 1);
+      const double xx = expression(i, start, depth);
       r = std::atan2(x, xx) / kDegree;
     } else if (name == "ABS") {
       r = std::abs(x);
