@@ -646,7 +646,8 @@ class Reader final : private SystemParams {
     const int lv = integer_of(*l, line, "the G10 L number");
     if (lv == 1) {
       const int tool = integer_of(*p, line, "the tool number P");
-      Vec3& entry = tool_table_[tool];
+      // (a new entry starts at zero: Eigen leaves a default-constructed vector uninitialised)
+      Vec3& entry = tool_table_.try_emplace(tool, Vec3::Zero()).first->second;
       (void)axis_values(lw, line, g, [&](int a, double v) { entry[a] = v; });
       return;
     }
