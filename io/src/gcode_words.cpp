@@ -22,8 +22,6 @@ const char* rejected_g_reason(int code) {
   switch (code) {
     case 410: case 411: case 420: case 421:
       return "cutter radius compensation (G41/G42) changes the path and is not supported";
-    case 430: case 431: case 432:
-      return "tool length offset (G43) changes the path and is not supported";
     case 700: case 710: case 711: case 712: case 720: case 721: case 722: case 730: case 740: case 760:
     case 810: case 820: case 830: case 840: case 850: case 860: case 870: case 880: case 890:
       return "canned cycles are not supported";
@@ -31,14 +29,6 @@ const char* rejected_g_reason(int code) {
       return "spindle-synchronised motion (G33) is not supported";
     case 50: case 51: case 52: case 53:
       return "splines and NURBS (G5, G5.1, G5.2, G5.3) are not supported";
-    case 920: case 921: case 922: case 923: case 520:
-      return "coordinate offsets (G52/G92) are not supported";
-    case 280: case 281: case 300: case 301:
-      return "moves to stored positions (G28/G30) are not supported";
-    case 530:
-      return "moves in machine coordinates (G53) are not supported";
-    case 100:
-      return "G10 (setting offsets and tool data) is not supported";
     case 382: case 383: case 384: case 385:
       return "probing (G38) is not supported";
     case 70: case 80:
@@ -66,14 +56,15 @@ struct Fail {
 std::optional<GGroup> group_of(int code) {
   switch (code) {
     case 0: case 10: case 20: case 30: case 800: return GGroup::kMotion;
-    case 40: return GGroup::kNonModal;
+    case 40: case 100: case 280: case 281: case 300: case 301: case 520: case 530: case 920: case 921: case 922: case 923:
+      return GGroup::kNonModal;
     case 170: case 180: case 190: return GGroup::kPlane;
     case 900: case 910: return GGroup::kDistance;
     case 901: case 911: return GGroup::kArcDistance;
     case 940: return GGroup::kFeedMode;
     case 200: case 210: return GGroup::kUnits;
     case 400: return GGroup::kCutterComp;
-    case 490: return GGroup::kToolLength;
+    case 430: case 431: case 432: case 490: return GGroup::kToolLength;
     case 540: case 550: case 560: case 570: case 580: case 590: case 591: case 592: case 593:
       return GGroup::kCoordSystem;
     case 610: case 611: case 640: return GGroup::kPathControl;
@@ -134,12 +125,10 @@ LineWords sort_words(const std::vector<Word>& words, int line, const std::string
                                    " is not supported (only X, Y, Z; a scenario's program.gcode_angles maps A, B, C to tool angles)");
       case 'U': case 'V': case 'W':
         fail(w.column, w.text, std::string("axis ") + w.letter + " is not supported (only X, Y, Z)");
-      case 'L':
-        fail(w.column, w.text, "L words (G10, canned cycles) are not supported");
       case 'N':
         fail(w.column, w.text, "the line number N must be the first word of the line");
       case 'X': case 'Y': case 'Z': case 'I': case 'J': case 'K': case 'R': case 'P': case 'Q':
-      case 'F': case 'S': case 'T': case 'H': case 'D':
+      case 'F': case 'S': case 'T': case 'H': case 'D': case 'L':
         break;
       default:
         fail(w.column, w.text, std::string("unknown word letter '") + w.letter + "'");

@@ -1,8 +1,9 @@
 #pragma once
 // A reader for the RS274/NGC subset of G-code that describes a tool path of lines and arcs, as
-// LinuxCNC reads it. It turns a part program's text into a Program in metres, in the program's
-// own frame; the planner never opens files, so the caller passes the text and a file name that
-// only appears in messages.
+// LinuxCNC reads it. It turns a part program's text into a Program in metres, in machine
+// coordinates (the programmed points with the program's offsets applied; with none set, the
+// program's own frame); the planner never opens files, so the caller passes the text and a file
+// name that only appears in messages. docs/gcode.md is the user's reference.
 //
 // Path words (read and turned into moves):
 //   G0 G1 G2 G3 (G2/G3 by I/J/K centre or by R, helical when the axis normal to the plane moves,
@@ -13,15 +14,28 @@
 //   comments ( ) and ;, '/' block delete, '%' tape markers. Words are case-insensitive; spaces
 //   and tabs are allowed anywhere outside comments (RS274/NGC); numbers look like 1, -10., .5, +3.
 //   A B C as tool angles, only when GcodeOptions::angles maps them (see "Tool angles" below).
+// Offsets and stored positions (LinuxCNC's G-code manual; see "Offsets" below):
+//   G54-G59.3 (switchable at any line), G10 L2/L20 P0-9 [R] (a system's offsets, rotation about
+//   Z), G10 L1 P (a tool table entry), G52, G92, G92.1, G92.2, G92.3, G43 [H], G43.1, G43.2, G49
+//   (tool length offsets), G53 (one move in machine coordinates), G28/G30 (through the point of
+//   the axis words to the stored position), G28.1/G30.1 (store the current position).
+// Parameters, expressions and control flow (see "Parameters and O-words" below):
+//   #1-#5601, #<name>, #<_global>, ##n, #[expr], assignments "#n = value"; a word's value may be
+//   a number, a parameter, [expression] or a function: binary ** * / MOD + - EQ NE GT GE LT LE AND
+//   OR XOR (LinuxCNC's precedence), ABS ACOS ASIN ATAN[y]/[x] COS EXP FIX FUP LN ROUND SIN SQRT
+//   TAN (degrees), EXISTS[#<name>]; O-words sub/endsub/call with arguments [..] (#1-#30), return
+//   [value] (#<_value>), if/elseif/else/endif, while/endwhile, do/while, repeat/endrepeat,
+//   break, continue.
 // Words that do not change the path are accepted and listed in GcodeResult::ignored:
-//   S, T, H, D, M0 M1 M3 M4 M5 M6 M7 M8 M9, G40, G49, G54-G59, G59.1-G59.3 (one coordinate
-//   system per program), G94.
-// Everything else stops with InputError(file, line, column, word, message): cutter and tool
-// length compensation (G41 G42 G43), canned cycles, G33, splines (G5), G92 offsets, G28/G30,
-// G53, G10, probing, lathe modes, inverse-time feed, O-words, parameters '#', expressions '[ ]',
-// axes A B C (unless mapped to tool angles) and U V W, unknown letters and codes, two words of
-// one modal group on a line, a word given twice, a word on a line with no command that uses it,
-// axis words before any G0-G3 (LinuxCNC starts in G80). Never a silently different path.
+//   S, T (selects the tool M6 loads), H (read by G43), D, M0 M1 M3 M4 M5 M6 M7 M8 M9, G40, G94.
+// Everything else stops with InputError(file, line, column, word, message): cutter radius
+// compensation (G41 G42), canned cycles (G73-G89, G98/G99), G33, splines (G5), probing, lathe
+// modes, inverse-time feed, subroutines in other files, M98/M99, G10 L other than 1, 2, 20,
+// axes A B C (unless mapped to tool angles) and U V W, unknown letters, codes and functions,
+// two words of one modal group on a line, a word given twice, a word on a line with no command
+// that uses it, axis words before any G0-G3 (LinuxCNC starts in G80), an O-word structure that
+// does not close or closes another label, a named parameter read before it is set, a division
+// by zero or a function outside its domain. Never a silently different path.
 //
 // Decisions where RS274/NGC leaves room or this reader departs from LinuxCNC:
 // - Unicode minus (U+2212, as in text extracted from PDFs, e.g. Listing 1 of seed 004) is read as
@@ -89,7 +103,60 @@
 //   has it (options.start_orientation before any target) is an error, as are angle words with
 //   no motion mode, and an angle beyond +-kMaxToolAngleDeg.
 
+// Offsets (LinuxCNC's "Coordinate Systems" and emccanon.cc):
+// - A programmed point p (after units) is reached at R p + O + G + T: O and R the offset and the
+//   rotation about Z of the coordinate system in use (G54 = P1 ... G59.3 = P9), G the G92/G52
+//   offset, T the tool length offset. The path is in these machine coordinates. Changing an
+//   offset or the system never moves the machine: the next move's absent axes keep their
+//   machine position (their programmed coordinates change). LinuxCNC's offsets come from the
+//   machine's parameter file; here every system's offsets are zero until the program sets them
+//   (G10, or the parameters #5221-#5390), and selecting a system it never set is noted.
+// - G10 L2 sets a system's offsets (absent axes keep theirs) and R its rotation in degrees; G91
+//   does not apply. G10 L20 sets them so that the current point gets the given coordinates in
+//   that system. P0 is the system in use.
+// - G92 sets G so that the current point gets the given coordinates; G52 sets G to the given
+//   values (absent axes keep theirs); both store G in #5211-#5213. G92.1 clears G and the
+//   parameters, G92.2 clears G and keeps the parameters, G92.3 restores G from them.
+// - Tool length offsets: the tool table is GcodeOptions::tool_offsets (empty by default; G10 L1
+//   P<tool> X Y Z writes an entry). G43 applies the entry of H (or of the tool M6 loaded, T
+//   selecting it); a tool not in the table gets zero, noted. G43.1 takes the offset from its
+//   axis words, G43.2 adds the entry of H and/or its axis words; G49 removes it.
+// - G53 with G0 or G1 (G90 only): the line's axis words are machine coordinates, for this move.
+// - G28/G30 [axes]: a rapid move to the point of the axis words (if any), then to the stored
+//   position (#5161-#5163 / #5181-#5183, machine coordinates, zero until G28.1/G30.1 or the
+//   parameters set them) of those axes, or of all without axis words.
+// - A, B, C offsets (G92 A..., G10 L2 A...) are refused: they are not positions here.
+//
+// Parameters and O-words (LinuxCNC's "Overview" and "O Codes"):
+// - Values on a line are read with the parameters as they were before the line; its
+//   assignments then take effect (the last one of a parameter wins), and then its words run.
+// - #1-#30 and names without a leading '_' are local to a subroutine call (a call starts them at
+//   its arguments and zero, and they are restored on return); numbered parameters from #31 and
+//   names with '_' are global. An unset numbered parameter is 0; reading an unset name is an
+//   error. Names ignore case and blanks. Predefined, read-only: #<_x> #<_y> #<_z> (position,
+//   program coordinates), #<_metric> #<_imperial> #<_absolute> #<_incremental>
+//   #<_coord_system> #<_current_tool> #<_selected_tool> #<_feed> #<_motion_mode> #<_plane>
+//   #<_value> #<_value_returned> #<_task> (1), #5210 #5220 #5400-#5409 #5420-#5428; the
+//   offsets' parameters (#5161-#5163, #5181-#5183, #5211-#5213, #5221-#5390) are live.
+// - EQ and NE compare within 1e-6 (LinuxCNC's TOLERANCE_EQUAL); a negative remainder of MOD
+//   gets |divisor| added (LinuxCNC); ROUND rounds halves
+//   away from zero; a negative number to a non-integer power is an error; ** groups from the
+//   left like every other operator, as in LinuxCNC.
+// - The O-word structure is checked before the program runs (gcode_flow): every sub, while, do,
+//   repeat and if closes with its label, properly nested; subroutines are not nested; break and
+//   continue name an enclosing loop, return the enclosing subroutine. A definition met in the
+//   flow is skipped; a call may come before or after it. Subroutines in other files (LinuxCNC's
+//   search path) are not read: the call is refused.
+// - The work is bounded: GcodeOptions::max_lines lines executed (kMaxExecutedLines; each loop
+//   pass counts), kMaxCallDepth nested calls, 64 nested brackets, parameter
+//   references and functions in one value, max_moves moves; each stops with InputError at the
+//   line reached. An error inside a subroutine names the body's line and ends its message with
+//   "(in o<name> called from line N, ...)".
+// - The notes of a line (ignored words, dropped moves) are listed once, not once per pass.
+//
 #include <array>
+#include <cstddef>
+#include <map>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -105,6 +172,14 @@ inline constexpr double kZeroLengthMove = 1e-9;
 // The largest tool angle (degrees) a program may reach: 100 turns, far beyond any wrist, so that
 // G91 increments cannot grow without bound.
 inline constexpr double kMaxToolAngleDeg = 36000;
+
+// The most lines a program may execute (loops and calls count each pass): at about a
+// microsecond a line, a program that never ends is stopped within seconds, while 10^6 moves of
+// a loop-generated program (kMaxMoves) fit ten times over.
+inline constexpr std::size_t kMaxExecutedLines = 10'000'000;
+
+// The deepest subroutine calls may nest (a call that recurses without end stops here).
+inline constexpr std::size_t kMaxCallDepth = 100;
 
 // The angle of the tool orientation that a G-code angle word names (see "Tool angles").
 enum class ToolAngle { kRoll, kPitch, kYaw };
@@ -132,6 +207,12 @@ struct GcodeOptions {
   // Unit quaternion, program frame: the tool's orientation before the first line; only checks
   // that a zero-length move does not turn the tool.
   Quat start_orientation = Quat::Identity();
+  // The tool table: tool number -> length offset (m; X, Y, Z) that G43 H<n> applies. Empty by
+  // default: G43 of a tool not in it applies zero and notes it.
+  std::map<int, Vec3> tool_offsets;
+  // Bounds on the work (InputError beyond them): moves in the program, lines executed.
+  std::size_t max_moves = kMaxMoves;
+  std::size_t max_lines = kMaxExecutedLines;
 };
 
 struct GcodeResult {
