@@ -318,6 +318,7 @@ CornerFit fit_bezier_corner(const CornerInput& corner) {
   }
   if (l < tp) fit.note = lengths_note("TP shrunk from ", tp, " to ", l, why);
   fit.parameter_used = l;
+  fit.limited = l < tp;
 
   // tangents and curvature vectors at the corner
   const Vec3 b_in = point(corner.in, len_in);
