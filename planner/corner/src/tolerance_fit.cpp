@@ -54,8 +54,9 @@
 namespace blendbench {
 namespace {
 
-// The search stops once T (1 - kSolveBand) <= dev <= T; it aims kAim below T (in log).
-constexpr double kSolveBand = 1e-4;
+// The search stops once T (1 - kSolveBand) <= dev <= T, the band the corner report calls
+// reached (corner.hpp); it aims kAim below T (in log), well inside it.
+constexpr double kSolveBand = kToleranceBand;
 constexpr double kAim = 0.3 * kSolveBand;
 // The closed forms aim this share below T: dev = T exactly to rounding, never above it.
 constexpr double kClosedFormAim = 1e-12;
@@ -66,8 +67,8 @@ constexpr int kMaxEvaluations = 60;
 const double kMaxStep = std::log(8.0);
 // Halvings of p tried where no fit succeeds before any has (the method fails at this corner).
 constexpr int kMaxBackOff = 8;
-// The bracket is closed (a jump of dev in p) at this width in log p.
-constexpr double kBracketClosed = 1e-10;
+// The bracket is closed (a jump of dev in p) at this width in log p: the parameter to 1e-6.
+constexpr double kBracketClosed = 1e-6;
 // rad: tangents closer than this meet without a turn (the blender's G1 threshold).
 constexpr double kStraight = 1e-9;
 // Bezier at a curvature jump alone (a tangent corner between a line and an arc or two arcs),
