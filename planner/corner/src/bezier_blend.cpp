@@ -318,7 +318,6 @@ CornerFit fit_bezier_corner(const CornerInput& corner) {
   }
   if (l < tp) fit.note = lengths_note("TP shrunk from ", tp, " to ", l, why);
   fit.parameter_used = l;
-  fit.limited = l < tp;
 
   // tangents and curvature vectors at the corner
   const Vec3 b_in = point(corner.in, len_in);
@@ -353,6 +352,8 @@ CornerFit fit_bezier_corner(const CornerInput& corner) {
       return fit;
     }
   }
+  // (shrunk, where the corner is blended: not at the cases above, which TP does not change)
+  fit.limited = l < tp;
   // zero distance (TP = 0, or nothing left of a move): a kink; the blender stops there in
   // Buffered mode (seed 001: a zero-length transition that only affects blending)
   if (l <= kMinLength) {

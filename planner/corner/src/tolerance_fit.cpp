@@ -125,9 +125,12 @@ CornerFit fit_corner_at_tolerance(const CornerInput& corner) {
   const Vec3 t_out = tangent(corner.out, 0.0);
   const double theta = angle_between(t_in, t_out);
   const bool lines = std::holds_alternative<Line>(corner.in) && std::holds_alternative<Line>(corner.out);
+  // (none where the lines continue each other: nothing to cut there, at any parameter)
   double factor = 0;  // dev per unit parameter for two lines (0: no closed form)
-  if (lines && method == Method::kArc) factor = std::tan(0.25 * theta);
-  if (lines && method == Method::kBezier && theta < std::numbers::pi - kReversalAngle) factor = 0.25 * std::sin(0.5 * theta);
+  if (lines && theta > kStraight) {
+    if (method == Method::kArc) factor = std::tan(0.25 * theta);
+    if (method == Method::kBezier && theta < std::numbers::pi - kReversalAngle) factor = 0.25 * std::sin(0.5 * theta);
+  }
 
   // the first parameter: the closed form for two lines, and the models elsewhere (the line-line
   // forms at the corner's turn; the Bezier's curvature-jump model added where one acts)
@@ -261,7 +264,8 @@ CornerFit fit_corner_at_tolerance(const CornerInput& corner) {
   const double dev = best.dev;
   // the deviation as it was measured at the solution, for the report
   fit.exact_deviation = dev;
-  if (dev <= kNoCut * tol && !fit.limited) {
+  // (a fit shrunk to nothing, where the previous corner used the move up, is limited instead)
+  if (dev <= kNoCut * tol && !(fit.limited && !(fit.parameter_used > 0))) {
     // nothing to cut: the corner as the method leaves it (no transition where one would only
     // retrace the programmed path, e.g. the arc's piece of a tangent move)
     if (method == Method::kArc) {

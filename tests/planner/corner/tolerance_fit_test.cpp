@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <numbers>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "blendbench/corner/blend.hpp"
@@ -294,14 +295,18 @@ TEST(ToleranceFit, DeviationGrowsWithTheParameterOnEachConstruction) {
 // The special cases (docs/methods.md, "Equal tolerance").
 TEST(ToleranceFit, SpecialCasesSayWhetherTheToleranceIsReached) {
   const double tol = 0.1e-3;
-  // collinear lines: nothing to cut, for every method
-  for (const Method method : kMethods) {
-    const CornerFit fit = fit_as_blended(line_line(0.0, 0.1, 0.1, method, tol));
+  // collinear lines (and lines within the G1 threshold of it): nothing to cut, for every method,
+  // on long moves and on moves shorter than the tolerance
+  for (const auto& [method, theta, len] : {std::tuple{Method::kArc, 0.0, 0.1}, std::tuple{Method::kArc, 1e-11, 0.1},
+                                           std::tuple{Method::kArc, 0.0, 0.05e-3}, std::tuple{Method::kBezier, 0.0, 0.1},
+                                           std::tuple{Method::kBezier, 1e-11, 0.05e-3}, std::tuple{Method::kClothoid, 0.0, 0.1},
+                                           std::tuple{Method::kBiclothoid, 0.0, 0.05e-3}}) {
+    const CornerFit fit = fit_as_blended(line_line(theta, len, len, method, tol));
     ASSERT_TRUE(fit.outcome.ok());
     EXPECT_EQ(fit.corner_case, CornerCase::kCollinear) << to_string(method);
     EXPECT_TRUE(fit.transition.empty()) << to_string(method);
-    EXPECT_EQ(corner_deviation(fit, Line{Vec3(-0.1, 0, 0), Vec3::Zero()}, Line{Vec3::Zero(), Vec3(0.1, 0, 0)}), 0.0);
-    EXPECT_NE(fit.note.text().find("nothing to cut"), std::string::npos) << fit.note.text();
+    EXPECT_LE(corner_deviation(fit, Line{Vec3(-len, 0, 0), Vec3::Zero()}, Line{Vec3::Zero(), Vec3(len, 0, 0)}), 1e-15);
+    EXPECT_NE(fit.note.text().find("nothing to cut"), std::string::npos) << to_string(method) << " " << fit.note.text();
   }
   // a line reversal (seed 001 fig. 7-3): the arc shortens both lines by d, so the corner is d from
   // the kept path: d = T, reached; the curve methods leave the kink (nothing to cut)
