@@ -264,11 +264,16 @@ CornerFit fit_corner_at_tolerance(const CornerInput& corner) {
   const double dev = best.dev;
   // the deviation as it was measured at the solution, for the report
   fit.exact_deviation = dev;
-  // (a fit shrunk to nothing, where the previous corner used the move up, is limited instead)
-  if (dev <= kNoCut * tol && !(fit.limited && !(fit.parameter_used > 0))) {
-    // nothing to cut: the corner as the method leaves it (no transition where one would only
-    // retrace the programmed path, e.g. the arc's piece of a tangent move)
-    if (method == Method::kArc) {
+  // nothing to cut: a corner the method leaves as it is at any parameter (G1 already, or a
+  // reversal a curve cannot join); a fit shrunk to nothing, where the previous corner used a
+  // move up, is limited instead
+  const CornerCase c = fit.corner_case;
+  const bool g1 = c == CornerCase::kCollinear || c == CornerCase::kTangent || c == CornerCase::kTangentOpposite ||
+                  c == CornerCase::kSameCircleSameDirection;
+  if (dev <= kNoCut * tol && (g1 || c == CornerCase::kReversal)) {
+    // the corner as the method leaves it (no transition where one would only retrace the
+    // programmed path, e.g. the arc's piece of a tangent move)
+    if (method == Method::kArc && g1) {
       work.spec.parameter = 0;
       fit = fit_at(work);
     }
@@ -285,6 +290,9 @@ CornerFit fit_corner_at_tolerance(const CornerInput& corner) {
   } else if (jump) {
     why += "the deviation jumps past the tolerance at " + std::string(parameter_name(method)) + " " +
            format_mm(std::exp(hi)) + (hi_point.ok ? "" : " (no transition fits above it: " + hi_point.fit.outcome.message + ")");
+  } else if (dev <= kNoCut * tol) {
+    why += "the " + std::string(to_string(method)) + " method cuts nothing at this " +
+           std::string(to_string(fit.corner_case)) + " corner";
   } else {
     why += "the search stopped after " + std::to_string(kMaxEvaluations) + " fits";
   }
