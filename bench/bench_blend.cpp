@@ -1,6 +1,7 @@
 // Time one corner fit per corner type and method through the public fit_*_corner functions
 // (seed 004 section 7.3 reports 5 us for line-line and 42 us for line-arc / arc-arc on a 2.4 GHz
-// dual core). The targets, the tolerance loop of Algorithm 2 included, are on the
+// dual core). BM_ToleranceProgram blends a program of 10^4 random corners by parameter and at a
+// tolerance (equal tolerance, issue 44). The targets, the tolerance loop of Algorithm 2 included, are on the
 // distribution below: a median of 0.2 us for line-line and 2 us for line-arc and arc-arc, and a
 // 99th percentile of 8 us.
 // The corners are those of seed 004 listing 1 and table 2, in metres, and a spread of line-arc
@@ -11,6 +12,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <ctime>
 #include <cmath>
 #include <numbers>
 #include <optional>
@@ -20,6 +22,7 @@
 #include "blendbench/core/units.hpp"
 #include "blendbench/geometry/arc_construction.hpp"
 #include "blendbench/corner/biclothoid.hpp"
+#include "blendbench/corner/blend.hpp"
 #include "blendbench/corner/corner.hpp"
 #include "blendbench/corner/corner_plane.hpp"
 #include "blendbench/geometry/fresnel.hpp"
@@ -313,6 +316,80 @@ void BM_ArcRandom(benchmark::State& s, test::CornerKind kind) { distribution(s, 
 void BM_BezierRandom(benchmark::State& s, test::CornerKind kind) {
   distribution(s, kind, Method::kBezier, fit_bezier_corner);
 }
+// Equal tolerance (issue 44): a program of 10^4 random corners blended whole (blend(), every
+// corner fitted and measured as a run does), each method sized by its plain parameter and by a
+// tolerance, for the cost per corner of solving the parameter. The program: lines of 1-20 mm
+// (60 %) and arcs of radius 2-50 mm turning 0.2-2 rad, in a plane; a quarter of the junctions
+// tangent, the others turning by 5-150 degrees in that plane; a fifth of the arcs in a plane
+// tilted by 0.2-1.2 rad about their start tangent (a non-planar corner at their start), which
+// the path then goes on in. The same program for every case (seed 44).
+Program random_program(std::size_t moves) {
+  auto rng = test::make_rng(44);
+  const auto uniform = [&](double lo, double hi) { return test::uniform(rng, lo, hi); };
+  Program program;
+  program.moves.reserve(moves);
+  Vec3 p = Vec3::Zero();
+  Vec3 t = Vec3::UnitX();
+  Vec3 n = Vec3::UnitZ();  // the plane the path goes on in
+  for (std::size_t k = 0; k < moves; ++k) {
+    if (k > 0 && uniform(0, 1) >= 0.25) {
+      const double turn = uniform(5, 150) * std::numbers::pi / 180 * (uniform(0, 1) < 0.5 ? 1 : -1);
+      t = (Eigen::AngleAxisd(turn, n) * t).normalized();
+    }
+    Move move;
+    move.limits = {0.1, 2.0, 2.0, 50.0};
+    if (uniform(0, 1) < 0.6) {
+      move.geometry = Line{p, p + test::log_uniform(rng, 1e-3, 20e-3) * t};
+    } else {
+      if (uniform(0, 1) < 0.2) n = (Eigen::AngleAxisd(uniform(0.2, 1.2), t) * n).normalized();
+      move.geometry = test::arc_leaving(p, t, n, uniform(0, 1) < 0.5 ? 1.0 : -1.0, test::log_uniform(rng, 2e-3, 50e-3),
+                                        uniform(0.2, 2.0));
+    }
+    const double len = length(move.geometry);
+    p = point(move.geometry, len);
+    t = tangent(move.geometry, len);
+    t = (t - t.dot(n) * n).normalized();  // (rounding)
+    program.moves.push_back(std::move(move));
+  }
+  return program;
+}
+
+// Blends the random program with every move's transition `method` sized by `parameter` (m) or,
+// where `tolerance` > 0, by that tolerance (m); counters: processor us per corner (the fastest
+// blend of the iterations), and with a tolerance the share of corners that reached it.
+void BM_ToleranceProgram(benchmark::State& state, Method method, double parameter, double tolerance) {
+  constexpr std::size_t kMoves = 10001;
+  Program program = random_program(kMoves);
+  for (Move& move : program.moves) {
+    move.transition.method = method;
+    move.transition.parameter = tolerance > 0 ? 0.0 : parameter;
+    move.transition.tolerance = tolerance;
+  }
+  std::size_t reached = 0;
+  // s, the least processor time of a blend over the iterations: the machine is shared, and wall
+  // time there counts other processes' work (it ran at twice the processor time when measured)
+  double fastest = 1e30;
+  for (auto _ : state) {
+    const std::clock_t t0 = std::clock();
+    Path path = blend(program);
+    fastest = std::min(fastest, static_cast<double>(std::clock() - t0) / CLOCKS_PER_SEC);
+    reached = static_cast<std::size_t>(std::count_if(path.corners.begin(), path.corners.end(),
+                                                     [](const CornerReport& r) { return r.tolerance_reached; }));
+    benchmark::DoNotOptimize(path);
+  }
+  state.counters["us_per_corner"] = fastest * 1e6 / static_cast<double>(kMoves - 1);
+  state.counters["reached_share"] = static_cast<double>(reached) / static_cast<double>(kMoves - 1);
+}
+// plain parameters of the same order as the tolerance's solutions (0.1 mm): arc and TP 0.5 mm
+BENCHMARK_CAPTURE(BM_ToleranceProgram, ArcParameter, Method::kArc, 0.5e-3, 0.0)->Unit(benchmark::kMillisecond)->Iterations(5);
+BENCHMARK_CAPTURE(BM_ToleranceProgram, ArcTolerance, Method::kArc, 0.0, 0.1e-3)->Unit(benchmark::kMillisecond)->Iterations(5);
+BENCHMARK_CAPTURE(BM_ToleranceProgram, BezierParameter, Method::kBezier, 0.5e-3, 0.0)->Unit(benchmark::kMillisecond)->Iterations(5);
+BENCHMARK_CAPTURE(BM_ToleranceProgram, BezierTolerance, Method::kBezier, 0.0, 0.1e-3)->Unit(benchmark::kMillisecond)->Iterations(5);
+BENCHMARK_CAPTURE(BM_ToleranceProgram, ClothoidParameter, Method::kClothoid, 0.1e-3, 0.0)->Unit(benchmark::kMillisecond)->Iterations(5);
+BENCHMARK_CAPTURE(BM_ToleranceProgram, ClothoidTolerance, Method::kClothoid, 0.0, 0.1e-3)->Unit(benchmark::kMillisecond)->Iterations(5);
+BENCHMARK_CAPTURE(BM_ToleranceProgram, BiclothoidParameter, Method::kBiclothoid, 0.1e-3, 0.0)->Unit(benchmark::kMillisecond)->Iterations(5);
+BENCHMARK_CAPTURE(BM_ToleranceProgram, BiclothoidTolerance, Method::kBiclothoid, 0.0, 0.1e-3)->Unit(benchmark::kMillisecond)->Iterations(5);
+
 BENCHMARK_CAPTURE(BM_BiclothoidRandom, LineLine, test::CornerKind::kLineLine)->Iterations(5);
 BENCHMARK_CAPTURE(BM_BiclothoidRandom, LineArc, test::CornerKind::kLineArc)->Iterations(5);
 BENCHMARK_CAPTURE(BM_BiclothoidRandom, ArcLine, test::CornerKind::kArcLine)->Iterations(5);

@@ -84,9 +84,20 @@ std::optional<double> max_samples_flag(const TimingFlags& flags) {
   return flags.max_samples;
 }
 
+// --tolerance MM: positive and finite, in m.
+std::optional<double> tolerance_flag(const std::optional<double>& tolerance_mm) {
+  if (!tolerance_mm) return std::nullopt;
+  if (!(std::isfinite(*tolerance_mm) && *tolerance_mm > 0)) {
+    throw bb::InputError("", 0, 0, "--tolerance", "must be > 0 and finite (mm), got " + bb::format_value(*tolerance_mm));
+  }
+  return *tolerance_mm * 1e-3;
+}
+
 int cmd_run(std::string scenario_path, std::string out_dir, bool no_video, bool no_plots, bool compare,
-            const std::vector<std::string>& variants, const TimingFlags& timing_flags) {
+            const std::vector<std::string>& variants, const TimingFlags& timing_flags,
+            const std::optional<double>& tolerance_mm) {
   const auto start = std::chrono::steady_clock::now();
+  (void)tolerance_flag(tolerance_mm);  // refused before anything is loaded
   // no scenario given: the default one in the data root (data_root.hpp)
   if (scenario_path.empty()) scenario_path = bb::data_file("scenarios/default.yaml");
   const bb::Scenario scenario = bb::load_scenario(scenario_path);
@@ -101,6 +112,7 @@ int cmd_run(std::string scenario_path, std::string out_dir, bool no_video, bool 
   request.variants = variants;
   request.limits = limits_flag(timing_flags);
   request.max_samples = max_samples_flag(timing_flags);
+  request.tolerance = tolerance_flag(tolerance_mm);
   request.progress = [](const std::string& line) { std::cout << line << std::endl; };
   std::cout << "blendbench: scenario '" << scenario.name << "' (" << scenario_path << ") -> " << out_dir << std::endl;
   const bb::RunResult result = bb::run_scenario(scenario, request);
@@ -140,6 +152,7 @@ struct ProgramFlags {
   std::string method;
   std::optional<double> param_mm;           // unset: not given
   std::optional<double> start_distance_mm;
+  std::optional<double> tolerance_mm;       // equal tolerance: replaces the parameter of every move with a method
   double feed_mm_per_min = 0;
   double amax_mm_s2 = 0;
   double jmax_mm_s3 = 0;
@@ -163,8 +176,17 @@ void check_positive(double value, const char* flag) {
 }
 
 // Reads a G-code file or a scenario variant and applies the overrides: --method/--param replace
-// the transition of every move; --feed/--amax/--jmax replace the limits of every move.
+// the transition of every move; --tolerance replaces the parameter of every move with a method
+// (with --method: of every move); --feed/--amax/--jmax replace the limits of every move.
 LoadedProgram load_program(const std::string& input, const ProgramFlags& flags) {
+  const std::optional<double> tolerance = tolerance_flag(flags.tolerance_mm);
+  if (tolerance && flags.param_mm) {
+    throw bb::InputError("", 0, 0, "--tolerance", "give --tolerance or --param, not both (--tolerance and --param exclude each other)");
+  }
+  if (tolerance && flags.start_distance_mm) {
+    throw bb::InputError("", 0, 0, "--tolerance",
+                         "give --tolerance or --start-distance, not both (--tolerance and --start-distance exclude each other)");
+  }
   std::optional<bb::Transition> transition;
   if (!flags.method.empty()) {
     const auto method = bb::method_from_string(flags.method);
@@ -181,9 +203,12 @@ LoadedProgram load_program(const std::string& input, const ProgramFlags& flags) 
       transition->start_distance = *flags.start_distance_mm * 1e-3;
     } else if (*method == bb::Method::kNone) {
       if (flags.param_mm) throw bb::InputError("", 0, 0, "--param", "has no meaning with --method none (an exact stop)");
+      if (tolerance) throw bb::InputError("", 0, 0, "--tolerance", "has no meaning with --method none (an exact stop)");
+    } else if (tolerance) {
+      transition->tolerance = *tolerance;
     } else {
       if (!flags.param_mm) {
-        throw bb::InputError("", 0, 0, "--param", "required with --method " + flags.method + " (mm)" +
+        throw bb::InputError("", 0, 0, "--param", "required with --method " + flags.method + " (mm), or --tolerance" +
                                                       (*method == bb::Method::kBiclothoid ? ", or --start-distance" : ""));
       }
       if (!(*flags.param_mm >= 0)) throw bb::InputError("", 0, 0, "--param", "must be >= 0 (mm)");
@@ -220,6 +245,7 @@ LoadedProgram load_program(const std::string& input, const ProgramFlags& flags) 
   if (flags.merge_mm && !(*flags.merge_mm >= 0 && std::isfinite(*flags.merge_mm))) {
     throw bb::InputError("", 0, 0, "--merge-tolerance", "must be >= 0 (mm)");
   }
+  if (tolerance && !transition) bb::apply_tolerance(out.program, *tolerance);
   for (bb::Move& move : out.program.moves) {
     if (transition) move.transition = *transition;
     if (flags.merge_mm) move.transition.merge_tolerance = *flags.merge_mm * 1e-3;
@@ -394,6 +420,10 @@ int main(int argc, char** argv) {
                 "Also render DIR/compare.mp4: every variant side by side, synchronised, then the worst corner in slow "
                 "motion (with --no-video: the comparison alone)");
   run->add_option("--variant", variants, "Run only this variant (repeatable)");
+  std::optional<double> run_tolerance_mm;
+  run->add_option("--tolerance", run_tolerance_mm,
+                  "Equal tolerance in mm: every transition's parameter solved at each corner so that its deviation "
+                  "equals it (every variant, every move with a method)");
   TimingFlags timing_flags;
   const auto add_timing_flags = [&](CLI::App* cmd) {
     cmd->add_option("--limits", timing_flags.limits,
@@ -414,6 +444,9 @@ int main(int argc, char** argv) {
     cmd->add_option("--method", flags.method, "Transition on every move: none, arc, bezier, clothoid, biclothoid");
     cmd->add_option("--param", flags.param_mm,
                     "Transition parameter in mm: corner distance (arc), TP (bezier), maximum deviation (clothoid, biclothoid)");
+    cmd->add_option("--tolerance", flags.tolerance_mm,
+                    "Equal tolerance in mm, instead of --param: each corner's parameter solved so that its deviation "
+                    "equals it (with --method: every move; else every move with a method)");
     cmd->add_option("--start-distance", flags.start_distance_mm,
                     "Biclothoid only, instead of --param: distance in mm from the corner at which the fillet starts");
     cmd->add_option("--feed", flags.feed_mm_per_min, "Feed on every move, mm/min (G-code default 1000 until an F word)");
@@ -490,7 +523,7 @@ int main(int argc, char** argv) {
   }
 
   try {
-    if (*run) return cmd_run(scenario_path, out_dir, no_video, no_plots, compare, variants, timing_flags);
+    if (*run) return cmd_run(scenario_path, out_dir, no_video, no_plots, compare, variants, timing_flags, run_tolerance_mm);
     if (*path) return cmd_path(input, flags, csv, report, ds_mm);
     if (*plan) return cmd_plan(input, flags, timing_flags, csv, summary);
     if (*check) return cmd_check(run_dir, baseline, tolerances, update);

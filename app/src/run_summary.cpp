@@ -224,6 +224,7 @@ nlohmann::json corners_json(const PlanFigures& p) {
   nlohmann::json corners = nlohmann::json::array();
   for (std::size_t k = 0; k < p.corners.size(); ++k) {
     nlohmann::json c = k < p.placements.size() ? corner_json(p.corners[k], p.placements[k]) : corner_json(p.corners[k]);
+    if (k >= p.placements.size()) add_corner_tolerance_and_source(c, p.corners[k]);
     if (k < p.corner_times.size()) {
       c["t_start_s"] = p.corner_times[k].t_start;
       c["t_end_s"] = p.corner_times[k].t_end;
@@ -286,6 +287,7 @@ void to_json(nlohmann::json& out, const VariantSummary& v) {
   out = {{"name", v.name},
          {"method", std::string(to_string(v.method))},
          {"parameter_mm", v.parameter / kMm},
+         {"tolerance_mm", v.tolerance > 0 ? nlohmann::json(v.tolerance / kMm) : nlohmann::json()},
          {"baseline", std::string(baseline_name(v.baseline))},
          {"status", std::string(to_string(v.status))},
          {"plan", plan_json(v.plan)},

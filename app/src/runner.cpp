@@ -289,11 +289,17 @@ class VariantRun {
       : sc_(sc), robot_(robot), request_(request), variant_(variant), dir_(request.out_dir / variant.name), videos_(videos) {}
 
   VariantSummary run() {
-    const Program program = program_for(sc_, variant_);
+    Program program = program_for(sc_, variant_);
+    if (request_.tolerance) apply_tolerance(program, *request_.tolerance);
     VariantSummary out;
     out.name = variant_.name;
     out.method = variant_method(program, variant_);
     out.parameter = variant_.transition ? variant_.transition->parameter : 0.0;
+    out.tolerance = variant_.transition ? variant_.transition->tolerance : 0.0;
+    if (request_.tolerance && out.method != Method::kNone) {
+      out.parameter = 0;
+      out.tolerance = *request_.tolerance;
+    }
     out.baseline = timing_options(sc_, variant_).baseline;
 
     // plan: blend and time
@@ -468,6 +474,7 @@ VariantSummary unfinished(const Scenario& sc, const Variant& variant, VariantSta
   out.name = variant.name;
   out.method = variant_method(sc.program, variant);
   out.parameter = variant.transition ? variant.transition->parameter : 0.0;
+  out.tolerance = variant.transition ? variant.transition->tolerance : 0.0;
   out.baseline = timing_options(sc, variant).baseline;
   out.status = status;
   out.message = std::move(message);
@@ -504,6 +511,15 @@ VariantSummary run_variant(const Scenario& sc, const Robot& robot, const RunRequ
 }
 
 }  // namespace
+
+void apply_tolerance(Program& program, double tolerance) {
+  for (Move& move : program.moves) {
+    if (move.transition.method == Method::kNone) continue;
+    move.transition.parameter = 0;
+    move.transition.start_distance = 0;
+    move.transition.tolerance = tolerance;
+  }
+}
 
 bool video_supported() {
 #ifdef BLENDBENCH_HAS_RENDER

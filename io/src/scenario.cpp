@@ -44,7 +44,17 @@ Transition read_transition(const Reader& r, const Field& f) {
   t.method = *method_from_string(r.choice(method));
   const Field parameter = r.child(f, "parameter");
   const Field start = r.child(f, "start_distance");
-  if (start.node.defined()) {
+  const Field tolerance = r.child(f, "tolerance");
+  if (tolerance.node.defined()) {
+    // equal tolerance: the method's own parameter is solved for it at each corner
+    for (const auto& [other, name] : {std::pair{parameter, "parameter"}, std::pair{start, "start_distance"}}) {
+      if (other.node.defined()) {
+        r.fail(tolerance, std::string("give the transition either a tolerance or a ") + name + ", not both (tolerance and " +
+                              name + " exclude each other)");
+      }
+    }
+    t.tolerance = r.number(tolerance);
+  } else if (start.node.defined()) {
     if (t.method != Method::kBiclothoid) {
       r.fail(start, "a start distance sizes only a biclothoid transition, not " + r.choice(method));
     }
@@ -55,7 +65,7 @@ Transition read_transition(const Reader& r, const Field& f) {
   } else if (parameter.node.defined()) {
     t.parameter = r.number(parameter);
   } else if (t.method != Method::kNone) {
-    (void)r.require(f, "parameter");
+    r.fail(parameter, r.missing() + " (give the method " + r.choice(method) + " a parameter or a tolerance)");
   }
   t.kappa_max = r.number(r.value(f, "kappa_max"));
   t.velocity = r.number(r.value(f, "velocity"));

@@ -369,6 +369,30 @@ def comparison_table(entries):
     return f"<table>{head}{''.join(rows)}</table>", best
 
 
+def tolerance_notes(summary):
+    """Equal tolerance (docs/methods.md): a line per variant run at a tolerance, at the top of the
+    report: at how many corners it was reached, and, where at none, that it was not, with the largest
+    deviation reached (each corner's note in corners.json says why)."""
+    lines = []
+    for entry in summary["variants"]:
+        corners = [c for c in entry.get("plan", {}).get("corners", []) if c.get("tolerance_mm") is not None]
+        if not corners:
+            continue
+        name = html.escape(entry["name"])
+        tolerances = sorted({c["tolerance_mm"] for c in corners})
+        tol = " / ".join(f"{t:g}" for t in tolerances)
+        reached = sum(1 for c in corners if c.get("tolerance_reached"))
+        deviation = max(c["deviation_mm"] for c in corners)
+        if reached == 0:
+            lines.append(f"<p class='bad'><b>{name}: the tolerance {tol} mm is reached at no corner</b> "
+                         f"(largest deviation {deviation:.4g} mm; each corner's note in {name}/corners.json says why: "
+                         f"moves too short for it, or nothing to cut).</p>")
+        else:
+            lines.append(f"<p>{name}: tolerance {tol} mm reached at {reached} of {len(corners)} corners "
+                         f"(largest deviation {deviation:.4g} mm).</p>")
+    return lines
+
+
 def report_html(run_dir, summary, variants):
     table, best = comparison_table(summary["variants"])
 
@@ -406,7 +430,7 @@ def report_html(run_dir, summary, variants):
            f"{sim['settle_speed_tolerance_mm_s']:g} mm/s for {sim['settle_window_s']:g} s after the reference ends. "
            f"Residual vibration: tracking error high-passed at {sim['vibration_highpass_hz']:g} Hz, peak-to-peak in "
            f"{sim['vibration_window_s']:g} s windows.</p>")
-    parts = [f"<h1>BlendBench run: {html.escape(summary['scenario'])}</h1>",
+    parts = [f"<h1>BlendBench run: {html.escape(summary['scenario'])}</h1>", *tolerance_notes(summary),
              f"<p>{html.escape(summary.get('description', ''))}</p>", arm, "<h2>Comparison</h2>", reading, table]
     for png, title in [("compare_speed.png", "Path speed"), ("compare_metrics.png", "Metrics"),
                        ("compare_path.png", "Paths")]:

@@ -100,8 +100,17 @@ nlohmann::json corner_json(const CornerReport& c) {
   };
 }
 
+void add_corner_tolerance_and_source(nlohmann::json& corner, const CornerReport& c) {
+  const bool toleranced = c.tolerance > 0;
+  corner["tolerance_mm"] = toleranced ? nlohmann::json(c.tolerance / kMm) : nlohmann::json();
+  corner["tolerance_reached"] = toleranced ? nlohmann::json(c.tolerance_reached) : nlohmann::json();
+  corner["source_file"] = c.source.file.empty() ? nlohmann::json() : nlohmann::json(c.source.file);
+  corner["source_line"] = c.source.line > 0 ? nlohmann::json(c.source.line) : nlohmann::json();
+}
+
 nlohmann::json corner_json(const CornerReport& c, const CornerPlacement& where) {
   nlohmann::json out = corner_json(c);
+  add_corner_tolerance_and_source(out, c);
   out["point_mm"] = mm(where.point);
   out["s_programmed_mm"] = where.s_programmed / kMm;
   out["s_start_mm"] = where.s_start / kMm;

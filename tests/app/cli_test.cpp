@@ -338,7 +338,7 @@ TEST_F(Cli, StartDistanceSizesBiclothoidsAndIsRefusedElsewhere) {
       {"--method biclothoid --start-distance 0", "'--start-distance': must be positive"},
       {"--method biclothoid --start-distance -2", "'--start-distance': must be positive"},
       {"--start-distance 2", "'--start-distance': needs --method biclothoid"},
-      {"--method biclothoid", "'--param': required with --method biclothoid (mm), or --start-distance"},
+      {"--method biclothoid", "'--param': required with --method biclothoid (mm), or --tolerance, or --start-distance"},
       {"--method arc --param -1", "'--param': must be >= 0"},
       {"--method none --param 1", "'--param': has no meaning with --method none"},
   };
@@ -349,6 +349,96 @@ TEST_F(Cli, StartDistanceSizesBiclothoidsAndIsRefusedElsewhere) {
     EXPECT_NE(r.output.find(c.expected), std::string::npos) << "expected '" << c.expected << "' in:\n" << r.output;
     EXPECT_FALSE(fs::exists(dir_ / "p.csv")) << c.args;
   }
+}
+
+// --tolerance (equal tolerance, issue 44): every corner's parameter solved so that its deviation
+// equals it, for every method; each corner reports the tolerance, whether it was reached and the
+// G-code line it ends. Misuse is bad input naming the flag (and --param where both are given).
+TEST_F(Cli, ToleranceSizesEveryCornerAndNamesItsSourceLine) {
+  const fs::path part = dir_ / "rect.ngc";
+  std::ofstream(part) << kRectangle;
+  const std::string io = " --csv " + (dir_ / "p.csv").string() + " --report " + (dir_ / "r.json").string();
+  for (const char* method : {"arc", "bezier", "clothoid", "biclothoid"}) {
+    const Result r = run("path " + part.string() + " --method " + method + " --tolerance 0.2" + io);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    std::ifstream report_file(dir_ / "r.json");
+    const nlohmann::json corners = nlohmann::json::parse(report_file);
+    ASSERT_EQ(corners.size(), 3u);
+    for (std::size_t k = 0; k < corners.size(); ++k) {
+      const nlohmann::json& c = corners[k];
+      EXPECT_EQ(c["tolerance_mm"].get<double>(), 0.2) << c;
+      EXPECT_TRUE(c["tolerance_reached"].get<bool>()) << c;
+      EXPECT_LE(c["deviation_mm"].get<double>(), 0.2) << c;
+      EXPECT_GE(c["deviation_mm"].get<double>(), 0.2 * (1 - 1e-3)) << c;
+      // the move ending at corner k is on line k + 2 (line 1 holds G21 G90 only)
+      EXPECT_EQ(c["source_file"].get<std::string>(), part.string()) << c;
+      EXPECT_EQ(c["source_line"].get<int>(), static_cast<int>(k) + 2) << c;
+    }
+  }
+  // without --method, on the moves the program blends (G64 P: biclothoid), not at its exact stops
+  {
+    const fs::path blended = dir_ / "blended.ngc";
+    std::ofstream(blended) << "G21 G90 G64 P0.05\nG1 X40 F6000\nG1 Y30\nG61\nG1 X0\nG1 Y0\nM2\n";
+    const Result r = run("plan " + blended.string() + " --tolerance 0.3 --csv " + (dir_ / "t.csv").string() + " --summary " +
+                         (dir_ / "s.json").string());
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    std::ifstream summary_file(dir_ / "s.json");
+    const nlohmann::json corners = nlohmann::json::parse(summary_file)["corners"];
+    ASSERT_EQ(corners.size(), 3u);
+    EXPECT_EQ(corners[0]["method"], "biclothoid");
+    EXPECT_EQ(corners[0]["tolerance_mm"].get<double>(), 0.3);
+    EXPECT_TRUE(corners[0]["tolerance_reached"].get<bool>());
+    EXPECT_EQ(corners[2]["method"], "none");
+    EXPECT_TRUE(corners[2]["tolerance_mm"].is_null());
+    EXPECT_TRUE(corners[2]["tolerance_reached"].is_null());
+  }
+  struct Case {
+    std::string args, expected;
+  };
+  const Case cases[] = {
+      {"--method arc --tolerance 0", "'--tolerance': must be > 0"},
+      {"--method arc --tolerance -1", "'--tolerance': must be > 0"},
+      {"--method arc --tolerance nan", "'--tolerance': must be > 0"},
+      {"--method arc --tolerance 0.1 --param 1", "--tolerance and --param exclude each other"},
+      {"--tolerance 0.1 --param 1", "--tolerance and --param exclude each other"},
+      {"--method biclothoid --tolerance 0.1 --start-distance 1", "--tolerance and --start-distance exclude each other"},
+      {"--method none --tolerance 0.1", "'--tolerance': has no meaning with --method none"},
+  };
+  fs::remove(dir_ / "p.csv");
+  for (const Case& c : cases) {
+    const Result r = run("path " + part.string() + " " + c.args + io);
+    EXPECT_EQ(r.exit_code, 2) << c.args << "\n" << r.output;
+    EXPECT_NE(r.output.find(c.expected), std::string::npos) << "expected '" << c.expected << "' in:\n" << r.output;
+    EXPECT_FALSE(fs::exists(dir_ / "p.csv")) << c.args;
+  }
+  const Result bad_run = run("run " + blendbench::test::source_path("tests/data/tiny.yaml") + " --tolerance -0.5 --out " +
+                             (dir_ / "never").string());
+  EXPECT_EQ(bad_run.exit_code, 2) << bad_run.output;
+  EXPECT_NE(bad_run.output.find("'--tolerance': must be > 0"), std::string::npos) << bad_run.output;
+  EXPECT_FALSE(fs::exists(dir_ / "never"));
+}
+
+// `run --tolerance`: the variants with a transition run at it; summary.json says so per variant
+// and per corner, corners.json too, with the YAML line of the move that ends the corner.
+TEST_F(Cli, RunAtAToleranceReportsItPerVariantAndCorner) {
+  const fs::path out = dir_ / "run";
+  const Result r = run("run " + blendbench::test::source_path("tests/data/tiny.yaml") +
+                       " --tolerance 0.25 --no-video --no-plots --variant arc --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream in(out / "summary.json");
+  const nlohmann::json v = nlohmann::json::parse(in)["variants"][0];
+  EXPECT_EQ(v["tolerance_mm"].get<double>(), 0.25);
+  EXPECT_EQ(v["parameter_mm"].get<double>(), 0.0);
+  const nlohmann::json& corner = v["plan"]["corners"][0];
+  EXPECT_EQ(corner["tolerance_mm"].get<double>(), 0.25);
+  EXPECT_TRUE(corner["tolerance_reached"].get<bool>());
+  EXPECT_NEAR(v["plan"]["path_deviation_max_mm"].get<double>(), 0.25, 0.25e-3);
+  EXPECT_LE(v["plan"]["path_deviation_max_mm"].get<double>(), 0.25);
+  // tiny.yaml: the move ending at the corner, `- line: [60, 0, 0]`, is on line 11
+  EXPECT_EQ(corner["source_line"].get<int>(), 11);
+  EXPECT_NE(corner["source_file"].get<std::string>().find("tiny.yaml"), std::string::npos);
+  std::ifstream corners_file(out / "arc" / "corners.json");
+  EXPECT_EQ(nlohmann::json::parse(corners_file)[0]["tolerance_reached"], true);
 }
 
 TEST_F(Cli, RunWritesSummaryTracesPlotsReportAndAPlayableVideo) {

@@ -180,6 +180,30 @@ TEST(Scenario, BiclothoidTakesAStartDistanceInsteadOfADeviation) {
                "program.moves[1].transition.start_distance", "must be > 0 mm, got 0");
 }
 
+TEST(Scenario, ATransitionTakesAToleranceInsteadOfAParameter) {
+  // every method, in the file's units; parameter and start distance stay unset
+  for (const char* method : {"none", "arc", "bezier", "clothoid", "biclothoid"}) {
+    const Scenario sc = parse(replaced(kValid, "method: arc, parameter: 5", std::string("method: ") + method + ", tolerance: 0.25"));
+    const Transition& t = sc.program.moves[1].transition;
+    EXPECT_NEAR(t.tolerance, 0.25e-3, 1e-18) << method;
+    EXPECT_EQ(t.parameter, 0.0);
+    EXPECT_EQ(t.start_distance, 0.0);
+  }
+  // <= 0 or not a number: exit 2 naming the key; with parameter or start_distance: naming both
+  const std::string key = "program.moves[1].transition.tolerance";
+  expect_error(replaced(kValid, "method: arc, parameter: 5", "method: arc, tolerance: 0"), 11, key, "must be > 0 mm, got 0");
+  expect_error(replaced(kValid, "method: arc, parameter: 5", "method: arc, tolerance: -1"), 11, key, "must be > 0 mm, got -1");
+  expect_error(replaced(kValid, "method: arc, parameter: 5", "method: arc, tolerance: .nan"), 11, key, "finite");
+  expect_error(replaced(kValid, "method: arc, parameter: 5", "method: arc, tolerance: .inf"), 11, key, "finite");
+  expect_error(replaced(kValid, "method: arc, parameter: 5", "method: arc, parameter: 5, tolerance: 1"), 11, key,
+               "tolerance and parameter exclude each other");
+  expect_error(replaced(kValid, "method: arc, parameter: 5", "method: biclothoid, start_distance: 5, tolerance: 1"), 11, key,
+               "tolerance and start_distance exclude each other");
+  // neither: the parameter is missing, and the message says a tolerance would do
+  expect_error(replaced(kValid, "method: arc, parameter: 5", "method: arc"), 11, "program.moves[1].transition.parameter",
+               "a parameter or a tolerance");
+}
+
 TEST(Scenario, InvalidYamlReportsTheParserPosition) {
   const InputError e = test::expect_input_error([] { (void)parse("name: x\nprogram: [unclosed\n"); },
                                                 {.file = "test.yaml", .message = "invalid YAML"});

@@ -7,11 +7,15 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <set>
+#include <sstream>
 
+#include "blendbench/corner/blend.hpp"
 #include "blendbench/io/scenario.hpp"
 #include "support/input_error.hpp"
 #include "support/property.hpp"
+#include "support/scratch.hpp"
 
 namespace blendbench {
 namespace {
@@ -30,6 +34,13 @@ InputError error_of(F&& f) {
 }
 
 bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  std::ostringstream out;
+  out << in.rdbuf();
+  return out.str();
+}
 
 TEST(KeyPath, ParsesKeysIndicesAndWildcards) {
   const std::vector<KeyStep> steps = parse_key_path("variants[*].transition.parameter", {}, "f");
@@ -322,6 +333,40 @@ TEST(Expansion, BadValuesNameTheAxisThePointAndTheLoadersMessage) {
   const InputError m = error_of([&] { validate_point(methods, methods.points[1], "p.yaml"); });
   EXPECT_EQ(m.field(), "axes.variants[*].transition.method") << m.what();
   EXPECT_TRUE(has(m.detail(), "unknown value 'spline'")) << m.what();
+}
+
+// Equal tolerance as a sweep axis (issue 44): `variants[*].transition.tolerance` sets every
+// variant's tolerance; each point's programs carry it, and blended, every corner reports it and
+// reaches it (the moves are long). A base whose variant sets a parameter is refused at the axis,
+// naming both keys.
+TEST(Expansion, ToleranceIsASweepAxis) {
+  const test::ScratchDir dir("sweep-tolerance");
+  std::string base = read_text(source_path("tests/data/tiny.yaml"));
+  const std::string arc = "{name: arc, transition: {method: arc, parameter: 5}}";
+  base.replace(base.find(arc), arc.size(),
+               "{name: arc, transition: {method: arc, tolerance: 1}}\n  - {name: bezier, transition: {method: bezier, tolerance: 1}}");
+  const std::string scenario = dir.write("base.yaml", base);
+  const SweepPlan plan = expand_sweep(parse("scenario: " + scenario + "\naxes:\n  variants[*].transition.tolerance: [0.05, 0.5]\n"));
+  ASSERT_EQ(plan.points.size(), 2U);
+  for (std::size_t i = 0; i < plan.points.size(); ++i) {
+    validate_point(plan, plan.points[i], "p.yaml");
+    const Scenario sc = parse_scenario(plan.points[i].scenario_text, "p.yaml", plan.base_dir);
+    const double tol = i == 0 ? 0.05e-3 : 0.5e-3;
+    for (const Variant& v : sc.variants) {
+      const Program program = program_for(sc, v);
+      const Path path = blend(program);
+      ASSERT_EQ(path.corners.size(), 1U);
+      if (v.name == "exact") continue;  // none: an exact stop (the axis gives it a tolerance it cannot use)
+      EXPECT_EQ(path.corners[0].tolerance, tol) << v.name;
+      EXPECT_TRUE(path.corners[0].tolerance_reached) << v.name << ": " << path.corners[0].note.text();
+      EXPECT_LE(path.corners[0].deviation, tol) << v.name;
+    }
+  }
+  // tiny.yaml's arc variant sets a parameter: the axis' tolerance is refused naming both
+  const SweepPlan clash = expand_sweep(parse(tiny_sweep("axes:\n  variants[*].transition.tolerance: [0.1]\n")));
+  const InputError e = error_of([&] { validate_point(clash, clash.points[0], "p.yaml"); });
+  EXPECT_EQ(e.field(), "axes.variants[*].transition.tolerance") << e.what();
+  EXPECT_TRUE(has(e.detail(), "tolerance and parameter exclude each other")) << e.what();
 }
 
 // The first point is checked as soon as it exists, before the rest of the product is expanded:

@@ -625,9 +625,8 @@ bool corner_plane(const Corner& k, Plane& pl) {
   return true;
 }
 
-}  // namespace
-
-CornerFit fit_arc_corner(const CornerInput& corner) {
+// The arc fit of `corner` (fit_arc_corner, which marks it limited).
+CornerFit fit_arc(const CornerInput& corner) {
   Corner k;
   k.in = &corner.in;
   k.out = &corner.out;
@@ -679,6 +678,16 @@ CornerFit fit_arc_corner(const CornerInput& corner) {
   }
   if (!planar) return fit_biarc(k, d_req);
   return fit_planar(k, pl, larger_in, d_req);
+}
+
+}  // namespace
+
+CornerFit fit_arc_corner(const CornerInput& corner) {
+  CornerFit fit = fit_arc(corner);
+  // every branch reports the corner distance it used: shrunk (to a short move, or where no
+  // circle exists for a larger one) when it is below the one asked for
+  fit.limited = fit.outcome.ok() && fit.parameter_used < corner.spec.parameter;
+  return fit;
 }
 
 }  // namespace blendbench

@@ -352,6 +352,8 @@ CornerFit fit_bezier_corner(const CornerInput& corner) {
       return fit;
     }
   }
+  // (shrunk, where the corner is blended: not at the cases above, which TP does not change)
+  fit.limited = l < tp;
   // zero distance (TP = 0, or nothing left of a move): a kink; the blender stops there in
   // Buffered mode (seed 001: a zero-length transition that only affects blending)
   if (l <= kMinLength) {

@@ -80,6 +80,7 @@ CornerFit fit_biclothoid_in_plane(const CornerInput& corner, const PlanarCorner&
     fit.parameter_used = start_fit.fillet.a;
     fit.exact_deviation = start_fit.deviation.max();
     using Limit = BiclothoidStartFit::Limit;
+    fit.limited = start_fit.limit != Limit::kNone;
     if (start_fit.limit != Limit::kNone) {
       const Note::Literal why =
           start_fit.limit == Limit::kIncoming
@@ -98,6 +99,7 @@ CornerFit fit_biclothoid_in_plane(const CornerInput& corner, const PlanarCorner&
   if (!use_fillet(tol_fit.outcome, tol_fit.fillet, corner, geometry.plane, fit)) return fit;
   fit.parameter_used = tol_fit.deviation.max();
   fit.exact_deviation = fit.parameter_used;
+  fit.limited = tol_fit.limited;
   if (tol_fit.limited) {
     fit.note = Note::lengths("deviation ", fit.parameter_used, " below the tolerance ", tolerance,
                            "the fillet is limited by the move lengths (or an eighth of a turn of an arc)");

@@ -27,6 +27,8 @@ CornerFit fit_corner(const CornerInput& corner) {
   if (corner.spec.method != Method::kNone) {
     if (auto fit = near_reversal_fit(corner, theta)) return *fit;
   }
+  // equal tolerance: the method's parameter solved for the deviation (fit_corner_at_tolerance)
+  if (corner.spec.tolerance > 0 && corner.spec.method != Method::kNone) return fit_corner_at_tolerance(corner);
   switch (corner.spec.method) {
     case Method::kNone: {
       // An exact stop stops where the tangent turns. Where it is continuous (a line tangent to
@@ -101,13 +103,12 @@ double curvature_speed_limit(double kappa, double sharpness, double a_max, doubl
   return std::min(v1, v2);                                                      // eq. 27
 }
 
-void measure_corner(CornerReport& report, const std::vector<Segment>& transition, const Primitive& in,
-                    const Primitive& out, double a_max, double j_max, double exact_deviation) {
-  report.length = 0;
-  report.kappa_max = 0;
-  report.sharpness_max = 0;
-  report.deviation = 0;
-  report.feed_max = 0;
+namespace {
+
+// The deviation of a transition (its total length `transition_length`) that trims `trim_in`
+// from the end of `in` and `trim_out` from the start of `out` (measure_corner, corner_deviation).
+double measured_deviation(const std::vector<Segment>& transition, double transition_length, double trim_in,
+                          double trim_out, const Primitive& in, const Primitive& out) {
   const double len_in = length(in);
   const double len_out = length(out);
   if (transition.empty()) {
@@ -116,34 +117,21 @@ void measure_corner(CornerReport& report, const std::vector<Segment>& transition
     // path that is kept
     std::vector<Segment> skipped;
     std::vector<Segment> kept;
-    if (report.trim_in > 0) {
-      skipped.push_back(to_segment(sub_segment(in, len_in - report.trim_in, len_in)));
-      if (report.trim_in < len_in) kept.push_back(to_segment(sub_segment(in, 0, len_in - report.trim_in)));
+    if (trim_in > 0) {
+      skipped.push_back(to_segment(sub_segment(in, len_in - trim_in, len_in)));
+      if (trim_in < len_in) kept.push_back(to_segment(sub_segment(in, 0, len_in - trim_in)));
     }
-    if (report.trim_out > 0) {
-      skipped.push_back(to_segment(sub_segment(out, 0, report.trim_out)));
-      if (report.trim_out < len_out) kept.push_back(to_segment(sub_segment(out, report.trim_out, len_out)));
+    if (trim_out > 0) {
+      skipped.push_back(to_segment(sub_segment(out, 0, trim_out)));
+      if (trim_out < len_out) kept.push_back(to_segment(sub_segment(out, trim_out, len_out)));
     }
-    if (!skipped.empty() && !kept.empty()) {
-      report.deviation = directed_hausdorff_within(skipped, kept, kDeviationTolerance * (report.trim_in + report.trim_out));
-    }
-    return;
-  }
-  for (const Segment& seg : transition) {
-    const double len = length(seg);
-    report.length += len;
-    report.kappa_max = std::max(report.kappa_max, max_curvature(seg, 0, len));
-    report.sharpness_max = std::max(report.sharpness_max, max_sharpness(seg, 0, len));
-  }
-  report.feed_max = curvature_speed_limit(report.kappa_max, report.sharpness_max, a_max, j_max);
-  if (exact_deviation >= 0) {
-    report.deviation = exact_deviation;
-    return;
+    if (skipped.empty() || kept.empty()) return 0;
+    return directed_hausdorff_within(skipped, kept, kDeviationTolerance * (trim_in + trim_out));
   }
   // the programmed path replaced by the transition: the trimmed end of `in` and start of `out`
   std::vector<Segment> replaced;
-  if (report.trim_in > 0) replaced.push_back(to_segment(sub_segment(in, len_in - report.trim_in, len_in)));
-  if (report.trim_out > 0) replaced.push_back(to_segment(sub_segment(out, 0, report.trim_out)));
+  if (trim_in > 0) replaced.push_back(to_segment(sub_segment(in, len_in - trim_in, len_in)));
+  if (trim_out > 0) replaced.push_back(to_segment(sub_segment(out, 0, trim_out)));
   if (replaced.empty()) {
     // a transition that replaces nothing (e.g. an inserted line on a collinear corner) deviates
     // by its distance to the programmed moves
@@ -153,7 +141,42 @@ void measure_corner(CornerReport& report, const std::vector<Segment>& transition
   // to kDeviationTolerance of the longer of the two curves
   double replaced_length = 0;
   for (const Segment& seg : replaced) replaced_length += length(seg);
-  report.deviation = hausdorff_within(transition, replaced, kDeviationTolerance * std::max(report.length, replaced_length));
+  return hausdorff_within(transition, replaced, kDeviationTolerance * std::max(transition_length, replaced_length));
+}
+
+}  // namespace
+
+void measure_corner(CornerReport& report, const std::vector<Segment>& transition, const Primitive& in,
+                    const Primitive& out, double a_max, double j_max, double exact_deviation) {
+  report.length = 0;
+  report.kappa_max = 0;
+  report.sharpness_max = 0;
+  report.deviation = 0;
+  report.feed_max = 0;
+  if (transition.empty()) {
+    // (a fit sets the exact deviation of a kink only where it solved a tolerance; the methods'
+    // own line pair sets 0 where it has no length, as measured)
+    report.deviation = exact_deviation >= 0 ? exact_deviation
+                                            : measured_deviation(transition, 0, report.trim_in, report.trim_out, in, out);
+    return;
+  }
+  for (const Segment& seg : transition) {
+    const double len = length(seg);
+    report.length += len;
+    report.kappa_max = std::max(report.kappa_max, max_curvature(seg, 0, len));
+    report.sharpness_max = std::max(report.sharpness_max, max_sharpness(seg, 0, len));
+  }
+  report.feed_max = curvature_speed_limit(report.kappa_max, report.sharpness_max, a_max, j_max);
+  report.deviation = exact_deviation >= 0
+                         ? exact_deviation
+                         : measured_deviation(transition, report.length, report.trim_in, report.trim_out, in, out);
+}
+
+double corner_deviation(const CornerFit& fit, const Primitive& in, const Primitive& out) {
+  if (fit.exact_deviation >= 0) return fit.exact_deviation;
+  double transition_length = 0;
+  for (const Segment& seg : fit.transition) transition_length += length(seg);
+  return measured_deviation(fit.transition, transition_length, fit.trim_in, fit.trim_out, in, out);
 }
 
 namespace {
@@ -254,6 +277,11 @@ Path blend_moves(const Program& program) {
     report.curvature_steps = move.transition.curvature_steps;
     measure_corner(report, fit.transition, move.geometry, next.geometry, next.limits.acceleration, next.limits.jerk,
                    fit.exact_deviation);
+    // equal tolerance: reached where the deviation lies in the band below it (corner.hpp)
+    report.tolerance = move.transition.tolerance;
+    report.tolerance_reached = report.tolerance > 0 && report.deviation <= report.tolerance &&
+                               report.deviation >= report.tolerance * (1 - kToleranceBand);
+    report.source = move.where;
     stop_next = stop_next || fit.stop;
     const Limits lim = transition_limits(move, next);
     // where the transition's limits were written: the next move's (acceleration, deceleration,
@@ -358,7 +386,11 @@ Path blend(const Program& program) {
     path.append(std::move(piece));
   }
   path.corners = blended.corners;
-  for (CornerReport& r : path.corners) r.index = static_cast<int>(merged.last[static_cast<std::size_t>(r.index)]);
+  for (CornerReport& r : path.corners) {
+    r.index = static_cast<int>(merged.last[static_cast<std::size_t>(r.index)]);
+    // the corner is at the end of the last merged move: its source is that move's
+    r.source = program.moves[static_cast<std::size_t>(r.index)].where;
+  }
   path.moves_merged = merged.moves_merged;
   path.merge_tolerance = merged.tolerance;
   return oriented(program) ? orient_path(path, program) : path;

@@ -114,6 +114,7 @@ LinePair line_pair(const CornerInput& corner, const PlanarCorner& geometry, doub
   const double available = std::min(corner.in_available, corner.out_available);
   if (line.pair.tangent_length > available) {
     line.pair = clothoid_pair_for_tangent_length(line.shape, available);
+    line.shrunk = true;
     line.shrink_note =
         pair_shrunk_note(by_start, by_start ? start_distance : corner.spec.parameter,
                          by_start ? line.pair.tangent_length : line.pair.deviation, corner);
@@ -127,6 +128,7 @@ void use_line_pair(const LinePair& line, const CornerPlane& plane, double parame
   fit.trim_out = line.pair.tangent_length;
   fit.parameter_used = parameter_used;
   fit.exact_deviation = line.pair.deviation;
+  fit.limited = line.shrunk;
 }
 
 ClothoidArcClothoid clothoid_arc_clothoid(double alpha, double kappa, double clothoid_length) {
@@ -288,6 +290,7 @@ CornerFit fit_clothoid_corner(const CornerInput& corner) {
   fit.trim_out = cac.tangent_length;
   fit.parameter_used = cac.deviation;
   if (cac.deviation < tolerance * (1 - 1e-9)) {
+    fit.limited = true;
     fit.note = "deviation " + format_mm(cac.deviation) + " below the tolerance " + format_mm(tolerance) + ": the " + short_move +
                " move is short";
   }

@@ -197,6 +197,19 @@ void validate(const Program& program) {
       fail_at(move.where, "transition.start_distance",
               who + ": give the biclothoid either a maximum deviation (parameter) or a start distance, not both");
     }
+    // a tolerance replaces the parameter (and a biclothoid's start distance): both keys named
+    if (!std::isfinite(move.transition.tolerance) || move.transition.tolerance < 0) {
+      fail_at(move.where, "transition.tolerance",
+              who + ": the tolerance must be > 0 and finite, got " + format_mm(move.transition.tolerance));
+    }
+    if (move.transition.tolerance > 0 && move.transition.parameter > 0) {
+      fail_at(move.where, "transition.tolerance",
+              who + ": give the transition either a tolerance (transition.tolerance) or a parameter (transition.parameter), not both");
+    }
+    if (move.transition.tolerance > 0 && move.transition.start_distance > 0) {
+      fail_at(move.where, "transition.tolerance",
+              who + ": give the biclothoid either a tolerance (transition.tolerance) or a start distance (transition.start_distance), not both");
+    }
     if (!std::isfinite(move.transition.kappa_max) || move.transition.kappa_max < 0) {
       fail_at(move.where, "transition.kappa_max", who + ": the curvature cap must be >= 0, got " + format_per_mm(move.transition.kappa_max));
     }

@@ -10,6 +10,7 @@
 
 #include "blendbench/corner/corner.hpp"
 #include "blendbench/geometry/closest.hpp"
+#include "support/chain_distance.hpp"
 #include "support/oriented_program.hpp"
 #include "support/property.hpp"
 #include "support/random_geometry.hpp"
@@ -393,6 +394,95 @@ TEST(Blend, CollinearLinesWithinTheMergeToleranceBecomeOneLine) {
     back.moves.back().transition.merge_tolerance = 1e-3;
   }
   EXPECT_EQ(merge_collinear(back).moves_merged, 0);
+}
+
+// Equal tolerance through the blender: a zigzag of lines and arcs, planar and not, every method at
+// one tolerance. Every corner reports the tolerance, a deviation never above it, reached exactly
+// where the deviation lies within kToleranceBand below it, and the move it ends (file, line).
+// The deviation is checked against the independent measure of the corner tests (test::Chain).
+TEST(Blend, PropertyEveryCornerAtAToleranceReportsItAndItsSource) {
+  const int cases = test::property_cases(60);
+  for (const Method method : {Method::kArc, Method::kBezier, Method::kClothoid, Method::kBiclothoid}) {
+    int reached = 0;
+    int corners = 0;
+    for (int i = 0; i < cases; ++i) {
+      const std::uint64_t seed = 4400 + 100 * static_cast<std::uint64_t>(method) + i;
+      auto rng = test::make_rng(seed);
+      const double theta = test::uniform(rng, 0.05, 2.8);
+      Program program = corner_program(rng, theta, test::uniform(rng, 0, 1) < 0.5, test::uniform(rng, 0, 1) < 0.5,
+                                       test::uniform(rng, 0, 1) < 0.7, method, 0.0);
+      const double tol = test::log_uniform(rng, 1e-6, 2e-3);
+      for (std::size_t k = 0; k < program.moves.size(); ++k) {
+        program.moves[k].transition.tolerance = tol;
+        program.moves[k].where = {"part.ngc", 10 + static_cast<int>(k), 1};
+      }
+      const Path path = blend(program);
+      ASSERT_EQ(path.corners.size(), 1u);
+      const CornerReport& r = path.corners[0];
+      ++corners;
+      EXPECT_EQ(r.tolerance, tol) << test::seed_text(seed);
+      EXPECT_LE(r.deviation, tol) << test::seed_text(seed);
+      EXPECT_EQ(r.tolerance_reached, r.deviation >= tol * (1 - kToleranceBand)) << test::seed_text(seed);
+      // the deviation reported is the measured one (a dense scan of the transition against the
+      // replaced stretch agrees)
+      if (r.length > 0) {
+        const test::Chain transition(transition_of(path));
+        const test::Chain replaced(replaced_of(program, r));
+        const double scanned = std::max(transition.directed_to(replaced), replaced.directed_to(transition));
+        EXPECT_NEAR(scanned, r.deviation, 1e-6 * tol + 1e-7 * (r.length + r.trim_in + r.trim_out)) << test::seed_text(seed);
+      }
+      EXPECT_EQ(r.source.file, "part.ngc");
+      EXPECT_EQ(r.source.line, 10);
+      if (r.tolerance_reached) ++reached;
+    }
+    // the moves are long (0.1 m, or arcs of 20-200 mm): nearly every corner reaches it
+    EXPECT_GE(reached, corners * 9 / 10) << to_string(method);
+  }
+}
+
+TEST(Blend, AToleranceNoCornerCanReachRunsAndEveryCornerSaysSo) {
+  // 1 mm moves at 5 mm: every corner is the largest transition that fits, below the tolerance
+  Program program;
+  const Vec3 points[] = {{0, 0, 0}, {1e-3, 0, 0}, {1e-3, 1e-3, 0}, {2e-3, 1e-3, 0}, {2e-3, 2e-3, 0}};
+  for (int k = 0; k < 4; ++k) {
+    program.moves.push_back(line_move(points[k], points[k + 1], Method::kArc));
+    program.moves.back().transition.tolerance = 5e-3;
+  }
+  const Path path = blend(program);
+  ASSERT_EQ(path.corners.size(), 3u);
+  for (const CornerReport& r : path.corners) {
+    EXPECT_FALSE(r.tolerance_reached);
+    EXPECT_EQ(r.tolerance, 5e-3);
+    EXPECT_GT(r.deviation, 0.0);
+    EXPECT_LT(r.deviation, 5e-3);
+    EXPECT_NE(r.note.text().find("not reached"), std::string::npos) << r.note.text();
+  }
+  // the same program by parameter: no tolerance on the reports, none reached
+  for (Move& m : program.moves) {
+    m.transition.tolerance = 0;
+    m.transition.parameter = 0.2e-3;
+  }
+  for (const CornerReport& r : blend(program).corners) {
+    EXPECT_EQ(r.tolerance, 0.0);
+    EXPECT_FALSE(r.tolerance_reached);
+  }
+}
+
+TEST(Blend, AMergedRunOfLinesNamesItsLastMoveAsTheCornersSource) {
+  // three collinear lines merged into one, then a corner: the corner is at the end of the third
+  Program program;
+  const Vec3 points[] = {{0, 0, 0}, {1e-3, 0, 0}, {2e-3, 0, 0}, {3e-3, 0, 0}, {3e-3, 1e-3, 0}};
+  for (int k = 0; k < 4; ++k) {
+    program.moves.push_back(line_move(points[k], points[k + 1], Method::kArc, 0.1e-3));
+    program.moves.back().transition.merge_tolerance = 1e-6;
+    program.moves.back().where = {"part.ngc", 5 + k, 1};
+  }
+  const Path path = blend(program);
+  ASSERT_EQ(path.moves_merged, 2);
+  ASSERT_EQ(path.corners.size(), 1u);
+  EXPECT_EQ(path.corners[0].index, 2);
+  EXPECT_EQ(path.corners[0].source.line, 7);
+  EXPECT_EQ(path.corners[0].source.file, "part.ngc");
 }
 
 }  // namespace

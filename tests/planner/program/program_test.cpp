@@ -346,6 +346,43 @@ TEST(Validate, AStartDistanceSizesOnlyABiclothoidAndNotTogetherWithADeviation) {
   EXPECT_NO_THROW(validate(program));
 }
 
+TEST(Validate, AToleranceIsPositiveFiniteAndExclusiveWithTheParameterAndTheStartDistance) {
+  // below 0 or not a number: named, with the value in mm (0 is "no tolerance": sized by the parameter)
+  for (const double value : {-1e-3, -std::numeric_limits<double>::denorm_min(), kNaN, kInf, -kInf}) {
+    Program program = three_moves();
+    Move& move = program.moves[1];
+    move.transition = {.method = Method::kArc, .tolerance = value};
+    const InputError e = validation_error(program);
+    expect_at(e, move, "transition.tolerance");
+    EXPECT_TRUE(starts_with(e.detail(), "move 2: ")) << e.what();
+    EXPECT_TRUE(contains(e.detail(), "> 0")) << e.what();
+    EXPECT_TRUE(contains(e.detail(), "got " + format_value(value * 1e3) + " mm")) << e.what();
+  }
+  // with a parameter or a start distance: an error naming both keys
+  for (const Method method : kMethods) {
+    Program program = three_moves();
+    Move& move = program.moves[0];
+    move.transition = {.method = method, .parameter = 0.002, .tolerance = 0.001};
+    const InputError e = validation_error(program);
+    expect_at(e, move, "transition.tolerance");
+    EXPECT_TRUE(contains(e.detail(), "transition.tolerance")) << e.what();
+    EXPECT_TRUE(contains(e.detail(), "transition.parameter")) << e.what();
+    EXPECT_TRUE(contains(e.detail(), "not both")) << e.what();
+  }
+  Program program = three_moves();
+  Move& move = program.moves[0];
+  move.transition = {.method = Method::kBiclothoid, .start_distance = 0.005, .tolerance = 0.001};
+  const InputError e = validation_error(program);
+  expect_at(e, move, "transition.tolerance");
+  EXPECT_TRUE(contains(e.detail(), "transition.start_distance")) << e.what();
+  EXPECT_TRUE(contains(e.detail(), "transition.tolerance")) << e.what();
+  // alone it is fine, for every method (none included: an exact stop meets any tolerance)
+  for (const Method method : {Method::kNone, Method::kArc, Method::kBezier, Method::kClothoid, Method::kBiclothoid}) {
+    move.transition = {.method = method, .tolerance = 0.001};
+    EXPECT_NO_THROW(validate(program)) << to_string(method);
+  }
+}
+
 TEST(Validate, MovesThatDoNotJoinAreAnInputErrorAtTheSecondMoveWithTheGapInMm) {
   struct Case {
     Vec3 offset;      // m, of the second move's start from the first move's end

@@ -88,6 +88,7 @@ struct VariantSummary {
   std::string name;
   Method method = Method::kNone;  // the variant's transition method (or the first move's)
   double parameter = 0;           // m, the variant's transition parameter (0 when none)
+  double tolerance = 0;           // m, the variant's transition tolerance (equal tolerance; 0 when none)
   TimingOptions::Baseline baseline = TimingOptions::Baseline::kNone;
   VariantStatus status = VariantStatus::kOk;
   std::string message;  // why the status is not ok

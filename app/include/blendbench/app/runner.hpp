@@ -37,6 +37,9 @@ struct RunRequest {
   std::vector<std::string> variants;  // names to run; empty = all
   std::optional<LimitsMode> limits;   // replaces the scenario's limits mode (`--limits`)
   std::optional<double> max_samples;  // replaces kMaxRunSamples, plan and settle time (`--max-samples`)
+  // m: equal tolerance (`--tolerance`): every move with a transition method gets this tolerance
+  // in place of its parameter (and start distance), in every variant (apply_tolerance)
+  std::optional<double> tolerance;
   // receives one line of progress at a time (variant started, stage timings, warnings)
   std::function<void(const std::string&)> progress;
 };
@@ -47,6 +50,10 @@ struct RunResult {
   int interrupted_by = 0;  // the signal that stopped the run (core/interrupt.hpp), 0 when none
   std::optional<std::filesystem::path> report;  // report.html, when the plots were drawn
 };
+
+// `program` with `tolerance` (m, > 0) on every move whose transition has a method: its parameter
+// and start distance cleared (equal tolerance, Transition::tolerance; `--tolerance`).
+void apply_tolerance(Program& program, double tolerance);
 
 // Runs the scenario. Throws InputError for bad input of the whole scenario, found before any
 // variant runs (an unknown variant name, a start point the robot cannot reach, robot.model not

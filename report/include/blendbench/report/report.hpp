@@ -31,9 +31,16 @@ std::string program_csv(const Program& program, double ds);
 // One corner report as JSON: index, method, case, fallback, note, parameter_mm, length_mm,
 // deviation_mm, kappa_max_per_mm, sharpness_max_per_mm2, feed_max_mm_per_min, trim_in_mm,
 // trim_out_mm, stop; with a placement also point_mm ([x, y, z]), s_programmed_mm, s_start_mm
-// and s_end_mm.
+// and s_end_mm, and the fields of add_corner_tolerance_and_source.
 nlohmann::json corner_json(const CornerReport& corner);
 nlohmann::json corner_json(const CornerReport& corner, const CornerPlacement& where);
+
+// Adds to a corner's JSON the equal-tolerance fields and where the corner was written
+// (CornerReport): tolerance_mm and tolerance_reached (true/false; null where the corner is sized
+// by its parameter), source_file and source_line (the file and line of the move that ends at the
+// corner: the G-code line, or the YAML line of the move; null when unknown). (Not in the paper
+// reproductions' corner lists, which keep their committed form.)
+void add_corner_tolerance_and_source(nlohmann::json& corner, const CornerReport& report);
 
 // Every corner of `path` as corner_json, without and with the placement (`program` is the
 // program `path` was blended from).

@@ -45,8 +45,9 @@ MergedProgram merge_collinear(const Program& program);
 // Fills the measured fields of a report (length, deviation, kappa_max, sharpness_max,
 // feed_max) from the transition pieces and the programmed moves. `a_max` (m/s^2) and `j_max`
 // (m/s^3) feed eq. 25-27 of 004. `exact_deviation` >= 0 (CornerFit::exact_deviation) is the fit's
-// own deviation (in closed form, or measured by the fit), reported as it is; otherwise the
-// deviation is measured here (hausdorff_within).
+// own deviation (in closed form, or measured by the fit, e.g. where it solved a tolerance),
+// reported as it is; otherwise the deviation is measured here (hausdorff_within; corner_deviation,
+// corner.hpp, gives the same value for a fit).
 void measure_corner(CornerReport& report, const std::vector<Segment>& transition, const Primitive& in,
                     const Primitive& out, double a_max, double j_max, double exact_deviation = -1);
 

@@ -72,10 +72,12 @@ struct LinePair {
   ClothoidPairShape shape;
   ClothoidPair pair;
   Note shrink_note;
+  bool shrunk = false;  // shrunk to the shorter available move
 };
 LinePair line_pair(const CornerInput& corner, const PlanarCorner& geometry, double start_distance);
 // The pair as the fit's transition (clothoid_pair_segments in the corner's plane), trimming its
-// tangent length from both moves; parameter_used is what the method reports as used.
+// tangent length from both moves; parameter_used is what the method reports as used; limited
+// where the pair was shrunk.
 void use_line_pair(const LinePair& line, const CornerPlane& plane, double parameter_used, CornerFit& fit);
 
 // seed 002 figs. 12-13: clothoid (0 -> kappa over clothoid_length), arc of curvature kappa,

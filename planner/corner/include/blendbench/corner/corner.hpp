@@ -42,6 +42,10 @@ struct CornerFit {
   Fallback fallback = Fallback::kNone;  // documented fallback used
   Note note;            // e.g. the parameter was shrunk because a move is short (note.hpp)
   double parameter_used = 0;
+  // The parameter asked for did not fit: the method shrank it to the moves' available lengths
+  // (or to its own caps, e.g. a half-turn of a Bezier's arc), so a larger parameter gives this
+  // same transition. The tolerance solve (fit_corner_at_tolerance) stops growing it here.
+  bool limited = false;
   bool stop = false;  // velocity must go to zero here (Buffered at a remaining kink)
   // m, >= 0 where the fit has the Hausdorff distance between its transition and the path it
   // replaces already, to the corner report's precision (then the blender reports it instead of
@@ -82,6 +86,33 @@ inline constexpr double kCuspShare = 0.01;
 
 // Why `fit` of `corner` is a cusp (above), or an empty string when it is not.
 std::string cusp_problem(const CornerInput& corner, const CornerFit& fit);
+
+// Equal tolerance (docs/methods.md, "Equal tolerance"): the fit of `corner` by its method
+// (spec.method, not none) whose deviation, as the corner report gives it (corner_deviation),
+// equals spec.tolerance (> 0) within the band [1 - kToleranceBand, 1] of it: the method's own
+// parameter (corner distance, TP, the clothoid's and biclothoid's deviation) solved for it by a
+// safeguarded secant search on log(deviation) against log(parameter), from a closed form that is
+// exact for two lines. Where the neighbouring moves are too short, the largest transition that
+// fits (limited, deviation below the tolerance); where the method cuts nothing (collinear,
+// tangent or same-circle corners it leaves as they are, a near reversal), the fit at parameter
+// 0. The fit's exact_deviation is the deviation measured at the solution (the report gives it
+// as it is); parameter_used is the parameter solved. Outcome
+// not ok where the method fits no transition at any parameter (the blender stops there).
+CornerFit fit_corner_at_tolerance(const CornerInput& corner);
+
+// The share below the tolerance within which a corner's deviation counts as reaching it
+// (CornerReport::tolerance_reached): deviation in [tolerance (1 - kToleranceBand), tolerance],
+// 0.1 %, ten times inside the 1 %; the tolerance solve stops in it (seed 004's
+// Algorithm 2, which the biclothoid's solve is, in a band ten times narrower still:
+// biclothoid_tolerance.cpp, kReached).
+inline constexpr double kToleranceBand = 1e-3;
+
+// The deviation of a fitted corner as the blender reports it (measure_corner, blend.hpp): the
+// fit's exact_deviation where it has one (>= 0), else the two-sided Hausdorff distance between
+// its transition and the stretch of `in` and `out` it replaces (their trimmed ends), to 1e-9 of
+// the corner's size; for a fit without a transition, how far the skipped stretch lies from the
+// kept path (m).
+double corner_deviation(const CornerFit& fit, const Primitive& in, const Primitive& out);
 
 CornerFit fit_arc_corner(const CornerInput& corner);         // seed 001, seed 003: corner distance
 CornerFit fit_bezier_corner(const CornerInput& corner);      // seed 000: transition parameter TP

@@ -33,6 +33,16 @@ struct CornerReport {
   bool stop = false;                  // the path velocity must reach zero here
   CurvatureSteps curvature_steps = CurvatureSteps::kLimit;  // the transition's (program.hpp)
   double orientation_change = 0;      // rad: the tool's rotation from the transition's start to its end (0 without one)
+  // Equal tolerance (Transition::tolerance, docs/methods.md): the tolerance asked for (m, 0 when
+  // the corner is sized by its parameter) and whether the deviation reached it: within
+  // [tolerance (1 - kToleranceBand), tolerance] (corner.hpp). False where the moves are too short
+  // (the largest transition that fits), where the method cuts nothing (the note says why) and
+  // without a tolerance.
+  double tolerance = 0;
+  bool tolerance_reached = false;
+  // Where the move that ends at the corner was written (Move::where: file and line; a merged
+  // run of lines: its last move).
+  SourceRef source = {};
 };
 
 // One piece of the path.

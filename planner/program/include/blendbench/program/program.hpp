@@ -71,6 +71,12 @@ struct Transition {
   // share limits and buffer mode) is merged into one line before blending where every inner
   // vertex lies within it of that line, in order along it (blend.hpp); 0 = off.
   double merge_tolerance = 0;
+  // m: the corner's Hausdorff deviation to reach instead of a parameter (equal tolerance,
+  // docs/methods.md): the method's own parameter is solved at each corner so that the deviation
+  // the corner report gives (CornerReport::deviation) equals it, or is the largest that fits;
+  // 0 = sized by `parameter` (or `start_distance`). Exclusive with both. (Last, so that the
+  // positional initialisers of the fields above keep their meaning.)
+  double tolerance = 0;
 };
 
 // Kinematic limits of one move along the path (PLCopen Velocity, Acceleration, Deceleration, Jerk).
@@ -113,7 +119,8 @@ inline constexpr std::size_t kMaxMoves = 1'000'000;
 // Checks what the blender assumes: at least one move and at most kMaxMoves; finite coordinates; arcs of positive
 // radius and sweep; no zero-length move; consecutive moves joined (end of move k equals start
 // of move k+1 within 1e-9 of the program size); positive finite limits; finite non-negative
-// transition values, a start distance only on a biclothoid and not with a parameter; unit
+// transition values, a start distance only on a biclothoid and not with a parameter, a
+// tolerance not with a parameter or a start distance; unit
 // quaternions (to 1e-9) and angular limits > 0 (infinity: none). Throws
 // InputError located at the move (at move k+1 for a gap), naming it and the field; a move's own
 // geometry is reported before its join to the previous move.
