@@ -289,7 +289,8 @@ class VariantRun {
       : sc_(sc), robot_(robot), request_(request), variant_(variant), dir_(request.out_dir / variant.name), videos_(videos) {}
 
   VariantSummary run() {
-    const Program program = program_for(sc_, variant_);
+    Program program = program_for(sc_, variant_);
+    if (request_.smoothing.given()) program.smoothing = apply_smoothing_flags_to_variant(request_.smoothing, program.smoothing);
     VariantSummary out;
     out.name = variant_.name;
     out.method = variant_method(program, variant_);
@@ -324,6 +325,7 @@ class VariantRun {
     plan.moves_merged = path.moves_merged;
     plan.merge_tolerance = path.merge_tolerance;
     plan.corner_steps = timing.corner_steps;
+    plan.smoothing = path.smoothing;
     if (!timing.outcome.ok()) return failed(std::move(out), VariantStatus::kPlanningFailed, "planning failed: " + timing.outcome.message);
     if (request_.video || request_.compare) check_video_frames(sc_, timing.cycle_time + sc_.simulation.settle_time);
     say("planned " + format_fixed(path.length() / kMm, 1) + " mm in " + format_fixed(timing.cycle_time, 3) + " s (" +
@@ -580,6 +582,15 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
             "the servo period 1/" + format_value(scenario.servo.rate_hz, 6) + " s is not a multiple of the model's timestep " +
                 format_value(robot.sim->timestep(), 6) + " s (" + format_value(1 / robot.sim->timestep(), 6) +
                 " Hz physics: use a rate that divides it)");
+  }
+  // the command line's smoothing: a tolerance must reach a variant that fits g2_fit
+  check_smoothing_flags(request.smoothing);
+  if (request.smoothing.tolerance_mm &&
+      std::none_of(selected.begin(), selected.end(), [&](const Variant* v) {
+        return apply_smoothing_flags_to_variant(request.smoothing, program_for(scenario, *v).smoothing).method ==
+               SmoothingMethod::kG2Fit;
+      })) {
+    throw InputError("", 0, 0, "--smoothing-tolerance", "no variant run smooths with g2_fit (add --smoothing g2_fit)");
   }
   // the program's start point is every variant's first pose: out of reach, the scenario itself
   // is bad input (at the first move), found before any variant runs

@@ -46,6 +46,7 @@ struct PlanFigures {
   int moves_merged = 0;                              // collinear lines merged before blending (G64 Q)
   double merge_tolerance = 0;                        // m
   std::vector<Timing::CornerStep> corner_steps;      // one per corner (Timing::corner_steps)
+  SmoothingReport smoothing;                         // what smoothing did (Path::smoothing)
   bool oriented = false;                             // the program sets tool orientations
 };
 
