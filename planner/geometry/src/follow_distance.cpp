@@ -20,9 +20,11 @@ double point_segment_distance(const Vec3& q, const Vec3& a, const Vec3& b) {
 }
 
 // The curve as a chord polygon: the points of piece i are points[first[i]] .. points[first[i + 1] - 1],
-// each chord within `deviation` of the piece.
+// each chord within `deviation` of the piece; share[j] is point j's place on its piece (arc
+// length over length, or u of a Bezier, which the pieces here are parameterised close to).
 struct ChordPolygon {
   std::vector<Vec3> points;
+  std::vector<double> share;
   std::vector<std::size_t> first;
   double deviation = 0;
 };
@@ -37,6 +39,8 @@ ChordPolygon chord_polygon(const std::vector<Segment>& pieces, double max_deviat
     const double len = length(piece);
     const double kappa = max_curvature(piece, 0.0, len) * (1 + kCurvatureMargin);
     const double chord = kappa > 0 ? std::sqrt(8 * max_deviation / kappa) : std::numeric_limits<double>::infinity();
+    double step = 0;
+    int n = 1;
     if (const auto* bezier = std::get_if<Bezier>(&piece)) {
       // uniform in u: an arc of du is at most du times the largest speed, which the hodograph's
       // control points bound (degree times the longest leg of the control polygon)
@@ -44,15 +48,15 @@ ChordPolygon chord_polygon(const std::vector<Segment>& pieces, double max_deviat
       double leg = 0;
       for (std::size_t j = 0; j + 1 < c.size(); ++j) leg = std::max(leg, (c[j + 1] - c[j]).norm());
       const double speed = bezier->degree() * leg;
-      const int n = std::max(1, static_cast<int>(std::ceil(speed / chord)));
+      n = std::max(1, static_cast<int>(std::ceil(speed / chord)));
       for (int j = 0; j <= n; ++j) out.points.push_back(bezier->eval(static_cast<double>(j) / n));
-      const double step = speed / n;
-      out.deviation = std::max(out.deviation, kappa * step * step / 8);
-      continue;
+      step = speed / n;
+    } else {
+      n = std::max(1, static_cast<int>(std::ceil(len / chord)));
+      for (int j = 0; j <= n; ++j) out.points.push_back(point(piece, len * j / n));
+      step = len / n;
     }
-    const int n = std::max(1, static_cast<int>(std::ceil(len / chord)));
-    for (int j = 0; j <= n; ++j) out.points.push_back(point(piece, len * j / n));
-    const double step = len / n;
+    for (int j = 0; j <= n; ++j) out.share.push_back(static_cast<double>(j) / n);
     out.deviation = std::max(out.deviation, kappa * step * step / 8);
   }
   out.first.push_back(out.points.size());
@@ -72,25 +76,32 @@ FollowDistance follow_distance(const std::vector<Segment>& pieces, const std::ve
   std::vector<double> sigma(polyline.size(), 0.0);
   for (std::size_t k = 1; k < polyline.size(); ++k) sigma[k] = sigma[k - 1] + (polyline[k] - polyline[k - 1]).norm();
   const std::size_t segments = polyline.size() - 1;
-  // the polyline's segments that meet [s0, s1] of its arc length
-  const auto segment_range = [&](double s0, double s1) {
-    const auto lo = std::upper_bound(sigma.begin(), sigma.end(), s0) - sigma.begin() - 1;
-    const auto hi = std::lower_bound(sigma.begin(), sigma.end(), s1) - sigma.begin();
-    return std::pair{static_cast<std::size_t>(std::clamp<std::ptrdiff_t>(lo, 0, static_cast<std::ptrdiff_t>(segments) - 1)),
-                     static_cast<std::size_t>(std::clamp<std::ptrdiff_t>(hi, 1, static_cast<std::ptrdiff_t>(segments)) - 1)};
-  };
   const ChordPolygon chords = chord_polygon(pieces, 0.5 * resolution);
-
-  // curve -> polyline: chord points every `resolution`, each against the polyline near its piece
-  double to_polyline = 0;
+  // each chord point's place along the polyline, from its piece's stretch (non-decreasing)
+  std::vector<double> place(chords.points.size());
   for (std::size_t i = 0; i < pieces.size(); ++i) {
-    const auto [k0, k1] = segment_range(span_begin[i] - reach, span_end[i] + reach);
+    for (std::size_t c = chords.first[i]; c < chords.first[i + 1]; ++c) {
+      place[c] = std::max(c > 0 ? place[c - 1] : 0.0, span_begin[i] + chords.share[c] * (span_end[i] - span_begin[i]));
+    }
+  }
+
+  // curve -> polyline: points every `resolution` along each chord, each against the polyline's
+  // segments within reach of its place (a window sliding forward)
+  double to_polyline = 0;
+  std::size_t k0 = 0;
+  std::size_t k1 = 0;
+  for (std::size_t i = 0; i < pieces.size(); ++i) {
     for (std::size_t c = chords.first[i]; c + 1 < chords.first[i + 1]; ++c) {
       const Vec3& a = chords.points[c];
       const Vec3& b = chords.points[c + 1];
       const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / resolution)));
       for (int j = c == chords.first[i] ? 0 : 1; j <= n; ++j) {
-        const Vec3 q = a + (b - a) * (static_cast<double>(j) / n);
+        const double share = static_cast<double>(j) / n;
+        const Vec3 q = a + (b - a) * share;
+        const double at = place[c] + share * (place[c + 1] - place[c]);
+        while (k0 + 1 < segments && sigma[k0 + 1] < at - reach) ++k0;
+        k1 = std::max(k1, k0);
+        while (k1 + 1 < segments && sigma[k1 + 1] <= at + reach) ++k1;
         double best = std::numeric_limits<double>::infinity();
         for (std::size_t k = k0; k <= k1; ++k) best = std::min(best, point_segment_distance(q, polyline[k], polyline[k + 1]));
         to_polyline = std::max(to_polyline, best);
@@ -98,25 +109,26 @@ FollowDistance follow_distance(const std::vector<Segment>& pieces, const std::ve
     }
   }
 
-  // polyline -> curve: points every `resolution` on each segment, each against the chords of
-  // the pieces whose stretch lies within reach (spans non-decreasing: a window of pieces)
+  // polyline -> curve: points every `resolution` on each segment, each against the chords whose
+  // places lie within reach of it (a window sliding forward; a piece's last point and the next
+  // one's first coincide, so the chord between them is a point)
   double to_curve = 0;
-  std::size_t i0 = 0;
+  std::size_t c0 = 0;
+  std::size_t c1 = 0;
+  const std::size_t last = chords.points.size() - 1;
   for (std::size_t k = 0; k < segments; ++k) {
-    while (i0 + 1 < pieces.size() && span_end[i0] < sigma[k] - reach) ++i0;
-    std::size_t i1 = i0;
-    while (i1 + 1 < pieces.size() && span_begin[i1 + 1] <= sigma[k + 1] + reach) ++i1;
     const Vec3& a = polyline[k];
     const Vec3& b = polyline[k + 1];
     const int n = std::max(1, static_cast<int>(std::ceil((b - a).norm() / resolution)));
     for (int j = k == 0 ? 0 : 1; j <= n; ++j) {
-      const Vec3 q = a + (b - a) * (static_cast<double>(j) / n);
+      const double share = static_cast<double>(j) / n;
+      const Vec3 q = a + (b - a) * share;
+      const double at = sigma[k] + share * (sigma[k + 1] - sigma[k]);
+      while (c0 + 1 < last && place[c0 + 1] < at - reach) ++c0;
+      c1 = std::max(c1, c0 + 1);
+      while (c1 < last && place[c1] <= at + reach) ++c1;
       double best = std::numeric_limits<double>::infinity();
-      // consecutive points of the window (a piece's last and the next one's first coincide: that
-      // chord is a point)
-      for (std::size_t c = chords.first[i0]; c + 1 < chords.first[i1 + 1]; ++c) {
-        best = std::min(best, point_segment_distance(q, chords.points[c], chords.points[c + 1]));
-      }
+      for (std::size_t c = c0; c < c1; ++c) best = std::min(best, point_segment_distance(q, chords.points[c], chords.points[c + 1]));
       to_curve = std::max(to_curve, best);
     }
   }

@@ -20,10 +20,12 @@ struct FollowDistance {
 
 // Both directed distances between `pieces` and the polyline through `polyline` (at least two
 // points). Piece i corresponds to the stretch [span_begin[i], span_end[i]] of the polyline's arc
-// length (m from its first point, non-decreasing in i). Every point of either is compared with
-// the part of the other that lies within `reach` (m) of its stretch along the polyline: a nearer
-// part farther along is not looked at, so each value bounds the true distance from above, and
-// equals it (to the resolution) where the nearest parts lie within reach.
+// length (m from its first point, non-decreasing in i), a point of it at the share f of its
+// parameter (arc length, or u of a Bezier) to span_begin + f (span_end - span_begin). Every point
+// of either is compared with the part of the other that lies within `reach` (m) of that place
+// along the polyline: a nearer part farther along is not looked at, so each value bounds the true
+// distance from above, and equals it (to the resolution) where the nearest parts lie within
+// reach. The cost is linear in the lengths over the resolution, times the segments within reach.
 //
 // Sampling: the curve is replaced by a chord polygon whose chords deviate from it by at most
 // resolution / 2 (from each piece's maximum curvature), and each side is sampled at most
