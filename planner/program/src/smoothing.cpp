@@ -30,6 +30,10 @@ constexpr std::array<std::pair<SmoothingMethod, std::string_view>, 3> kNames = {
 // join tolerance, program.hpp validate), and at least kMinClosure (m).
 constexpr double kRelativeClosure = 1e-9;
 constexpr double kMinClosure = 1e-12;
+// g2_fit's streams also break where the direction, each side taken over this many tolerances
+// of the lines, turns by stream_turn or more: a cusp drawn with lines shorter than the tolerance
+// turns little at each vertex, but no curve within the tolerance turns round it smoothly.
+constexpr double kTurnWindow = 2;
 // clothoid_points' distance is measured at this share of the stream's mean line length, with
 // the reach of this many longest lines (follow_distance.hpp).
 constexpr double kPointsResolutionShare = 0.05;
@@ -90,12 +94,34 @@ std::vector<StreamRun> find_streams(const Program& program, const Smoothing& smo
   std::vector<StreamRun> out;
   const auto& moves = program.moves;
   const std::size_t n = moves.size();
-  // whether the vertex between lines k and k + 1 (both stream lines) lies inside a stream
+  // the point `distance` back from the end of line k (forward from its start when `ahead`)
+  // along consecutive lines, or the farthest one reached where the lines end
+  const auto along = [&](std::size_t k, double distance, bool ahead) {
+    for (;;) {
+      const Line& line = std::get<Line>(moves[k].geometry);
+      const double len = length(line);
+      if (distance <= len) return Vec3(ahead ? line.p0 + (line.p1 - line.p0) * (distance / len) : line.p1 + (line.p0 - line.p1) * (distance / len));
+      distance -= len;
+      const bool more = ahead ? k + 1 < n && std::holds_alternative<Line>(moves[k + 1].geometry)
+                              : k > 0 && std::holds_alternative<Line>(moves[k - 1].geometry);
+      if (!more) return ahead ? line.p1 : line.p0;
+      k = ahead ? k + 1 : k - 1;
+    }
+  };
+  const double window = smoothing.method == SmoothingMethod::kG2Fit ? kTurnWindow * smoothing.tolerance : 0.0;
+  // whether the vertex between lines k and k + 1 (both stream lines) lies inside a stream: it
+  // turns by less than stream_turn, from line to line and (g2_fit) over the window each side
   const auto linked = [&](std::size_t k) {
     const Line* a = stream_line(moves[k], smoothing.stream_length);
     const Line* b = stream_line(moves[k + 1], smoothing.stream_length);
-    return a != nullptr && b != nullptr && same_limits(moves[k].limits, moves[k + 1].limits) &&
-           moves[k].buffer == moves[k + 1].buffer && angle_between(a->p1 - a->p0, b->p1 - b->p0) < smoothing.stream_turn;
+    if (a == nullptr || b == nullptr || !same_limits(moves[k].limits, moves[k + 1].limits) ||
+        moves[k].buffer != moves[k + 1].buffer || !(angle_between(a->p1 - a->p0, b->p1 - b->p0) < smoothing.stream_turn)) {
+      return false;
+    }
+    if (!(window > 0)) return true;
+    const Vec3 before = a->p1 - along(k, window, false);
+    const Vec3 after = along(k + 1, window, true) - b->p0;
+    return angle_between(before, after) < smoothing.stream_turn;
   };
   for (std::size_t k = 0; k < n;) {
     if (stream_line(moves[k], smoothing.stream_length) == nullptr) {

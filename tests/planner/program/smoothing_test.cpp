@@ -166,21 +166,35 @@ TEST(Smoothing, SmoothStreamsFitsEachStreamAndMeasuresIt) {
   EXPECT_TRUE(smooth_streams(program).runs.empty());
 }
 
-TEST(Smoothing, AStreamTheFitCannotFollowIsKeptAsLinesWithANote) {
-  // a zigzag of 0.1 mm lines turning by 29 deg at every vertex, fitted within 0.1 um: no G2 curve
-  // follows it at any knot spacing tried, so it stays as lines and a note says which and why
+TEST(Smoothing, ASpikyStreamIsSmoothedWithinTheToleranceOrKeptAsLinesWithANote) {
+  // a zigzag of 0.1 mm lines turning back by 170 deg at every vertex, let into a stream by a
+  // stream turn of 179 deg: each method smooths it within its own terms or keeps it as lines,
+  // with a note naming the moves and why; never a curve outside the tolerance
   std::vector<Vec3> points;
-  for (int k = 0; k <= 40; ++k) points.push_back(Vec3(k * 0.1e-3, (k % 2) * 0.1e-3 * std::tan(14.5 * kDeg), 0));
+  for (int k = 0; k <= 20; ++k) points.push_back(Vec3(k * 0.1e-3 * std::cos(85 * kDeg), (k % 2) * 0.1e-3 * std::sin(85 * kDeg), 0));
   Program program = polyline_program(points);
-  program.smoothing.method = SmoothingMethod::kG2Fit;
-  program.smoothing.tolerance = 1e-7;
-  const SmoothedProgram smoothed = smooth_streams(program);
-  EXPECT_TRUE(smoothed.runs.empty());
-  ASSERT_EQ(smoothed.report.notes.size(), 1u);
-  EXPECT_NE(smoothed.report.notes.front().find("move 1 to move 40 (a stream of 40 lines) kept as lines: g2_fit: no G2 fit"),
-            std::string::npos)
-      << smoothed.report.notes.front();
-  EXPECT_EQ(smoothed.report.runs, 0);
+  program.smoothing.stream_turn = 179 * kDeg;
+  for (const SmoothingMethod method : {SmoothingMethod::kG2Fit, SmoothingMethod::kClothoidPoints}) {
+    program.smoothing.method = method;
+    const SmoothedProgram smoothed = smooth_streams(program);
+    const std::string what(to_string(method));
+    if (smoothed.runs.empty()) {
+      ASSERT_EQ(smoothed.report.notes.size(), 1u) << what;
+      EXPECT_NE(smoothed.report.notes.front().find("move 1 to move 20 (a stream of 20 lines) kept as lines: " + what + ": "),
+                std::string::npos)
+          << smoothed.report.notes.front();
+      EXPECT_EQ(smoothed.report.runs, 0) << what;
+      continue;
+    }
+    EXPECT_TRUE(smoothed.report.notes.empty()) << what;
+    EXPECT_EQ(smoothed.report.runs, 1) << what;
+    if (method == SmoothingMethod::kG2Fit) {
+      EXPECT_LE(smoothed.report.max_distance, program.smoothing.tolerance) << what;
+    }
+    for (const Segment& piece : smoothed.runs.front().curve) {
+      EXPECT_TRUE(std::isfinite(length(piece)) && length(piece) > 0) << what;
+    }
+  }
 }
 
 }  // namespace

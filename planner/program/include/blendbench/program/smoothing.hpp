@@ -8,7 +8,9 @@
 //
 //   - which moves are a stream: runs of lines shorter than `stream_length`, each vertex turning
 //     by less than `stream_turn`, sharing limits and buffer mode and setting no orientation, at
-//     least kMinStreamLines long (find_streams);
+//     least kMinStreamLines long (find_streams); for g2_fit, the turn at a vertex is also taken
+//     between the directions over two tolerances of the lines each side, so a cusp drawn with
+//     many tiny lines is a corner too;
 //   - `clothoid_points` (seed 002, Makino, section 6 and Fig. 11): clothoid pairs through every
 //     point, curvature zero at each, points added so that no pair turns by more than `max_turn`
 //     (clothoid_points.hpp);
@@ -82,7 +84,8 @@ struct StreamRun {
   bool closed = false;
 };
 
-// The streams of `program` under `smoothing` (method aside), in order, disjoint.
+// The streams of `program` under `smoothing`, in order, disjoint (the method matters only for
+// g2_fit's windowed turn).
 std::vector<StreamRun> find_streams(const Program& program, const Smoothing& smoothing);
 
 // A smoothing fit of one stream: G2 pieces from its start to its end (each piece's start joins
