@@ -317,6 +317,8 @@ class VariantRun {
     plan.feed_share = timing.feed_share;
     plan.corners = path.corners;
     plan.oriented = path.oriented();
+    // the planned path leaves the programmed one at the transitions and along smoothed streams
+    plan.path_deviation_max = path.smoothing.max_distance;
     for (const CornerReport& c : path.corners) plan.path_deviation_max = std::max(plan.path_deviation_max, c.deviation);
     plan.placements = corner_placements(path, program);
     plan.pieces = pieces_json(path, timing);

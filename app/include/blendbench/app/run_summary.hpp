@@ -36,7 +36,7 @@ struct PlanFigures {
   double path_length = 0;         // m
   double planned_cycle_time = 0;  // s
   double feed_share = 0;
-  double path_deviation_max = 0;  // m: the largest corner deviation of the planned transitions
+  double path_deviation_max = 0;  // m: the largest deviation of the planned transitions and smoothed streams
   std::vector<CornerReport> corners;
   std::vector<CornerPlacement> placements;  // one per corner
   std::vector<CornerTiming> corner_times;   // one per corner, when the reference passes it
