@@ -239,8 +239,8 @@ LoadedProgram load_program(const std::string& input, const ProgramFlags& flags) 
 // One line on what smoothing did, and its notes (none without smoothing).
 void print_smoothing(const bb::SmoothingReport& report) {
   if (report.method == bb::SmoothingMethod::kNone) return;
-  std::cout << "  smoothing " << bb::to_string(report.method) << ": " << report.runs << " streams, " << report.points
-            << " points -> " << report.pieces << " pieces, within " << bb::format_value(report.max_distance * 1e3, 4)
+  std::cout << "  smoothing " << bb::to_string(report.method) << ": streams " << report.runs << ", points " << report.points
+            << " -> pieces " << report.pieces << ", within " << bb::format_value(report.max_distance * 1e3, 4)
             << " mm, fitted in " << bb::format_value(report.wall_time * 1e3, 4) << " ms" << std::endl;
   for (const std::string& note : report.notes) std::cout << "  smoothing: " << note << std::endl;
 }

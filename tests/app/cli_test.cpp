@@ -468,7 +468,7 @@ TEST_F(Cli, SmoothingFlagsSmoothAStreamAndAreCheckedLikeEveryFlag) {
   const std::string io = " --csv " + (dir_ / "t.csv").string() + " --summary " + (dir_ / "s.json").string();
   Result r = run("plan " + part.string() + " --smoothing g2_fit --smoothing-tolerance 0.01" + io);
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("smoothing g2_fit: 1 streams, 401 points"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("smoothing g2_fit: streams 1, points 401 -> pieces "), std::string::npos) << r.output;
   std::ifstream summary_file(dir_ / "s.json");
   const nlohmann::json summary = nlohmann::json::parse(summary_file);
   const nlohmann::json& smoothing = summary["smoothing"];
@@ -482,7 +482,7 @@ TEST_F(Cli, SmoothingFlagsSmoothAStreamAndAreCheckedLikeEveryFlag) {
   EXPECT_EQ(summary["corners"].size(), 1u);  // the lead-in's corner; none inside the stream
   r = run("path " + part.string() + " --smoothing clothoid_points --csv " + (dir_ / "p.csv").string());
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("smoothing clothoid_points: 1 streams"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("smoothing clothoid_points: streams 1, points 401"), std::string::npos) << r.output;
   struct Case {
     std::string args, expected;
   };

@@ -29,7 +29,7 @@ using Knots = Basis::KnotVectorType;
 
 // Knots (place_knots): a span ends where the lines' direction, seen over kDirectionWindow
 // tolerances, has turned by kSpanTurn since its start, and lasts between kMinSpan and kMaxSpan
-// tolerances. A quintic span follows a circle arc of a quarter radian to far below the
+// tolerances. A quintic span follows a circle arc of a fifth of a radian to far below the
 // tolerance, so the turn limit is the spline's resolution where the stream bends; the length
 // limits keep the pieces few where it runs straight (the velocity planner cuts each into 16
 // intervals) and fine enough at a sharp vertex. Where the fit cannot stay within the tolerance
@@ -184,7 +184,8 @@ std::vector<double> place_knots(const std::vector<Vec3>& points, const std::vect
 //   v_k: the projection of a r_k + (1 - a) v_k + l_k onto the ball (r_k = C(u_k) - x_k, a the
 //        over-relaxation),
 //   l_k: += a r_k + (1 - a) v_k - v_k(new),
-// rho doubled or halved when the primal and dual residuals drift apart by kBalance (3.4.1).
+// rho doubled or halved when the primal and dual residuals drift apart by kBalance (3.4.1); the
+// iterate kept is the smoothest whose residuals all lie within the acceptance.
 class Fit {
  public:
   Fit(const std::vector<Vec3>& x, const std::vector<double>& u, const std::vector<double>& breaks, const CurveEnds& ends)
@@ -241,7 +242,8 @@ class Fit {
         ++made;
         break;
       }
-      // residual balancing: the dual residual of scaled ADMM is rho times the change of v
+      // residual balancing (3.4.1), both residuals as lengths: the primal one the largest gap
+      // between a residual and its ball's point, the dual one (over rho) the largest change of v
       if (it % kBalanceEvery == kBalanceEvery - 1) {
         if (primal > kBalance * dual && rho_ < kRhoRange * rho0_) rescale(2);
         else if (dual > kBalance * primal && rho_ > rho0_ / kRhoRange) rescale(0.5);
