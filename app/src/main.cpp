@@ -25,6 +25,7 @@
 #include "blendbench/core/interrupt.hpp"
 #include "blendbench/papers/reproduce.hpp"
 #include "blendbench/app/runner.hpp"
+#include "blendbench/app/smoothing_flags.hpp"
 #include "blendbench/app/sweep.hpp"
 #include "blendbench/io/scenario.hpp"
 #include "blendbench/io/scenario_keys.hpp"
@@ -95,9 +96,10 @@ std::optional<double> tolerance_flag(const std::optional<double>& tolerance_mm) 
 
 int cmd_run(std::string scenario_path, std::string out_dir, bool no_video, bool no_plots, bool compare,
             const std::vector<std::string>& variants, const TimingFlags& timing_flags,
-            const std::optional<double>& tolerance_mm) {
+            const std::optional<double>& tolerance_mm, const bb::SmoothingFlags& smoothing) {
   const auto start = std::chrono::steady_clock::now();
   (void)tolerance_flag(tolerance_mm);  // refused before anything is loaded
+  bb::check_smoothing_flags(smoothing);
   // no scenario given: the default one in the data root (data_root.hpp)
   if (scenario_path.empty()) scenario_path = bb::data_file("scenarios/default.yaml");
   const bb::Scenario scenario = bb::load_scenario(scenario_path);
@@ -113,6 +115,7 @@ int cmd_run(std::string scenario_path, std::string out_dir, bool no_video, bool 
   request.limits = limits_flag(timing_flags);
   request.max_samples = max_samples_flag(timing_flags);
   request.tolerance = tolerance_flag(tolerance_mm);
+  request.smoothing = smoothing;
   request.progress = [](const std::string& line) { std::cout << line << std::endl; };
   std::cout << "blendbench: scenario '" << scenario.name << "' (" << scenario_path << ") -> " << out_dir << std::endl;
   const bb::RunResult result = bb::run_scenario(scenario, request);
@@ -157,6 +160,7 @@ struct ProgramFlags {
   double amax_mm_s2 = 0;
   double jmax_mm_s3 = 0;
   std::optional<double> merge_mm;  // G64 Q on every move: merge collinear lines within it
+  bb::SmoothingFlags smoothing;    // --smoothing, --smoothing-tolerance
 };
 
 struct LoadedProgram {
@@ -254,7 +258,17 @@ LoadedProgram load_program(const std::string& input, const ProgramFlags& flags) 
     if (flags.amax_mm_s2 > 0) move.limits.acceleration = move.limits.deceleration = flags.amax_mm_s2 * 1e-3;
     if (flags.jmax_mm_s3 > 0) move.limits.jerk = flags.jmax_mm_s3 * 1e-3;
   }
+  if (flags.smoothing.given()) out.program.smoothing = bb::apply_smoothing_flags(flags.smoothing, out.program.smoothing);
   return out;
+}
+
+// One line on what smoothing did, and its notes (none without smoothing).
+void print_smoothing(const bb::SmoothingReport& report) {
+  if (report.method == bb::SmoothingMethod::kNone) return;
+  std::cout << "  smoothing " << bb::to_string(report.method) << ": streams " << report.runs << ", points " << report.points
+            << " -> pieces " << report.pieces << ", within " << bb::format_value(report.max_distance * 1e3, 4)
+            << " mm, fitted in " << bb::format_value(report.wall_time * 1e3, 4) << " ms" << std::endl;
+  for (const std::string& note : report.notes) std::cout << "  smoothing: " << note << std::endl;
 }
 
 int cmd_path(const std::string& input, const ProgramFlags& flags, const std::string& csv, const std::string& report,
@@ -275,6 +289,7 @@ int cmd_path(const std::string& input, const ProgramFlags& flags, const std::str
   if (!report.empty()) bb::write_file_atomic(report, bb::corners_json(path, loaded.program).dump(2) + "\n");
   std::cout << "path: " << bb::format_value(path.length() * 1e3, 6) << " mm, " << path.pieces().size() << " pieces, "
             << path.corners.size() << " corners -> " << csv << std::endl;
+  print_smoothing(path.smoothing);
   return kExitOk;
 }
 
@@ -307,6 +322,7 @@ int cmd_plan(const std::string& input, const ProgramFlags& flags, const TimingFl
   std::cout << "plan: " << bb::format_value(path.length() * 1e3, 6) << " mm in " << bb::format_value(timing.cycle_time, 6)
             << " s, " << path.corners.size() << " corners, planned in " << bb::format_value(wall * 1e3, 3) << " ms -> "
             << csv << ", " << summary << std::endl;
+  print_smoothing(path.smoothing);
   for (const std::string& line : loaded.ignored) std::cout << "  ignored: " << line << std::endl;
   return kExitOk;
 }
@@ -433,6 +449,8 @@ int main(int argc, char** argv) {
                     "settle time together, default 5e5)");
   };
   add_timing_flags(run);
+  bb::SmoothingFlags run_smoothing;
+  bb::add_smoothing_flags(run, run_smoothing);
 
   // shared by `path` and `plan`
   std::string input;
@@ -454,6 +472,7 @@ int main(int argc, char** argv) {
     cmd->add_option("--jmax", flags.jmax_mm_s3, "Jerk limit, mm/s^3 (G-code default 10000)");
     cmd->add_option("--merge-tolerance", flags.merge_mm,
                     "Merge runs of collinear lines within this many mm before blending (LinuxCNC's G64 Q); 0 = off");
+    bb::add_smoothing_flags(cmd, flags.smoothing);
   };
 
   std::string report;
@@ -523,7 +542,7 @@ int main(int argc, char** argv) {
   }
 
   try {
-    if (*run) return cmd_run(scenario_path, out_dir, no_video, no_plots, compare, variants, timing_flags, run_tolerance_mm);
+    if (*run) return cmd_run(scenario_path, out_dir, no_video, no_plots, compare, variants, timing_flags, run_tolerance_mm, run_smoothing);
     if (*path) return cmd_path(input, flags, csv, report, ds_mm);
     if (*plan) return cmd_plan(input, flags, timing_flags, csv, summary);
     if (*check) return cmd_check(run_dir, baseline, tolerances, update);

@@ -291,6 +291,7 @@ class VariantRun {
   VariantSummary run() {
     Program program = program_for(sc_, variant_);
     if (request_.tolerance) apply_tolerance(program, *request_.tolerance);
+    if (request_.smoothing.given()) program.smoothing = apply_smoothing_flags_to_variant(request_.smoothing, program.smoothing);
     VariantSummary out;
     out.name = variant_.name;
     out.method = variant_method(program, variant_);
@@ -322,6 +323,8 @@ class VariantRun {
     plan.feed_share = timing.feed_share;
     plan.corners = path.corners;
     plan.oriented = path.oriented();
+    // the planned path leaves the programmed one at the transitions and along smoothed streams
+    plan.path_deviation_max = path.smoothing.max_distance;
     for (const CornerReport& c : path.corners) plan.path_deviation_max = std::max(plan.path_deviation_max, c.deviation);
     plan.placements = corner_placements(path, program);
     plan.pieces = pieces_json(path, timing);
@@ -330,6 +333,7 @@ class VariantRun {
     plan.moves_merged = path.moves_merged;
     plan.merge_tolerance = path.merge_tolerance;
     plan.corner_steps = timing.corner_steps;
+    plan.smoothing = path.smoothing;
     if (!timing.outcome.ok()) return failed(std::move(out), VariantStatus::kPlanningFailed, "planning failed: " + timing.outcome.message);
     if (request_.video || request_.compare) check_video_frames(sc_, timing.cycle_time + sc_.simulation.settle_time);
     say("planned " + format_fixed(path.length() / kMm, 1) + " mm in " + format_fixed(timing.cycle_time, 3) + " s (" +
@@ -596,6 +600,15 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
             "the servo period 1/" + format_value(scenario.servo.rate_hz, 6) + " s is not a multiple of the model's timestep " +
                 format_value(robot.sim->timestep(), 6) + " s (" + format_value(1 / robot.sim->timestep(), 6) +
                 " Hz physics: use a rate that divides it)");
+  }
+  // the command line's smoothing: a tolerance must reach a variant that fits g2_fit
+  check_smoothing_flags(request.smoothing);
+  if (request.smoothing.tolerance_mm &&
+      std::none_of(selected.begin(), selected.end(), [&](const Variant* v) {
+        return apply_smoothing_flags_to_variant(request.smoothing, program_for(scenario, *v).smoothing).method ==
+               SmoothingMethod::kG2Fit;
+      })) {
+    throw InputError("", 0, 0, "--smoothing-tolerance", "no variant run smooths with g2_fit (add --smoothing g2_fit)");
   }
   // the program's start point is every variant's first pose: out of reach, the scenario itself
   // is bad input (at the first move), found before any variant runs

@@ -76,6 +76,18 @@ Transition read_transition(const Reader& r, const Field& f) {
 
 BufferMode read_buffer(const Reader& r, const Field& f) { return *buffer_mode_from_string(r.choice(f)); }
 
+// A `smoothing` map: each key it gives replaces `base`'s (the program's, or the defaults).
+Smoothing read_smoothing(const Reader& r, const Field& f, Smoothing base) {
+  r.check_keys(f);
+  base.where = r.where(f);
+  if (const Field m = r.child(f, "method"); m.node.defined()) base.method = *smoothing_method_from_string(r.choice(m));
+  if (const Field t = r.child(f, "tolerance"); t.node.defined()) base.tolerance = r.number(t);
+  if (const Field t = r.child(f, "max_turn_deg"); t.node.defined()) base.max_turn = r.number(t) * kDeg;
+  if (const Field l = r.child(f, "stream_length"); l.node.defined()) base.stream_length = r.number(l);
+  if (const Field t = r.child(f, "stream_turn_deg"); t.node.defined()) base.stream_turn = r.number(t) * kDeg;
+  return base;
+}
+
 // Reads one arc specification; positions are in the program frame, in metres.
 Arc read_arc(const Reader& r, const Field& f, const Vec3& start) {
   r.check_keys(f);
@@ -272,6 +284,7 @@ void read_program(const Reader& r, const Field& root, Scenario& sc) {
   sc.program.start_orientation = Quat(sc.robot.tool_rotation).normalized();
   sc.program.orientation_interpolation =
       *orientation_interpolation_from_string(r.choice(r.value(program, "orientation_interpolation")));
+  if (const Field f = r.child(program, "smoothing"); f.node.defined()) sc.program.smoothing = read_smoothing(r, f, Smoothing{});
   if (gcode.node.defined()) {
     if (moves.node.defined()) r.fail(moves, "give either 'moves' or 'gcode', not both");
     read_gcode_program(r, gcode, angles, start, defaults, sc);
@@ -485,6 +498,7 @@ void read_variants(const Reader& r, const Field& root, Scenario& sc) {
     if (!names.insert(v.name).second) r.fail(name, "duplicate variant name '" + v.name + "'");
     if (const Field t = r.child(f, "transition"); t.node.defined()) v.transition = read_transition(r, t);
     if (const Field b = r.child(f, "buffer"); b.node.defined()) v.buffer = read_buffer(r, b);
+    if (const Field s = r.child(f, "smoothing"); s.node.defined()) v.smoothing = read_smoothing(r, s, sc.program.smoothing);
     v.baseline = *baseline_from_string(r.choice(r.value(f, "baseline")));
     sc.variants.push_back(std::move(v));
   }
@@ -561,6 +575,7 @@ Program program_for(const Scenario& scenario, const Variant& variant) {
     if (variant.transition && !scenario.explicit_transition[k]) program.moves[k].transition = *variant.transition;
     if (variant.buffer && !scenario.explicit_buffer[k]) program.moves[k].buffer = *variant.buffer;
   }
+  if (variant.smoothing) program.smoothing = *variant.smoothing;
   return program;
 }
 

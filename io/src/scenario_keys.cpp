@@ -104,7 +104,14 @@ constexpr std::array kKeys = {
     ScenarioKey{.map = "program", .name = "start", .type = K::kNumbers, .count = 3, .unit = kLength, .fallback = "[0, 0, 0]", .meaning = "where the first move starts, in the program frame (with gcode: the position before the first line)"},
     ScenarioKey{.map = "program", .name = "moves", .type = K::kList, .opens = "move", .meaning = "the moves, each starting where the previous ends (this or gcode)"},
     ScenarioKey{.map = "program", .name = "gcode", .type = K::kFile, .meaning = "a G-code part program instead of moves, in its own units (G20/G21), placed by frame; defaults give its limits"},
+    ScenarioKey{.map = "program", .name = "smoothing", .type = K::kMap, .opens = "smoothing", .meaning = "smooth the program's point streams (runs of short lines, as CAM writes curves) before blending, for every variant (default: none; docs/smoothing.md)"},
     ScenarioKey{.map = "program", .name = "gcode_angles", .type = K::kMap, .opens = "gcode_angles", .meaning = "with gcode: read its A, B, C words as tool angles in degrees, modal like X, Y, Z (G91 adds), giving each move's orientation as rpy_deg does; without it A, B, C are refused"},
+
+    ScenarioKey{.map = "smoothing", .name = "method", .type = K::kChoice, .fallback = "none", .choices = "none|clothoid_points|g2_fit", .meaning = "none; clothoid_points: clothoid pairs through every point, curvature zero at each (seed 002 section 6); g2_fit: a curvature-continuous curve within tolerance of every point and line, as smooth as the tolerance allows"},
+    ScenarioKey{.map = "smoothing", .name = "tolerance", .type = K::kNumber, .unit = kLength, .fallback = "0.02", .range = kPositive, .meaning = "g2_fit: the largest distance between the curve and the stream's points and lines, both ways (Hausdorff)"},
+    ScenarioKey{.map = "smoothing", .name = "max_turn_deg", .type = K::kNumber, .unit = kDegrees, .fallback = "45", .range = {0, 180, true, true}, .meaning = "clothoid_points: the largest turn of one clothoid pair; points are added where a pair would turn more (seed 002 Fig. 11)"},
+    ScenarioKey{.map = "smoothing", .name = "stream_length", .type = K::kNumber, .unit = kLength, .fallback = "1", .range = kPositive, .meaning = "a stream's lines are shorter than this (a curve of radius up to 12.5 mm written at a 0.01 mm chord tolerance)"},
+    ScenarioKey{.map = "smoothing", .name = "stream_turn_deg", .type = K::kNumber, .unit = kDegrees, .fallback = "30", .range = {0, 180, true, true}, .meaning = "a stream turns by less than this at each vertex; a sharper vertex is a corner, blended by the variant's method"},
 
     ScenarioKey{.map = "gcode_angles", .name = "a", .type = K::kChoice, .required = true, .choices = "roll|pitch|yaw", .meaning = "the angle A names; A, B, C name roll, pitch and yaw, each once (KUKA's A, B, C: {a: yaw, b: pitch, c: roll}; rotary axes about x, y, z: {a: roll, b: pitch, c: yaw})"},
     ScenarioKey{.map = "gcode_angles", .name = "b", .type = K::kChoice, .required = true, .choices = "roll|pitch|yaw", .meaning = "the angle B names"},
@@ -146,6 +153,7 @@ constexpr std::array kKeys = {
     ScenarioKey{.map = "variant", .name = "name", .type = K::kText, .required = true, .meaning = "the variant's name, unique; it names its output folder (the rule of the scenario's name)"},
     ScenarioKey{.map = "variant", .name = "transition", .type = K::kMap, .opens = "transition", .meaning = "the transition of every move that sets none (default: none of its own, the moves' own)"},
     ScenarioKey{.map = "variant", .name = "buffer", .type = K::kChoice, .choices = kBufferModes, .meaning = "the buffer mode of every move that sets none"},
+    ScenarioKey{.map = "variant", .name = "smoothing", .type = K::kMap, .opens = "smoothing", .meaning = "this variant's smoothing: each key it gives replaces the program's (program.smoothing)"},
     ScenarioKey{.map = "variant", .name = "baseline", .type = K::kChoice, .fallback = "none", .choices = "none|exact_stop|junction_slowdown", .meaning = "plan as a baseline: an exact stop, or a slow-down, at every junction"},
 };
 // clang-format on

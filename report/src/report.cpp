@@ -184,6 +184,19 @@ void add_plan_figures(nlohmann::json& out, LimitsMode limits, int moves_merged, 
   out["planned_to_bound_ratio"] = finite_or_null(bound_cycle_time > 0 ? cycle_time / bound_cycle_time : 1.0);
 }
 
+nlohmann::json smoothing_json(const SmoothingReport& report) {
+  return {{"method", std::string(to_string(report.method))},
+          {"tolerance_mm", report.tolerance / kMm},
+          {"max_turn_deg", report.max_turn / kDeg},
+          {"runs", report.runs},
+          {"points", report.points},
+          {"pieces", report.pieces},
+          {"points_added", report.points_added},
+          {"max_distance_mm", report.max_distance / kMm},
+          {"fit_wall_time_s", report.wall_time},
+          {"notes", report.notes}};
+}
+
 nlohmann::json plan_summary_json(const Path& path, const Timing& timing, const Program& program) {
   nlohmann::json corners = corners_json(path, program);
   for (std::size_t k = 0; k < corners.size() && k < path.corners.size(); ++k) {
@@ -196,6 +209,7 @@ nlohmann::json plan_summary_json(const Path& path, const Timing& timing, const P
                         {"corners", corners},
                         {"pieces", pieces_json(path, timing)}};
   add_plan_figures(out, timing.limits, path.moves_merged, path.merge_tolerance, timing.cycle_time, timing.bound_cycle_time);
+  out["smoothing"] = smoothing_json(path.smoothing);
   return out;
 }
 

@@ -13,7 +13,11 @@ namespace {
 
 // Distance from a point to a chain of segments: the exact or refined closest point
 // (closest_point) on every segment whose bounding sphere can hold a closer point than the best
-// so far, so a long path costs a few closest-point searches per query, not one per segment.
+// so far, so a long path costs a few closest-point searches per query, not one per segment. The
+// search starts at the segment nearest to the previous query (a trace moves along the path), so
+// `best` is small from the first segment on: on a CAM program of thousands of tiny fillets a
+// search from the chain's start computed hundreds of closest points per query (2 minutes of
+// metrics for 2000 lines); the result is the same minimum.
 class ChainDistance {
  public:
   explicit ChainDistance(std::vector<Segment> segments) {
@@ -37,11 +41,19 @@ class ChainDistance {
   }
 
   [[nodiscard]] double operator()(const Vec3& p) const {
-    double best = std::numeric_limits<double>::infinity();
-    for (const Item& item : items_) {
-      if ((p - item.centre).norm() - item.radius >= best) continue;
-      best = std::min(best, closest_point(item.segment, p).distance);
+    if (items_.empty()) return std::numeric_limits<double>::infinity();
+    double best = closest_point(items_[hint_].segment, p).distance;
+    std::size_t nearest = hint_;
+    for (std::size_t i = 0; i < items_.size(); ++i) {
+      const Item& item = items_[i];
+      if (i == hint_ || (p - item.centre).norm() - item.radius >= best) continue;
+      const double d = closest_point(item.segment, p).distance;
+      if (d < best) {
+        best = d;
+        nearest = i;
+      }
     }
+    hint_ = nearest;
     return best;
   }
 
@@ -52,6 +64,7 @@ class ChainDistance {
     double radius;
   };
   std::vector<Item> items_;
+  mutable std::size_t hint_ = 0;  // the segment nearest to the last query
 };
 
 // Component c of a list of vectors.

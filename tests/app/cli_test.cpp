@@ -540,4 +540,63 @@ TEST_F(Cli, RunWithoutPlotsSaysThereIsNoReport) {
   EXPECT_FALSE(fs::exists(out / "report.html"));
 }
 
+// --smoothing and --smoothing-tolerance on path and plan: a circle written as 400 short lines is
+// smoothed into one curve, the summary says so; bad values name the flag (exit 2), as on run.
+TEST_F(Cli, SmoothingFlagsSmoothAStreamAndAreCheckedLikeEveryFlag) {
+  const fs::path part = dir_ / "circle.ngc";
+  {
+    std::ofstream out(part);
+    out << "G21 G90 G64 P0.05\nG1 X5 Y0 F6000\n";
+    char line[64];
+    for (int k = 1; k <= 400; ++k) {
+      const double a = 2 * M_PI * k / 400;
+      std::snprintf(line, sizeof line, "G1 X%.4f Y%.4f\n", 5 * std::cos(a), 5 * std::sin(a));
+      out << line;
+    }
+    out << "M2\n";
+  }
+  const std::string io = " --csv " + (dir_ / "t.csv").string() + " --summary " + (dir_ / "s.json").string();
+  Result r = run("plan " + part.string() + " --smoothing g2_fit --smoothing-tolerance 0.01" + io);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("smoothing g2_fit: streams 1, points 401 -> pieces "), std::string::npos) << r.output;
+  std::ifstream summary_file(dir_ / "s.json");
+  const nlohmann::json summary = nlohmann::json::parse(summary_file);
+  const nlohmann::json& smoothing = summary["smoothing"];
+  EXPECT_EQ(smoothing["method"], "g2_fit");
+  EXPECT_EQ(smoothing["tolerance_mm"].get<double>(), 0.01);
+  EXPECT_EQ(smoothing["runs"], 1);
+  EXPECT_EQ(smoothing["points"], 401);
+  EXPECT_GT(smoothing["max_distance_mm"].get<double>(), 0);
+  EXPECT_LE(smoothing["max_distance_mm"].get<double>(), 0.01);
+  EXPECT_GE(smoothing["fit_wall_time_s"].get<double>(), 0);
+  EXPECT_EQ(summary["corners"].size(), 1u);  // the lead-in's corner; none inside the stream
+  r = run("path " + part.string() + " --smoothing clothoid_points --csv " + (dir_ / "p.csv").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("smoothing clothoid_points: streams 1, points 401"), std::string::npos) << r.output;
+  struct Case {
+    std::string args, expected;
+  };
+  const Case cases[] = {
+      {"--smoothing spline", "'--smoothing': unknown method 'spline' (none, clothoid_points, g2_fit)"},
+      {"--smoothing g2_fit --smoothing-tolerance 0", "'--smoothing-tolerance': must be a positive number of mm"},
+      {"--smoothing-tolerance 0.01", "'--smoothing-tolerance': sets g2_fit's tolerance, but the smoothing is none"},
+      {"--smoothing clothoid_points --smoothing-tolerance 0.01", "(add --smoothing g2_fit)"},
+  };
+  fs::remove(dir_ / "s.json");
+  for (const Case& c : cases) {
+    r = run("plan " + part.string() + " " + c.args + io);
+    EXPECT_EQ(r.exit_code, 2) << c.args << "\n" << r.output;
+    EXPECT_NE(r.output.find(c.expected), std::string::npos) << "expected '" << c.expected << "' in:\n" << r.output;
+    EXPECT_FALSE(fs::exists(dir_ / "s.json")) << c.args;
+  }
+  r = run("run " + blendbench::test::source_path("tests/data/tiny.yaml") + " --no-video --no-plots --smoothing bad --out " +
+          (dir_ / "run").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("'--smoothing': unknown method 'bad'"), std::string::npos) << r.output;
+  r = run("run " + blendbench::test::source_path("tests/data/tiny.yaml") + " --no-video --no-plots --smoothing-tolerance 0.01 --out " +
+          (dir_ / "run").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("no variant run smooths with g2_fit"), std::string::npos) << r.output;
+}
+
 }  // namespace

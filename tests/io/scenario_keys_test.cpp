@@ -76,8 +76,9 @@ Yaml base() {
             {"program", M({{"moves", L({M({{"arc", M({{"end", S("[20, 0, 0]")}, {"center", S("[10, 0, 0]")}, {"direction", S("ccw")}})},
                                            {"orientation", M({{"rpy_deg", S("[180, 0, 0]")}})},
                                            {"transition", M({{"method", S("arc")}, {"parameter", S("1")}})}}),
-                                        M({{"line", S("[20, 10, 0]")}})})}})},
-            {"variants", L({M({{"name", S("a")}, {"transition", M({{"method", S("none")}})}})})}});
+                                        M({{"line", S("[20, 10, 0]")}})})},
+                          {"smoothing", M({})}})},
+            {"variants", L({M({{"name", S("a")}, {"transition", M({{"method", S("none")}})}, {"smoothing", M({})}})})}});
 }
 
 // The base scenario for a key of the map at `path`: base(), but with its program given as a

@@ -579,5 +579,39 @@ TEST(Scenario, ToolFrameBranchChangeAndUrdfOnlySettings) {
                "robot.estimate_inertia.total_mass_kg", "must be");
 }
 
+// `program.smoothing` for every variant, a variant's `smoothing` keys on top of it, in the file's
+// units; bad values named by key.
+TEST(Scenario, SmoothingIsAProgramDefaultThatVariantsRefine) {
+  const std::string text = replaced(
+      replaced(kValid, "  start: [0, 0, 0]\n", "  start: [0, 0, 0]\n  smoothing: {method: g2_fit, tolerance: 0.01, stream_length: 2}\n"),
+      "  - {name: exact, transition: {method: none}}\n",
+      "  - {name: exact, transition: {method: none}}\n  - {name: points, smoothing: {method: clothoid_points, max_turn_deg: 30, stream_turn_deg: 20}}\n"
+      "  - {name: plain, smoothing: {method: none}}\n");
+  const Scenario sc = parse(text);
+  ASSERT_EQ(sc.variants.size(), 4u);
+  const Program exact = program_for(sc, sc.variants[0]);
+  EXPECT_EQ(exact.smoothing.method, SmoothingMethod::kG2Fit);
+  EXPECT_NEAR(exact.smoothing.tolerance, 1e-5, 1e-18);
+  EXPECT_NEAR(exact.smoothing.stream_length, 2e-3, 1e-18);
+  EXPECT_NEAR(exact.smoothing.stream_turn, kDefaultStreamTurn, 1e-15);
+  const Program points = program_for(sc, sc.variants[1]);
+  EXPECT_EQ(points.smoothing.method, SmoothingMethod::kClothoidPoints);
+  EXPECT_NEAR(points.smoothing.max_turn, 30 * std::numbers::pi / 180, 1e-15);
+  EXPECT_NEAR(points.smoothing.stream_turn, 20 * std::numbers::pi / 180, 1e-15);
+  EXPECT_NEAR(points.smoothing.stream_length, 2e-3, 1e-18);  // the program's
+  EXPECT_EQ(program_for(sc, sc.variants[2]).smoothing.method, SmoothingMethod::kNone);
+  EXPECT_EQ(program_for(parse(kValid), parse(kValid).variants[0]).smoothing.method, SmoothingMethod::kNone);
+  // in metres
+  const Scenario metres = parse(replaced(replaced(text, "units: mm", "units: m"), "frame: {origin: [400, 0, 200]", "frame: {origin: [0.4, 0, 0.2]"));
+  EXPECT_NEAR(metres.program.smoothing.tolerance, 0.01, 1e-15);
+  // errors
+  const std::string program_line = "  smoothing: {method: g2_fit, tolerance: 0.01, stream_length: 2}\n";
+  const auto with = [&](const std::string& line) { return replaced(text, program_line, line); };
+  expect_error(with("  smoothing: {method: spline}\n"), 7, "program.smoothing.method", "unknown value 'spline'");
+  expect_error(with("  smoothing: {method: g2_fit, tolerance: 0}\n"), 7, "program.smoothing.tolerance", "> 0");
+  expect_error(with("  smoothing: {method: g2_fit, max_turn_deg: 180}\n"), 7, "program.smoothing.max_turn_deg", "(0, 180)");
+  expect_error(with("  smoothing: {method: g2_fit, tolerence: 0.1}\n"), 7, "program.smoothing.tolerence", "did you mean 'tolerance'");
+}
+
 }  // namespace
 }  // namespace blendbench

@@ -413,5 +413,23 @@ TEST(Expansion, HashFollowsTheContent) {
   EXPECT_EQ(again.points[1].hash, a.points[1].hash);
 }
 
+// Smoothing is a sweep axis like any other key: each point's variants smooth at its values.
+TEST(Expansion, SmoothingIsAnAxis) {
+  const SweepPlan plan = expand_sweep(parse(tiny_sweep(R"(axes:
+  variants[*].smoothing.method: [clothoid_points, g2_fit]
+  variants[*].smoothing.tolerance: [0.01, 0.05]
+)")));
+  ASSERT_EQ(plan.points.size(), 4U);
+  for (const SweepPoint& p : plan.points) {
+    validate_point(plan, p, "p.yaml");
+    const Scenario sc = parse_scenario(p.scenario_text, "p.yaml", plan.base_dir);
+    for (const Variant& v : sc.variants) {
+      const Program program = program_for(sc, v);
+      EXPECT_EQ(program.smoothing.method, p.choice[0] == 0 ? SmoothingMethod::kClothoidPoints : SmoothingMethod::kG2Fit);
+      EXPECT_NEAR(program.smoothing.tolerance, p.choice[1] == 0 ? 1e-5 : 5e-5, 1e-18);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace blendbench

@@ -8,6 +8,7 @@
 #include "blendbench/geometry/closest.hpp"
 #include "blendbench/core/format.hpp"
 #include "blendbench/corner/corner.hpp"
+#include "blend_internal.hpp"
 
 namespace blendbench {
 namespace {
@@ -369,13 +370,19 @@ MergedProgram merge_collinear(const Program& program) {
 
 Path blend(const Program& program) {
   validate(program);
+  Path path = program.smoothing.method != SmoothingMethod::kNone ? blend_smoothed(program) : blend_unoriented(program);
+  if (oriented(program)) return orient_path(path, program);
+  return path;
+}
+
+Path blend_unoriented(const Program& program) {
   // only a move with a merge tolerance (G64 Q) starts a run: without one the program blends as
   // it is, without the merged copy of every move (at 10^5 CAM lines, 35 MB written and dropped,
   // 9 % of blending them on fresh memory)
   const bool may_merge =
       std::any_of(program.moves.begin(), program.moves.end(), [](const Move& m) { return m.transition.merge_tolerance > 0; });
   const MergedProgram merged = may_merge ? merge_collinear(program) : MergedProgram{};
-  if (merged.moves_merged == 0) return oriented(program) ? orient_path(blend_moves(program), program) : blend_moves(program);
+  if (merged.moves_merged == 0) return blend_moves(program);
   const Path blended = blend_moves(merged.program);
   // the pieces and reports with the program's own move and corner indices
   Path path;
@@ -393,7 +400,7 @@ Path blend(const Program& program) {
   }
   path.moves_merged = merged.moves_merged;
   path.merge_tolerance = merged.tolerance;
-  return oriented(program) ? orient_path(path, program) : path;
+  return path;
 }
 
 }  // namespace blendbench

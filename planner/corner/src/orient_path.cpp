@@ -31,6 +31,7 @@ void finish(Path& out, const Path& blended, const std::vector<double>& transitio
   out.corners = blended.corners;
   out.moves_merged = blended.moves_merged;
   out.merge_tolerance = blended.merge_tolerance;
+  out.smoothing = blended.smoothing;
   for (CornerReport& r : out.corners) {
     const auto c = static_cast<std::size_t>(r.index);
     if (!(transition[c] > 0)) continue;

@@ -232,6 +232,7 @@ void validate(const Program& program) {
       fail_at(move.where, "transition.velocity", who + ": the transition velocity must be >= 0, got " + format_mm_per_s(move.transition.velocity));
     }
   }
+  validate(program.smoothing);
 }
 
 }  // namespace blendbench

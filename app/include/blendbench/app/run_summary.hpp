@@ -36,7 +36,7 @@ struct PlanFigures {
   double path_length = 0;         // m
   double planned_cycle_time = 0;  // s
   double feed_share = 0;
-  double path_deviation_max = 0;  // m: the largest corner deviation of the planned transitions
+  double path_deviation_max = 0;  // m: the largest deviation of the planned transitions and smoothed streams
   std::vector<CornerReport> corners;
   std::vector<CornerPlacement> placements;  // one per corner
   std::vector<CornerTiming> corner_times;   // one per corner, when the reference passes it
@@ -46,6 +46,7 @@ struct PlanFigures {
   int moves_merged = 0;                              // collinear lines merged before blending (G64 Q)
   double merge_tolerance = 0;                        // m
   std::vector<Timing::CornerStep> corner_steps;      // one per corner (Timing::corner_steps)
+  SmoothingReport smoothing;                         // what smoothing did (Path::smoothing)
   bool oriented = false;                             // the program sets tool orientations
 };
 

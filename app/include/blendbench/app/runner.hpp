@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "blendbench/app/run_summary.hpp"
+#include "blendbench/app/smoothing_flags.hpp"
 #include "blendbench/io/scenario.hpp"
 
 namespace blendbench {
@@ -40,6 +41,9 @@ struct RunRequest {
   // m: equal tolerance (`--tolerance`): every move with a transition method gets this tolerance
   // in place of its parameter (and start distance), in every variant (apply_tolerance)
   std::optional<double> tolerance;
+  // `--smoothing` replaces every variant's method, `--smoothing-tolerance` the tolerance of
+  // those that fit g2_fit (apply_smoothing_flags_to_variant)
+  SmoothingFlags smoothing;
   // receives one line of progress at a time (variant started, stage timings, warnings)
   std::function<void(const std::string&)> progress;
 };
@@ -56,7 +60,8 @@ struct RunResult {
 void apply_tolerance(Program& program, double tolerance);
 
 // Runs the scenario. Throws InputError for bad input of the whole scenario, found before any
-// variant runs (an unknown variant name, a start point the robot cannot reach, robot.model not
+// variant runs (an unknown variant name, bad smoothing flags or a smoothing tolerance that no
+// variant fits g2_fit with, a start point the robot cannot reach, robot.model not
 // matching the MJCF file, a servo rate that does not divide the model's physics rate: the error
 // names the file, line and field), and std::runtime_error when summary.json cannot be written. A
 // variant whose simulation diverges, whose plan fails, whose data is not clean (saturated,

@@ -94,11 +94,13 @@ struct VideoSettings {
 };
 
 // One variant: the transition applied to every move that does not set its own, an optional
-// buffer mode for all moves, and an optional velocity-planning baseline.
+// buffer mode for all moves, an optional smoothing, and an optional velocity-planning baseline.
 struct Variant {
   std::string name;
   std::optional<Transition> transition;
   std::optional<BufferMode> buffer;
+  // its `smoothing` keys applied to the program's (program.smoothing); none: the program's
+  std::optional<Smoothing> smoothing;
   TimingOptions::Baseline baseline = TimingOptions::Baseline::kNone;
   SourceRef where;
 };
@@ -138,7 +140,7 @@ Scenario load_scenario(const std::string& path);
 Scenario parse_scenario(const std::string& text, const std::string& file, const std::string& base_dir);
 
 // The program of one variant: its transition on every move without its own, its buffer mode
-// on every move without its own.
+// on every move without its own, its smoothing.
 Program program_for(const Scenario& scenario, const Variant& variant);
 
 // The velocity planner's options for a variant: the setpoint period (1 / servo.setpoint_rate_hz),

@@ -72,9 +72,17 @@ void add_corner_step(nlohmann::json& corner, const CornerReport& report, const T
 void add_plan_figures(nlohmann::json& out, LimitsMode limits, int moves_merged, double merge_tolerance,
                       double cycle_time, double bound_cycle_time);
 
+// What smoothing did (the summary's plan.smoothing, Path::smoothing): method, tolerance_mm
+// (g2_fit's, else 0), max_turn_deg (clothoid_points', else 0), runs (streams smoothed), points
+// (their programmed points), pieces (the curves' pieces), points_added (clothoid_points),
+// max_distance_mm (the largest measured Hausdorff distance between a curve and its stream, both
+// ways, an upper bound), fit_wall_time_s (the cost of finding and fitting the streams) and
+// notes (streams kept as lines, and why).
+nlohmann::json smoothing_json(const SmoothingReport& report);
+
 // The plan summary of the command-line contract: cycle_time_s, path_length_mm, feed_share,
 // servo_period_s, the figures of add_plan_figures, corners (corners_json with placements and
-// add_corner_step) and pieces (pieces_json).
+// add_corner_step), pieces (pieces_json) and smoothing (smoothing_json).
 nlohmann::json plan_summary_json(const Path& path, const Timing& timing, const Program& program);
 
 }  // namespace blendbench

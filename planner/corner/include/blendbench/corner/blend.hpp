@@ -15,7 +15,9 @@ namespace blendbench {
 // report whose note says why, or an InputError when the request itself is impossible
 // (e.g. tolerance 0 at a tangent discontinuity).
 // First merges runs of collinear lines (merge_collinear); the path's move and corner indices
-// are those of `program`.
+// are those of `program`. With program.smoothing, the program's point streams are replaced by
+// their smoothed curves first (smoothing.hpp): their inner vertices get no corner report, and the
+// path says what was smoothed (Path::smoothing).
 // A program that sets orientations (oriented(program)) gets them on every piece (orient_path);
 // merging never joins a move that sets one.
 Path blend(const Program& program);

@@ -125,6 +125,10 @@ class Path {
   // pieces and reports are the program's own, before merging (a merged line is its first move).
   int moves_merged = 0;
   double merge_tolerance = 0;
+  // What smoothing did (Program::smoothing, smoothing.hpp): the streams replaced by curves,
+  // whose pieces carry the move their start lies on; the stream's inner vertices have no corner
+  // report.
+  SmoothingReport smoothing;
 
  private:
   std::vector<PathPiece> pieces_;

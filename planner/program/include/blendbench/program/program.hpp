@@ -10,6 +10,7 @@
 #include "blendbench/core/input_error.hpp"
 #include "blendbench/geometry/segment.hpp"
 #include "blendbench/program/orientation.hpp"
+#include "blendbench/program/smoothing.hpp"
 
 namespace blendbench {
 
@@ -106,6 +107,8 @@ struct Program {
   // an orientation (a program without any keeps the robot's fixed tool orientation).
   Quat start_orientation = Quat::Identity();
   OrientationInterpolation orientation_interpolation = OrientationInterpolation::kSlerp;
+  // Point streams smoothed before blending (smoothing.hpp); none by default.
+  Smoothing smoothing;
 };
 
 // Whether any move of `program` sets an orientation.
@@ -121,7 +124,7 @@ inline constexpr std::size_t kMaxMoves = 1'000'000;
 // of move k+1 within 1e-9 of the program size); positive finite limits; finite non-negative
 // transition values, a start distance only on a biclothoid and not with a parameter, a
 // tolerance not with a parameter or a start distance; unit
-// quaternions (to 1e-9) and angular limits > 0 (infinity: none). Throws
+// quaternions (to 1e-9) and angular limits > 0 (infinity: none); the smoothing spec (smoothing.hpp). Throws
 // InputError located at the move (at move k+1 for a gap), naming it and the field; a move's own
 // geometry is reported before its join to the previous move.
 void validate(const Program& program);
