@@ -467,7 +467,8 @@ class Reader final : private SystemParams {
   // the tool that M6 loads, H is read by G43 (noted when nothing uses it)
   void set_feed_and_tool(const LineWords& lw, int line) {
     if (const Word* f = lw.get('F')) {
-      if (!(f->value > 0)) fail(line, f->column, f->text, "the feed rate F must be positive");
+      // F0 is a valid setting (LinuxCNC); a feed move at it is refused (make_move)
+      if (!(f->value >= 0)) fail(line, f->column, f->text, "the feed rate F must be >= 0");
       feed_ = f->value * scale() / 60.0;
     }
     if (const Word* t = lw.get('T')) tool_selected_ = integer_of(*t, line, "the tool number T");
@@ -495,7 +496,8 @@ class Reader final : private SystemParams {
         stop_here();
         tool_ = tool_selected_;
         note(note_of(*w, line) + ": tool change treated as an exact stop");
-      } else if (m_group_of(code) == MGroup::kSpindle || m_group_of(code) == MGroup::kCoolant) {
+      } else if (m_group_of(code) == MGroup::kSpindle || m_group_of(code) == MGroup::kCoolant ||
+                 m_group_of(code) == MGroup::kOverride) {
         note(note_of(*w, line));
       }
     }
@@ -509,13 +511,15 @@ class Reader final : private SystemParams {
     note(g4.text + " " + p->text + " (line " + std::to_string(line) + "): dwell treated as an exact stop");
   }
 
-  // The plane, and the modal codes that do not change the path (noted): cutter compensation
-  // off, feed mode
+  // The plane, the canned cycles' retract mode (G98 to the initial level, G99 to R), and the
+  // modal codes that do not change the path (noted): cutter compensation off, feed mode, spindle
+  // speed mode (G96 constant surface speed, G97 rpm)
   void set_modes(const LineWords& lw, int line) {
     if (const auto plane = lw.g_in(GGroup::kPlane)) {
       plane_ = plane->first == 170 ? Plane::kXY : plane->first == 180 ? Plane::kXZ : Plane::kYZ;
     }
-    for (const GGroup group : {GGroup::kCutterComp, GGroup::kFeedMode}) {
+    if (const auto retract = lw.g_in(GGroup::kRetractMode)) retract_to_r_ = retract->first == 990;
+    for (const GGroup group : {GGroup::kCutterComp, GGroup::kFeedMode, GGroup::kSpindleMode}) {
       if (const auto g = lw.g_in(group)) note(note_of(*g->second, line));
     }
   }
@@ -718,9 +722,9 @@ class Reader final : private SystemParams {
     // P has exactly one user on the line
     const Word* p = lw.get('P');
     if (p) {
-      const int users = p_users + (arc_here ? 1 : 0);
-      if (users == 0) fail(line, p->column, p->text, "P word with no G4, G10, G64 or G2/G3 that uses it");
-      if (users > 1) fail(line, p->column, p->text, "P word used by two commands on one line (G4, G10, G64, G2/G3)");
+      const int users = p_users + (arc_here ? 1 : 0) + (takes_p(lw.m_codes) ? 1 : 0);
+      if (users == 0) fail(line, p->column, p->text, "P word with no G4, G10, G64, G2/G3 or M50-M53 that uses it");
+      if (users > 1) fail(line, p->column, p->text, "P word used by two commands on one line (G4, G10, G64, G2/G3, M50-M53)");
     }
     // G53: this line's axis words are machine coordinates (LinuxCNC: G0 or G1, G90 only)
     const bool machine = nm == 530;
@@ -743,6 +747,11 @@ class Reader final : private SystemParams {
     } else {
       line_move(target, where, name, motion_ == Motion::kRapid);
     }
+  }
+
+  // Whether the line's M codes use its P word (M50-M53 take an optional P: the override's state).
+  static bool takes_p(const std::vector<Code>& m_codes) {
+    return std::any_of(m_codes.begin(), m_codes.end(), [](const Code& c) { return c.first >= 50 && c.first <= 53; });
   }
 
   // stops and program end (after motion)
@@ -792,6 +801,11 @@ class Reader final : private SystemParams {
   }
 
   Move make_move(Primitive geometry, const SourceRef& where, const std::string& name, bool rapid) const {
+    // LinuxCNC: "Cannot do G1 with zero feed rate" (also arcs and cycles)
+    if (!rapid && !(feed_ > 0)) {
+      fail(where.line, where.column, name.substr(name.rfind(' ') + 1),
+           "a feed move with feed rate 0 (the last F word was F0): program F before it");
+    }
     Move move;
     move.geometry = std::move(geometry);
     move.limits = options_.limits;
@@ -1105,6 +1119,7 @@ class Reader final : private SystemParams {
   bool inch_ = false;
   bool incremental_ = false;
   bool ij_absolute_ = false;
+  bool retract_to_r_ = false;  // G99 (else G98, LinuxCNC's default)
   // offsets (m) and rotations (degrees) of the nine coordinate systems, the one in use (1-9),
   // whether the program set each; the G92/G52 offset applied and as stored in #5211-#5213;
   // the tool length offset, the tool in the spindle and the one selected; the tool table; the

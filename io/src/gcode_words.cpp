@@ -2,6 +2,7 @@
 
 #include "gcode_words.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "blendbench/core/input_error.hpp"
@@ -68,6 +69,8 @@ std::optional<GGroup> group_of(int code) {
     case 540: case 550: case 560: case 570: case 580: case 590: case 591: case 592: case 593:
       return GGroup::kCoordSystem;
     case 610: case 611: case 640: return GGroup::kPathControl;
+    case 960: case 970: return GGroup::kSpindleMode;
+    case 980: case 990: return GGroup::kRetractMode;
     default: return std::nullopt;
   }
 }
@@ -78,6 +81,7 @@ std::optional<MGroup> m_group_of(int code) {
     case 6: return MGroup::kToolChange;
     case 3: case 4: case 5: return MGroup::kSpindle;
     case 7: case 8: case 9: return MGroup::kCoolant;
+    case 48: case 49: case 50: case 51: case 52: case 53: return MGroup::kOverride;
     default: return std::nullopt;
   }
 }
@@ -139,6 +143,13 @@ LineWords sort_words(const std::vector<Word>& words, int line, const std::string
     out.in_order.push_back(&w);
   }
 
+  // LinuxCNC (interp_read.cc, read_g) ignores G80 on a line with another motion code
+  const auto motion_codes = std::count_if(out.g_codes.begin(), out.g_codes.end(),
+                                          [](const Code& c) { return group_of(c.first) == GGroup::kMotion; });
+  if (motion_codes > 1) {
+    const auto g80 = std::find_if(out.g_codes.begin(), out.g_codes.end(), [](const Code& c) { return c.first == 800; });
+    if (g80 != out.g_codes.end()) out.g_codes.erase(g80);
+  }
   // one G code per modal group, one M code per group
   const auto one_per_group = [&](const std::vector<Code>& codes, const char* kind, const auto& group) {
     for (std::size_t a = 0; a < codes.size(); ++a) {

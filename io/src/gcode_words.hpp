@@ -16,12 +16,12 @@ namespace blendbench::gcode_detail {
 
 // Modal groups of the supported G codes (RS274/NGC table 4), for the one-per-line rule.
 enum class GGroup { kNonModal, kMotion, kPlane, kDistance, kArcDistance, kFeedMode, kUnits, kCutterComp,
-                    kToolLength, kCoordSystem, kPathControl };
+                    kToolLength, kCoordSystem, kPathControl, kSpindleMode, kRetractMode };
 // The group of a supported G code given as ten times its number (G90.1 -> 901), else nullopt.
 std::optional<GGroup> group_of(int code);
 
 // M codes: groups for the one-per-line rule (RS274/NGC), nullopt when unsupported.
-enum class MGroup { kStop, kToolChange, kSpindle, kCoolant };
+enum class MGroup { kStop, kToolChange, kSpindle, kCoolant, kOverride };
 std::optional<MGroup> m_group_of(int code);
 
 // A G or M code of the line (G codes as ten times their number) and the word that gave it.
@@ -45,7 +45,7 @@ struct LineWords {
 
 // Sorts the words of line `line` (without its N word) and checks them: unsupported letters,
 // axes (A, B, C are accepted when `tool_angles`), G and M codes, a letter given twice, two codes
-// of one modal group. Throws InputError(file, line, column, word, message) at the first word
+// of one modal group (except G80 beside another motion code, which LinuxCNC ignores: read_g). Throws InputError(file, line, column, word, message) at the first word
 // that breaks a rule.
 LineWords sort_words(const std::vector<Word>& words, int line, const std::string& file, bool tool_angles);
 

@@ -346,7 +346,13 @@ TEST(Gcode, InchesAndFeed) {
   // inch arcs
   const GcodeResult a = parse("G20 G2 X1 Y0 I0.5");
   EXPECT_NEAR(arc_of(a, 0).radius, 0.5 * kInch, kTol);
-  expect_error("G1 X1 F0", 1, 7, "F0");
+  // F0 is a setting (LinuxCNC's default_modal_state sets it); a feed move at it is refused at
+  // its motion word, rapids are not slowed by it
+  const std::string zero = expect_error("G1 X1 F0", 1, 1, "G1");
+  EXPECT_NE(zero.find("feed rate 0"), std::string::npos) << zero;
+  expect_error("F0\nG0 X1\nG2 X2 R1", 3, 1, "G2");
+  expect_error("G1 X1 F10\nF0\nY1", 3, 1, "G1");
+  EXPECT_EQ(parse("F0\nG0 X1\nF10 G1 X2").program.moves.size(), 2u);
   expect_error("G1 X1 F-5", 1, 7, "F-5");
 }
 
@@ -441,6 +447,36 @@ TEST(Gcode, IgnoredWordsAreListed) {
     EXPECT_TRUE(has_note(more, note)) << note << "\n" << notes(more);
   }
   EXPECT_EQ(parse("G55\nG54 G1 X1").program.moves.size(), 1u);
+}
+
+TEST(Gcode, SpindleModesOverridesAndRetractModesAreAcceptedAndNoted) {
+  // G96 (constant surface speed, D its speed cap) and G97 set the spindle speed; M48-M53 switch
+  // overrides (M50-M53 take P); G98/G99 choose where canned cycles retract: none moves the tool
+  const GcodeResult r = parse("G96 D2000 S100\nG97 S500\nG98\nG99\nM48\nM49\nM50 P0\nM51\nM52 P1\nM53 P1\nG1 X1 F10\n");
+  ASSERT_EQ(r.program.moves.size(), 1u);
+  EXPECT_LE((end_of(r.program.moves[0].geometry) - mm(1, 0, 0)).norm(), kTol);
+  for (const char* note : {"G96 (line 1)", "G97 (line 2)", "M48 (line 5)", "M53 (line 10)"}) {
+    EXPECT_TRUE(has_note(r, note)) << note << "\n" << notes(r);
+  }
+  expect_error("G96 G97", 1, 5, "G97");
+  expect_error("G98 G99", 1, 5, "G99");
+  expect_error("M48 M49", 1, 5, "M49");
+  expect_error("M48 P1", 1, 5, "P1");  // M48 takes no P
+  expect_error("M50 G4 P2", 1, 8, "P2");  // one P, two users
+}
+
+TEST(Gcode, G80BesideAnotherMotionCodeIsIgnored) {
+  // LinuxCNC's read_g: "G80 on the same line as one other g_code with the same mode ... is
+  // simply ignored" (the CAM preamble "G90 G17 G40 G80 G00 G20")
+  for (const char* line : {"G80 G0 X1", "G0 G80 X1", "G90 G17 G40 G80 G00 G20 X1"}) {
+    const GcodeResult r = parse(line);
+    ASSERT_EQ(r.program.moves.size(), 1u) << line;
+    EXPECT_LE((end_of(r.program.moves[0].geometry) - mm(1, 0, 0) * (std::string(line).find("G20") != std::string::npos ? 25.4 : 1)).norm(), kTol) << line;
+  }
+  EXPECT_EQ(parse("G1 X1 F10\nG80 G1 X2").program.moves.size(), 2u);
+  // two motion codes other than G80 stay an error, as does G80 with axis words alone
+  expect_error("G0 G1 X1", 1, 4, "G1");
+  expect_error("G80 X2", 1, 5, "X2");
 }
 
 TEST(Gcode, StartPositionFromOptions) {
