@@ -16,6 +16,8 @@
 #include <map>
 #include <numbers>
 #include <optional>
+#include <memory>
+#include <unordered_map>
 #include <unordered_set>
 #include <utility>
 
@@ -78,12 +80,23 @@ PlaneAxes axes_of(Plane plane) {
 }
 
 
-// Where the reader is in the text: the start of the next line to read, its number, and the
-// first O-word line at or after it (an index into Flow::lines).
+// One file of the program: the main program, or a subroutine file a call read (LinuxCNC's
+// "Calling Files"), with its O-word structure and the lines already run once (notes once).
+struct Source {
+  std::string name;     // as messages and moves name it
+  std::string owned;    // a subroutine file's text (the main program's belongs to the caller)
+  std::string_view text;
+  Flow flow;
+  std::unordered_set<int> seen_lines;
+};
+
+// Where the reader is: the file (an index into the sources), the start of the next line to
+// read, its number, and the first O-word line at or after it (an index into Flow::lines).
 struct Pc {
   std::size_t offset = 0;
   int line = 1;
   std::size_t next_o = 0;
+  std::size_t source = 0;
 };
 
 // LinuxCNC's numbered parameters for offsets, tool and position (its G-code manual,
@@ -103,7 +116,11 @@ constexpr int kParamPosition = 5420;
 class Reader final : private SystemParams {
  public:
   Reader(std::string_view text, const std::string& file, const GcodeOptions& options)
-      : text_(text), file_(file), options_(options), params_(*this) {
+      : options_(options), params_(*this) {
+    sources_.push_back(std::make_unique<Source>());
+    cur_ = sources_.front().get();
+    cur_->name = file;
+    cur_->text = text;
     pos_ = options.start;
     path_orientation_ = options.start_orientation.normalized();
     if (options.angles) angles_.emplace(*options.angles);
@@ -116,18 +133,19 @@ class Reader final : private SystemParams {
   GcodeResult run() {
     check_options();
     result_.start = options_.start;
-    // a UTF-8 byte order mark (editors on Windows) is not part of the program
-    if (text_.substr(0, 3) == "\xEF\xBB\xBF") text_.remove_prefix(3);
-    flow_ = build_flow(text_, file_);
+    prepare(*cur_);
     // line by line, never all lines at once (a file of empty lines would cost 16 bytes a byte);
-    // O-words jump to the lines the flow names
+    // O-words jump to the lines the flow names, in this file or a subroutine file
     Pc pc;
-    while (pc.offset <= text_.size()) {
-      const std::size_t end = std::min(text_.find('\n', pc.offset), text_.size());
-      const std::string_view line = text_.substr(pc.offset, end - pc.offset);
+    while (true) {
+      cur_index_ = pc.source;
+      cur_ = sources_[cur_index_].get();
+      if (pc.offset > cur_->text.size()) break;
+      const std::size_t end = std::min(cur_->text.find('\n', pc.offset), cur_->text.size());
+      const std::string_view line = cur_->text.substr(pc.offset, end - pc.offset);
       const int number = pc.line;
-      Pc next{end + 1, pc.line + 1, pc.next_o};
-      const bool o_line = pc.next_o < flow_.lines.size() && flow_.lines[pc.next_o].line == number;
+      Pc next{end + 1, pc.line + 1, pc.next_o, pc.source};
+      const bool o_line = pc.next_o < cur_->flow.lines.size() && cur_->flow.lines[pc.next_o].line == number;
       if (o_line) ++next.next_o;
       const std::string_view stripped = strip_blanks(line);
       if (!stripped.empty()) count_line(number, stripped);
@@ -144,15 +162,17 @@ class Reader final : private SystemParams {
       }
     }
     if (result_.program.moves.empty()) {
-      throw InputError(file_, 0, 0, "", "the G-code program has no moves");
+      throw InputError(main_name(), 0, 0, "", "the G-code program has no moves");
     }
     return std::move(result_);
   }
 
  private:
-  // A subroutine call in progress: its `sub` line, where to go on return, the line of the call.
+  // A subroutine call in progress: its `sub` line and the file that holds it, where to go on
+  // return (in the calling file), the line of the call.
   struct Call {
     int sub = 0;
+    std::size_t source = 0;
     Pc ret;
     int line = 0;
   };
@@ -171,17 +191,30 @@ class Reader final : private SystemParams {
            "more than " + std::to_string(options_.max_lines) +
                " lines executed (the limit of one program: a loop that never ends?)");
     }
-    repeated_line_ = !flow_.lines.empty() && !seen_lines_.insert(number).second;
+    repeated_line_ = !cur_->flow.lines.empty() && !cur_->seen_lines.insert(number).second;
   }
 
-  // " (in o<name>, called from line N ...)" for an error inside a subroutine.
+  // " (in o<name> called from line N, ...)" for an error inside a subroutine; a call from
+  // another file than the subroutine's names the calling file ("line N of main.ngc").
   std::string call_context() const {
     std::string out;
     for (auto it = calls_.rbegin(); it != calls_.rend(); ++it) {
       out += out.empty() ? " (in " : ", ";
-      out += flow_.lines[static_cast<std::size_t>(it->sub)].head.name() + " called from line " + std::to_string(it->line);
+      const Source& sub = *sources_[it->source];
+      out += sub.flow.lines[static_cast<std::size_t>(it->sub)].head.name() + " called from line " + std::to_string(it->line);
+      if (it->ret.source != it->source) out += " of " + sources_[it->ret.source]->name;
     }
     return out + ")";
+  }
+
+  // The name the program is read under (messages about the program as a whole).
+  const std::string& main_name() const { return sources_.front()->name; }
+
+  // A file's text ready to run: without a UTF-8 byte order mark (editors on Windows), its O-word
+  // structure found and checked.
+  static void prepare(Source& source) {
+    if (source.text.substr(0, 3) == "\xEF\xBB\xBF") source.text.remove_prefix(3);
+    source.flow = build_flow(source.text, source.name);
   }
 
   // One line that is not an O-word; false when the program ends here.
@@ -200,10 +233,10 @@ class Reader final : private SystemParams {
       seen_code_ = true;
       return true;
     }
-    const CompactLine compact = compact_line(line, number, file_);
+    const CompactLine compact = compact_line(line, number, cur_->name);
     if (compact.text.empty()) return true;
     seen_code_ = true;
-    Block block = lex_block(compact, number, file_, params_);
+    Block block = lex_block(compact, number, cur_->name, params_);
     if (block.unicode_minus) note("line " + std::to_string(number) + ": Unicode minus sign (U+2212) read as '-'");
     assign(block);
     if (block.words.empty()) return true;
@@ -231,28 +264,31 @@ class Reader final : private SystemParams {
   }
 
   // Jump targets: the line after O-word line k, and O-word line k itself.
-  Pc after(int k) const {
-    const OLine& o = flow_.lines[static_cast<std::size_t>(k)];
-    return {o.next, o.line + 1, static_cast<std::size_t>(k) + 1};
-  }
+  Pc after(int k) const { return after(k, source_index()); }
   Pc at(int k) const {
-    const OLine& o = flow_.lines[static_cast<std::size_t>(k)];
-    return {o.offset, o.line, static_cast<std::size_t>(k)};
+    const OLine& o = cur_->flow.lines[static_cast<std::size_t>(k)];
+    return {o.offset, o.line, static_cast<std::size_t>(k), source_index()};
   }
+  // ... and the line after O-word line k of file `source`
+  Pc after(int k, std::size_t source) const {
+    const OLine& o = sources_[source]->flow.lines[static_cast<std::size_t>(k)];
+    return {o.next, o.line + 1, static_cast<std::size_t>(k) + 1, source};
+  }
+  std::size_t source_index() const { return cur_index_; }
 
   // The bracketed values of O-word line k (its condition, count, arguments or return value).
   std::vector<double> values_of(int k, std::size_t min_count, std::size_t max_count) const {
-    const OLine& o = flow_.lines[static_cast<std::size_t>(k)];
-    const std::size_t end = std::min(text_.find('\n', o.offset), text_.size());
-    const CompactLine compact = compact_line(text_.substr(o.offset, end - o.offset), o.line, file_);
-    return oword_values(compact, o.head, o.line, file_, params_, min_count, max_count);
+    const OLine& o = cur_->flow.lines[static_cast<std::size_t>(k)];
+    const std::size_t end = std::min(cur_->text.find('\n', o.offset), cur_->text.size());
+    const CompactLine compact = compact_line(cur_->text.substr(o.offset, end - o.offset), o.line, cur_->name);
+    return oword_values(compact, o.head, o.line, cur_->name, params_, min_count, max_count);
   }
   bool condition(int k) const { return values_of(k, 1, 1).front() != 0; }
 
   // Executes O-word line k; `next` is the line after it. Returns where to go on.
   Pc control(std::size_t index, const Pc& next) {
     const int k = static_cast<int>(index);
-    const OLine& o = flow_.lines[index];
+    const OLine& o = cur_->flow.lines[index];
     seen_code_ = true;
     switch (o.kind) {
       case OKind::kSub:
@@ -287,7 +323,7 @@ class Reader final : private SystemParams {
         return next;
       case OKind::kBreak: case OKind::kContinue: {
         (void)values_of(k, 0, 0);
-        const OLine& loop = flow_.lines[static_cast<std::size_t>(o.match)];
+        const OLine& loop = cur_->flow.lines[static_cast<std::size_t>(o.match)];
         // repeats inside the loop are left; the loop's own only on break
         const int last = loop.match;
         while (!repeats_.empty() && repeats_.back().depth == calls_.size() && repeats_.back().oline > o.match &&
@@ -308,7 +344,7 @@ class Reader final : private SystemParams {
   // The first branch of an if chain, from O-word line b on, whose condition holds.
   Pc branch(int b) {
     while (true) {
-      const OLine& o = flow_.lines[static_cast<std::size_t>(b)];
+      const OLine& o = cur_->flow.lines[static_cast<std::size_t>(b)];
       if (o.kind == OKind::kEndif) return after(b);
       if (o.kind == OKind::kElse) return after(b);
       count_line(o.line, "elseif");
@@ -318,20 +354,77 @@ class Reader final : private SystemParams {
   }
 
   Pc call(int k, const Pc& next) {
-    const OLine& o = flow_.lines[static_cast<std::size_t>(k)];
-    const auto it = flow_.subs.find(o.head.label);
-    if (it == flow_.subs.end()) {
-      fail(o.line, o.head.column, o.head.name(),
-           o.head.name() + " is not defined in this file (subroutines in separate files are not supported)");
-    }
+    const OLine& o = cur_->flow.lines[static_cast<std::size_t>(k)];
     if (calls_.size() >= kMaxCallDepth) {
       fail(o.line, o.head.column, o.head.name(),
            "subroutine calls nested deeper than " + std::to_string(kMaxCallDepth) + " (recursion that never ends?)");
     }
     const std::vector<double> args = values_of(k, 0, kCallArguments);
-    calls_.push_back({it->second, next, o.line});
+    const auto [source, sub] = find_sub(o);
+    calls_.push_back({sub, source, next, o.line});
     params_.push_call(args);
-    return after(it->second);
+    return after(sub, source);
+  }
+
+  // The subroutine an O-word call names, as (file, its `sub` line): defined in the calling file,
+  // else in the main program, else the file <name>.ngc that options.find_subroutine finds
+  // (LinuxCNC's "Calling Files"), read once and kept for the next call.
+  std::pair<std::size_t, int> find_sub(const OLine& o) {
+    const std::string& label = o.head.label;
+    if (const auto it = cur_->flow.subs.find(label); it != cur_->flow.subs.end()) return {source_index(), it->second};
+    if (const auto it = sources_.front()->flow.subs.find(label); it != sources_.front()->flow.subs.end()) return {0, it->second};
+    const std::string name = o.head.name();
+    if (label.front() != '<') {
+      fail(o.line, o.head.column, name, name + " is not defined in this file (only named subroutines, o<name>, are looked up as files)");
+    }
+    const std::string base = label.substr(1, label.size() - 2);
+    if (const auto it = sub_files_.find(base); it != sub_files_.end()) return {it->second, sub_in(*sources_[it->second], o)};
+    // LinuxCNC's file names of subroutines: lower-case letters, digits, '-' and '_' (so a label
+    // can never name a path outside the folders searched)
+    const bool file_name = std::all_of(base.begin(), base.end(), [](char c) {
+      return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '-' || c == '_';
+    });
+    if (!file_name) {
+      fail(o.line, o.head.column, name,
+           name + " is not defined in this file, and its name cannot name a subroutine file (letters, digits, '-' and '_' only)");
+    }
+    if (!options_.find_subroutine) {
+      fail(o.line, o.head.column, name,
+           name + " is not defined in this file, and no subroutine files are searched (read the program from a file)");
+    }
+    GcodeSubroutineLookup found;
+    try {
+      found = options_.find_subroutine(base);
+    } catch (const InputError& e) {
+      fail(o.line, o.head.column, name, "cannot read the subroutine file " + e.file() + ": " + e.detail());
+    }
+    if (!found.file) {
+      fail(o.line, o.head.column, name, name + " is not defined in this file, and no file " + base + ".ngc was found (searched " + found.searched + ")");
+    }
+    auto source = std::make_unique<Source>();
+    source->name = std::move(found.file->path);
+    source->owned = std::move(found.file->text);
+    source->text = source->owned;
+    try {
+      prepare(*source);
+    } catch (const InputError& e) {
+      throw InputError(e.file(), e.line(), e.column(), e.field(),
+                       e.detail() + " (in the subroutine file of " + name + ", called from line " + std::to_string(o.line) +
+                           " of " + cur_->name + ")");
+    }
+    const int sub = sub_in(*source, o);
+    sources_.push_back(std::move(source));
+    sub_files_.emplace(base, sources_.size() - 1);
+    return {sources_.size() - 1, sub};
+  }
+
+  // The `sub` line of the subroutine call `o` names in a subroutine file.
+  int sub_in(const Source& file, const OLine& o) const {
+    const auto it = file.flow.subs.find(o.head.label);
+    if (it == file.flow.subs.end()) {
+      fail(o.line, o.head.column, o.head.name(), "the subroutine file " + file.name + " does not define " + o.head.name());
+    }
+    return it->second;
   }
 
   Pc end_call(const OLine& o) {
@@ -350,7 +443,7 @@ class Reader final : private SystemParams {
   }
 
   [[noreturn]] void fail(int line, int column, const std::string& word, const std::string& message) const {
-    throw InputError(file_, line, column, word, message);
+    throw InputError(cur_->name, line, column, word, message);
   }
 
   void check_options() const {
@@ -360,21 +453,21 @@ class Reader final : private SystemParams {
                                                                    {options_.limits.jerk, "limits.jerk"}}};
     for (const auto& [value, field] : limits) {
       if (!std::isfinite(value) || value <= 0) {
-        throw InputError(file_, 0, 0, field, std::string("G-code options: ") + field + " must be positive, got " + format_value(value, 10));
+        throw InputError(main_name(), 0, 0, field, std::string("G-code options: ") + field + " must be positive, got " + format_value(value, 10));
       }
     }
     if (!std::isfinite(options_.rapid_velocity) || options_.rapid_velocity < 0) {
-      throw InputError(file_, 0, 0, "rapid_velocity", "G-code options: rapid_velocity must be >= 0");
+      throw InputError(main_name(), 0, 0, "rapid_velocity", "G-code options: rapid_velocity must be >= 0");
     }
-    if (!options_.start.allFinite()) throw InputError(file_, 0, 0, "start", "G-code options: start must be finite");
+    if (!options_.start.allFinite()) throw InputError(main_name(), 0, 0, "start", "G-code options: start must be finite");
     if (!options_.start_orientation.coeffs().allFinite() || !(options_.start_orientation.norm() > 0.5)) {
-      throw InputError(file_, 0, 0, "start_orientation", "G-code options: start_orientation must be a unit quaternion");
+      throw InputError(main_name(), 0, 0, "start_orientation", "G-code options: start_orientation must be a unit quaternion");
     }
     if (options_.angles) {
       std::array<bool, 3> named{};
       for (const ToolAngle a : options_.angles->abc) named[static_cast<std::size_t>(a)] = true;
       if (!(named[0] && named[1] && named[2])) {
-        throw InputError(file_, 0, 0, "angles", "G-code options: A, B and C must name roll, pitch and yaw, each once");
+        throw InputError(main_name(), 0, 0, "angles", "G-code options: A, B and C must name roll, pitch and yaw, each once");
       }
     }
   }
@@ -384,10 +477,10 @@ class Reader final : private SystemParams {
   void note_rest(std::size_t begin, int line, const std::string& why) {
     int first = 0;
     int last = 0;
-    for (; begin <= text_.size(); begin = std::min(text_.find('\n', begin), text_.size()) + 1) {
+    for (; begin <= cur_->text.size(); begin = std::min(cur_->text.find('\n', begin), cur_->text.size()) + 1) {
       ++line;
-      const std::size_t end = std::min(text_.find('\n', begin), text_.size());
-      if (strip_blanks(text_.substr(begin, end - begin)).empty()) continue;
+      const std::size_t end = std::min(cur_->text.find('\n', begin), cur_->text.size());
+      if (strip_blanks(cur_->text.substr(begin, end - begin)).empty()) continue;
       if (first == 0) first = line;
       last = line;
     }
@@ -415,7 +508,7 @@ class Reader final : private SystemParams {
     const int line = block.line;
     std::vector<Word> words = block.words;
     const std::string label = take_line_number(words, line);
-    const LineWords lw = sort_words(words, line, file_, options_.angles.has_value());
+    const LineWords lw = sort_words(words, line, cur_->name, options_.angles.has_value());
 
     // units first: every value on the line is read in the units in force after it
     if (const auto units = lw.g_in(GGroup::kUnits)) inch_ = units->first == 200;
@@ -601,7 +694,7 @@ class Reader final : private SystemParams {
         const std::size_t k = nm == 280 ? 0 : 1;
         const Word* first = lw.first_of("XYZ");
         (void)axis_values(lw, line, g, [](int, double) {});
-        const SourceRef where{file_, line, g.column};
+        const SourceRef where{cur_->name, line, g.column};
         const std::string name = label + " " + g.text;
         if (first) line_move(target_of(lw, false), where, name, true);
         Vec3 stored = pos_;
@@ -736,12 +829,12 @@ class Reader final : private SystemParams {
     if (!first_axis && !arc_here) return;
     const auto motion_word = lw.g_in(GGroup::kMotion);
     const Word* at = motion_word ? motion_word->second : (first_axis ? first_axis : first_arc_word);
-    const SourceRef where{file_, line, at->column};
+    const SourceRef where{cur_->name, line, at->column};
     const std::string code = motion_ == Motion::kRapid ? "G0" : motion_ == Motion::kLinear ? "G1"
                              : motion_ == Motion::kCw  ? "G2" : "G3";
     const std::string name = label + " " + code;
     const Vec3 target = target_of(lw, machine);
-    line_orientation_ = angles_ ? angles_->apply(lw, incremental_, line, file_) : std::nullopt;
+    line_orientation_ = angles_ ? angles_->apply(lw, incremental_, line, cur_->name) : std::nullopt;
     if (arc_mode) {
       arc_move(target, lw, p, where, name, line);
     } else {
@@ -1105,8 +1198,12 @@ class Reader final : private SystemParams {
     return std::nullopt;
   }
 
-  std::string_view text_;
-  const std::string& file_;
+  // the main program (first) and the subroutine files read, the one being read; the files read
+  // by subroutine name (lower case, without < >) -> index into sources_
+  std::vector<std::unique_ptr<Source>> sources_;
+  Source* cur_ = nullptr;
+  std::size_t cur_index_ = 0;
+  std::unordered_map<std::string, std::size_t> sub_files_;
   const GcodeOptions& options_;
   GcodeResult result_;
 
@@ -1139,13 +1236,11 @@ class Reader final : private SystemParams {
   // parameters, the O-word structure, the calls and repeat loops in progress, the value of the
   // last return (#<_value>), the lines executed (bounded) and those seen (notes once per line)
   Params params_;
-  Flow flow_;
   std::vector<Call> calls_;
   std::vector<Repeat> repeats_;
   double value_ = 0;
   double value_returned_ = 0;
   std::size_t executed_ = 0;
-  std::unordered_set<int> seen_lines_;
   bool repeated_line_ = false;
   // tool angles (options_.angles, else none): their modal state; the target of this line's
   // move; the orientation where the last kept move ends (program frame)

@@ -104,6 +104,7 @@ constexpr std::array kKeys = {
     ScenarioKey{.map = "program", .name = "start", .type = K::kNumbers, .count = 3, .unit = kLength, .fallback = "[0, 0, 0]", .meaning = "where the first move starts, in the program frame (with gcode: the position before the first line)"},
     ScenarioKey{.map = "program", .name = "moves", .type = K::kList, .opens = "move", .meaning = "the moves, each starting where the previous ends (this or gcode)"},
     ScenarioKey{.map = "program", .name = "gcode", .type = K::kFile, .meaning = "a G-code part program instead of moves, in its own units (G20/G21), placed by frame; defaults give its limits"},
+    ScenarioKey{.map = "program", .name = "subroutine_path", .type = K::kText, .meaning = "with gcode: folders searched for <name>.ngc when the program calls o<name> it does not define, after the program's own folder, separated by ':' as LinuxCNC's SUBROUTINE_PATH, relative to the scenario's folder"},
     ScenarioKey{.map = "program", .name = "gcode_angles", .type = K::kMap, .opens = "gcode_angles", .meaning = "with gcode: read its A, B, C words as tool angles in degrees, modal like X, Y, Z (G91 adds), giving each move's orientation as rpy_deg does; without it A, B, C are refused"},
 
     ScenarioKey{.map = "gcode_angles", .name = "a", .type = K::kChoice, .required = true, .choices = "roll|pitch|yaw", .meaning = "the angle A names; A, B, C name roll, pitch and yaw, each once (KUKA's A, B, C: {a: yaw, b: pitch, c: roll}; rotary axes about x, y, z: {a: roll, b: pitch, c: yaw})"},

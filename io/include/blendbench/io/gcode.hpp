@@ -30,7 +30,7 @@
 //   S, T (selects the tool M6 loads), H (read by G43), D, M0 M1 M3 M4 M5 M6 M7 M8 M9, G40, G94.
 // Everything else stops with InputError(file, line, column, word, message): cutter radius
 // compensation (G41 G42), canned cycles (G73-G89, G98/G99), G33, splines (G5), probing, lathe
-// modes, inverse-time feed, subroutines in other files, M98/M99, G10 L other than 1, 2, 20,
+// modes, inverse-time feed, a called subroutine that no file defines, M98/M99, G10 L other than 1, 2, 20,
 // axes A B C (unless mapped to tool angles) and U V W, unknown letters, codes and functions,
 // two words of one modal group on a line, a word given twice, a word on a line with no command
 // that uses it, axis words before any G0-G3 (LinuxCNC starts in G80), an O-word structure that
@@ -145,8 +145,14 @@
 // - The O-word structure is checked before the program runs (gcode_flow): every sub, while, do,
 //   repeat and if closes with its label, properly nested; subroutines are not nested; break and
 //   continue name an enclosing loop, return the enclosing subroutine. A definition met in the
-//   flow is skipped; a call may come before or after it. Subroutines in other files (LinuxCNC's
-//   search path) are not read: the call is refused.
+//   flow is skipped; a call may come before or after it.
+// - Subroutine files (LinuxCNC's "Calling Files"): a call finds its subroutine in the file that
+//   calls, else in the main program, else in the file <name>.ngc that
+//   GcodeOptions::find_subroutine finds (only named labels; the name in lower case, letters,
+//   digits, '-' and '_', so a label never names a path elsewhere). A file is read once and its
+//   O-word structure checked as the program's; only the subroutine called runs. Its moves and
+//   errors name the file and its lines; an error ends with "(in o<name> called from line N of
+//   part.ngc)". Without find_subroutine (parse_gcode of text alone) such a call is refused.
 // - The work is bounded: GcodeOptions::max_lines lines executed (kMaxExecutedLines; each loop
 //   pass counts), kMaxCallDepth nested calls, 64 nested brackets, parameter
 //   references and functions in one value, max_moves moves; each stops with InputError at the
@@ -156,6 +162,7 @@
 //
 #include <array>
 #include <cstddef>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -189,6 +196,18 @@ struct GcodeAngles {
   std::array<ToolAngle, 3> abc = {ToolAngle::kRoll, ToolAngle::kPitch, ToolAngle::kYaw};
 };
 
+// A subroutine file found by name (see GcodeOptions::find_subroutine).
+struct GcodeSubroutineFile {
+  std::string path;  // as messages and the moves' source references name it
+  std::string text;
+};
+
+// What a search for a subroutine file found: the file, or none and where it looked.
+struct GcodeSubroutineLookup {
+  std::optional<GcodeSubroutineFile> file;
+  std::string searched;  // for the refusal when none was found, e.g. "/parts, /subs"
+};
+
 struct GcodeOptions {
   // SI limits of every move: velocity is the feed until the first F word (m/s); acceleration,
   // deceleration and jerk apply throughout. All must be positive.
@@ -210,6 +229,13 @@ struct GcodeOptions {
   // The tool table: tool number -> length offset (m; X, Y, Z) that G43 H<n> applies. Empty by
   // default: G43 of a tool not in it applies zero and notes it.
   std::map<int, Vec3> tool_offsets;
+  // Where "o<name> call" finds a subroutine the program does not define: the file <name>.ngc
+  // (name in lower case; letters, digits, '-', '_'). It may throw InputError (a file that cannot
+  // be read). Not set: such a call is refused. load_gcode_file sets it (see program_io.hpp).
+  std::function<GcodeSubroutineLookup(const std::string& name)> find_subroutine;
+  // Folders load_gcode_file searches for subroutine files after the program's own folder (as
+  // LinuxCNC's [RS274NGC] SUBROUTINE_PATH); parse_gcode itself does not read it.
+  std::vector<std::string> subroutine_path;
   // Bounds on the work (InputError beyond them): moves in the program, lines executed.
   std::size_t max_moves = kMaxMoves;
   std::size_t max_lines = kMaxExecutedLines;
