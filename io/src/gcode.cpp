@@ -61,7 +61,13 @@ constexpr double kSameOrientation = 1e-9;
 using Vec2 = Eigen::Vector2d;
 
 enum class Plane { kXY, kXZ, kYZ };
-enum class Motion { kNone, kRapid, kLinear, kCw, kCcw };
+// The motion mode: G0, G1, G2, G3, G33 (a thread), G33.1 (rigid tapping), a canned cycle (its
+// code in Reader::cycle_code_), G80 (none).
+enum class Motion { kNone, kRapid, kLinear, kCw, kCcw, kThread, kTap, kCycle };
+
+// LinuxCNC interp_internal.hh G83_RAPID_DELTA: how far above the last peck (in) G73 and G83
+// come back down at rapid before they feed again.
+constexpr double kPeckClearanceInch = 0.010;
 
 // The plane's in-plane axes a1, a2 and normal n = a1 x a2 (RS274/NGC: G17 XY about +Z,
 // G18 ZX about +Y, G19 YZ about +X; G2 is clockwise seen from the positive end of n).
@@ -130,7 +136,7 @@ class Reader final : private SystemParams {
     path_orientation_ = options.start_orientation.normalized();
     if (options.angles) angles_.emplace(*options.angles);
     path_end_ = options.start;
-    feed_ = options.limits.velocity;
+    feed_value_ = options.limits.velocity * 60;
     transition_ = options.blending;
     tool_table_ = options.tool_offsets;
   }
@@ -514,12 +520,21 @@ class Reader final : private SystemParams {
   // motion, and last the stops and the program end.
   void execute(const Block& block) {
     const int line = block.line;
+    line_ = line;
     std::vector<Word> words = block.words;
     const std::string label = take_line_number(words, line);
     const LineWords lw = sort_words(words, line, cur_->name, options_.angles.has_value());
 
-    // units first: every value on the line is read in the units in force after it
+    // units first: every value on the line is read in the units in force after it; G7 (lathe
+    // diameter mode) halves the line's X words, as LinuxCNC reads X in it; the feed mode before F
     if (const auto units = lw.g_in(GGroup::kUnits)) inch_ = units->first == 200;
+    if (const auto lathe = lw.g_in(GGroup::kLatheDiameter)) diameter_ = lathe->first == 70;
+    if (diameter_) {
+      for (Word& w : words) {
+        if (w.letter == 'X') w.value *= 0.5;
+      }
+    }
+    if (const auto feed_mode = lw.g_in(GGroup::kFeedMode)) per_revolution_ = feed_mode->first == 950;
     set_feed_and_tool(lw, line);
     before_motion(lw.m_codes, line);
 
@@ -531,13 +546,26 @@ class Reader final : private SystemParams {
     const bool g64 = path_control && path_control->first == 640;
     const Word* p = lw.get('P');
     const Word* q = lw.get('Q');
-    if (q && !g64) fail(line, q->column, q->text, "Q word with no G64 that uses it");
-    if (const Word* l = lw.get('L'); l && nm != 100) fail(line, l->column, l->text, "L word with no G10 that uses it");
+    // the motion mode after this line: canned cycles read Q (G73, G83) and L (repeats)
+    const Motion next = lw.g_in(GGroup::kMotion) ? motion_of(lw.g_in(GGroup::kMotion)->first) : motion_;
+    const int next_cycle = lw.g_in(GGroup::kMotion) ? lw.g_in(GGroup::kMotion)->first : cycle_code_;
+    const bool pecks = next == Motion::kCycle && (next_cycle == 730 || next_cycle == 830);
+    if (q && !g64 && !pecks) fail(line, q->column, q->text, "Q word with no G64, G73 or G83 that uses it");
+    if (const Word* l = lw.get('L'); l && nm != 100 && next != Motion::kCycle) {
+      fail(line, l->column, l->text, "L word with no G10 or canned cycle that uses it");
+    }
     if (dwell) dwell_here(*non_modal->second, p, line);
+    // polar coordinates are a motion's end point, never an offset's or a tool's coordinates
+    const bool command_axes = nm == 100 || nm == 280 || nm == 300 || nm == 520 || nm == 920 ||
+                              (lw.g_in(GGroup::kToolLength) && lw.g_in(GGroup::kToolLength)->first != 430 &&
+                               lw.g_in(GGroup::kToolLength)->first != 490);
+    if (const Word* polar = lw.first_of("@^"); polar && command_axes) {
+      fail(line, polar->column, polar->text, "polar coordinates (@, ^) are for motion, not for this line's offset or tool command");
+    }
     set_modes(lw, line);
     const bool tool_axes = tool_length(lw, line);
     set_coordinate_system(lw, line);
-    if (path_control) set_path_control(g64, (dwell || nm == 100) ? nullptr : p, q, line);
+    if (path_control) set_path_control(g64, (dwell || nm == 100) ? nullptr : p, g64 ? q : nullptr, line);
     if (const auto d = lw.g_in(GGroup::kDistance)) incremental_ = d->first == 910;
     if (const auto d = lw.g_in(GGroup::kArcDistance)) ij_absolute_ = d->first == 901;
     const bool offset_axes = non_modal && offsets_and_stored(lw, *non_modal->second, nm, label, line);
@@ -568,9 +596,14 @@ class Reader final : private SystemParams {
   // the tool that M6 loads, H is read by G43 (noted when nothing uses it)
   void set_feed_and_tool(const LineWords& lw, int line) {
     if (const Word* f = lw.get('F')) {
-      // F0 is a valid setting (LinuxCNC); a feed move at it is refused (make_move)
+      // F0 is a valid setting (LinuxCNC); a feed move at it is refused (feed_velocity). Units
+      // per minute (G94) or per revolution (G95), as the mode in force reads the number.
       if (!(f->value >= 0)) fail(line, f->column, f->text, "the feed rate F must be >= 0");
-      feed_ = f->value * scale() / 60.0;
+      feed_value_ = f->value * scale();
+    }
+    if (const Word* sw = lw.get('S')) {
+      if (!(sw->value >= 0)) fail(line, sw->column, sw->text, "the spindle speed S must be >= 0");
+      spindle_speed_ = sw->value;
     }
     if (const Word* t = lw.get('T')) tool_selected_ = integer_of(*t, line, "the tool number T");
     const auto tl = lw.g_in(GGroup::kToolLength);
@@ -590,9 +623,12 @@ class Reader final : private SystemParams {
     return static_cast<int>(rounded);
   }
 
-  // M6, spindle, coolant (before motion)
+  // M6, spindle, coolant (before motion); M3/M4 start the spindle (the speed S sets the feed of
+  // G33, G33.1 and G95), M5 stops it
   void before_motion(const std::vector<Code>& m_codes, int line) {
     for (const auto& [code, w] : m_codes) {
+      if (code == 3 || code == 4) spindle_on_ = true;
+      if (code == 5) spindle_on_ = false;
       if (code == 6) {
         stop_here();
         tool_ = tool_selected_;
@@ -619,7 +655,11 @@ class Reader final : private SystemParams {
     if (const auto plane = lw.g_in(GGroup::kPlane)) {
       plane_ = plane->first == 170 ? Plane::kXY : plane->first == 180 ? Plane::kXZ : Plane::kYZ;
     }
-    if (const auto retract = lw.g_in(GGroup::kRetractMode)) retract_to_r_ = retract->first == 990;
+    if (const auto retract = lw.g_in(GGroup::kRetractMode)) {
+      retract_to_r_ = retract->first == 990;
+      retract_given_ = true;
+    }
+    if (const auto spindle = lw.g_in(GGroup::kSpindleMode)) surface_speed_ = spindle->first == 960;
     for (const GGroup group : {GGroup::kCutterComp, GGroup::kFeedMode, GGroup::kSpindleMode}) {
       if (const auto g = lw.g_in(group)) note(note_of(*g->second, line));
     }
@@ -799,33 +839,60 @@ class Reader final : private SystemParams {
   // The motion mode (G0-G3, G80) and the move of the line, if it has one; `p_users` counts the
   // other commands on the line that use its P word (G4, G10, G64); `axes_taken`: the axis words
   // belong to another command (G10, G28, G30, G43.1, G52, G92); `nm` the line's non-modal code.
-  void motion(const LineWords& lw, const std::string& label, int line, int p_users, bool axes_taken, int nm) {
-    if (const auto motion_word = lw.g_in(GGroup::kMotion)) {
-      switch (motion_word->first) {
-        case 0: motion_ = Motion::kRapid; break;
-        case 10: motion_ = Motion::kLinear; break;
-        case 20: motion_ = Motion::kCw; break;
-        case 30: motion_ = Motion::kCcw; break;
-        default: motion_ = Motion::kNone; break;
-      }
+  // The motion mode a G code of the motion group selects.
+  static Motion motion_of(int code) {
+    switch (code) {
+      case 0: return Motion::kRapid;
+      case 10: return Motion::kLinear;
+      case 20: return Motion::kCw;
+      case 30: return Motion::kCcw;
+      case 330: return Motion::kThread;
+      case 331: return Motion::kTap;
+      case 800: return Motion::kNone;
+      default: return Motion::kCycle;
     }
+  }
+
+  void motion(const LineWords& lw, const std::string& label, int line, int p_users, bool axes_taken, int nm) {
+    const Motion before = motion_;
+    const int cycle_before = cycle_code_;
+    if (const auto motion_word = lw.g_in(GGroup::kMotion)) {
+      motion_ = motion_of(motion_word->first);
+      if (motion_ == Motion::kCycle) cycle_code_ = motion_word->first;
+    }
+    // a run of canned cycles starts at the level it finds (LinuxCNC's cycle_il); another motion
+    // mode ends it
+    if (motion_ != Motion::kCycle) cycle_initial_.reset();
     const bool arc_mode = motion_ == Motion::kCw || motion_ == Motion::kCcw;
-    const Word* first_axis = axes_taken ? nullptr : lw.first_of("XYZABC");
-    const Word* first_arc_word = lw.first_of(nm == 100 ? "IJK" : "IJKR");
+    const bool cycle = motion_ == Motion::kCycle;
+    const bool spindle = motion_ == Motion::kThread || motion_ == Motion::kTap;
+    const Word* first_axis = axes_taken ? nullptr : lw.first_of("XYZABC@^");
+    // I, J, K, R: arc words, but R is a cycle's retract plane and K the pitch of G33/G33.1
+    std::string arc_letters = nm == 100 ? "IJK" : "IJKR";
+    if (cycle) arc_letters = "IJK";
+    if (spindle) arc_letters = nm == 100 ? "IJ" : "IJR";
+    const Word* first_arc_word = lw.first_of(arc_letters);
     if (first_arc_word && !arc_mode) {
       fail(line, first_arc_word->column, first_arc_word->text,
            std::string(1, first_arc_word->letter) + " word with no G2/G3 that uses it");
     }
+    if (const Word* k = lw.get('K'); k && !arc_mode && !spindle && nm != 100) {
+      fail(line, k->column, k->text, "K word with no G2/G3, G33 or G33.1 that uses it");
+    }
     if (first_axis && motion_ == Motion::kNone) {
-      fail(line, first_axis->column, first_axis->text, "axis words with no motion mode (G0, G1, G2, G3) in force");
+      fail(line, first_axis->column, first_axis->text, "axis words with no motion mode in force (G0-G3, G33, G33.1, a canned cycle)");
+    }
+    if (const Word* r = lw.get('R'); r && cycle && !first_axis && nm != 100) {
+      fail(line, r->column, r->text, "R word with no axis word: a canned cycle runs where a line names its position");
     }
     const bool arc_here = arc_mode && !axes_taken && (first_axis || first_arc_word);
+    const bool dwell_cycle = cycle && (cycle_code_ == 820 || cycle_code_ == 860 || cycle_code_ == 890) && first_axis;
     // P has exactly one user on the line
     const Word* p = lw.get('P');
     if (p) {
-      const int users = p_users + (arc_here ? 1 : 0) + (takes_p(lw.m_codes) ? 1 : 0);
-      if (users == 0) fail(line, p->column, p->text, "P word with no G4, G10, G64, G2/G3 or M50-M53 that uses it");
-      if (users > 1) fail(line, p->column, p->text, "P word used by two commands on one line (G4, G10, G64, G2/G3, M50-M53)");
+      const int users = p_users + (arc_here ? 1 : 0) + (dwell_cycle ? 1 : 0) + (takes_p(lw.m_codes) ? 1 : 0);
+      if (users == 0) fail(line, p->column, p->text, "P word with no G4, G10, G64, G2/G3, G82/G86/G89 or M50-M53 that uses it");
+      if (users > 1) fail(line, p->column, p->text, "P word used by two commands on one line (G4, G10, G64, G2/G3, G82/G86/G89, M50-M53)");
     }
     // G53: this line's axis words are machine coordinates (LinuxCNC: G0 or G1, G90 only)
     const bool machine = nm == 530;
@@ -833,22 +900,209 @@ class Reader final : private SystemParams {
       const Word& g53 = *lw.g_in(GGroup::kNonModal)->second;
       if (motion_ != Motion::kRapid && motion_ != Motion::kLinear) fail(line, g53.column, g53.text, "G53 needs G0 or G1 in force");
       if (incremental_) fail(line, g53.column, g53.text, "G53 cannot be used in incremental distance mode (G91)");
+      if (const Word* polar = lw.first_of("@^")) fail(line, polar->column, polar->text, "G53 takes no polar coordinates");
     }
     if (!first_axis && !arc_here) return;
     const auto motion_word = lw.g_in(GGroup::kMotion);
     const Word* at = motion_word ? motion_word->second : (first_axis ? first_axis : first_arc_word);
     const SourceRef where{cur_->name, line, at->column};
-    const std::string code = motion_ == Motion::kRapid ? "G0" : motion_ == Motion::kLinear ? "G1"
-                             : motion_ == Motion::kCw  ? "G2" : "G3";
-    const std::string name = label + " " + code;
+    const std::string name = label + " " + motion_name();
+    if (cycle) {
+      if (const Word* abc = lw.first_of("ABC")) fail(line, abc->column, abc->text, "tool angles cannot change in a canned cycle");
+      canned_cycle(lw, before == Motion::kCycle && cycle_before == cycle_code_, where, name);
+      return;
+    }
     const Vec3 target = target_of(lw, machine);
     line_orientation_ = angles_ ? angles_->apply(lw, incremental_, line, cur_->name) : std::nullopt;
     if (arc_mode) {
       arc_move(target, lw, p, where, name, line);
+    } else if (spindle) {
+      spindle_move(target, lw, where, name);
     } else {
       line_move(target, where, name, motion_ == Motion::kRapid);
     }
   }
+
+  // "G0" ... "G33.1", "G81" ...: the motion mode as move names give it.
+  std::string motion_name() const {
+    switch (motion_) {
+      case Motion::kRapid: return "G0";
+      case Motion::kLinear: return "G1";
+      case Motion::kCw: return "G2";
+      case Motion::kCcw: return "G3";
+      case Motion::kThread: return "G33";
+      case Motion::kTap: return "G33.1";
+      case Motion::kCycle: return "G" + std::to_string(cycle_code_ / 10);
+      case Motion::kNone: return "G80";
+    }
+    return "";
+  }
+
+  // G33 (spindle-synchronised motion) and G33.1 (rigid tapping), LinuxCNC's: the tool moves along
+  // a line by K per spindle revolution, so at S K per minute with the spindle at S (the
+  // synchronisation itself is not modelled: the planner holds that speed as the feed). G33.1
+  // then reverses the spindle and comes back along the same line to where it started, stopping
+  // at the bottom.
+  void spindle_move(const Vec3& target, const LineWords& lw, const SourceRef& where, const std::string& name) {
+    const std::string word = name.substr(name.rfind(' ') + 1);
+    const Word* k = lw.get('K');
+    if (!k) fail(where.line, where.column, word, word + " needs K, the distance per spindle revolution");
+    if (!(k->value > 0)) fail(where.line, k->column, k->text, "the distance per revolution K must be positive");
+    const double velocity = k->value * scale() * spindle_rpm(where, word, word) / 60.0;
+    if (motion_ == Motion::kThread) {
+      line_move(target, where, name, false, velocity);
+      return;
+    }
+    const Vec3 start = pos_;
+    line_move(target, where, name, false, velocity);
+    stop_here();
+    note(name + ": the spindle reverses at the bottom (an exact stop) and the tap comes back along its line");
+    line_move(start, where, name, false, velocity);
+    stop_here();
+  }
+
+  // A canned cycle at the position the line names (LinuxCNC's interp_cycles.cc, convert_cycle and
+  // its CYCLE_MACRO), in the plane's terms: (a, b) in the plane, c along its normal (Z for G17,
+  // Y for G18, X for G19), all in program coordinates. `continuing`: the same cycle was in force
+  // (R, the bottom, P and Q may then be left out). Every move of the cycle stops at its end (the
+  // cycle runs in exact path mode); L repeats it, in G91 each time further by the line's X, Y.
+  void canned_cycle(const LineWords& lw, bool continuing, const SourceRef& where, const std::string& name) {
+    const std::string word = name.substr(name.rfind(' ') + 1);
+    const PlaneAxes ax = axes_of(plane_);
+    const char letters[3] = {"XYZ"[ax_index(ax.a1)], "XYZ"[ax_index(ax.a2)], "XYZ"[ax_index(ax.n)]};
+    const auto word_of = [&](char letter) { return lw.get(letter); };
+    const auto fail_here = [&](const std::string& message) { fail(where.line, where.column, word, message); };
+    if (const Word* polar = lw.first_of("@^")) fail(where.line, polar->column, polar->text, "polar coordinates are not supported in canned cycles");
+    // R, the bottom (the normal axis word), P, Q: given, or kept from the same cycle
+    const Word* r_word = word_of('R');
+    if (!r_word && !continuing) fail_here(word + " needs R, the retract plane");
+    if (r_word) cycle_r_ = r_word->value * scale();
+    const Word* bottom_word = word_of(letters[2]);
+    if (!bottom_word && !continuing) fail_here(word + " needs " + letters[2] + ", the bottom of the hole");
+    if (bottom_word) cycle_bottom_ = bottom_word->value * scale();
+    const bool dwells = cycle_code_ == 820 || cycle_code_ == 860 || cycle_code_ == 890;
+    if (dwells) {
+      const Word* p = word_of('P');
+      if (!p && !continuing) fail_here(word + " needs P, the dwell at the bottom in seconds");
+      if (p && !(p->value >= 0)) fail(where.line, p->column, p->text, "the dwell time P must be >= 0");
+      if (p) cycle_p_ = p->value;
+    }
+    const bool pecks = cycle_code_ == 730 || cycle_code_ == 830;
+    if (pecks) {
+      const Word* q = word_of('Q');
+      if (!q && !continuing) fail_here(word + " needs Q, the depth of each peck");
+      if (q && !(q->value > 0)) fail(where.line, q->column, q->text, "the peck depth Q must be positive");
+      if (q) cycle_q_ = q->value * scale();
+    }
+    int repeats = 1;
+    if (const Word* l = word_of('L')) {
+      repeats = integer_of(*l, where.line, "the repeat count L");
+      if (repeats < 1) fail(where.line, l->column, l->text, "a canned cycle cannot be repeated zero times (L0)");
+    }
+    // spindle checks: G84 taps with the spindle turning clockwise, G86 needs it turning
+    if ((cycle_code_ == 840 || cycle_code_ == 860) && (!spindle_on_ || !(spindle_speed_ > 0))) {
+      fail_here(word + " needs the spindle turning: M3 or M4 with a speed S > 0");
+    }
+    // where: (a, b, c) of the current point; the cycle's levels
+    const Vec3 current = to_program(pos_);
+    const auto plane_of = [&](const Vec3& v) { return Vec3(v.dot(ax.a1), v.dot(ax.a2), v.dot(ax.n)); };
+    const Vec3 here = plane_of(current);
+    if (!cycle_initial_) cycle_initial_ = here.z();
+    double old_c = *cycle_initial_;
+    double a = here.x();
+    double b = here.y();
+    double da = 0;
+    double db = 0;
+    double r = cycle_r_;
+    double bottom = cycle_bottom_;
+    if (incremental_) {
+      // X, Y are increments of the position, R of the initial level, the bottom of R (NCMS)
+      if (const Word* w = word_of(letters[0])) da = w->value * scale();
+      if (const Word* w = word_of(letters[1])) db = w->value * scale();
+      r = cycle_r_ + old_c;
+      bottom = r + cycle_bottom_;
+    } else {
+      if (const Word* w = word_of(letters[0])) a = w->value * scale();
+      if (const Word* w = word_of(letters[1])) b = w->value * scale();
+    }
+    if (r < bottom) fail_here("the retract plane R is below the bottom of the hole (" + std::string(1, letters[2]) + ")");
+    const auto to_point = [&](double pa, double pb, double pc) { return to_machine(pa * ax.a1 + pb * ax.a2 + pc * ax.n); };
+    // every move of the cycle stops at its end (LinuxCNC runs cycles in exact path mode)
+    const Transition saved = transition_;
+    transition_ = Transition{};
+    const auto go = [&](double pa, double pb, double pc, bool rapid) {
+      const Vec3 target = to_point(pa, pb, pc);
+      if ((target - pos_).norm() <= kZeroLengthMove) return;
+      line_move(target, where, name, rapid);
+    };
+    double current_c = here.z();
+    // below the retract plane: straight up to it first
+    if (old_c < r) {
+      go(here.x(), here.y(), r, true);
+      old_c = r;
+      current_c = r;
+    }
+    if (!retract_given_ && old_c > r) {
+      note(name + ": neither G98 nor G99 given: the cycle retracts to the initial level (G98)");
+    }
+    const double clear = retract_to_r_ ? r : old_c;
+    const double peck_clearance = kPeckClearanceInch * kMetresPerInch;
+    for (int repeat = repeats; repeat > 0; --repeat) {
+      a += da;
+      b += db;
+      if (repeat == repeats && current_c > r) {
+        go(a, b, current_c, true);
+        go(a, b, r, true);
+      } else {
+        go(a, b, clear, true);
+        if (clear > r) go(a, b, r, true);
+      }
+      switch (cycle_code_) {
+        case 810:  // drill: feed to the bottom, rapid out
+          go(a, b, bottom, false);
+          go(a, b, clear, true);
+          break;
+        case 820:  // drill with a dwell at the bottom
+        case 860:  // bore: dwell, the spindle stops, rapid out
+          go(a, b, bottom, false);
+          note(name + ": dwell of " + format_value(cycle_p_, 6) + " s at the bottom (an exact stop)" +
+               (cycle_code_ == 860 ? "; the spindle stops for the retract" : ""));
+          go(a, b, clear, true);
+          break;
+        case 730:  // chip break: feed by Q, back off a little at rapid, until the bottom
+        case 830:  // peck: feed by Q, rapid out to R and back down near the last depth
+          for (double depth = r - cycle_q_; depth > bottom; depth -= cycle_q_) {
+            go(a, b, depth, false);
+            if (cycle_code_ == 830) go(a, b, r, true);
+            go(a, b, depth + peck_clearance, true);
+          }
+          go(a, b, bottom, false);
+          go(a, b, clear, true);
+          break;
+        case 840:  // tap: feed in, the spindle reverses, feed out
+          go(a, b, bottom, false);
+          note(name + ": the spindle reverses at the bottom (an exact stop)");
+          go(a, b, clear, false);
+          break;
+        case 850:  // bore or ream: feed in, feed out to R, rapid to the clearance
+          go(a, b, bottom, false);
+          go(a, b, r, false);
+          go(a, b, clear, true);
+          break;
+        case 890:  // bore: feed in, dwell, feed out
+          go(a, b, bottom, false);
+          note(name + ": dwell of " + format_value(cycle_p_, 6) + " s at the bottom (an exact stop)");
+          go(a, b, clear, false);
+          break;
+        default:
+          fail_here(word + " is not a supported canned cycle");
+      }
+    }
+    transition_ = saved;
+  }
+
+  // 0, 1, 2 for the coordinate axis a unit vector is (the program frame's plane axes).
+  static std::size_t ax_index(const Vec3& axis) { return axis.x() != 0 ? 0 : axis.y() != 0 ? 1 : 2; }
 
   // Whether the line's M codes use its P word (M50-M53 take an optional P: the override's state).
   static bool takes_p(const std::vector<Code>& m_codes) {
@@ -898,19 +1152,77 @@ class Reader final : private SystemParams {
         target[axis] = incremental_ ? target[axis] + value : value;
       }
     }
+    if (lw.first_of("@^")) {
+      const Vec2 xy = polar_point(lw, Vec2(target.x(), target.y()));
+      target.x() = xy.x();
+      target.y() = xy.y();
+    }
     return machine ? target : to_machine(target);
   }
 
-  Move make_move(Primitive geometry, const SourceRef& where, const std::string& name, bool rapid) const {
-    // LinuxCNC: "Cannot do G1 with zero feed rate" (also arcs and cycles)
-    if (!rapid && !(feed_ > 0)) {
-      fail(where.line, where.column, name.substr(name.rfind(' ') + 1),
-           "a feed move with feed rate 0 (the last F word was F0): program F before it");
+  // LinuxCNC's polar coordinates (interp_find.cc, find_ends; G17 only, in program coordinates):
+  // '@' the distance from the origin, '^' the angle in degrees from +X; under G90 the one not
+  // written keeps the current point's, under G91 '@' adds to its distance and '^' to its angle.
+  // `current` is the current point's X and Y.
+  Vec2 polar_point(const LineWords& lw, const Vec2& current) const {
+    const Word* first = lw.first_of("@^");
+    const Word* radius = lw.get('@');
+    const Word* angle = lw.get('^');
+    const int line = line_;
+    if (plane_ != Plane::kXY) fail(line, first->column, first->text, "polar coordinates (@, ^) are only for the XY plane (G17)");
+    if (const Word* xy = lw.first_of("XY")) fail(line, xy->column, xy->text, "X and Y cannot be given with polar coordinates (@, ^)");
+    const bool at_origin = current.x() == 0 && current.y() == 0;
+    double r = current.norm();
+    double a = std::atan2(current.y(), current.x());
+    if (incremental_) {
+      if (at_origin) fail(line, first->column, first->text, "incremental polar coordinates are not defined at the origin");
+      if (radius) r += radius->value * scale();
+      if (angle) a += angle->value * kDeg;
+    } else {
+      if (!angle && at_origin) fail(line, first->column, first->text, "at the origin a polar move needs its angle ^");
+      if (radius) r = radius->value * scale();
+      if (angle) a = angle->value * kDeg;
     }
+    return {r * std::cos(a), r * std::sin(a)};
+  }
+
+
+  // The feed (m/s) of a feed move: F units per minute (G94), or F units per revolution times the
+  // spindle speed (G95, LinuxCNC's units per revolution). Refused at the move: F0 (LinuxCNC:
+  // "Cannot do G1 with zero feed rate"), and G95 without a spindle speed (spindle_rpm).
+  double feed_velocity(const SourceRef& where, const std::string& name) const {
+    const std::string word = name.substr(name.rfind(' ') + 1);
+    if (!(feed_value_ > 0)) {
+      fail(where.line, where.column, word, "a feed move with feed rate 0 (the last F word was F0): program F before it");
+    }
+    if (!per_revolution_) return feed_value_ / 60.0;
+    return feed_value_ * spindle_rpm(where, word, "feed per revolution (G95)") / 60.0;
+  }
+
+  // The spindle speed (rev/min) that sets the feed of `what`: the S in force with the spindle
+  // turning (M3/M4). Under constant surface speed (G96) the speed, and with it the feed, would
+  // change along the path with the radius: refused.
+  double spindle_rpm(const SourceRef& where, const std::string& word, const std::string& what) const {
+    if (surface_speed_) {
+      fail(where.line, where.column, word,
+           what + " under constant surface speed (G96): the spindle speed, and so the feed, changes along the path "
+                  "(not supported; G97 sets a speed)");
+    }
+    if (!spindle_on_ || !(spindle_speed_ > 0)) {
+      fail(where.line, where.column, word, what + " needs the spindle turning: M3 or M4 with a speed S > 0");
+    }
+    return spindle_speed_;
+  }
+
+  // `velocity` (m/s) replaces the feed (G33, G33.1: the spindle sets it).
+  Move make_move(Primitive geometry, const SourceRef& where, const std::string& name, bool rapid,
+                 std::optional<double> velocity = std::nullopt) const {
     Move move;
     move.geometry = std::move(geometry);
     move.limits = options_.limits;
-    move.limits.velocity = rapid ? (options_.rapid_velocity > 0 ? options_.rapid_velocity : options_.limits.velocity) : feed_;
+    move.limits.velocity = rapid      ? (options_.rapid_velocity > 0 ? options_.rapid_velocity : options_.limits.velocity)
+                           : velocity ? *velocity
+                                      : feed_velocity(where, name);
     move.buffer = options_.buffer;
     move.transition = transition_;
     move.where = where;
@@ -946,8 +1258,9 @@ class Reader final : private SystemParams {
     result_.program.moves.push_back(std::move(move));
   }
 
-  void line_move(const Vec3& target, const SourceRef& where, const std::string& name, bool rapid) {
-    add_move(make_move(Line{path_end_, target}, where, name, rapid), target);
+  void line_move(const Vec3& target, const SourceRef& where, const std::string& name, bool rapid,
+                 std::optional<double> velocity = std::nullopt) {
+    add_move(make_move(Line{path_end_, target}, where, name, rapid, velocity), target);
   }
 
   void arc_move(const Vec3& target, const LineWords& lw, const Word* p, const SourceRef& where, const std::string& name, int line) {
@@ -1188,7 +1501,7 @@ class Reader final : private SystemParams {
     }
     if (name == "_current_tool") return tool_;
     if (name == "_selected_tool") return tool_selected_;
-    if (name == "_feed") return feed_ * 60.0 / s;
+    if (name == "_feed") return feed_value_ / s;
     if (name == "_value") return value_;
     if (name == "_value_returned") return value_returned_;
     if (name == "_motion_mode") {
@@ -1197,6 +1510,9 @@ class Reader final : private SystemParams {
         case Motion::kLinear: return 10.0;
         case Motion::kCw: return 20.0;
         case Motion::kCcw: return 30.0;
+        case Motion::kThread: return 330.0;
+        case Motion::kTap: return 331.0;
+        case Motion::kCycle: return cycle_code_;
         case Motion::kNone: return 800.0;
       }
     }
@@ -1217,7 +1533,25 @@ class Reader final : private SystemParams {
 
   Vec3 pos_;       // m: the interpreter's current point (the programmed end of the last motion)
   Vec3 path_end_;  // m: where the last kept move ends (differs from pos_ only after a dropped move)
-  double feed_ = 0;  // m/s
+  // the F number in metres per minute (G94) or per revolution (G95, per_revolution_); the spindle
+  // speed S (rpm, or surface speed under G96), whether it turns (M3/M4); G7 lathe diameter mode
+  double feed_value_ = 0;
+  bool per_revolution_ = false;
+  double spindle_speed_ = 0;
+  bool spindle_on_ = false;
+  bool surface_speed_ = false;
+  bool diameter_ = false;
+  int line_ = 0;  // the line being executed
+  // canned cycles: the cycle in force (730, 810, ...), its R, bottom (as written), P and Q, the
+  // initial level of a run of cycles (program coordinates along the plane's normal), and whether
+  // G98/G99 was ever given
+  int cycle_code_ = 0;
+  double cycle_r_ = 0;
+  double cycle_bottom_ = 0;
+  double cycle_p_ = 0;
+  double cycle_q_ = 0;
+  std::optional<double> cycle_initial_;
+  bool retract_given_ = false;
   Transition transition_;
   Plane plane_ = Plane::kXY;
   Motion motion_ = Motion::kNone;  // LinuxCNC starts in G80

@@ -23,19 +23,18 @@ const char* rejected_g_reason(int code) {
   switch (code) {
     case 410: case 411: case 420: case 421:
       return "cutter radius compensation (G41/G42) changes the path and is not supported";
-    case 700: case 710: case 711: case 712: case 720: case 721: case 722: case 730: case 740: case 760:
-    case 810: case 820: case 830: case 840: case 850: case 860: case 870: case 880: case 890:
-      return "canned cycles are not supported";
-    case 330: case 331:
-      return "spindle-synchronised motion (G33) is not supported";
+    case 700: case 710: case 711: case 712: case 720: case 721: case 722: case 740: case 760:
+      return "lathe canned cycles (G70-G72, G74, G76) are not supported";
+    case 870:
+      return "back boring (G87) is not supported (it orients the spindle and moves around the hole)";
+    case 880:
+      return "G88 is not supported (the operator retracts the tool by hand: the path is not the program's)";
     case 50: case 51: case 52: case 53:
       return "splines and NURBS (G5, G5.1, G5.2, G5.3) are not supported";
     case 382: case 383: case 384: case 385:
       return "probing (G38) is not supported";
-    case 70: case 80:
-      return "lathe diameter/radius mode (G7/G8) is not supported";
-    case 930: case 950:
-      return "only units-per-minute feed (G94) is supported";
+    case 930:
+      return "inverse-time feed (G93) is not supported (units per minute G94 and per revolution G95 are)";
     case 171: case 181: case 191:
       return "planes G17.1, G18.1, G19.1 are not supported (LinuxCNC does not support them either)";
     default:
@@ -56,13 +55,16 @@ struct Fail {
 
 std::optional<GGroup> group_of(int code) {
   switch (code) {
-    case 0: case 10: case 20: case 30: case 800: return GGroup::kMotion;
+    case 0: case 10: case 20: case 30: case 330: case 331: case 730: case 800: case 810: case 820: case 830: case 840:
+    case 850: case 860: case 890:
+      return GGroup::kMotion;
     case 40: case 100: case 280: case 281: case 300: case 301: case 520: case 530: case 920: case 921: case 922: case 923:
       return GGroup::kNonModal;
     case 170: case 180: case 190: return GGroup::kPlane;
     case 900: case 910: return GGroup::kDistance;
     case 901: case 911: return GGroup::kArcDistance;
-    case 940: return GGroup::kFeedMode;
+    case 940: case 950: return GGroup::kFeedMode;
+    case 70: case 80: return GGroup::kLatheDiameter;
     case 200: case 210: return GGroup::kUnits;
     case 400: return GGroup::kCutterComp;
     case 430: case 431: case 432: case 490: return GGroup::kToolLength;
@@ -132,12 +134,12 @@ LineWords sort_words(const std::vector<Word>& words, int line, const std::string
       case 'N':
         fail(w.column, w.text, "the line number N must be the first word of the line");
       case 'X': case 'Y': case 'Z': case 'I': case 'J': case 'K': case 'R': case 'P': case 'Q':
-      case 'F': case 'S': case 'T': case 'H': case 'D': case 'L':
+      case 'F': case 'S': case 'T': case 'H': case 'D': case 'L': case '@': case '^':
         break;
       default:
         fail(w.column, w.text, std::string("unknown word letter '") + w.letter + "'");
     }
-    const Word*& slot = out.by_letter[static_cast<std::size_t>(w.letter - 'A')];
+    const Word*& slot = out.by_letter[LineWords::slot_of(w.letter)];
     if (slot) fail(w.column, w.text, std::string("word '") + w.letter + "' given twice on one line");
     slot = &w;
     out.in_order.push_back(&w);

@@ -16,7 +16,7 @@ namespace blendbench::gcode_detail {
 
 // Modal groups of the supported G codes (RS274/NGC table 4), for the one-per-line rule.
 enum class GGroup { kNonModal, kMotion, kPlane, kDistance, kArcDistance, kFeedMode, kUnits, kCutterComp,
-                    kToolLength, kCoordSystem, kPathControl, kSpindleMode, kRetractMode };
+                    kToolLength, kCoordSystem, kPathControl, kSpindleMode, kRetractMode, kLatheDiameter };
 // The group of a supported G code given as ten times its number (G90.1 -> 901), else nullopt.
 std::optional<GGroup> group_of(int code);
 
@@ -30,13 +30,17 @@ using Code = std::pair<int, const Word*>;
 // The words of one line after the checks: each letter once (G and M may repeat across modal
 // groups), G and M codes in the order written. Points into the words given to sort_words.
 struct LineWords {
-  std::array<const Word*, 26> by_letter{};
+  std::array<const Word*, 28> by_letter{};  // A-Z, then '@' and '^' (polar radius and angle)
   std::vector<const Word*> in_order;  // the words other than G and M, as written
   std::vector<Code> g_codes;
   std::vector<Code> m_codes;
 
   // The word with this (upper-case) letter, or nullptr.
-  [[nodiscard]] const Word* get(char letter) const { return by_letter[static_cast<std::size_t>(letter - 'A')]; }
+  [[nodiscard]] const Word* get(char letter) const { return by_letter[slot_of(letter)]; }
+  // The index of a letter in by_letter.
+  static std::size_t slot_of(char letter) {
+    return letter == '@' ? 26 : letter == '^' ? 27 : static_cast<std::size_t>(letter - 'A');
+  }
   // The first word written whose letter is one of `letters`, or nullptr.
   [[nodiscard]] const Word* first_of(std::string_view letters) const;
   // The line's G code of this modal group, or nullopt.

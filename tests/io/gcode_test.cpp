@@ -572,12 +572,18 @@ TEST(Gcode, UnsupportedWordsStopWithLineColumnAndWord) {
   const std::vector<Case> cases = {
       {"G1 X1\nG41 D1 X2", 2, 1, "G41"},       // cutter compensation
       {"G42.1 D1", 1, 1, "G42.1"},
-      {"G81 X1 Y1 Z-1 R1", 1, 1, "G81"},       // canned cycles
-      {"G83 Z-1 Q1", 1, 1, "G83"},
-      {"G73 Z-1", 1, 1, "G73"},
-      {"G76 P1", 1, 1, "G76"},
-      {"G89 Z-1", 1, 1, "G89"},
-      {"G33 Z-1 K1", 1, 1, "G33"},             // spindle-synchronised
+      {"G81 X1 Y1 Z-1", 1, 1, "G81"},          // canned cycles: without R
+      {"G83 Z-1 R1", 1, 1, "G83"},             // without Q
+      {"G73 Z-1 Q1", 1, 1, "G73"},             // without R
+      {"G82 Z-1 R1", 1, 1, "G82"},             // without P
+      {"G81 Z1 R0", 1, 1, "G81"},              // R below the bottom
+      {"G81 X1 Z-1 R1 L0", 1, 15, "L0"},       // zero repeats
+      {"G84 Z-1 R1 F10", 1, 1, "G84"},         // tapping without the spindle turning
+      {"G76 P1", 1, 1, "G76"},                 // lathe threading cycle
+      {"G87 X1 Z-1 R1 I1 J1 K1", 1, 1, "G87"}, // back boring
+      {"G88 Z-1 R1 P1", 1, 1, "G88"},          // manual retract
+      {"G33 Z-1 K1", 1, 1, "G33"},             // spindle-synchronised, the spindle not turning
+      {"M3 S100 G33 Z-1", 1, 9, "G33"},        // without K
       {"G5 X1 I1 J1 P1 Q1", 1, 1, "G5"},       // splines
       {"G5.1 X1 I1 J1", 1, 1, "G5.1"},
       {"G5.2 X1 Y1 P1", 1, 1, "G5.2"},

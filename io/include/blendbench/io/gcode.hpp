@@ -9,11 +9,15 @@
 //   G0 G1 G2 G3 (G2/G3 by I/J/K centre or by R, helical when the axis normal to the plane moves,
 //   full circles by I/J/K with no end point or end = start, P = number of turns, at most
 //   kMaxArcTurns = 100), G17 G18 G19,
-//   G20 G21, G90 G91, G90.1 G91.1, G80 (cancels the motion mode), F (units per minute),
-//   G61 G61.1 (exact stop), G64 [P tol] [Q tol], G4 P (dwell), X Y Z, N, M2 M30,
-//   comments ( ) and ;, '/' block delete, '%' tape markers. Words are case-insensitive; spaces
-//   and tabs are allowed anywhere outside comments (RS274/NGC); numbers look like 1, -10., .5, +3.
-//   A B C as tool angles, only when GcodeOptions::angles maps them (see "Tool angles" below).
+//   G20 G21, G90 G91, G90.1 G91.1, G80 (cancels the motion mode; beside another motion code on
+//   its line it is ignored, as LinuxCNC's read_g does), F (units per minute G94, or per
+//   revolution G95), G61 G61.1 (exact stop), G64 [P tol] [Q tol], G4 P (dwell), X Y Z, @ ^
+//   (polar), N, M2 M30, G7 G8 (lathe diameter and radius mode), G33 K (spindle-synchronised
+//   line), G33.1 K (rigid tapping), canned cycles G73 G81 G82 G83 G84 G85 G86 G89 with R Q P L and
+//   G98/G99 (see "Spindle, lathe and canned cycles" below), comments ( ) and ;, '/' block delete,
+//   '%' tape markers. Words are case-insensitive; spaces and tabs are allowed anywhere outside
+//   comments (RS274/NGC); numbers look like 1, -10., .5, +3. A B C as tool angles, only when
+//   GcodeOptions::angles maps them (see "Tool angles" below).
 // Offsets and stored positions (LinuxCNC's G-code manual; see "Offsets" below):
 //   G54-G59.3 (switchable at any line), G10 L2/L20 P0-9 [R] (a system's offsets, rotation about
 //   Z), G10 L1 P (a tool table entry), G52, G92, G92.1, G92.2, G92.3, G43 [H], G43.1, G43.2, G49
@@ -27,10 +31,12 @@
 //   [value] (#<_value>), if/elseif/else/endif, while/endwhile, do/while, repeat/endrepeat,
 //   break, continue.
 // Words that do not change the path are accepted and listed in GcodeResult::ignored:
-//   S, T (selects the tool M6 loads), H (read by G43), D, M0 M1 M3 M4 M5 M6 M7 M8 M9, G40, G94.
+//   S (also the speed G33, G33.1 and G95 read), T (selects the tool M6 loads), H (read by G43), D,
+//   M0 M1 M3 M4 M5 M6 M7 M8 M9 M48-M53 (M50-M53 with P), G40, G94, G95, G96, G97.
 // Everything else stops with InputError(file, line, column, word, message): cutter radius
-// compensation (G41 G42), canned cycles (G73-G89, G98/G99), G33, splines (G5), probing, lathe
-// modes, inverse-time feed, a called subroutine that no file defines, M98/M99, G10 L other than 1, 2, 20,
+// compensation (G41 G42), canned cycles G87 G88 and lathe cycles (G70-G72, G74, G76), splines
+// (G5), probing, inverse-time feed (G93), a called subroutine that no file defines, M98/M99,
+// G10 L other than 1, 2, 20,
 // axes A B C (unless mapped to tool angles) and U V W, unknown letters, codes and functions,
 // two words of one modal group on a line, a word given twice, a word on a line with no command
 // that uses it, axis words before any G0-G3 (LinuxCNC starts in G80), an O-word structure that
@@ -105,6 +111,30 @@
 //   whose move is zero-length (dropped) while its angles turn the tool away from where the path
 //   has it (options.start_orientation before any target) is an error, as are angle words with
 //   no motion mode, and an angle beyond +-kMaxToolAngleDeg.
+
+// Spindle, lathe and canned cycles (LinuxCNC's G-code manual and interp_cycles.cc):
+// - M3/M4 start the spindle at S (rev/min; under G96 S is a surface speed), M5 stops it. G95
+//   reads F per revolution: the feed is F S per minute. G33 moves along its line by K per
+//   revolution (at S K per minute); G33.1 taps to its end point and comes back along the same
+//   line (an exact stop at the bottom, where the spindle reverses). These need the spindle
+//   turning at S > 0 and are refused under G96 (the speed would change with the radius). The
+//   synchronisation itself is not modelled: the planner holds that speed as the feed.
+// - G7: X words (of every command) are diameters, so the tool goes to half of them; G8 radii
+//   (the default). I stays a radius offset.
+// - Polar coordinates, G17 only: '@' the distance from the program origin, '^' the angle in
+//   degrees; under G90 the one not written keeps the current point's, under G91 they add to it;
+//   refused with X or Y, at the origin where the angle is undefined, with G53, and in cycles.
+// - Canned cycles G73 (chip break), G81 (drill), G82 (dwell), G83 (peck), G84 (tap; the spindle
+//   turning), G85 (feed out), G86 (dwell, rapid out; the spindle turning), G89 (dwell, feed out),
+//   in the plane in force (the hole along its normal: Z for G17, Y for G18, X for G19): below the
+//   retract plane R a rapid straight up to it first; a rapid to the position at the current
+//   level (first repeat) or the clearance level, down to R, the cycle's own moves, out to the
+//   clearance level: R with G99, the level the run of cycles started at with G98 (also when
+//   neither is given, noted where it matters). G73/G83 peck by Q and come back down 0.010 in
+//   (0.254 mm) above the last depth. G91: the position and R are increments of the current
+//   point and the initial level, the bottom of R; L repeats. R, the bottom, P and Q may be left
+//   out on the lines that continue the same cycle. Every move of a cycle stops at its end (the
+//   cycle runs in exact path mode); dwells are noted.
 
 // Offsets (LinuxCNC's "Coordinate Systems" and emccanon.cc):
 // - A programmed point p (after units) is reached at R p + O + G + T: O and R the offset and the
