@@ -868,7 +868,7 @@ class Reader final : private SystemParams {
     const bool spindle = motion_ == Motion::kThread || motion_ == Motion::kTap;
     const Word* first_axis = axes_taken ? nullptr : lw.first_of("XYZABC@^");
     // I, J, K, R: arc words, but R is a cycle's retract plane and K the pitch of G33/G33.1
-    std::string arc_letters = nm == 100 ? "IJK" : "IJKR";
+    std::string_view arc_letters = nm == 100 ? "IJK" : "IJKR";
     if (cycle) arc_letters = "IJK";
     if (spindle) arc_letters = nm == 100 ? "IJ" : "IJR";
     const Word* first_arc_word = lw.first_of(arc_letters);
@@ -1191,11 +1191,11 @@ class Reader final : private SystemParams {
   // spindle speed (G95, LinuxCNC's units per revolution). Refused at the move: F0 (LinuxCNC:
   // "Cannot do G1 with zero feed rate"), and G95 without a spindle speed (spindle_rpm).
   double feed_velocity(const SourceRef& where, const std::string& name) const {
+    if (!per_revolution_ && feed_value_ > 0) return feed_value_ / 60.0;
     const std::string word = name.substr(name.rfind(' ') + 1);
     if (!(feed_value_ > 0)) {
       fail(where.line, where.column, word, "a feed move with feed rate 0 (the last F word was F0): program F before it");
     }
-    if (!per_revolution_) return feed_value_ / 60.0;
     return feed_value_ * spindle_rpm(where, word, "feed per revolution (G95)") / 60.0;
   }
 

@@ -273,6 +273,18 @@ SpiralArcs arcs_along_spiral(const Spiral& spiral, double tolerance, int max_arc
   double best = std::numeric_limits<double>::infinity();
   if (const std::optional<Arc> circle = bisector_circle(spiral)) {
     const std::vector<Arc> one = {*circle};
+    // a planar circle whose centre moved by d from the spiral's: at every angle about the
+    // spiral's centre its radius is within d of its own, which is within d of r0, which is
+    // within |r1 - r0| of the spiral's, so 2 d + |r1 - r0| bounds the same-angle distance without
+    // sampling (rounded end points, most arcs of CAM programs)
+    if (spiral.rise == 0) {
+      const double bound = 2 * (circle->center - spiral.center).norm() + std::abs(spiral.r1 - spiral.r0);
+      if (bound <= tolerance) {
+        out.arcs = one;
+        out.deviation = bound;
+        return out;
+      }
+    }
     const double deviation = chain_deviation(one, spiral, tolerance);
     if (deviation <= tolerance) {
       out.arcs = one;
