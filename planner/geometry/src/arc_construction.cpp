@@ -276,10 +276,13 @@ SpiralArcs arcs_along_spiral(const Spiral& spiral, double tolerance, int max_arc
     // a planar circle whose centre moved by d from the spiral's: at every angle about the
     // spiral's centre its radius is within d of its own, which is within d of r0, which is
     // within |r1 - r0| of the spiral's, so 2 d + |r1 - r0| bounds the same-angle distance without
-    // sampling (rounded end points, most arcs of CAM programs)
+    // sampling (rounded end points, most arcs of CAM programs); with the spiral's centre inside
+    // the circle its angle about that centre runs monotonically over the sweep, so the bound
+    // holds both ways
     if (spiral.rise == 0) {
-      const double bound = 2 * (circle->center - spiral.center).norm() + std::abs(spiral.r1 - spiral.r0);
-      if (bound <= tolerance) {
+      const double shift = (circle->center - spiral.center).norm();
+      const double bound = 2 * shift + std::abs(spiral.r1 - spiral.r0);
+      if (bound <= tolerance && shift < 0.5 * circle->radius) {
         out.arcs = one;
         out.deviation = bound;
         return out;
