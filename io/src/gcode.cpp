@@ -1428,9 +1428,20 @@ class Reader final : private SystemParams {
       note(name + ": end point " + in_units(abs_err) + " off the circle; centre moved onto the bisector of start and end (within " +
            in_units(chain.deviation) + " of LinuxCNC's spiral)");
     }
+    // a tool orientation target is reached at the chain's end: the arcs before take the slerp
+    // at their share of its length, which is the one move's orientation along the way (the
+    // planner slerps each move by its arc length)
+    double total = 0;
+    for (const Arc& arc : chain.arcs) total += length(arc);
+    const Quat from = path_orientation_;
+    double done = 0;
     for (std::size_t k = 0; k < chain.arcs.size(); ++k) {
       const Arc& arc = chain.arcs[k];
-      add_move(make_move(arc, where, name, false), k + 1 == chain.arcs.size() ? target : point(arc, length(arc)));
+      const bool last = k + 1 == chain.arcs.size();
+      Move move = make_move(arc, where, name, false);
+      done += length(arc);
+      if (move.orientation && !last) move.orientation = from.slerp(done / total, *move.orientation).normalized();
+      add_move(std::move(move), last ? target : point(arc, length(arc)));
     }
   }
 
