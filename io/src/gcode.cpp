@@ -1071,7 +1071,13 @@ class Reader final : private SystemParams {
           break;
         case 730:  // chip break: feed by Q, back off a little at rapid, until the bottom
         case 830:  // peck: feed by Q, rapid out to R and back down near the last depth
+          // (a Q too small to change the depth in floating point would peck forever without a
+          // move: refused; every peck that changes it adds moves, which max_moves bounds)
           for (double depth = r - cycle_q_; depth > bottom; depth -= cycle_q_) {
+            if (!(depth - cycle_q_ < depth) || !(depth < r)) {
+              fail_here("the peck depth Q is too small for the depth of this hole (" + format_value(cycle_q_ / scale(), 6) +
+                        " " + unit_name() + " from R at " + format_value(r / scale(), 6) + ")");
+            }
             go(a, b, depth, false);
             if (cycle_code_ == 830) go(a, b, r, true);
             go(a, b, depth + peck_clearance, true);

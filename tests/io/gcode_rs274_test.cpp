@@ -583,6 +583,10 @@ TEST(GcodeRs274, CannedCyclesAreTheirMovesWrittenOut) {
   for (std::size_t k = 1; k <= 4; ++k) EXPECT_EQ(r.program.moves[k].transition.method, Method::kNone) << k;
   EXPECT_EQ(r.program.moves[5].transition.method, Method::kArc);
   EXPECT_EQ(r.program.moves[1].name, "line 2 G81");
+  // pecks that cannot deepen the hole in floating point (found by fuzz_gcode: R 1.8e122, Q 1.7)
+  // are refused, not repeated without end
+  expect_error("G0 X0 Z10\nG99 G83 X15 Z-3 R1777777777777777777777777777777777777777777777777777777777777777777777777777777777777777777777777777777777777777777777777 Q1.7 F100",
+               2, 5, "G83");
   // a note where LinuxCNC's default retract mode would matter and the program set none
   const GcodeResult unset = parse("G0 X0 Y0 Z10\nG81 X5 Z-2 R2 F100\n");
   EXPECT_EQ(unset.ignored.size(), 1u);
