@@ -627,7 +627,10 @@ class Reader final : private SystemParams {
   // G33, G33.1 and G95), M5 stops it
   void before_motion(const std::vector<Code>& m_codes, int line) {
     for (const auto& [code, w] : m_codes) {
-      if (code == 3 || code == 4) spindle_on_ = true;
+      if (code == 3 || code == 4) {
+        spindle_on_ = true;
+        spindle_clockwise_ = code == 3;
+      }
       if (code == 5) spindle_on_ = false;
       if (code == 6) {
         stop_here();
@@ -999,10 +1002,11 @@ class Reader final : private SystemParams {
       repeats = integer_of(*l, where.line, "the repeat count L");
       if (repeats < 1) fail(where.line, l->column, l->text, "a canned cycle cannot be repeated zero times (L0)");
     }
-    // spindle checks: G84 taps with the spindle turning clockwise, G86 needs it turning
+    // spindle checks (LinuxCNC's): G84 taps with the spindle turning clockwise, G86 needs it turning
     if ((cycle_code_ == 840 || cycle_code_ == 860) && (!spindle_on_ || !(spindle_speed_ > 0))) {
       fail_here(word + " needs the spindle turning: M3 or M4 with a speed S > 0");
     }
+    if (cycle_code_ == 840 && !spindle_clockwise_) fail_here("G84 taps with the spindle turning clockwise (M3), not M4");
     // where: (a, b, c) of the current point; the cycle's levels
     const Vec3 current = to_program(pos_);
     const auto plane_of = [&](const Vec3& v) { return Vec3(v.dot(ax.a1), v.dot(ax.a2), v.dot(ax.n)); };
@@ -1556,6 +1560,7 @@ class Reader final : private SystemParams {
   bool per_revolution_ = false;
   double spindle_speed_ = 0;
   bool spindle_on_ = false;
+  bool spindle_clockwise_ = true;
   bool surface_speed_ = false;
   bool diameter_ = false;
   int line_ = 0;  // the line being executed

@@ -579,6 +579,7 @@ TEST(Gcode, UnsupportedWordsStopWithLineColumnAndWord) {
       {"G81 Z1 R0", 1, 1, "G81"},              // R below the bottom
       {"G81 X1 Z-1 R1 L0", 1, 15, "L0"},       // zero repeats
       {"G84 Z-1 R1 F10", 1, 1, "G84"},         // tapping without the spindle turning
+      {"M4 S100 G84 Z-1 R1 F10", 1, 9, "G84"}, // or turning counter-clockwise
       {"G76 P1", 1, 1, "G76"},                 // lathe threading cycle
       {"G87 X1 Z-1 R1 I1 J1 K1", 1, 1, "G87"}, // back boring
       {"G88 Z-1 R1 P1", 1, 1, "G88"},          // manual retract
