@@ -12,6 +12,8 @@
 #include <fstream>
 #include <iostream>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "blendbench/core/format.hpp"
 #include "blendbench/corner/blend.hpp"
@@ -161,6 +163,7 @@ struct ProgramFlags {
   double jmax_mm_s3 = 0;
   std::optional<double> merge_mm;  // G64 Q on every move: merge collinear lines within it
   bb::SmoothingFlags smoothing;    // --smoothing, --smoothing-tolerance
+  std::vector<std::string> subroutine_path;  // G-code: folders searched for o<name> call files
 };
 
 struct LoadedProgram {
@@ -236,6 +239,11 @@ LoadedProgram load_program(const std::string& input, const ProgramFlags& flags) 
     options.limits.acceleration = (flags.amax_mm_s2 > 0 ? flags.amax_mm_s2 : kDefaultAmaxMmS2) * 1e-3;
     options.limits.deceleration = options.limits.acceleration;
     options.limits.jerk = (flags.jmax_mm_s3 > 0 ? flags.jmax_mm_s3 : kDefaultJmaxMmS3) * 1e-3;
+    for (const std::string& folder : flags.subroutine_path) {
+      std::error_code ec;
+      if (!std::filesystem::is_directory(folder, ec)) throw bb::InputError("", 0, 0, "--subroutine-path", "folder not found: " + folder);
+    }
+    options.subroutine_path = flags.subroutine_path;
     bb::GcodeResult parsed = bb::load_gcode_file(input, options);
     out.program = std::move(parsed.program);
     out.ignored = std::move(parsed.ignored);
@@ -330,13 +338,15 @@ int cmd_plan(const std::string& input, const ProgramFlags& flags, const TimingFl
 // Checks one input without running it: loaded (a scenario, or G-code with the path/plan
 // defaults), checked by the planner and blended, every variant of a scenario, so geometric
 // refusals show. Returns what was checked; throws InputError.
-std::string validate_input(const std::string& input) {
+std::string validate_input(const std::string& input, const std::vector<std::string>& subroutine_path) {
   const auto blend_checked = [](const bb::Program& program) {
     bb::validate(program);
     return bb::blend(program).corners.size();
   };
   if (bb::is_gcode_file(input)) {
-    const LoadedProgram loaded = load_program(input, ProgramFlags{});
+    ProgramFlags flags;
+    flags.subroutine_path = subroutine_path;
+    const LoadedProgram loaded = load_program(input, flags);
     const std::size_t corners = blend_checked(loaded.program);
     return "G-code, " + std::to_string(loaded.program.moves.size()) + " moves, " + std::to_string(corners) +
            " corners blended, " + std::to_string(loaded.ignored.size()) + " notes";
@@ -348,7 +358,7 @@ std::string validate_input(const std::string& input) {
 }
 
 // `validate FILE...`: one line per file, "FILE: ok (...)" or the refusal; exit 2 if any is bad.
-int cmd_validate(const std::vector<std::string>& files, bool schema) {
+int cmd_validate(const std::vector<std::string>& files, bool schema, const std::vector<std::string>& subroutine_path) {
   if (schema) {
     std::cout << bb::scenario_format_markdown();
     return kExitOk;
@@ -357,7 +367,7 @@ int cmd_validate(const std::vector<std::string>& files, bool schema) {
   bool all_ok = true;
   for (const std::string& file : files) {
     try {
-      const std::string checked = validate_input(file);
+      const std::string checked = validate_input(file, subroutine_path);
       std::cout << file << ": ok (" << checked << ")" << std::endl;
     } catch (const bb::InputError& e) {
       // the error names its file, except for a refusal that came from no file
@@ -473,6 +483,10 @@ int main(int argc, char** argv) {
     cmd->add_option("--merge-tolerance", flags.merge_mm,
                     "Merge runs of collinear lines within this many mm before blending (LinuxCNC's G64 Q); 0 = off");
     bb::add_smoothing_flags(cmd, flags.smoothing);
+    cmd->add_option("--subroutine-path", flags.subroutine_path,
+                    "G-code: a folder searched for <name>.ngc when the program calls o<name> it does not define, after the "
+                    "program's own folder (LinuxCNC's SUBROUTINE_PATH; repeatable)")
+        ->allow_extra_args(false);
   };
 
   std::string report;
@@ -508,6 +522,11 @@ int main(int argc, char** argv) {
       "validate", "Check scenario and G-code files without running them: load, the planner's checks, blend every variant");
   validate->add_option("files", validate_files, "Scenario YAML or G-code files");
   validate->add_flag("--schema", schema, "Print the scenario format (every key with unit, default and range) as Markdown");
+  std::vector<std::string> validate_subroutine_path;
+  validate->add_option("--subroutine-path", validate_subroutine_path,
+                       "G-code: a folder searched for <name>.ngc when a program calls o<name> it does not define, after the "
+                       "program's own folder (repeatable)")
+      ->allow_extra_args(false);
 
   std::string paper;
   std::string papers_out = "results/papers";
@@ -546,7 +565,7 @@ int main(int argc, char** argv) {
     if (*path) return cmd_path(input, flags, csv, report, ds_mm);
     if (*plan) return cmd_plan(input, flags, timing_flags, csv, summary);
     if (*check) return cmd_check(run_dir, baseline, tolerances, update);
-    if (*validate) return cmd_validate(validate_files, schema);
+    if (*validate) return cmd_validate(validate_files, schema, validate_subroutine_path);
     if (*reproduce) return bb::reproduce(paper, papers_out, !no_paper_plots, std::cout);
     if (*sweep) {
       sweep_args.plots = !sweep_no_plots;

@@ -435,7 +435,8 @@ Block lex_block(const CompactLine& line, int line_no, const std::string& file, c
       block.assignments.push_back(std::move(a));
       continue;
     }
-    if (is_alpha(ch)) {
+    // a word: a letter, or '@' / '^' (LinuxCNC's polar radius and angle)
+    if (is_alpha(ch) || ch == '@' || ch == '^') {
       Word word;
       word.letter = upper(ch);
       word.column = r.col(i);

@@ -209,9 +209,10 @@ GcodeAngles read_gcode_angles(const Reader& r, const Field& f) {
 // A program given as a G-code file: read in its own units (G20/G21), placed by the frame.
 // Variants replace the transitions of all its moves (the file's G61/G64 apply when a variant
 // sets no transition).
-void read_gcode_program(const Reader& r, const Field& gcode, const Field& angles, const Field& start,
-                        const MoveDefaults& defaults, Scenario& sc) {
+void read_gcode_program(const Reader& r, const Field& gcode, const Field& angles, const Field& subroutine_path,
+                        const Field& start, const MoveDefaults& defaults, Scenario& sc) {
   GcodeOptions options;
+  if (subroutine_path.node.defined()) options.subroutine_path = r.existing_folders(subroutine_path);
   options.limits = defaults.limits;
   options.buffer = defaults.buffer;
   options.start = r.vec3(start);
@@ -278,6 +279,7 @@ void read_program(const Reader& r, const Field& root, Scenario& sc) {
   const Field moves = r.child(program, "moves");
   const Field gcode = r.child(program, "gcode");
   const Field angles = r.child(program, "gcode_angles");
+  const Field subroutine_path = r.child(program, "subroutine_path");
   const MoveDefaults defaults = read_defaults(r, root);
   const Field start = r.value(program, "start");
   // the tool starts as the robot holds it (used only when a move sets an orientation)
@@ -287,10 +289,11 @@ void read_program(const Reader& r, const Field& root, Scenario& sc) {
   if (const Field f = r.child(program, "smoothing"); f.node.defined()) sc.program.smoothing = read_smoothing(r, f, Smoothing{});
   if (gcode.node.defined()) {
     if (moves.node.defined()) r.fail(moves, "give either 'moves' or 'gcode', not both");
-    read_gcode_program(r, gcode, angles, start, defaults, sc);
+    read_gcode_program(r, gcode, angles, subroutine_path, start, defaults, sc);
     return;
   }
   if (angles.node.defined()) r.fail(angles, "gcode_angles maps the words of a G-code program; this program has no 'gcode'");
+  if (subroutine_path.node.defined()) r.fail(subroutine_path, "subroutine_path is searched by a G-code program's calls; this program has no 'gcode'");
   if (!moves.node.defined()) (void)r.require(program, "moves");
   if (!moves.node.is_sequence() || moves.node.size() == 0) {
     r.fail(moves, "expected a non-empty list of moves, got " + what_is(moves.node));

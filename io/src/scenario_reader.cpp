@@ -237,6 +237,24 @@ std::string Reader::existing_file(const Field& f) const {
   fail(f, "file not found: " + name);
 }
 
+std::vector<std::string> Reader::existing_folders(const Field& f) const {
+  namespace fs = std::filesystem;
+  const std::string list = text(f);
+  std::vector<std::string> out;
+  std::size_t begin = 0;
+  while (begin <= list.size()) {
+    const std::size_t end = std::min(list.find(':', begin), list.size());
+    const std::string name = list.substr(begin, end - begin);
+    begin = end + 1;
+    if (name.empty()) fail(f, "an empty folder name in '" + list + "' (folders are separated by ':')");
+    const fs::path folder = fs::path(name).is_absolute() ? fs::path(name) : fs::path(base_dir_) / name;
+    std::error_code ec;
+    if (!fs::is_directory(folder, ec)) fail(f, "folder not found: " + name);
+    out.push_back(fs::absolute(folder).lexically_normal().string());
+  }
+  return out;
+}
+
 double Reader::raw_number(const Field& f) const {
   if (!f.node.is_scalar()) fail(f, "expected a number, got " + what_is(f.node));
   const std::string& s = f.node.scalar();

@@ -113,6 +113,10 @@ class Reader {
   // names a file of the data root.
   [[nodiscard]] std::string existing_file(const Field& f) const;
 
+  // Existing folders written as LinuxCNC writes SUBROUTINE_PATH, separated by ':', each
+  // relative to the scenario's directory unless absolute.
+  [[nodiscard]] std::vector<std::string> existing_folders(const Field& f) const;
+
   [[nodiscard]] const std::string& file() const { return file_; }
 
  private:

@@ -222,6 +222,28 @@ TEST_F(Cli, ValidateChecksEveryFileWithoutRunningIt) {
   EXPECT_EQ(run_in(work, {"validate"}).exit_code, 2);
 }
 
+// --subroutine-path names folders searched for the files of subroutines a program calls, after
+// the program's own; repeatable, and a folder that does not exist is bad input naming the flag.
+TEST_F(Cli, SubroutinePathFlagFindsSubroutineFiles) {
+  fs::create_directories(dir_ / "subs");
+  fs::create_directories(dir_ / "more");
+  const fs::path part = dir_ / "calls.ngc";
+  std::ofstream(part) << "G21 F600\no<a> call\no<b> call\nM2\n";
+  std::ofstream(dir_ / "subs" / "a.ngc") << "o<a> sub\nG1 X10\no<a> endsub\n";
+  std::ofstream(dir_ / "more" / "b.ngc") << "o<b> sub\nG1 Y10\no<b> endsub\n";
+  Result r = run_in(dir_, {"validate", "--subroutine-path", (dir_ / "subs").string(), "--subroutine-path",
+                           (dir_ / "more").string(), part.string()});
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find(part.string() + ": ok (G-code, 2 moves"), std::string::npos) << r.output;
+  r = run_in(dir_, {"path", part.string(), "--subroutine-path", (dir_ / "subs").string(), "--csv", (dir_ / "p.csv").string()});
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("o<b> is not defined in this file, and no file b.ngc was found"), std::string::npos) << r.output;
+  r = run_in(dir_, {"path", part.string(), "--subroutine-path", (dir_ / "nope").string(), "--csv", (dir_ / "p.csv").string()});
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("'--subroutine-path'"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir_ / "p.csv"));
+}
+
 // A spacing so small the row count would overflow an integer is refused with the flag.
 TEST_F(Cli, PathRefusesASpacingThatWouldWriteTooManyRows) {
   const std::string tiny = blendbench::test::source_path("tests/data/tiny.yaml");

@@ -117,6 +117,26 @@ TEST(Gcode, ToolAnglesAreModalAndIncrementalUnderG91) {
 
 // Without a mapping A, B, C stay refused where they stand; with one, the angles' own errors are
 // located at the word.
+// An arc that becomes a chain of tangent arcs (its end point off the circle: LinuxCNC's spiral)
+// still reaches its orientation at its end, and on the way turns as the one move would: each arc
+// of the chain takes the slerp at its share of the chain's length.
+TEST(Gcode, ToolAnglesOfAnArcSplitAlongLinuxCncsSpiralAreReachedAtItsEnd) {
+  const GcodeOptions opt = with_angles(ToolAngle::kRoll, ToolAngle::kPitch, ToolAngle::kYaw);
+  const GcodeResult r = parse("G1 X0.001 A0 B0 C0 F600\nG2 X100 Y-100.0282 I99.999 A0 B0 C120\n", opt);
+  ASSERT_GT(r.program.moves.size(), 3u);
+  const Quat to = rpy(0, 0, 120);
+  double total = 0;
+  for (std::size_t k = 1; k < r.program.moves.size(); ++k) total += length(r.program.moves[k].geometry);
+  double done = 0;
+  for (std::size_t k = 1; k < r.program.moves.size(); ++k) {
+    done += length(r.program.moves[k].geometry);
+    ASSERT_TRUE(r.program.moves[k].orientation.has_value()) << k;
+    // the yaw turns in proportion to the length travelled: 120 degrees over the chain
+    EXPECT_LE(rotation_angle(*r.program.moves[k].orientation, rpy(0, 0, 120 * done / total)), 1e-12) << k;
+  }
+  EXPECT_LE(rotation_angle(*r.program.moves.back().orientation, to), 1e-12);
+}
+
 TEST(Gcode, ToolAngleErrorsAreLocated) {
   const std::string unmapped = expect_error("G1 X1\nG1 X2 B3", 2, 7, "B3");
   EXPECT_NE(unmapped.find("program.gcode_angles"), std::string::npos) << unmapped;

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <iomanip>
 #include <numbers>
@@ -24,6 +25,7 @@ namespace {
 
 constexpr double kSamePath = 1e-12;  // m: two readings of one path (rounding of sums only)
 constexpr double kValueTol = 1e-9;   // mm: a hand-computed expression value
+constexpr double kPi = std::numbers::pi;
 
 GcodeOptions options() {
   GcodeOptions opt;
@@ -456,6 +458,139 @@ TEST(GcodeRs274, PropertyProgramsWrittenThreeWaysAgree) {
       EXPECT_LE((end_of(x.program.moves[k]) - end_of(y.program.moves[k])).norm(), 1e-15 * 1e3) << "move " << k;
     }
   }
+}
+
+// A number written with every digit it has (G-code has no exponents: fixed point).
+std::string digits(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.17f", v);
+  return buf;
+}
+
+// LinuxCNC's polar coordinates: '@' the distance from the origin, '^' the angle; under G91 they
+// add to the current point's. A spiral of lines as LinuxCNC's sam-circle_lines writes it (a
+// repeat of G91 @-.0025 ^4.5) is the same path as its points computed here and written as X, Y.
+TEST(GcodeRs274, PolarCoordinatesAreTheirPointsInXY) {
+  std::ostringstream longhand;
+  longhand << "G20 G0 X1 Y0\nG1 F999\n";
+  double r = 1;
+  double a = 0;
+  for (int k = 0; k < 370; ++k) {
+    r += -0.0025;             // @ first
+    a += 4.5 * kPi / 180;     // then ^
+    longhand << "X" << digits(r * std::cos(a)) << " Y" << digits(r * std::sin(a)) << "\n";
+  }
+  expect_same_path("G20 G0 X1 Y0\nG1 F999\no100 repeat [370]\nG91 G1 @-.0025 ^4.5\no100 endrepeat\n", longhand.str());
+  // absolute: both, or one with the other kept from the current point
+  expect_same_path("G0 X3 Y4\nG1 @10 ^90 F60\n@5\n^180\n", "G0 X3 Y4\nG1 X0 Y10 F60\nY5\nX-5 Y" + digits(5 * std::sin(kPi)) + "\n");
+  // with offsets: program coordinates
+  expect_same_path("G10 L2 P1 X100\nG0 X0 Y0\nG1 @2 ^0 F60\n", "G0 X100 Y0\nG1 X102 F60\n");
+  expect_error("G0 X1\nG18 G1 @1 ^2 F60", 2, 8, "@1");
+  expect_error("G0 X1\nG1 X2 @1 F60", 2, 4, "X2");
+  expect_error("G91 G1 @1 F60", 1, 8, "@1");     // incremental at the origin
+  expect_error("G1 @1 F60", 1, 4, "@1");         // no angle at the origin
+  expect_error("G0 X1\nG92 @1", 2, 5, "@1");     // not an offset's coordinate
+  expect_error("G0 X1\nG53 G0 @1 ^2", 2, 8, "@1");
+}
+
+// G7 (LinuxCNC's lathe diameter mode): X words are diameters, so the tool goes to half of
+// them; G8 back to radii. I stays a radius.
+TEST(GcodeRs274, LatheDiameterModeHalvesX) {
+  expect_same_path("G18 G7 G0 X20 Z1\nG1 X10 Z-2 F60\nG91 X4\nG90 G8 X20\nG7 G2 X30 Z-2 I-2.5\n",
+                   "G18 G0 X10 Z1\nG1 X5 Z-2 F60\nX7\nX20\nG2 X15 Z-2 I-2.5\n");
+  expect_same_path("G0 X1\nG7 G92 X10\nG1 X12 F60\n", "G0 X1\nG1 X2 F60\n");
+}
+
+// G95: F units per spindle revolution, at the spindle speed S: a feed of F S per minute, what
+// LinuxCNC's g95_blend programs; G94 returns to units per minute with the number as written.
+TEST(GcodeRs274, FeedPerRevolutionIsFTimesTheSpindleSpeed) {
+  const GcodeResult r = parse("G20 M3 S1000\nG95 G1 X0.1 F0.01\nG94 X0.2 F60\nG95\nX0.3 F0.002\n");
+  ASSERT_EQ(r.program.moves.size(), 3u);
+  EXPECT_NEAR(r.program.moves[0].limits.velocity, 0.01 * 1000 * 0.0254 / 60, 1e-15);
+  EXPECT_NEAR(r.program.moves[1].limits.velocity, 60 * 0.0254 / 60, 1e-15);
+  EXPECT_NEAR(r.program.moves[2].limits.velocity, 0.002 * 1000 * 0.0254 / 60, 1e-15);
+  const std::string off = expect_error("S1000\nG95 G1 X1 F0.01", 2, 5, "G1");
+  EXPECT_NE(off.find("needs the spindle turning"), std::string::npos) << off;
+  expect_error("M3 S1000\nM5\nG95 G1 X1 F0.01", 3, 5, "G1");
+  const std::string css = expect_error("M3 G96 S100\nG95 G1 X1 F0.01", 2, 5, "G1");
+  EXPECT_NE(css.find("constant surface speed (G96)"), std::string::npos) << css;
+}
+
+// G33 moves along its line by K per revolution, so at S K per minute; G33.1 taps down and comes
+// back along the same line, stopping at the bottom where the spindle reverses.
+TEST(GcodeRs274, SpindleSynchronisedMotionAndRigidTapping) {
+  const GcodeResult thread = parse("G20 G0 X1 Z0.1\nS200 M3\nG33 Z-2 K0.025\nG0 X1.25\n");
+  ASSERT_EQ(thread.program.moves.size(), 3u);
+  EXPECT_LE((end_of(thread.program.moves[1]) - Vec3(1, 0, -2) * 0.0254).norm(), kSamePath);
+  EXPECT_NEAR(thread.program.moves[1].limits.velocity, 0.025 * 200 * 0.0254 / 60, 1e-15);
+  EXPECT_EQ(thread.program.moves[1].name, "line 3 G33");
+  const GcodeResult tap = parse("G20 G0 X1 Y1 Z0.1\nM3 S200\nG33.1 Z-0.75 K0.05\nG0 X2\n");
+  ASSERT_EQ(tap.program.moves.size(), 4u);
+  EXPECT_LE((end_of(tap.program.moves[1]) - Vec3(1, 1, -0.75) * 0.0254).norm(), kSamePath);
+  EXPECT_LE((end_of(tap.program.moves[2]) - Vec3(1, 1, 0.1) * 0.0254).norm(), kSamePath);
+  EXPECT_EQ(tap.program.moves[1].transition.method, Method::kNone);  // the spindle reverses
+  EXPECT_EQ(tap.program.moves[2].transition.method, Method::kNone);
+  EXPECT_NEAR(tap.program.moves[2].limits.velocity, 0.05 * 200 * 0.0254 / 60, 1e-15);
+  expect_error("G0 X1\nG33 Z-2 K0.025", 2, 1, "G33");            // the spindle not turning
+  expect_error("M3 S200\nG33 Z-2", 2, 1, "G33");                // no K
+  expect_error("M3 S200\nG33 Z-2 K-1", 2, 9, "K-1");
+  expect_error("M3 G96 S200\nG33.1 Z-2 K1", 2, 1, "G33.1");     // constant surface speed
+  expect_error("G1 X1 K1 F60", 1, 7, "K1");                     // K with no user
+}
+
+// Canned cycles (LinuxCNC's interp_cycles.cc) against the same moves written longhand: the
+// preliminary motion, the body of each cycle, G98 to the initial level and G99 to R, G91 with
+// L repeats, a run of cycles continued by lines of positions, another plane; every move of a
+// cycle stops (exact path).
+TEST(GcodeRs274, CannedCyclesAreTheirMovesWrittenOut) {
+  // G81, G98 (back to Z10, the level the run started at), a second hole by X alone
+  expect_same_path("G0 X0 Y0 Z10\nG98 G81 X5 Y5 Z-2 R2 F100\nX10\nG80\nG0 X0\n",
+                   "G0 X0 Y0 Z10\nX5 Y5\nZ2\nG1 Z-2 F100\nG0 Z10\nX10\nZ2\nG1 Z-2\nG0 Z10\nX0\n");
+  // G99: back to R; the next hole moves at R
+  expect_same_path("G0 X0 Y0 Z10\nG99 G81 X5 Y5 Z-2 R2 F100\nX10\n",
+                   "G0 X0 Y0 Z10\nX5 Y5\nZ2\nG1 Z-2 F100\nG0 Z2\nX10\nG1 Z-2\nG0 Z2\n");
+  // starting below R: straight up to R first
+  expect_same_path("G0 X0 Y0 Z0\nG98 G81 X5 Z-2 R2 F100\n", "G0 X0 Y0 Z0\nZ2\nX5\nG1 Z-2 F100\nG0 Z2\n");
+  // G91: R from the initial level, the bottom from R, three holes 5 apart
+  expect_same_path("G0 X0 Y0 Z10\nG91 G99 G81 X5 Z-3 R-8 L3 F100\n",
+                   "G0 X0 Y0 Z10\nX5\nZ2\nG1 Z-1 F100\nG0 Z2\nX10\nG1 Z-1\nG0 Z2\nX15\nG1 Z-1\nG0 Z2\n");
+  // G83: pecks of Q, out to R after each, back down to 0.254 mm (0.010 in) above the last one
+  std::ostringstream peck;
+  std::ostringstream chip;
+  peck << "G0 X0 Y0 Z5\nX1\nZ1\n";
+  chip << "G0 X0 Y0 Z5\nX1\nZ1\n";
+  for (double depth = 1 - 0.4; depth > -1; depth -= 0.4) {
+    peck << "G1 Z" << digits(depth) << " F100\nG0 Z1\nZ" << digits(depth + 0.254) << "\n";
+    chip << "G1 Z" << digits(depth) << " F100\nG0 Z" << digits(depth + 0.254) << "\n";
+  }
+  peck << "G1 Z-1\nG0 Z5\n";
+  chip << "G1 Z-1\nG0 Z5\n";
+  expect_same_path("G0 X0 Y0 Z5\nG98 G83 X1 Z-1 R1 Q0.4 F100\n", peck.str());
+  expect_same_path("G0 X0 Y0 Z5\nG98 G73 X1 Z-1 R1 Q0.4 F100\n", chip.str());
+  // G85 feeds out to R, G89 feeds out after its dwell, G82 rapids out after it
+  expect_same_path("G0 X0 Y0 Z5\nG98 G85 X1 Z-1 R1 F100\n", "G0 X0 Y0 Z5\nX1\nZ1\nG1 Z-1 F100\nZ1\nG0 Z5\n");
+  expect_same_path("G0 X0 Y0 Z5\nG98 G89 X1 Z-1 R1 P0.5 F100\n", "G0 X0 Y0 Z5\nX1\nZ1\nG1 Z-1 F100\nZ5\n");
+  expect_same_path("G0 X0 Y0 Z5\nG98 G82 X1 Z-1 R1 P0.5 F100\n", "G0 X0 Y0 Z5\nX1\nZ1\nG1 Z-1 F100\nG0 Z5\n");
+  expect_same_path("G0 X0 Y0 Z5\nM3 S500\nG98 G84 X1 Z-1 R1 F100\n", "G0 X0 Y0 Z5\nX1\nZ1\nG1 Z-1 F100\nZ5\n");
+  expect_same_path("G0 X0 Y0 Z5\nM3 S500\nG98 G86 X1 Z-1 R1 P0 F100\n", "G0 X0 Y0 Z5\nX1\nZ1\nG1 Z-1 F100\nG0 Z5\n");
+  // G18: the hole along Y, positions in Z and X
+  expect_same_path("G18 G0 X0 Y10 Z0\nG98 G81 X5 Z5 Y-2 R2 F100\n", "G0 X0 Y10 Z0\nX5 Z5\nY2\nG1 Y-2 F100\nG0 Y10\n");
+  // every move of a cycle stops at its end; the mode in force before it returns after it
+  GcodeOptions opt = options();
+  opt.blending = {Method::kArc, 0.001, 0, 0};
+  const GcodeResult r = parse("G0 X0 Y0 Z10\nG98 G81 X5 Y5 Z-2 R2 F100\nG80 G1 X20\nY20\n", opt);
+  ASSERT_EQ(r.program.moves.size(), 7u);
+  for (std::size_t k = 1; k <= 4; ++k) EXPECT_EQ(r.program.moves[k].transition.method, Method::kNone) << k;
+  EXPECT_EQ(r.program.moves[5].transition.method, Method::kArc);
+  EXPECT_EQ(r.program.moves[1].name, "line 2 G81");
+  // pecks that cannot deepen the hole in floating point (found by fuzz_gcode: R 1.8e122, Q 1.7)
+  // are refused, not repeated without end
+  expect_error("G0 X0 Z10\nG99 G83 X15 Z-3 R1777777777777777777777777777777777777777777777777777777777777777777777777777777777777777777777777777777777777777777777777 Q1.7 F100",
+               2, 5, "G83");
+  // a note where LinuxCNC's default retract mode would matter and the program set none
+  const GcodeResult unset = parse("G0 X0 Y0 Z10\nG81 X5 Z-2 R2 F100\n");
+  EXPECT_EQ(unset.ignored.size(), 1u);
+  EXPECT_NE(unset.ignored.at(0).find("neither G98 nor G99 given"), std::string::npos) << unset.ignored.at(0);
 }
 
 }  // namespace

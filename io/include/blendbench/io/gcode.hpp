@@ -9,11 +9,15 @@
 //   G0 G1 G2 G3 (G2/G3 by I/J/K centre or by R, helical when the axis normal to the plane moves,
 //   full circles by I/J/K with no end point or end = start, P = number of turns, at most
 //   kMaxArcTurns = 100), G17 G18 G19,
-//   G20 G21, G90 G91, G90.1 G91.1, G80 (cancels the motion mode), F (units per minute),
-//   G61 G61.1 (exact stop), G64 [P tol] [Q tol], G4 P (dwell), X Y Z, N, M2 M30,
-//   comments ( ) and ;, '/' block delete, '%' tape markers. Words are case-insensitive; spaces
-//   and tabs are allowed anywhere outside comments (RS274/NGC); numbers look like 1, -10., .5, +3.
-//   A B C as tool angles, only when GcodeOptions::angles maps them (see "Tool angles" below).
+//   G20 G21, G90 G91, G90.1 G91.1, G80 (cancels the motion mode; beside another motion code on
+//   its line it is ignored, as LinuxCNC's read_g does), F (units per minute G94, or per
+//   revolution G95), G61 G61.1 (exact stop), G64 [P tol] [Q tol], G4 P (dwell), X Y Z, @ ^
+//   (polar), N, M2 M30, G7 G8 (lathe diameter and radius mode), G33 K (spindle-synchronised
+//   line), G33.1 K (rigid tapping), canned cycles G73 G81 G82 G83 G84 G85 G86 G89 with R Q P L and
+//   G98/G99 (see "Spindle, lathe and canned cycles" below), comments ( ) and ;, '/' block delete,
+//   '%' tape markers. Words are case-insensitive; spaces and tabs are allowed anywhere outside
+//   comments (RS274/NGC); numbers look like 1, -10., .5, +3. A B C as tool angles, only when
+//   GcodeOptions::angles maps them (see "Tool angles" below).
 // Offsets and stored positions (LinuxCNC's G-code manual; see "Offsets" below):
 //   G54-G59.3 (switchable at any line), G10 L2/L20 P0-9 [R] (a system's offsets, rotation about
 //   Z), G10 L1 P (a tool table entry), G52, G92, G92.1, G92.2, G92.3, G43 [H], G43.1, G43.2, G49
@@ -27,10 +31,12 @@
 //   [value] (#<_value>), if/elseif/else/endif, while/endwhile, do/while, repeat/endrepeat,
 //   break, continue.
 // Words that do not change the path are accepted and listed in GcodeResult::ignored:
-//   S, T (selects the tool M6 loads), H (read by G43), D, M0 M1 M3 M4 M5 M6 M7 M8 M9, G40, G94.
+//   S (also the speed G33, G33.1 and G95 read), T (selects the tool M6 loads), H (read by G43), D,
+//   M0 M1 M3 M4 M5 M6 M7 M8 M9 M48-M53 (M50-M53 with P), G40, G94, G95, G96, G97.
 // Everything else stops with InputError(file, line, column, word, message): cutter radius
-// compensation (G41 G42), canned cycles (G73-G89, G98/G99), G33, splines (G5), probing, lathe
-// modes, inverse-time feed, subroutines in other files, M98/M99, G10 L other than 1, 2, 20,
+// compensation (G41 G42), canned cycles G87 G88 and lathe cycles (G70-G72, G74, G76), splines
+// (G5), probing, inverse-time feed (G93), a called subroutine that no file defines, M98/M99,
+// G10 L other than 1, 2, 20,
 // axes A B C (unless mapped to tool angles) and U V W, unknown letters, codes and functions,
 // two words of one modal group on a line, a word given twice, a word on a line with no command
 // that uses it, axis words before any G0-G3 (LinuxCNC starts in G80), an O-word structure that
@@ -55,19 +61,22 @@
 //   in the triangle of the two transition points and the corner stays inside it, within d of
 //   the lines. G64 P0 is G64 without P. Q (LinuxCNC's naive CAM tolerance) gives
 //   Transition::merge_tolerance: runs of collinear lines within it are merged before blending.
-// - Arc end point off the circle (I/J/K format): LinuxCNC's rule (interp_arc.cc, arc_data_ijk;
-//   constants in interp_internal.hh): with r1, r2 the distances from the centre to the start
-//   and to the end in the plane, it is an error when |r1 - r2| > 0.002 sqrt(2) in (G20) /
-//   0.02 sqrt(2) mm (G21) (LinuxCNC's defaults; its INI file may tighten them), or
-//   |r1 - r2| / max(r1, r2) > 0.001; and when r1 or r2 is below
-//   0.00005 in / 0.00127 mm (zero radius). LinuxCNC's G-code manual ("Center Format Arcs")
-//   still states an older, looser rule (beyond 0.05 in / 0.5 mm, or beyond 0.0005 in /
-//   0.005 mm and 0.1 % together); this reader follows the interpreter's code. Inside the
-//   tolerance LinuxCNC cuts a spiral; a Program holds circles, so the centre is moved onto the
-//   perpendicular bisector of start and end (the nearest such point), which keeps both end
-//   points exact, and the correction is noted. If that circle departs from LinuxCNC's spiral
-//   by more than the absolute tolerance above (nearly full circles with an end point off the
-//   start), the reader stops with InputError rather than cut a different path.
+// - Arc end point off the circle (I/J/K format): with r1, r2 the distances from the centre to
+//   the start and to the end in the plane, and tol = 0.002 sqrt(2) in (G20) / 0.02 sqrt(2) mm
+//   (G21) (LinuxCNC's CENTER_ARC_RADIUS_TOLERANCE defaults, interp_internal.hh; its INI file may
+//   tighten them), it is an error when |r1 - r2| > 100 tol, or when |r1 - r2| > tol and
+//   |r1 - r2| / max(r1, r2) > 0.001 together (interp_arc.cc, arc_data_ijk, in the versions the
+//   trajectory-planner tests were written for, and the rule LinuxCNC's G-code manual states in
+//   "Center Format Arcs" with its older tolerance; some versions of interp_arc.cc refuse beyond
+//   either tolerance alone); and when r1 or r2 is below 0.00005 in / 0.00127 mm (zero radius).
+//   Within it LinuxCNC cuts a spiral about the programmed centre, the radius (and a helix's
+//   height) linear in the angle. The path follows that spiral within
+//   GcodeOptions::spiral_tolerance (kSpiralTolerance, 1 um): the circle through both end points
+//   centred on their bisector where it is that close (a rounded end point; noted), else a chain
+//   of tangent arcs (arcs_along_spiral: biarcs through points of the spiral, G1 at every joint;
+//   noted with their count and distance), at most kMaxSpiralArcs; a spiral no chain follows
+//   that closely (a helix whose height departs from one slope) is refused, never cut
+//   differently. Every move of the chain carries the line's name and position.
 // - R format (LinuxCNC arc_data_r): R > 0 the arc of at most 180 degrees, R < 0 the longer one;
 //   an end point equal to the start is an error; half the chord longer than |R| by more than
 //   0.00005 in / 0.00127 mm is an error, within that the arc is a semicircle on the chord.
@@ -102,6 +111,30 @@
 //   whose move is zero-length (dropped) while its angles turn the tool away from where the path
 //   has it (options.start_orientation before any target) is an error, as are angle words with
 //   no motion mode, and an angle beyond +-kMaxToolAngleDeg.
+
+// Spindle, lathe and canned cycles (LinuxCNC's G-code manual and interp_cycles.cc):
+// - M3/M4 start the spindle at S (rev/min; under G96 S is a surface speed), M5 stops it. G95
+//   reads F per revolution: the feed is F S per minute. G33 moves along its line by K per
+//   revolution (at S K per minute); G33.1 taps to its end point and comes back along the same
+//   line (an exact stop at the bottom, where the spindle reverses). These need the spindle
+//   turning at S > 0 and are refused under G96 (the speed would change with the radius). The
+//   synchronisation itself is not modelled: the planner holds that speed as the feed.
+// - G7: X words (of every command) are diameters, so the tool goes to half of them; G8 radii
+//   (the default). I stays a radius offset.
+// - Polar coordinates, G17 only: '@' the distance from the program origin, '^' the angle in
+//   degrees; under G90 the one not written keeps the current point's, under G91 they add to it;
+//   refused with X or Y, at the origin where the angle is undefined, with G53, and in cycles.
+// - Canned cycles G73 (chip break), G81 (drill), G82 (dwell), G83 (peck), G84 (tap; the spindle
+//   turning), G85 (feed out), G86 (dwell, rapid out; the spindle turning), G89 (dwell, feed out),
+//   in the plane in force (the hole along its normal: Z for G17, Y for G18, X for G19): below the
+//   retract plane R a rapid straight up to it first; a rapid to the position at the current
+//   level (first repeat) or the clearance level, down to R, the cycle's own moves, out to the
+//   clearance level: R with G99, the level the run of cycles started at with G98 (also when
+//   neither is given, noted where it matters). G73/G83 peck by Q and come back down 0.010 in
+//   (0.254 mm) above the last depth. G91: the position and R are increments of the current
+//   point and the initial level, the bottom of R; L repeats. R, the bottom, P and Q may be left
+//   out on the lines that continue the same cycle. Every move of a cycle stops at its end (the
+//   cycle runs in exact path mode); dwells are noted.
 
 // Offsets (LinuxCNC's "Coordinate Systems" and emccanon.cc):
 // - A programmed point p (after units) is reached at R p + O + G + T: O and R the offset and the
@@ -145,8 +178,14 @@
 // - The O-word structure is checked before the program runs (gcode_flow): every sub, while, do,
 //   repeat and if closes with its label, properly nested; subroutines are not nested; break and
 //   continue name an enclosing loop, return the enclosing subroutine. A definition met in the
-//   flow is skipped; a call may come before or after it. Subroutines in other files (LinuxCNC's
-//   search path) are not read: the call is refused.
+//   flow is skipped; a call may come before or after it.
+// - Subroutine files (LinuxCNC's "Calling Files"): a call finds its subroutine in the file that
+//   calls, else in the main program, else in the file <name>.ngc that
+//   GcodeOptions::find_subroutine finds (only named labels; the name in lower case, letters,
+//   digits, '-' and '_', so a label never names a path elsewhere). A file is read once and its
+//   O-word structure checked as the program's; only the subroutine called runs. Its moves and
+//   errors name the file and its lines; an error ends with "(in o<name> called from line N of
+//   part.ngc)". Without find_subroutine (parse_gcode of text alone) such a call is refused.
 // - The work is bounded: GcodeOptions::max_lines lines executed (kMaxExecutedLines; each loop
 //   pass counts), kMaxCallDepth nested calls, 64 nested brackets, parameter
 //   references and functions in one value, max_moves moves; each stops with InputError at the
@@ -156,6 +195,7 @@
 //
 #include <array>
 #include <cstddef>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -173,6 +213,12 @@ inline constexpr double kZeroLengthMove = 1e-9;
 // G91 increments cannot grow without bound.
 inline constexpr double kMaxToolAngleDeg = 36000;
 
+// How closely (m) the path follows the spiral LinuxCNC cuts for a centre-format arc whose end
+// point is off the circle within its tolerance (see "Arc end point off the circle"): a
+// micrometre, a tenth of the 0.01 mm that CAM output is rounded to and below the contour errors
+// the testbench reports, so the path is LinuxCNC's for every figure it gives.
+inline constexpr double kSpiralTolerance = 1e-6;
+
 // The most lines a program may execute (loops and calls count each pass): at about a
 // microsecond a line, a program that never ends is stopped within seconds, while 10^6 moves of
 // a loop-generated program (kMaxMoves) fit ten times over.
@@ -187,6 +233,18 @@ enum class ToolAngle { kRoll, kPitch, kYaw };
 // What A, B and C name, in that order; a permutation of roll, pitch and yaw.
 struct GcodeAngles {
   std::array<ToolAngle, 3> abc = {ToolAngle::kRoll, ToolAngle::kPitch, ToolAngle::kYaw};
+};
+
+// A subroutine file found by name (see GcodeOptions::find_subroutine).
+struct GcodeSubroutineFile {
+  std::string path;  // as messages and the moves' source references name it
+  std::string text;
+};
+
+// What a search for a subroutine file found: the file, or none and where it looked.
+struct GcodeSubroutineLookup {
+  std::optional<GcodeSubroutineFile> file;
+  std::string searched;  // for the refusal when none was found, e.g. "/parts, /subs"
 };
 
 struct GcodeOptions {
@@ -210,6 +268,15 @@ struct GcodeOptions {
   // The tool table: tool number -> length offset (m; X, Y, Z) that G43 H<n> applies. Empty by
   // default: G43 of a tool not in it applies zero and notes it.
   std::map<int, Vec3> tool_offsets;
+  // Where "o<name> call" finds a subroutine the program does not define: the file <name>.ngc
+  // (name in lower case; letters, digits, '-', '_'). It may throw InputError (a file that cannot
+  // be read). Not set: such a call is refused. load_gcode_file sets it (see program_io.hpp).
+  std::function<GcodeSubroutineLookup(const std::string& name)> find_subroutine;
+  // Folders load_gcode_file searches for subroutine files after the program's own folder (as
+  // LinuxCNC's [RS274NGC] SUBROUTINE_PATH); parse_gcode itself does not read it.
+  std::vector<std::string> subroutine_path;
+  // m: how closely the path follows LinuxCNC's spiral where an arc's end point is off its circle.
+  double spiral_tolerance = kSpiralTolerance;
   // Bounds on the work (InputError beyond them): moves in the program, lines executed.
   std::size_t max_moves = kMaxMoves;
   std::size_t max_lines = kMaxExecutedLines;

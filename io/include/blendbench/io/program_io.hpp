@@ -19,8 +19,12 @@ inline constexpr std::uintmax_t kMaxInputBytes = std::uintmax_t{64} << 20;
 // opened for reading, so a FIFO never blocks), is larger than `max_bytes`, or a read fails.
 std::string read_input_file(const std::string& path, const std::string& what, std::uintmax_t max_bytes = kMaxInputBytes);
 
-// Reads and parses a G-code file (read_input_file). Throws InputError naming the file when it
-// cannot be read, and the parser's InputError (file, line, column, word) when it is not supported.
+// Reads and parses a G-code file (read_input_file). Unless options.find_subroutine is set, a
+// call of a subroutine the program does not define reads <name>.ngc from the program's folder,
+// else from the first of options.subroutine_path that has it (LinuxCNC's "Calling Files"), each
+// file through read_input_file, all of them together within kMaxInputBytes. Throws InputError
+// naming the file when it cannot be read, and the parser's InputError (file, line, column, word)
+// when it is not supported.
 GcodeResult load_gcode_file(const std::string& path, const GcodeOptions& options);
 
 // Whether a file name looks like a G-code program (.ngc, .nc, .gcode, .tap, .cnc; any case).
