@@ -73,6 +73,7 @@ FilmSettings film_settings(const Scenario& scenario, const Program& program) {
   s.fps = scenario.video.fps;
   s.camera = camera_spec(scenario.video.camera);
   s.scenario = scenario.name;
+  s.program_frame = scenario.frame;
   // the tool on the flange, drawn when the scenario sets one
   if (scenario.robot.tool.matrix() != Eigen::Matrix4d::Identity()) s.tool = scenario.robot.tool;
   for (const Move& m : program.moves) {

@@ -614,6 +614,7 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
   summary.scenario = scenario.name;
   summary.file = scenario.file;
   summary.description = scenario.description;
+  summary.frame = scenario.frame;
   summary.robot.model = arm_model;
   summary.robot.mjcf = mjcf;
   summary.robot.notes = robot_notes;
@@ -653,13 +654,18 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
   }
   if (result.interrupted_by != 0) result.all_ok = false;
   compare_with_exact_stop(summary);
+  // the answer: the variants by cycle time per tolerance, and the recommendation
+  if (result.interrupted_by == 0) summary.ranking = rank_run(summary, request.constraints);
 #ifdef BLENDBENCH_HAS_RENDER
   // every variant side by side (the corners are the programmed ones: the same in every variant)
   if (request.compare && result.interrupted_by == 0) {
     for (const VariantSummary& v : summary.variants) {
-      for (const CornerPlacement& p : v.plan.placements) {
+      for (std::size_t k = 0; k < v.plan.placements.size(); ++k) {
+        const CornerPlacement& p = v.plan.placements[k];
         const auto same = [&](const CornerPlacement& q) { return q.index == p.index; };
         if (std::none_of(videos.settings.corners.begin(), videos.settings.corners.end(), same)) videos.settings.corners.push_back(p);
+        // named as corners.json, the report and the plots name it
+        if (k < v.plan.corners.size()) videos.settings.corner_names.emplace(p.index, corner_name(p.index, v.plan.corners[k].source));
       }
     }
     std::filesystem::create_directories(request.out_dir);

@@ -40,6 +40,8 @@ struct RunRequest {
   // m: equal tolerance (`--tolerance`): every move with a transition method gets this tolerance
   // in place of its parameter (and start distance), in every variant (apply_tolerance)
   std::optional<double> tolerance;
+  // the constraints of the recommendation (`--max-contour-error`, `--max-vibration`; ranking.hpp)
+  Constraints constraints;
   // receives one line of progress at a time (variant started, stage timings, warnings)
   std::function<void(const std::string&)> progress;
 };
