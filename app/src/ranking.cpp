@@ -74,12 +74,22 @@ RankGroup rank_group(const std::vector<const RankCandidate*>& members, double to
   }
   std::stable_sort(ranked.begin(), ranked.end(),
                    [](const RankCandidate* a, const RankCandidate* b) { return *a->cycle_time < *b->cycle_time; });
+  // a rank is shared with the first variant of a run of ties (its leader) by those that tie with
+  // the leader itself: ties need not chain (a ~ b and b ~ c with a and c apart), ranks do not
+  std::size_t leader = 0;
   for (std::size_t k = 0; k < ranked.size(); ++k) {
     RankedVariant v;
     v.name = ranked[k]->name;
     v.cycle_time = *ranked[k]->cycle_time;
     v.meets_constraints = meets(*ranked[k], constraints);
-    if (k > 0) v.rank = group.ranked.back().tie ? group.ranked.back().rank : static_cast<int>(k) + 1;
+    if (k > 0) {
+      if (tie(*ranked[leader], *ranked[k])) {
+        v.rank = group.ranked[leader].rank;
+      } else {
+        v.rank = static_cast<int>(k) + 1;
+        leader = k;
+      }
+    }
     if (k + 1 < ranked.size()) {
       v.margin = *ranked[k + 1]->cycle_time - v.cycle_time;
       v.margin_percent = v.cycle_time > 0 ? std::optional<double>(100 * *v.margin / v.cycle_time) : std::nullopt;

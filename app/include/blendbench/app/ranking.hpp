@@ -71,7 +71,9 @@ struct RankCandidate {
 
 struct RankedVariant {
   std::string name;
-  int rank = 1;  // 1 the fastest; a tie with the previous shares its rank
+  // 1 the fastest; a variant that ties with the first of the variants sharing the previous rank
+  // shares it too, else its rank is its place (1, 1, 3, ...)
+  int rank = 1;
   double cycle_time = 0;  // s
   // to the next slower ranked variant (s, and % of this one's cycle time); none for the last
   std::optional<double> margin, margin_percent;
