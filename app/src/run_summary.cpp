@@ -419,6 +419,7 @@ void to_json(nlohmann::json& out, const RunSummary& s) {
            {"jerk_lowpass_hz", sim.jerk_lowpass}}},
          {"servo_rate_hz", s.servo.rate_hz},
          {"setpoint_rate_hz", s.servo.setpoint_rate_hz},
+         {"notes", s.notes},
          {"variants", s.variants}};
   if (s.ranking) {
     out["ranking"] = ranking_json(*s.ranking);

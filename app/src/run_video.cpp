@@ -46,7 +46,7 @@ double render_with_progress(const std::string& what, int width, int height, cons
 
 }  // namespace
 
-double pose_rate(const Scenario& scenario, bool compare) {
+double pose_rate(const RunInputs& scenario, bool compare) {
   return scenario.video.fps * (compare ? CompareVideo::kSlowMotion : 1);
 }
 
@@ -66,7 +66,7 @@ std::vector<Vec3> film_polyline(const Path& path) {
   return points;
 }
 
-FilmSettings film_settings(const Scenario& scenario, const Program& program) {
+FilmSettings film_settings(const RunInputs& scenario, const Program& program) {
   FilmSettings s;
   s.width = scenario.video.width;
   s.height = scenario.video.height;

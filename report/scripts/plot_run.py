@@ -493,8 +493,11 @@ def answer_html(summary):
             f"{1e3 * res['absolute_s']:.0f} ms, {100 * res['relative']:g} % of the faster)"
             if not res.get("model_spread") else "two cycle times tie unless their order holds in every perturbed "
             f"arm model and they differ by {1e3 * res['grid_s']:.0f} ms or more")
-    parts.append(f"<p><small>Ranked by cycle time; {html.escape(rule)} ({html.escape(res['source'])}). A tie "
-                 "shares its rank. Only variants with status ok (clean tracking data) are ranked.</small></p>")
+    for note in summary.get("notes", []):
+        parts.append(f"<p>Note: {html.escape(note)}.</p>")
+    parts.append(f"<p><small>Ranked by cycle time; {html.escape(rule)} ({html.escape(res['source'])}). A variant "
+                 "that ties with the first of a rank shares that rank. Only variants with status ok (clean tracking "
+                 "data) are ranked.</small></p>")
     for group in ranking["tolerances"]:
         tol = group.get("tolerance_mm")
         if tol is not None:

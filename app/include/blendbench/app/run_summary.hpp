@@ -133,6 +133,7 @@ struct RunSummary {
   ServoConfig servo;  // as tuned at the start pose
   SimulationSettings simulation;
   std::vector<VariantSummary> variants;
+  std::vector<std::string> notes;  // the driver's (RunInputs::notes)
   // the answer (ranking.hpp): summary.json's `ranking` and `recommendation`; none when the run
   // was interrupted
   std::optional<Ranking> ranking;

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "blendbench/app/run_summary.hpp"
+#include "blendbench/io/run_inputs.hpp"
 #include "blendbench/io/scenario.hpp"
 
 namespace blendbench {
@@ -34,12 +35,7 @@ struct RunRequest {
   bool compare = false;               // render compare.mp4: every variant side by side (needs BLENDBENCH_RENDER)
   bool plots = true;                  // run the matplotlib script after the summary is written
   bool variant_files = true;          // per variant trace.csv, path.csv, program.csv, corners.json (a sweep keeps only summary.json)
-  std::vector<std::string> variants;  // names to run; empty = all
-  std::optional<LimitsMode> limits;   // replaces the scenario's limits mode (`--limits`)
   std::optional<double> max_samples;  // replaces kMaxRunSamples, plan and settle time (`--max-samples`)
-  // m: equal tolerance (`--tolerance`): every move with a transition method gets this tolerance
-  // in place of its parameter (and start distance), in every variant (apply_tolerance)
-  std::optional<double> tolerance;
   // the constraints of the recommendation (`--max-contour-error`, `--max-vibration`; ranking.hpp)
   Constraints constraints;
   // receives one line of progress at a time (variant started, stage timings, warnings)
@@ -53,12 +49,9 @@ struct RunResult {
   std::optional<std::filesystem::path> report;  // report.html, when the plots were drawn
 };
 
-// `program` with `tolerance` (m, > 0) on every move whose transition has a method: its parameter
-// and start distance cleared (equal tolerance, Transition::tolerance; `--tolerance`).
-void apply_tolerance(Program& program, double tolerance);
-
-// Runs the scenario. Throws InputError for bad input of the whole scenario, found before any
-// variant runs (an unknown variant name, a start point the robot cannot reach, robot.model not
+// Runs the resolved scenario (io/run_inputs.hpp: `run`, `compare` and sweep points resolve once
+// and hand the same inputs down). Throws InputError for bad input of the whole scenario, found
+// before any variant runs (a start point the robot cannot reach, robot.model not
 // matching the MJCF file, a servo rate that does not divide the model's physics rate: the error
 // names the file, line and field), and std::runtime_error when summary.json cannot be written. A
 // variant whose simulation diverges, whose plan fails, whose data is not clean (saturated,
@@ -67,6 +60,9 @@ void apply_tolerance(Program& program, double tolerance);
 // with its status and message and the others still run. A stop request (SIGINT/SIGTERM) ends
 // the variant in progress (its folder removed), marks it and the rest "interrupted", writes
 // summary.json without plots and returns with interrupted_by set.
+RunResult run_pipeline(const RunInputs& inputs, const RunRequest& request);
+
+// run_pipeline(resolve_run(scenario), request): every variant of the scenario as written.
 RunResult run_scenario(const Scenario& scenario, const RunRequest& request);
 
 // Whether this build can render videos.
