@@ -162,6 +162,9 @@ ComparePlan plan_compare(const Scenario& scenario, const CompareRequest& request
                      return a.transition->tolerance < b.transition->tolerance - kSameTolerance;
                    });
   plan.inputs = resolve_run(compared);
+  // the run is not the scenario's: its own name, so `check` never holds it against the
+  // scenario's baseline and its folder is not the scenario's run's
+  plan.inputs.name = scenario.name + "_compare";
   plan.inputs.notes = plan.notes;
   return plan;
 }

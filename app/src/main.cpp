@@ -231,7 +231,7 @@ int cmd_compare(const CompareFlags& flags, const TimingFlags& timing_flags) {
   if (limits) scenario.limits = *limits;
   if (limits == bb::LimitsMode::kPath) scenario.axis_limits.reset();
   const bb::ComparePlan plan = bb::plan_compare(scenario, compare);
-  const std::string out_dir = flags.out_dir.empty() ? "results/runs/" + scenario.name + "_compare" : flags.out_dir;
+  const std::string out_dir = flags.out_dir.empty() ? "results/runs/" + plan.inputs.name : flags.out_dir;
   bb::RunFolder folder(out_dir);
   bb::RunRequest request;
   request.out_dir = folder.staging();

@@ -627,7 +627,7 @@ RunResult run_pipeline(const RunInputs& scenario, const RunRequest& request) {
   if (result.interrupted_by != 0) result.all_ok = false;
   compare_with_exact_stop(summary);
   // the answer: the variants by cycle time per tolerance, and the recommendation
-  if (result.interrupted_by == 0) summary.ranking = rank_run(summary, request.constraints);
+  if (result.interrupted_by == 0) summary.ranking = rank_run(summary, request.constraints, request.spread);
 #ifdef BLENDBENCH_HAS_RENDER
   // every variant side by side (the corners are the programmed ones: the same in every variant)
   if (request.compare && result.interrupted_by == 0) {

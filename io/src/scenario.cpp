@@ -239,10 +239,12 @@ void read_gcode_program(const Reader& r, const Field& gcode, const Field& angles
   place_gcode(load_gcode_file(r.existing_file(gcode), options), defaults.angular, sc);
 }
 
-// A folder name made of a file's stem (folder_name_problem's rule): characters it may not hold
-// become '_', an empty or too long one is cut or named "part".
-std::string name_from_stem(const std::string& path) {
-  std::string name = std::filesystem::path(path).stem().string();
+// A folder name made of a file's name, extension included (folder_name_problem's rule):
+// characters it may not hold become '_', an empty or too long one is cut or named "part". The
+// extension keeps a G-code file's runs apart from a scenario of the same stem (bracket.yaml's
+// run folder and baseline are "bracket", bracket.ngc's "bracket.ngc").
+std::string name_from_file(const std::string& path) {
+  std::string name = std::filesystem::path(path).filename().string();
   for (char& c : name) {
     const bool allowed = std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.';
     if (!allowed || static_cast<unsigned char>(c) >= 0x80) c = '_';
@@ -609,7 +611,7 @@ Scenario gcode_scenario(const std::string& path, const std::optional<RobotSettin
   const Field root = r.root();
   Scenario sc;
   sc.file = path;
-  sc.name = name_from_stem(path);
+  sc.name = name_from_file(path);
   sc.description = "G-code part program " + std::filesystem::path(path).filename().string() +
                    " on the shipped arm, placed in front of it";
   read_robot(r, root, sc);

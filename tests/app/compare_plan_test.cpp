@@ -52,6 +52,7 @@ TEST(ComparePlan, BothBaselinesThenEveryMethodPerToleranceAscending) {
   EXPECT_NE(plan.notes[0].find("set their own transition"), std::string::npos) << plan.notes[0];
   EXPECT_NE(plan.notes[1].find("variant(s) are not run"), std::string::npos) << plan.notes[1];
   EXPECT_EQ(plan.inputs.notes, plan.notes);
+  EXPECT_EQ(plan.inputs.name, "two_compare");
 }
 
 TEST(ComparePlan, TheProgramsG64ToleranceElseTheDefault) {

@@ -102,7 +102,7 @@ TEST(GcodeScenario, APartIsPlacedInFrontOfTheArmWithItsOwnBlendingAndTheExactSto
   const std::string file = dir.write("my part (v2).ngc",
                                      "G21 G90 G17\nG64 P0.1\nG1 X20 F600\nG3 X20 Y0 Z-4 I0 J10 P2\nG1 X0\nM2\n");
   const Scenario sc = gcode_scenario(file);
-  EXPECT_EQ(sc.name, "my_part__v2_");
+  EXPECT_EQ(sc.name, "my_part__v2_.ngc");
   EXPECT_TRUE(folder_name_problem(sc.name).empty());
   ASSERT_EQ(sc.variants.size(), 2U);
   EXPECT_EQ(sc.variants[0].name, "as_programmed");

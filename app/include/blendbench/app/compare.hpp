@@ -49,7 +49,8 @@ std::string compare_variant_name(Method method, double tolerance);
 // that set their own): `exact_stop`, `junction_slowdown`, then per tolerance ascending every
 // requested method in the order arc, bezier, clothoid, biclothoid. A method whose blend of the
 // program fails (a corner it refuses) is left out with a note; a program where no method cuts any
-// corner at any tolerance runs the exact stop alone, with a note. Throws InputError for a
+// corner at any tolerance runs the exact stop alone, with a note. The run is named
+// "<scenario name>_compare". Throws InputError for a
 // tolerance that is not > 0 and finite (field "--tolerance") and for more than
 // kMaxCompareTolerances of them.
 ComparePlan plan_compare(const Scenario& scenario, const CompareRequest& request);

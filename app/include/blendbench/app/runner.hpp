@@ -38,6 +38,9 @@ struct RunRequest {
   std::optional<double> max_samples;  // replaces kMaxRunSamples, plan and settle time (`--max-samples`)
   // the constraints of the recommendation (`--max-contour-error`, `--max-vibration`; ranking.hpp)
   Constraints constraints;
+  // what runs on perturbed arm models say about the order of two variants' cycle times (the
+  // sensitivity runs): the ties are decided by it where it answers (ranking.hpp); empty: none
+  OrderSpread spread;
   // receives one line of progress at a time (variant started, stage timings, warnings)
   std::function<void(const std::string&)> progress;
 };

@@ -86,8 +86,9 @@ inline const Vec3 kGcodePartCentre{0.45, 0.0, 0.2};
 
 // The scenario of a G-code file run on its own: the shipped arm (or `robot`), the servo,
 // simulation and video defaults of the scenario format, the part placed by kGcodePartCentre and
-// read with the kGcode* limits (its F words set the feed), named after the file (its stem, with
-// any character a folder name may not hold replaced by '_'), and two variants:
+// read with the kGcode* limits (its F words set the feed), named after the file (its name with
+// the extension, any character a folder name may not hold replaced by '_': "bracket.ngc", apart
+// from bracket.yaml's "bracket"), and two variants:
 // `as_programmed` (the file's own G61/G64 blending) and `exact_stop`. Throws the reader's
 // InputError (file, line, column, word).
 Scenario gcode_scenario(const std::string& path, const std::optional<RobotSettings>& robot = std::nullopt);
