@@ -87,8 +87,10 @@ ComparePlan plan_compare(const Scenario& scenario, const CompareRequest& request
   }
   if (tolerances.empty()) tolerances.push_back(kDefaultCompareTolerance);
   std::sort(tolerances.begin(), tolerances.end());
+  // two tolerances that name the same variant (%g keeps six digits: 0.1 and 0.1000001 mm are both
+  // "0.1mm") are one, the smaller kept: two variants of one name would share a folder
   tolerances.erase(std::unique(tolerances.begin(), tolerances.end(),
-                               [](double a, double b) { return std::abs(a - b) <= kSameTolerance; }),
+                               [](double a, double b) { return std::abs(a - b) <= kSameTolerance || mm_text(a) == mm_text(b); }),
                    tolerances.end());
   if (tolerances.size() > kMaxCompareTolerances) {
     throw InputError("", 0, 0, "--tolerance",

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include "support/input_error.hpp"
 #include "support/scratch.hpp"
 
@@ -95,6 +97,12 @@ TEST(ComparePlan, MethodListsAndTolerancesAreChecked) {
   CompareRequest request;
   request.tolerances = {0.1e-3, -1e-3};
   test::expect_input_error([&] { (void)plan_compare(sc, request); }, {.field = "--tolerance", .message = "> 0"});
+  // one tolerance given twice, or in two spellings that name the same variant, runs once
+  request.tolerances = {0.5e-3, 0.1e-3, 0.5e-3, 0.1000001e-3};
+  const ComparePlan once = plan_compare(sc, request);
+  EXPECT_EQ(once.tolerances, (std::vector<double>{0.1e-3, 0.5e-3}));
+  std::set<std::string> names;
+  for (const auto& v : once.inputs.variants) EXPECT_TRUE(names.insert(v.name).second) << v.name;
   request.tolerances.clear();
   for (std::size_t k = 0; k <= kMaxCompareTolerances; ++k) request.tolerances.push_back(1e-4 * static_cast<double>(k + 1));
   test::expect_input_error([&] { (void)plan_compare(sc, request); }, {.field = "--tolerance", .message = "at most"});
