@@ -102,6 +102,10 @@ def main(argv):
         top = page[:page.find("<h2>")]
         if "arc: the tolerance 100 mm is reached at no corner" not in top:
             failures.append(f"{far_report}: no note at the top that the tolerance is reached at no corner")
+        # above the answer (the recommendation, issue 44), which comes before the comparison
+        answer = page.find("Recommended: ")
+        if answer < 0 or not page.find("reached at no corner") < answer < page.find("<h2>Comparison</h2>"):
+            failures.append(f"{far_report}: the recommendation is not first after the tolerance note")
 
     # corner_figures.py on the variants' planned paths and corner reports
     args = []

@@ -26,6 +26,7 @@
 #include "blendbench/report/run_folder.hpp"
 #include "blendbench/core/interrupt.hpp"
 #include "blendbench/papers/reproduce.hpp"
+#include "blendbench/app/compare.hpp"
 #include "blendbench/app/runner.hpp"
 #include "blendbench/app/smoothing_flags.hpp"
 #include "blendbench/app/sweep.hpp"
@@ -87,40 +88,52 @@ std::optional<double> max_samples_flag(const TimingFlags& flags) {
   return flags.max_samples;
 }
 
+// A length flag in mm (`flag`): positive and finite, in m.
+double positive_mm(double mm, const char* flag) {
+  if (!(std::isfinite(mm) && mm > 0)) {
+    throw bb::InputError("", 0, 0, flag, "must be > 0 and finite (mm), got " + bb::format_value(mm));
+  }
+  return mm * 1e-3;
+}
+
 // --tolerance MM: positive and finite, in m.
 std::optional<double> tolerance_flag(const std::optional<double>& tolerance_mm) {
   if (!tolerance_mm) return std::nullopt;
-  if (!(std::isfinite(*tolerance_mm) && *tolerance_mm > 0)) {
-    throw bb::InputError("", 0, 0, "--tolerance", "must be > 0 and finite (mm), got " + bb::format_value(*tolerance_mm));
-  }
-  return *tolerance_mm * 1e-3;
+  return positive_mm(*tolerance_mm, "--tolerance");
 }
 
-int cmd_run(std::string scenario_path, std::string out_dir, bool no_video, bool no_plots, bool compare,
-            const std::vector<std::string>& variants, const TimingFlags& timing_flags,
-            const std::optional<double>& tolerance_mm, const bb::SmoothingFlags& smoothing) {
-  const auto start = std::chrono::steady_clock::now();
-  (void)tolerance_flag(tolerance_mm);  // refused before anything is loaded
-  bb::check_smoothing_flags(smoothing);
-  // no scenario given: the default one in the data root (data_root.hpp)
-  if (scenario_path.empty()) scenario_path = bb::data_file("scenarios/default.yaml");
-  const bb::Scenario scenario = bb::load_scenario(scenario_path);
-  if (out_dir.empty()) out_dir = "results/runs/" + scenario.name;
-  // the run goes to a staging folder beside --out, locked, and replaces it as a whole at the end
-  bb::RunFolder folder(out_dir);
-  bb::RunRequest request;
-  request.out_dir = folder.staging();
-  request.video = !no_video;
-  request.compare = compare;
-  request.plots = !no_plots;
-  request.variants = variants;
-  request.limits = limits_flag(timing_flags);
-  request.max_samples = max_samples_flag(timing_flags);
-  request.tolerance = tolerance_flag(tolerance_mm);
-  request.smoothing = smoothing;
-  request.progress = [](const std::string& line) { std::cout << line << std::endl; };
-  std::cout << "blendbench: scenario '" << scenario.name << "' (" << scenario_path << ") -> " << out_dir << std::endl;
-  const bb::RunResult result = bb::run_scenario(scenario, request);
+// The input of `run` and `compare`: a scenario, or a G-code file run on the shipped arm
+// (run_inputs.hpp, gcode_scenario) or on `robot`.
+bb::Scenario load_input(const std::string& path, const std::optional<bb::RobotSettings>& robot = std::nullopt) {
+  if (bb::is_gcode_file(path)) return bb::gcode_scenario(path, robot);
+  bb::Scenario scenario = bb::load_scenario(path);
+  if (robot) scenario.robot = *robot;
+  return scenario;
+}
+
+// The answer of a run, printed after its variants: the ranking per tolerance and the recommendation.
+void print_answer(const bb::RunSummary& summary) {
+  if (!summary.ranking) return;
+  for (const bb::RankGroup& group : summary.ranking->groups) {
+    std::cout << (group.tolerance > 0 ? "ranking at tolerance " + bb::format_value(group.tolerance * 1e3) + " mm"
+                  : group.like_for_like ? std::string("ranking")
+                                        : std::string("ranking of the variants sized by their parameter (not like for like)"))
+              << ":";
+    for (const bb::RankedVariant& v : group.ranked) {
+      std::cout << " " << v.rank << ". " << v.name << " " << bb::format_fixed(v.cycle_time, 3) << " s"
+                << (v.tie ? " =" : v.margin ? " <" : "");
+    }
+    for (const bb::UnrankedVariant& u : group.unranked) std::cout << " (" << u.name << ": " << u.reason << ")";
+    std::cout << std::endl;
+  }
+  const bb::Recommendation& r = summary.ranking->recommendation;
+  std::cout << "recommendation: " << (r.variant ? *r.variant + ", " : std::string("none: ")) << r.reason << std::endl;
+}
+
+// The common end of `run` and `compare`: the run folder committed, one line per variant, the
+// answer, where the report is; the exit code.
+int finish_run(bb::RunFolder& folder, const bb::RunResult& result, const std::string& out_dir, bool plots,
+               std::chrono::steady_clock::time_point start) {
   if (result.interrupted_by != 0) return interrupted_run(folder, result);
   folder.commit();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -140,15 +153,109 @@ int cmd_run(std::string scenario_path, std::string out_dir, bool no_video, bool 
     if (v.status != bb::VariantStatus::kOk) std::cout << " [" << bb::to_string(v.status) << ": " << v.message << "]";
     std::cout << std::endl;
   }
+  print_answer(result.summary);
   if (result.report) {
     // written in the staging folder, now --out
     std::cout << "report: " << (std::filesystem::path(out_dir) / result.report->filename()).string() << std::endl;
-  } else if (request.plots) {
+  } else if (plots) {
     std::cout << "no report: the plot script failed (see above)" << std::endl;
   } else {
     std::cout << "no report (--no-plots)" << std::endl;
   }
   return result.all_ok ? kExitOk : kExitCheckFailed;
+}
+
+int cmd_run(std::string scenario_path, std::string out_dir, bool no_video, bool no_plots, bool compare,
+            const std::vector<std::string>& variants, const TimingFlags& timing_flags,
+            const std::optional<double>& tolerance_mm, const bb::SmoothingFlags& smoothing) {
+  const auto start = std::chrono::steady_clock::now();
+  bb::RunSelection selection;
+  selection.tolerance = tolerance_flag(tolerance_mm);  // refused before anything is loaded
+  bb::check_smoothing_flags(smoothing);
+  selection.limits = limits_flag(timing_flags);
+  selection.variants = variants;
+  // no scenario given: the default one in the data root (data_root.hpp)
+  if (scenario_path.empty()) scenario_path = bb::data_file("scenarios/default.yaml");
+  const bool gcode = bb::is_gcode_file(scenario_path);
+  const bb::Scenario scenario = load_input(scenario_path);
+  const bb::RunInputs inputs = bb::resolve_run(scenario, selection);
+  if (out_dir.empty()) out_dir = "results/runs/" + scenario.name;
+  // the run goes to a staging folder beside --out, locked, and replaces it as a whole at the end
+  bb::RunFolder folder(out_dir);
+  bb::RunRequest request;
+  request.out_dir = folder.staging();
+  request.video = !no_video;
+  request.compare = compare;
+  request.plots = !no_plots;
+  request.max_samples = max_samples_flag(timing_flags);
+  request.smoothing = smoothing;
+  request.progress = [](const std::string& line) { std::cout << line << std::endl; };
+  if (gcode) {
+    std::cout << "blendbench: G-code part '" << scenario_path << "' -> " << out_dir
+              << ": its own blending as written (as_programmed) and the exact stop, on the shipped arm, the part centred at ("
+              << bb::format_value(bb::kGcodePartCentre.x() * 1e3) << ", " << bb::format_value(bb::kGcodePartCentre.y() * 1e3)
+              << ", " << bb::format_value(bb::kGcodePartCentre.z() * 1e3)
+              << ") mm in front of it" << std::endl
+              << "note: for every method at equal tolerance, ranked: blendbench compare " << scenario_path << std::endl;
+  } else {
+    std::cout << "blendbench: scenario '" << scenario.name << "' (" << scenario_path << ") -> " << out_dir << std::endl;
+  }
+  const bb::RunResult result = bb::run_pipeline(inputs, request);
+  return finish_run(folder, result, out_dir, request.plots, start);
+}
+
+// The flags of `compare`.
+struct CompareFlags {
+  std::string input;
+  std::string out_dir;
+  std::vector<double> tolerances_mm;
+  std::string methods;
+  bool no_video = false;
+  bool no_plots = false;
+  std::optional<double> max_contour_error_mm;
+  std::optional<double> max_vibration_um;
+  std::string robot;
+  bb::SmoothingFlags smoothing;  // --smoothing, --smoothing-tolerance
+};
+
+// `compare INPUT`: both baselines and every method at each tolerance (compare.hpp), ranked.
+int cmd_compare(const CompareFlags& flags, const TimingFlags& timing_flags) {
+  const auto start = std::chrono::steady_clock::now();
+  // every flag checked before anything is loaded
+  bb::CompareRequest compare;
+  for (const double mm : flags.tolerances_mm) compare.tolerances.push_back(positive_mm(mm, "--tolerance"));
+  if (!flags.methods.empty()) compare.methods = bb::methods_from_list(flags.methods, "--methods");
+  bb::Constraints constraints;
+  if (flags.max_contour_error_mm) constraints.max_contour_error = positive_mm(*flags.max_contour_error_mm, "--max-contour-error");
+  if (flags.max_vibration_um) constraints.max_vibration = positive_mm(*flags.max_vibration_um, "--max-vibration") * 1e-3;
+  const std::optional<bb::LimitsMode> limits = limits_flag(timing_flags);
+  const std::optional<double> max_samples = max_samples_flag(timing_flags);
+  bb::check_smoothing_flags(flags.smoothing);
+  std::optional<bb::RobotSettings> robot;
+  if (!flags.robot.empty()) robot = bb::named_robot(flags.robot, "--robot");
+
+  bb::Scenario scenario = load_input(flags.input, robot);
+  if (limits) scenario.limits = *limits;
+  if (limits == bb::LimitsMode::kPath) scenario.axis_limits.reset();
+  const bb::ComparePlan plan = bb::plan_compare(scenario, compare);
+  const std::string out_dir = flags.out_dir.empty() ? "results/runs/" + plan.inputs.name : flags.out_dir;
+  bb::RunFolder folder(out_dir);
+  bb::RunRequest request;
+  request.out_dir = folder.staging();
+  request.video = !flags.no_video;
+  request.compare = !flags.no_video && plan.inputs.variants.size() > 1;
+  request.plots = !flags.no_plots;
+  request.max_samples = max_samples;
+  request.constraints = constraints;
+  request.smoothing = flags.smoothing;
+  request.progress = [](const std::string& line) { std::cout << line << std::endl; };
+  std::string tolerances;
+  for (const double t : plan.tolerances) tolerances += (tolerances.empty() ? "" : ", ") + bb::format_value(t * 1e3);
+  std::cout << "blendbench compare: '" << scenario.name << "' (" << flags.input << ") -> " << out_dir << ": "
+            << plan.inputs.variants.size() << " variants, tolerance " << tolerances << " mm" << std::endl;
+  for (const std::string& note : plan.notes) std::cout << "note: " << note << std::endl;
+  const bb::RunResult result = bb::run_pipeline(plan.inputs, request);
+  return finish_run(folder, result, out_dir, request.plots, start);
 }
 
 // Transition and limit overrides from the command line (mm-based units as the flags say).
@@ -172,11 +279,6 @@ struct LoadedProgram {
   // a scenario's (setpoint period, limits, its variant's baseline); G-code: 1 ms, cartesian
   bb::TimingOptions timing;
 };
-
-// Defaults for G-code programs, which carry no acceleration or jerk (documented in the README).
-constexpr double kDefaultFeedMmPerMin = 1000;
-constexpr double kDefaultAmaxMmS2 = 1000;
-constexpr double kDefaultJmaxMmS3 = 10000;
 
 void check_positive(double value, const char* flag) {
   if (!(value > 0)) throw bb::InputError("", 0, 0, flag, "must be positive");
@@ -235,10 +337,11 @@ LoadedProgram load_program(const std::string& input, const ProgramFlags& flags) 
   if (bb::is_gcode_file(input)) {
     if (!flags.variant.empty()) throw bb::InputError("", 0, 0, "--variant", "only for scenario files");
     bb::GcodeOptions options;
-    options.limits.velocity = (flags.feed_mm_per_min > 0 ? flags.feed_mm_per_min : kDefaultFeedMmPerMin) * 1e-3 / 60.0;
-    options.limits.acceleration = (flags.amax_mm_s2 > 0 ? flags.amax_mm_s2 : kDefaultAmaxMmS2) * 1e-3;
+    // G-code carries no acceleration or jerk: the defaults of a G-code run (run_inputs.hpp, kGcode*)
+    options.limits.velocity = flags.feed_mm_per_min > 0 ? flags.feed_mm_per_min * 1e-3 / 60.0 : bb::kGcodeFeed;
+    options.limits.acceleration = flags.amax_mm_s2 > 0 ? flags.amax_mm_s2 * 1e-3 : bb::kGcodeAcceleration;
     options.limits.deceleration = options.limits.acceleration;
-    options.limits.jerk = (flags.jmax_mm_s3 > 0 ? flags.jmax_mm_s3 : kDefaultJmaxMmS3) * 1e-3;
+    options.limits.jerk = flags.jmax_mm_s3 > 0 ? flags.jmax_mm_s3 * 1e-3 : bb::kGcodeJerk;
     for (const std::string& folder : flags.subroutine_path) {
       std::error_code ec;
       if (!std::filesystem::is_directory(folder, ec)) throw bb::InputError("", 0, 0, "--subroutine-path", "folder not found: " + folder);
@@ -249,10 +352,11 @@ LoadedProgram load_program(const std::string& input, const ProgramFlags& flags) 
     out.ignored = std::move(parsed.ignored);
   } else {
     const bb::Scenario scenario = bb::load_scenario(input);
-    const bb::Variant& v = flags.variant.empty() ? scenario.variants.front() : bb::find_variant(scenario, flags.variant);
-    out.program = bb::program_for(scenario, v);
+    bb::VariantInputs v = bb::resolve_variant(
+        scenario, flags.variant.empty() ? scenario.variants.front() : bb::find_variant(scenario, flags.variant));
+    out.program = std::move(v.program);
     out.ignored = scenario.ignored;
-    out.timing = bb::timing_options(scenario, v);
+    out.timing = v.timing;
   }
   if (flags.merge_mm && !(*flags.merge_mm >= 0 && std::isfinite(*flags.merge_mm))) {
     throw bb::InputError("", 0, 0, "--merge-tolerance", "must be >= 0 (mm)");
@@ -438,7 +542,9 @@ int main(int argc, char** argv) {
   bool compare = false;
   std::vector<std::string> variants;
   CLI::App* run = app.add_subcommand("run", "Run a scenario: plan, simulate, write metrics, plots and videos");
-  run->add_option("scenario", scenario_path, "Scenario YAML file (default: scenarios/default.yaml)");
+  run->add_option("scenario", scenario_path,
+                  "Scenario YAML file (default: scenarios/default.yaml), or a G-code file (.ngc, ...): its own blending "
+                  "and the exact stop on the shipped arm");
   run->add_option("--out", out_dir, "Output folder (default: results/runs/<scenario name>)");
   run->add_flag("--no-video", no_video, "Do not render videos");
   run->add_flag("--no-plots", no_plots, "Do not draw plots");
@@ -506,6 +612,27 @@ int main(int argc, char** argv) {
       ->required();
   add_timing_flags(plan);
 
+  CompareFlags compare_flags;
+  CLI::App* compare_cmd = app.add_subcommand(
+      "compare", "Every transition method at the same tolerance, both baselines, on a scenario's or a G-code file's program: "
+                 "ranked, with a recommendation");
+  compare_cmd->add_option("input", compare_flags.input, "Scenario YAML file or G-code file (.ngc, .nc, .gcode, .tap)")->required();
+  compare_cmd->add_option("--tolerance", compare_flags.tolerances_mm,
+                          "Tolerance in mm, repeatable (one ranking each; default: the program's G64 P, else 0.1)");
+  compare_cmd->add_option("--methods", compare_flags.methods,
+                          "Methods to compare, comma-separated (default: arc,bezier,clothoid,biclothoid)");
+  compare_cmd->add_option("--out", compare_flags.out_dir, "Output folder (default: results/runs/<name>_compare)");
+  compare_cmd->add_flag("--no-video", compare_flags.no_video, "Do not render videos (nor compare.mp4)");
+  compare_cmd->add_flag("--no-plots", compare_flags.no_plots, "Do not draw plots (nor report.html)");
+  compare_cmd->add_option("--max-contour-error", compare_flags.max_contour_error_mm,
+                          "Recommend only variants whose contour error against the programmed path stays within this (mm)");
+  compare_cmd->add_option("--max-vibration", compare_flags.max_vibration_um,
+                          "Recommend only variants whose residual vibration (after the stop and after every corner) stays "
+                          "within this (um, peak to peak)");
+  compare_cmd->add_option("--robot", compare_flags.robot, "The arm: a URDF file, or a shipped one (ur5e_like, kr6_like)");
+  bb::add_smoothing_flags(compare_cmd, compare_flags.smoothing);
+  add_timing_flags(compare_cmd);
+
   std::string run_dir;
   std::string baseline;
   std::string tolerances;
@@ -562,6 +689,7 @@ int main(int argc, char** argv) {
 
   try {
     if (*run) return cmd_run(scenario_path, out_dir, no_video, no_plots, compare, variants, timing_flags, run_tolerance_mm, run_smoothing);
+    if (*compare_cmd) return cmd_compare(compare_flags, timing_flags);
     if (*path) return cmd_path(input, flags, csv, report, ds_mm);
     if (*plan) return cmd_plan(input, flags, timing_flags, csv, summary);
     if (*check) return cmd_check(run_dir, baseline, tolerances, update);

@@ -25,6 +25,16 @@ nlohmann::json pose_json(const Eigen::Isometry3d& pose) {
   return {{"position_mm", {p.x(), p.y(), p.z()}}, {"rpy_deg", {rpy.x(), rpy.y(), rpy.z()}}};
 }
 
+// The program frame: origin (mm), roll, pitch, yaw (deg) and the rotation matrix (rows), so a
+// reader maps a base-frame point p to program coordinates as R^T (p - origin).
+nlohmann::json frame_json(const Eigen::Isometry3d& frame) {
+  nlohmann::json out = pose_json(frame);
+  nlohmann::json rows = nlohmann::json::array();
+  for (int i = 0; i < 3; ++i) rows.push_back({frame.linear()(i, 0), frame.linear()(i, 1), frame.linear()(i, 2)});
+  out["rotation"] = rows;
+  return out;
+}
+
 nlohmann::json singularities_json(const std::vector<SingularityPassage>& passages) {
   nlohmann::json out = nlohmann::json::array();
   for (const SingularityPassage& p : passages) {
@@ -219,7 +229,74 @@ std::vector<std::pair<std::string, double>> compared_errors(const Metrics& m) {
           {"energy_ratio", m.energy.sum()}};
 }
 
+nlohmann::json optional_json(const std::optional<double>& value, double scale = 1) {
+  return value ? finite_or_null(*value * scale) : nlohmann::json();
+}
+
+// summary.json's `ranking` (ranking.hpp, docs/compare.md): the resolution the ties used, the
+// constraints, and per tolerance the variants by cycle time.
+nlohmann::json ranking_json(const Ranking& r) {
+  nlohmann::json groups = nlohmann::json::array();
+  for (const RankGroup& g : r.groups) {
+    nlohmann::json ranked = nlohmann::json::array();
+    for (const RankedVariant& v : g.ranked) {
+      ranked.push_back({{"rank", v.rank},
+                        {"variant", v.name},
+                        {"cycle_time_s", v.cycle_time},
+                        {"margin_to_next_s", optional_json(v.margin)},
+                        {"margin_to_next_percent", optional_json(v.margin_percent)},
+                        {"tie", v.tie},
+                        {"meets_constraints", v.meets_constraints}});
+    }
+    nlohmann::json unranked = nlohmann::json::array();
+    for (const UnrankedVariant& v : g.unranked) unranked.push_back({{"variant", v.name}, {"reason", v.reason}});
+    groups.push_back({{"tolerance_mm", g.tolerance > 0 ? nlohmann::json(g.tolerance / kMm) : nlohmann::json()},
+                      {"like_for_like", g.like_for_like},
+                      {"variants", ranked},
+                      {"unranked", unranked}});
+  }
+  const CycleResolution& res = r.resolution;
+  const std::string rule =
+      r.spread_used ? "a tie where the order of the two cycle times does not hold in every perturbed arm model, or where "
+                      "they differ by less than grid_s"
+                    : "a tie where two cycle times differ by less than max(grid_s, absolute_s, relative x the faster)";
+  return {{"resolution",
+           {{"grid_s", res.grid},
+            {"absolute_s", res.absolute},
+            {"relative", res.relative},
+            {"model_spread", r.spread_used},
+            {"rule", rule},
+            {"source", r.spread_used ? "the sensitivity runs (the arm model's stated uncertainty) and the setpoint grid"
+                                     : "two setpoint periods (each settle instant lies on the setpoint grid) and the "
+                                       "regression gate's cycle-time tolerance (results/baselines/tolerances.json, "
+                                       "metrics.cycle_time_s); no sensitivity run"}}},
+          {"constraints",
+           {{"max_contour_error_mm", optional_json(r.constraints.max_contour_error, 1 / kMm)},
+            {"max_vibration_um", optional_json(r.constraints.max_vibration, 1e3 / kMm)}}},
+          {"tolerances", groups}};
+}
+
 }  // namespace
+
+Ranking rank_run(const RunSummary& summary, const Constraints& constraints, const OrderSpread& spread) {
+  std::vector<RankCandidate> candidates;
+  for (const VariantSummary& v : summary.variants) {
+    RankCandidate c;
+    c.name = v.name;
+    c.method = v.method;
+    c.tolerance = v.tolerance;
+    c.clean = v.status == VariantStatus::kOk;
+    c.status = std::string(to_string(v.status));
+    if (v.metrics) {
+      c.cycle_time = v.metrics->cycle_time;
+      c.contour_error = v.metrics->contour_error_programmed_max;
+      c.vibration = std::max(v.metrics->vibration_final.peak_to_peak, corner_vibration_max(*v.metrics));
+    }
+    candidates.push_back(std::move(c));
+  }
+  const double rate = summary.servo.setpoint_rate_hz;
+  return rank(candidates, constraints, cycle_resolution(rate > 0 ? 1 / rate : 0), spread);
+}
 
 nlohmann::json corners_json(const PlanFigures& p) {
   nlohmann::json corners = nlohmann::json::array();
@@ -316,6 +393,7 @@ void to_json(nlohmann::json& out, const RunSummary& s) {
   out = {{"scenario", s.scenario},
          {"file", s.file},
          {"description", s.description},
+         {"frame", frame_json(s.frame)},
          {"robot",
           {{"model", r.model == ArmModel::kElastic ? "elastic" : "rigid"},
            {"mjcf", r.mjcf},
@@ -342,7 +420,14 @@ void to_json(nlohmann::json& out, const RunSummary& s) {
            {"jerk_lowpass_hz", sim.jerk_lowpass}}},
          {"servo_rate_hz", s.servo.rate_hz},
          {"setpoint_rate_hz", s.servo.setpoint_rate_hz},
+         {"notes", s.notes},
          {"variants", s.variants}};
+  if (s.ranking) {
+    out["ranking"] = ranking_json(*s.ranking);
+    out["recommendation"] = {{"variant", s.ranking->recommendation.variant ? nlohmann::json(*s.ranking->recommendation.variant)
+                                                                           : nlohmann::json()},
+                             {"reason", s.ranking->recommendation.reason}};
+  }
 }
 
 }  // namespace blendbench

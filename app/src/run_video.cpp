@@ -46,7 +46,7 @@ double render_with_progress(const std::string& what, int width, int height, cons
 
 }  // namespace
 
-double pose_rate(const Scenario& scenario, bool compare) {
+double pose_rate(const RunInputs& scenario, bool compare) {
   return scenario.video.fps * (compare ? CompareVideo::kSlowMotion : 1);
 }
 
@@ -66,13 +66,14 @@ std::vector<Vec3> film_polyline(const Path& path) {
   return points;
 }
 
-FilmSettings film_settings(const Scenario& scenario, const Program& program) {
+FilmSettings film_settings(const RunInputs& scenario, const Program& program) {
   FilmSettings s;
   s.width = scenario.video.width;
   s.height = scenario.video.height;
   s.fps = scenario.video.fps;
   s.camera = camera_spec(scenario.video.camera);
   s.scenario = scenario.name;
+  s.program_frame = scenario.frame;
   // the tool on the flange, drawn when the scenario sets one
   if (scenario.robot.tool.matrix() != Eigen::Matrix4d::Identity()) s.tool = scenario.robot.tool;
   for (const Move& m : program.moves) {

@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <vector>
 
-#include "blendbench/io/scenario.hpp"
+#include "blendbench/io/run_inputs.hpp"
 #include "blendbench/program/path.hpp"
 #include "blendbench/render/film.hpp"
 #include "blendbench/sim/simulator.hpp"
@@ -14,7 +14,7 @@ namespace blendbench {
 
 // The rate at which a run records the arm's pose (Hz): the video's frame rate, times the
 // comparison's slow motion when a comparison is made.
-double pose_rate(const Scenario& scenario, bool compare);
+double pose_rate(const RunInputs& scenario, bool compare);
 
 // Makes `run` record the arm's pose (qpos) into `film` at `rate` Hz from t = 0, reserving room
 // for `duration` s of a model with `nq` positions.
@@ -25,7 +25,7 @@ std::vector<Vec3> film_polyline(const Path& path);
 
 // The settings every video of the scenario shares: size, rate, camera, the programmed path of
 // `program` (the variants differ in transitions only, not in the moves).
-FilmSettings film_settings(const Scenario& scenario, const Program& program);
+FilmSettings film_settings(const RunInputs& scenario, const Program& program);
 
 // Render a video to `file` with a progress bar on stderr when it is a terminal, and one summary
 // line there either way ("video NAME: N frames WxH in S s (F fps) -> FILE"). Return the wall

@@ -2,6 +2,7 @@
 #include "blendbench/app/runner.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -38,12 +39,6 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-// The method a variant mostly uses: its own transition, else the first move's.
-Method variant_method(const Program& program, const Variant& variant) {
-  if (variant.transition) return variant.transition->method;
-  return program.moves.front().transition.method;
-}
-
 Eigen::Isometry3d tool_pose(const Vec3& position, const Eigen::Matrix3d& rotation) {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.linear() = rotation;
@@ -65,24 +60,24 @@ std::size_t move_at(const Path& path, double s) {
 }
 
 // The error of move `move` of the program, positioned where it was written.
-InputError move_error(const Scenario& sc, const Program& program, std::size_t move, const std::string& what) {
+InputError move_error(const RunInputs& sc, const Program& program, std::size_t move, const std::string& what) {
   const SourceRef& where = program.moves[move].where;
   return {where.file.empty() ? sc.file : where.file, where.line, where.column,
           "program.moves[" + std::to_string(move) + "]", what};
 }
 
 // The same as a message: "file:line:column: 'program.moves[i]': what".
-std::string at_move(const Scenario& sc, const Program& program, std::size_t move, const std::string& what) {
+std::string at_move(const RunInputs& sc, const Program& program, std::size_t move, const std::string& what) {
   return move_error(sc, program, move, what).what();
 }
 
-[[noreturn]] void fail_at(const Scenario& sc, const SourceRef& where, const std::string& field, const std::string& what) {
+[[noreturn]] void fail_at(const RunInputs& sc, const SourceRef& where, const std::string& field, const std::string& what) {
   throw InputError(where.file.empty() ? sc.file : where.file, where.line, where.column, field, what);
 }
 
 // The samples left to the plan of a variant (runner.hpp: the run's budget less the settle time's
 // samples at `setpoint_rate`, Hz); InputError at settle_time_s when the settle time alone exceeds it.
-double plan_budget(const Scenario& sc, double setpoint_rate, double budget) {
+double plan_budget(const RunInputs& sc, double setpoint_rate, double budget) {
   const double settle = std::ceil(sc.simulation.settle_time * setpoint_rate);
   if (settle < budget) return budget - settle;
   fail_at(sc, sc.simulation.settle_time_where, "simulation.settle_time_s",
@@ -92,7 +87,7 @@ double plan_budget(const Scenario& sc, double setpoint_rate, double budget) {
 }
 
 // Refuses (InputError at video.fps) a video of more than kMaxVideoFrames frames over `duration` (s).
-void check_video_frames(const Scenario& sc, double duration) {
+void check_video_frames(const RunInputs& sc, double duration) {
   const double frames = std::ceil(duration * sc.video.fps);
   if (frames <= kMaxVideoFrames) return;
   fail_at(sc, sc.video.fps_where, "video.fps",
@@ -128,7 +123,7 @@ struct Robot {
 };
 
 // The scenario's servo, tuned from the model at the start pose, with its switches.
-ServoConfig servo_of(const Scenario& sc, const Simulator& sim, const JointVector& q0) {
+ServoConfig servo_of(const RunInputs& sc, const Simulator& sim, const JointVector& q0) {
   ServoTuning tuning;
   tuning.rate_hz = sc.servo.rate_hz;
   tuning.setpoint_rate_hz = sc.servo.setpoint_rate_hz;
@@ -282,37 +277,34 @@ struct Videos {
 struct Videos {};
 #endif
 
+// What identifies a variant in the summary: its name, method, parameter, tolerance and baseline.
+VariantSummary identity(const VariantInputs& variant) {
+  VariantSummary out;
+  out.name = variant.name;
+  out.method = variant.method;
+  out.parameter = variant.parameter;
+  out.tolerance = variant.tolerance;
+  out.baseline = variant.timing.baseline;
+  return out;
+}
+
 class VariantRun {
  public:
   // `videos` is null when no video is made.
-  VariantRun(const Scenario& sc, const Robot& robot, const RunRequest& request, const Variant& variant, Videos* videos)
+  VariantRun(const RunInputs& sc, const Robot& robot, const RunRequest& request, const VariantInputs& variant, Videos* videos)
       : sc_(sc), robot_(robot), request_(request), variant_(variant), dir_(request.out_dir / variant.name), videos_(videos) {}
 
   VariantSummary run() {
-    Program program = program_for(sc_, variant_);
-    if (request_.tolerance) apply_tolerance(program, *request_.tolerance);
+    Program program = variant_.program;
     if (request_.smoothing.given()) program.smoothing = apply_smoothing_flags_to_variant(request_.smoothing, program.smoothing);
-    VariantSummary out;
-    out.name = variant_.name;
-    out.method = variant_method(program, variant_);
-    out.parameter = variant_.transition ? variant_.transition->parameter : 0.0;
-    out.tolerance = variant_.transition ? variant_.transition->tolerance : 0.0;
-    if (request_.tolerance && out.method != Method::kNone) {
-      out.parameter = 0;
-      out.tolerance = *request_.tolerance;
-    }
-    out.baseline = timing_options(sc_, variant_).baseline;
+    VariantSummary out = identity(variant_);
 
     // plan: blend and time
     auto start = Clock::now();
     const Path path = blend(program);
-    // the scenario's limits mode and axis limits, or the command line's; the setpoint period
-    TimingOptions topt = timing_options(sc_, variant_);
+    // the variant's limits mode, axis limits and baseline (resolved: run_inputs.hpp) at the servo's setpoint period
+    TimingOptions topt = variant_.timing;
     topt.dt = 1.0 / robot_.servo.setpoint_rate_hz;
-    if (request_.limits) {
-      topt.limits = *request_.limits;
-      if (topt.limits == LimitsMode::kPath) topt.axis_limits.reset();
-    }
     // the work is bounded before it is done (runner.hpp): the plan gets what the settle time leaves
     topt.max_samples = plan_budget(sc_, robot_.servo.setpoint_rate_hz, request_.max_samples.value_or(kMaxRunSamples));
     const Timing timing = plan_timing(path, topt);
@@ -464,22 +456,17 @@ class VariantRun {
   }
 #endif
 
-  const Scenario& sc_;
+  const RunInputs& sc_;
   const Robot& robot_;
   const RunRequest& request_;
-  const Variant& variant_;
+  const VariantInputs& variant_;
   std::filesystem::path dir_;
   Videos* videos_;
 };
 
 // The summary entry of a variant that did not finish: what identifies it, and its status.
-VariantSummary unfinished(const Scenario& sc, const Variant& variant, VariantStatus status, std::string message = {}) {
-  VariantSummary out;
-  out.name = variant.name;
-  out.method = variant_method(sc.program, variant);
-  out.parameter = variant.transition ? variant.transition->parameter : 0.0;
-  out.tolerance = variant.transition ? variant.transition->tolerance : 0.0;
-  out.baseline = timing_options(sc, variant).baseline;
+VariantSummary unfinished(const VariantInputs& variant, VariantStatus status, std::string message = {}) {
+  VariantSummary out = identity(variant);
   out.status = status;
   out.message = std::move(message);
   return out;
@@ -489,7 +476,7 @@ VariantSummary unfinished(const Scenario& sc, const Variant& variant, VariantSta
 // written, an internal error) becomes its status; a stop request (Interrupted, or ffmpeg ended by
 // the same Ctrl-C) marks it interrupted and removes its unfinished folder. InputError (a
 // variant's bad parameter is bad input of the scenario) propagates.
-VariantSummary run_variant(const Scenario& sc, const Robot& robot, const RunRequest& request, const Variant& variant,
+VariantSummary run_variant(const RunInputs& sc, const Robot& robot, const RunRequest& request, const VariantInputs& variant,
                            Videos* videos, int& interrupted_by) {
   const std::filesystem::path dir = request.out_dir / variant.name;
   const auto discard = [&] {
@@ -506,24 +493,15 @@ VariantSummary run_variant(const Scenario& sc, const Robot& robot, const RunRequ
     if (stop_signal() == 0) {
       discard();
       if (request.progress) request.progress("  " + variant.name + ": failed: " + e.what());
-      return unfinished(sc, variant, VariantStatus::kFailed, e.what());
+      return unfinished(variant, VariantStatus::kFailed, e.what());
     }
     interrupted_by = stop_signal();
   }
   discard();
-  return unfinished(sc, variant, VariantStatus::kInterrupted);
+  return unfinished(variant, VariantStatus::kInterrupted);
 }
 
 }  // namespace
-
-void apply_tolerance(Program& program, double tolerance) {
-  for (Move& move : program.moves) {
-    if (move.transition.method == Method::kNone) continue;
-    move.transition.parameter = 0;
-    move.transition.start_distance = 0;
-    move.transition.tolerance = tolerance;
-  }
-}
 
 bool video_supported() {
 #ifdef BLENDBENCH_HAS_RENDER
@@ -533,24 +511,17 @@ bool video_supported() {
 #endif
 }
 
-RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
+RunResult run_scenario(const Scenario& scenario, const RunRequest& request) { return run_pipeline(resolve_run(scenario), request); }
+
+RunResult run_pipeline(const RunInputs& scenario, const RunRequest& request) {
   if (request.video && !video_supported()) {
     throw InputError("", 0, 0, "--no-video", "this build has no rendering (BLENDBENCH_RENDER=OFF): pass --no-video");
   }
   if (request.compare && !video_supported()) {
     throw InputError("", 0, 0, "--compare", "this build has no rendering (BLENDBENCH_RENDER=OFF)");
   }
-  std::vector<const Variant*> selected;
-  for (const std::string& name : request.variants) selected.push_back(&find_variant(scenario, name));
-  if (request.variants.empty()) {
-    for (const Variant& v : scenario.variants) selected.push_back(&v);
-  }
-  // variant names become folders under out_dir: never a path that leaves it
-  for (const Variant* v : selected) {
-    if (const std::string problem = folder_name_problem(v->name); !problem.empty()) {
-      throw InputError(scenario.file, v->where.line, v->where.column, "variants[].name", "variant " + problem);
-    }
-  }
+  // variant names become folders under out_dir: resolve_run refused any that would leave it
+  assert(!scenario.variants.empty());
 
   // the robot: kinematics, dynamics (checked against robot.model), the start pose, the servo
   Robot robot;
@@ -604,15 +575,14 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
   // the command line's smoothing: a tolerance must reach a variant that fits g2_fit
   check_smoothing_flags(request.smoothing);
   if (request.smoothing.tolerance_mm &&
-      std::none_of(selected.begin(), selected.end(), [&](const Variant* v) {
-        return apply_smoothing_flags_to_variant(request.smoothing, program_for(scenario, *v).smoothing).method ==
-               SmoothingMethod::kG2Fit;
+      std::none_of(scenario.variants.begin(), scenario.variants.end(), [&](const VariantInputs& v) {
+        return apply_smoothing_flags_to_variant(request.smoothing, v.program.smoothing).method == SmoothingMethod::kG2Fit;
       })) {
     throw InputError("", 0, 0, "--smoothing-tolerance", "no variant run smooths with g2_fit (add --smoothing g2_fit)");
   }
   // the program's start point is every variant's first pose: out of reach, the scenario itself
   // is bad input (at the first move), found before any variant runs
-  const Program first = program_for(scenario, *selected.front());
+  const Program& first = scenario.variants.front().program;
   const IkSolver::Result start = robot.ik->solve(tool_pose(scenario.start, scenario.robot.tool_rotation), scenario.robot.q_seed);
   if (!start.outcome.ok()) {
     throw move_error(scenario, first, 0,
@@ -627,6 +597,8 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
   summary.scenario = scenario.name;
   summary.file = scenario.file;
   summary.description = scenario.description;
+  summary.frame = scenario.frame;
+  summary.notes = scenario.notes;
   summary.robot.model = arm_model;
   summary.robot.mjcf = mjcf;
   summary.robot.notes = robot_notes;
@@ -649,30 +621,35 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
   if (with_videos != nullptr) videos.settings = film_settings(scenario, first);
 #endif
   std::size_t index = 0;
-  for (const Variant* variant : selected) {
+  for (const VariantInputs& variant : scenario.variants) {
     ++index;
     // after a stop request the rest are not started
     if (result.interrupted_by == 0) result.interrupted_by = stop_signal();
     if (result.interrupted_by != 0) {
-      summary.variants.push_back(unfinished(scenario, *variant, VariantStatus::kInterrupted));
+      summary.variants.push_back(unfinished(variant, VariantStatus::kInterrupted));
       continue;
     }
     if (request.progress) {
-      request.progress(std::string("[") + std::to_string(index) + "/" + std::to_string(selected.size()) + "] " +
-                       variant->name);
+      request.progress(std::string("[") + std::to_string(index) + "/" + std::to_string(scenario.variants.size()) + "] " +
+                       variant.name);
     }
-    summary.variants.push_back(run_variant(scenario, robot, request, *variant, with_videos, result.interrupted_by));
+    summary.variants.push_back(run_variant(scenario, robot, request, variant, with_videos, result.interrupted_by));
     result.all_ok = result.all_ok && summary.variants.back().status == VariantStatus::kOk;
   }
   if (result.interrupted_by != 0) result.all_ok = false;
   compare_with_exact_stop(summary);
+  // the answer: the variants by cycle time per tolerance, and the recommendation
+  if (result.interrupted_by == 0) summary.ranking = rank_run(summary, request.constraints, request.spread);
 #ifdef BLENDBENCH_HAS_RENDER
   // every variant side by side (the corners are the programmed ones: the same in every variant)
   if (request.compare && result.interrupted_by == 0) {
     for (const VariantSummary& v : summary.variants) {
-      for (const CornerPlacement& p : v.plan.placements) {
+      for (std::size_t k = 0; k < v.plan.placements.size(); ++k) {
+        const CornerPlacement& p = v.plan.placements[k];
         const auto same = [&](const CornerPlacement& q) { return q.index == p.index; };
         if (std::none_of(videos.settings.corners.begin(), videos.settings.corners.end(), same)) videos.settings.corners.push_back(p);
+        // named as corners.json, the report and the plots name it
+        if (k < v.plan.corners.size()) videos.settings.corner_names.emplace(p.index, corner_name(p.index, v.plan.corners[k].source));
       }
     }
     std::filesystem::create_directories(request.out_dir);

@@ -267,9 +267,11 @@ int run_point_folder(const fs::path& dir) {
   request.video = false;
   request.plots = false;
   request.variant_files = false;
-  request.variants = point["variants"].get<std::vector<std::string>>();
   request.progress = [](const std::string& line) { std::cout << line << '\n'; };
-  const RunResult result = run_scenario(scenario, request);
+  // resolved once, as a plain run of the same values is
+  RunSelection selection;
+  selection.variants = point["variants"].get<std::vector<std::string>>();
+  const RunResult result = run_pipeline(resolve_run(scenario, selection), request);
   std::cout.flush();
   if (result.interrupted_by != 0) throw Interrupted{result.interrupted_by};
   return result.all_ok ? 0 : 1;

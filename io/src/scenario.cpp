@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <numbers>
@@ -16,6 +17,7 @@
 #include "blendbench/geometry/arc_construction.hpp"
 #include "blendbench/io/data_root.hpp"
 #include "blendbench/io/program_io.hpp"
+#include "blendbench/io/run_inputs.hpp"
 #include "blendbench/robot/kinematics.hpp"
 #include "scenario_reader.hpp"
 
@@ -206,25 +208,14 @@ GcodeAngles read_gcode_angles(const Reader& r, const Field& f) {
   return angles;
 }
 
-// A program given as a G-code file: read in its own units (G20/G21), placed by the frame.
-// Variants replace the transitions of all its moves (the file's G61/G64 apply when a variant
-// sets no transition).
-void read_gcode_program(const Reader& r, const Field& gcode, const Field& angles, const Field& subroutine_path,
-                        const Field& start, const MoveDefaults& defaults, Scenario& sc) {
-  GcodeOptions options;
-  if (subroutine_path.node.defined()) options.subroutine_path = r.existing_folders(subroutine_path);
-  options.limits = defaults.limits;
-  options.buffer = defaults.buffer;
-  options.start = r.vec3(start);
-  if (angles.node.defined()) options.angles = read_gcode_angles(r, angles);
-  // the tool's start orientation in the program frame: the reader checks a zero-length move against it
-  options.start_orientation = Quat(sc.frame.linear().transpose() * sc.program.start_orientation.toRotationMatrix()).normalized();
-  const GcodeResult parsed = load_gcode_file(r.existing_file(gcode), options);
+// The moves of a G-code program (program frame) placed by the scenario's frame, with the
+// tool's angular limits `angular`.
+void place_gcode(const GcodeResult& parsed, const AngularLimits& angular, Scenario& sc) {
   sc.start = sc.frame * parsed.start;
   sc.ignored = parsed.ignored;
   sc.program.moves.reserve(parsed.program.moves.size());
   for (Move move : parsed.program.moves) {
-    move.angular = defaults.angular;
+    move.angular = angular;
     if (move.orientation) move.orientation = Quat(sc.frame.linear() * move.orientation->toRotationMatrix()).normalized();
     if (Line* line = std::get_if<Line>(&move.geometry)) {
       line->p0 = sc.frame * line->p0;
@@ -236,6 +227,63 @@ void read_gcode_program(const Reader& r, const Field& gcode, const Field& angles
   }
   sc.explicit_transition.assign(sc.program.moves.size(), false);
   sc.explicit_buffer.assign(sc.program.moves.size(), false);
+}
+
+// The G-code reader's options for a program placed by `sc.frame`: the limits and buffer mode of
+// the defaults, the tool's start orientation in the program frame (the reader checks a
+// zero-length move against it).
+GcodeOptions gcode_options(const MoveDefaults& defaults, const Scenario& sc) {
+  GcodeOptions options;
+  options.limits = defaults.limits;
+  options.buffer = defaults.buffer;
+  options.start_orientation = Quat(sc.frame.linear().transpose() * sc.program.start_orientation.toRotationMatrix()).normalized();
+  return options;
+}
+
+// A program given as a G-code file: read in its own units (G20/G21), placed by the frame.
+// Variants replace the transitions of all its moves (the file's G61/G64 apply when a variant
+// sets no transition).
+void read_gcode_program(const Reader& r, const Field& gcode, const Field& angles, const Field& subroutine_path,
+                        const Field& start, const MoveDefaults& defaults, Scenario& sc) {
+  GcodeOptions options = gcode_options(defaults, sc);
+  if (subroutine_path.node.defined()) options.subroutine_path = r.existing_folders(subroutine_path);
+  options.start = r.vec3(start);
+  if (angles.node.defined()) options.angles = read_gcode_angles(r, angles);
+  place_gcode(load_gcode_file(r.existing_file(gcode), options), defaults.angular, sc);
+}
+
+// A folder name made of a file's name, extension included (folder_name_problem's rule):
+// characters it may not hold become '_', an empty or too long one is cut or named "part". The
+// extension keeps a G-code file's runs apart from a scenario of the same stem (bracket.yaml's
+// run folder and baseline are "bracket", bracket.ngc's "bracket.ngc").
+std::string name_from_file(const std::string& path) {
+  std::string name = std::filesystem::path(path).filename().string();
+  for (char& c : name) {
+    const bool allowed = std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.';
+    if (!allowed || static_cast<unsigned char>(c) >= 0x80) c = '_';
+  }
+  if (!name.empty() && (name.front() == '.' || name.front() == '-')) name.front() = '_';
+  if (name.size() > 100) name.resize(100);
+  return name.empty() ? "part" : name;
+}
+
+// The box around the path of `program` and its start point (program frame, m): each move's end
+// points and, for an arc, its extreme points along each axis (sampled finely enough for a box:
+// every 1/64 of a turn, which is within (1 - cos(pi/64)) R = 0.12 % of R of the true extreme).
+std::pair<Vec3, Vec3> path_box(const Program& program, const Vec3& start) {
+  Vec3 lo = start, hi = start;
+  const auto add = [&](const Vec3& p) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  };
+  for (const Move& m : program.moves) {
+    const double len = length(m.geometry);
+    // a line: its ends; an arc (at most kMaxArcTurns turns): every 1/64 of a turn
+    const Arc* arc = std::get_if<Arc>(&m.geometry);
+    const int n = arc == nullptr ? 1 : std::max(1, static_cast<int>(std::ceil(arc->sweep / (std::numbers::pi / 32))));
+    for (int i = 0; i <= n; ++i) add(point(m.geometry, len * i / n));
+  }
+  return {lo, hi};
 }
 
 // One move of the list: its geometry from `current` (program frame, m), its limits and modes.
@@ -570,6 +618,67 @@ Scenario load_scenario(const std::string& path) {
   const std::string text = read_input_file(path, "scenario file");
   const std::string dir = std::filesystem::path(path).parent_path().string();
   return parse_scenario(text, path, dir.empty() ? "." : dir);
+}
+
+Scenario gcode_scenario(const std::string& path, const std::optional<RobotSettings>& robot) {
+  // no keys: every setting at the scenario format's default, as a scenario that gives none
+  const Document doc("{}", path);
+  const std::string dir = std::filesystem::path(path).parent_path().string();
+  Reader r(doc, path, dir.empty() ? "." : dir);
+  const Field root = r.root();
+  Scenario sc;
+  sc.file = path;
+  sc.name = name_from_file(path);
+  sc.description = "G-code part program " + std::filesystem::path(path).filename().string() +
+                   " on the shipped arm, placed in front of it";
+  read_robot(r, root, sc);
+  if (robot) sc.robot = *robot;
+  read_servo(r, root, sc);
+  read_simulation(r, root, sc);
+  read_video(r, root, sc);
+  read_limits(r, root, sc);
+  sc.program.start_orientation = Quat(sc.robot.tool_rotation).normalized();
+  MoveDefaults defaults;
+  defaults.limits = {kGcodeFeed, kGcodeAcceleration, kGcodeAcceleration, kGcodeJerk};
+  defaults.angular = read_angular(r, r.child(root, "defaults"), {}, true);
+  // read in its own frame, then placed: the centre of its box at kGcodePartCentre
+  const GcodeResult parsed = load_gcode_file(path, gcode_options(defaults, sc));
+  const auto [lo, hi] = path_box(parsed.program, parsed.start);
+  sc.frame.translation() = kGcodePartCentre - (lo + hi) / 2;
+  place_gcode(parsed, defaults.angular, sc);
+  Variant as_programmed;
+  as_programmed.name = "as_programmed";
+  Variant exact_stop;
+  exact_stop.name = "exact_stop";
+  exact_stop.transition = Transition{};
+  sc.variants = {as_programmed, exact_stop};
+  validate(program_for(sc, sc.variants.front()));
+  return sc;
+}
+
+RobotSettings named_robot(const std::string& urdf_or_name, const std::string& flag) {
+  std::string urdf;
+  std::error_code ec;
+  if (std::filesystem::is_regular_file(urdf_or_name, ec)) {
+    urdf = urdf_or_name;
+  } else if (folder_name_problem(urdf_or_name).empty()) {
+    if (const std::string shipped = data_file("models/" + urdf_or_name + ".urdf"); std::filesystem::is_regular_file(shipped, ec)) {
+      urdf = shipped;
+    }
+  }
+  if (urdf.empty()) {
+    throw InputError("", 0, 0, flag,
+                     "'" + printable(urdf_or_name) + "' is neither a URDF file nor a shipped robot (ur5e_like, kr6_like)");
+  }
+  RobotSettings robot;
+  robot.urdf = std::filesystem::absolute(urdf).string();
+  if (const std::string beside = model_file(robot.urdf, robot.model); std::filesystem::is_regular_file(beside, ec)) {
+    robot.mjcf = beside;
+  } else {
+    robot.mjcf_from_urdf = true;
+    robot.model = ArmModel::kRigid;
+  }
+  return robot;
 }
 
 Program program_for(const Scenario& scenario, const Variant& variant) {

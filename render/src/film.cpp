@@ -414,15 +414,18 @@ struct CompareVideo::Impl {
 
   const std::vector<std::uint8_t>& zoomed(int j) {
     const double tau = -zoom_half_window + j / (settings.fps * kSlowMotion);
-    const Vec3 p = corner.point / kMm;
+    // the corner as every output names it, at its point in program coordinates
+    const Vec3 p = settings.program_frame.inverse() * corner.point / kMm;
     char where[96];
-    std::snprintf(where, sizeof where, "(%.0f, %.0f, %.0f) mm", p.x(), p.y(), p.z());
+    std::snprintf(where, sizeof where, "(%.1f, %.1f, %.1f) mm", p.x(), p.y(), p.z());
     const std::string error = fixed(corner.contour_error / kMm, 3) + " mm";
-    draw_header({"worst corner " + std::to_string(corner.index + 1) + " at " + std::string(where) + ": contour error up to " + error +
+    const std::string number = "C" + std::to_string(corner.index);
+    const auto named = settings.corner_names.find(corner.index);
+    const std::string name = named != settings.corner_names.end() ? named->second : number;
+    draw_header({"worst corner " + name + " at " + std::string(where) + ": contour error up to " + error +
                      "   slow motion 1/" + std::to_string(kSlowMotion) + ", each variant at its own passage",
-                 "worst corner " + std::to_string(corner.index + 1) + ": up to " + error + ", slow motion 1/" +
-                     std::to_string(kSlowMotion),
-                 "corner " + std::to_string(corner.index + 1) + ", 1/" + std::to_string(kSlowMotion)});
+                 "worst corner " + name + ": up to " + error + ", slow motion 1/" + std::to_string(kSlowMotion),
+                 "corner " + number + ", 1/" + std::to_string(kSlowMotion)});
     for (int i = 0; i < layout.columns * layout.rows; ++i) {
       const PixelRect cell = layout.cell(i);
       const auto u = static_cast<std::size_t>(i);

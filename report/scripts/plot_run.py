@@ -16,9 +16,13 @@ reference passes each corner). Writes per variant
   torques.png          each joint's motor torque against its limit
   vibration.png        the high-passed tracking error with the residual-vibration windows
   joints.png           joint angles and velocities
-and in RUN_DIR compare_speed.png, compare_path.png, compare_metrics.png and report.html (the
-comparison table and every figure, images beside it: it opens from disk). Every file is written
-to a temporary file and renamed, so a failed run never leaves a half-written picture.
+and in RUN_DIR compare_speed.png, compare_path.png, compare_metrics.png and report.html (first
+the answer: the recommendation and the ranking per tolerance from the summary, ties shown as
+ties; then the corners with the program lines they come from, the comparison table and every
+figure, images beside it: it opens from disk). Paths and corners are drawn in the program's own
+coordinates (summary.json's `frame` maps the base frame back to them), and every corner is named
+as corners.json numbers it, C<index>, with its source line. Every file is written to a temporary
+file and renamed, so a failed run never leaves a half-written picture.
 """
 
 import html
@@ -40,24 +44,57 @@ CORNER_MARGIN = 1.6
 CORNER_MIN_HALF_MM = 4.0
 
 
-def plane_basis(points):
-    """Orthonormal in-plane axes (e1, e2) of the best-fit plane through points (N x 3)."""
-    centred = points - points.mean(axis=0)
-    _, _, vt = np.linalg.svd(centred, full_matrices=False)
-    e1, e2 = vt[0], vt[1]
-    # prefer the base x/y orientation when the plane is horizontal
-    if abs(vt[2][2]) > 0.99:
-        e1, e2 = np.array([1.0, 0, 0]), np.array([0, 1.0, 0])
-    return e1, e2
+# A path plane whose normal is this close to a program axis is drawn in two of the program's axes.
+AXIS_ALIGNED_COS = 0.99
 
 
-def project(xyz, origin, e1, e2):
-    rel = xyz - origin
-    return rel @ e1, rel @ e2
+class Frame:
+    """The program frame (summary.json `frame`): maps base-frame points (mm) to the program's own
+    coordinates, and picks the plane the paths are drawn in: two program axes (X, Y, Z as written)
+    when the path lies in or near one of their planes, else the path's best-fit plane measured from
+    the program origin (not re-centred)."""
+
+    def __init__(self, summary, program_points):
+        frame = summary.get("frame") or {}
+        self.origin = np.array(frame.get("position_mm", [0.0, 0.0, 0.0]), dtype=float)
+        self.rotation = np.array(frame.get("rotation", np.eye(3).tolist()), dtype=float)
+        local = self.program(program_points)
+        centred = local - local.mean(axis=0)
+        _, _, vt = np.linalg.svd(centred, full_matrices=False)
+        normal = vt[2] if vt.shape[0] > 2 else np.array([0.0, 0.0, 1.0])
+        names = ["X", "Y", "Z"]
+        axis = int(np.argmax(np.abs(normal)))
+        if abs(normal[axis]) >= AXIS_ALIGNED_COS:
+            i, j = [(1, 2), (0, 2), (0, 1)][axis]
+            self.e1, self.e2 = np.eye(3)[i], np.eye(3)[j]
+            self.labels = (f"program {names[i]} [mm]", f"program {names[j]} [mm]")
+        else:
+            self.e1, self.e2 = vt[0], vt[1]
+            self.labels = ("u in the path's plane, from the program origin [mm]",
+                           "v in the path's plane, from the program origin [mm]")
+
+    def program(self, xyz):
+        """Base-frame points (N x 3 or 3, mm) in program coordinates: R^T (p - origin)."""
+        return (np.asarray(xyz, dtype=float) - self.origin) @ self.rotation
+
+    def project(self, xyz):
+        local = self.program(xyz)
+        return local @ self.e1, local @ self.e2
 
 
 def xyz(cols, prefix):
     return np.column_stack([cols[prefix + "x"], cols[prefix + "y"], cols[prefix + "z"]])
+
+
+def corner_name(c):
+    """A corner as every output names it: C<index> from corners.json, with the program line it
+    comes from (the move that ends at it), e.g. "C7 (bracket.ngc:110)"."""
+    name = f'C{c["index"]}'
+    line = c.get("source_line")
+    if line:
+        source = c.get("source_file") or ""
+        name += f" ({os.path.basename(source)}:{line})" if source else f" (line {line})"
+    return name
 
 
 def mark_corners(ax, corners):
@@ -98,33 +135,31 @@ class Variant:
 
 
 def plot_path(v, frame):
-    origin, e1, e2 = frame
     fig, ax = plt.subplots(figsize=(7, 6))
-    ax.plot(*project(xyz(v.program, ""), origin, e1, e2), color="0.6", lw=3, label="programmed")
-    ax.plot(*project(xyz(v.path, ""), origin, e1, e2), color="tab:blue", lw=1.2, label="planned (blended)")
-    ax.plot(*project(xyz(v.trace, "act_"), origin, e1, e2), color="tab:red", lw=0.8, ls="--", label="actual TCP")
+    ax.plot(*frame.project(xyz(v.program, "")), color="0.6", lw=3, label="programmed")
+    ax.plot(*frame.project(xyz(v.path, "")), color="tab:blue", lw=1.2, label="planned (blended)")
+    ax.plot(*frame.project(xyz(v.trace, "act_")), color="tab:red", lw=0.8, ls="--", label="actual TCP")
     for c in v.corners:
-        u, w = project(np.array(c["point_mm"]), origin, e1, e2)
-        ax.annotate(f'C{c["index"]}', (u, w), fontsize=8, xytext=(4, 4), textcoords="offset points")
+        u, w = frame.project(np.array(c["point_mm"]))
+        ax.annotate(corner_name(c), (u, w), fontsize=8, xytext=(4, 4), textcoords="offset points")
     ax.set_aspect("equal", adjustable="datalim")
-    finish(ax, f"Path — {v.title}", "in-plane axis 1 [mm]", "in-plane axis 2 [mm]")
+    finish(ax, f"Path in program coordinates — {v.title}", *frame.labels)
     save_png(fig, v.png("path.png"), DPI)
 
 
 def plot_corners(v, frame):
     """A zoomed view of each corner: the actual TCP against the planned and the programmed path."""
-    origin, e1, e2 = frame
     n = max(1, len(v.corners))
     cols = min(n, 4)
     rows = (n + cols - 1) // cols
     fig, axes = plt.subplots(rows, cols, figsize=(3.6 * cols, 3.4 * rows), squeeze=False)
-    prog = project(xyz(v.program, ""), origin, e1, e2)
-    plan = project(xyz(v.path, ""), origin, e1, e2)
-    act = project(xyz(v.trace, "act_"), origin, e1, e2)
+    prog = frame.project(xyz(v.program, ""))
+    plan = frame.project(xyz(v.path, ""))
+    act = frame.project(xyz(v.trace, "act_"))
     for ax in axes.flat[n:]:
         ax.axis("off")
     for ax, c in zip(axes.flat, v.corners):
-        cu, cw = project(np.array(c["point_mm"]), origin, e1, e2)
+        cu, cw = frame.project(np.array(c["point_mm"]))
         half = max(CORNER_MIN_HALF_MM, CORNER_MARGIN * max(c["trim_in_mm"], c["trim_out_mm"]))
         ax.plot(*prog, color="0.6", lw=3, label="programmed")
         ax.plot(*plan, color="tab:blue", lw=1.2, label="planned")
@@ -133,9 +168,9 @@ def plot_corners(v, frame):
         ax.set_xlim(cu - half, cu + half)
         ax.set_ylim(cw - half, cw + half)
         ax.set_aspect("equal", adjustable="box")
-        ax.set_title(f'C{c["index"]}: {c["method"]}, deviation {c["deviation_mm"]:.3g} mm', fontsize=9)
-        ax.set_xlabel("axis 1 [mm]", fontsize=8)
-        ax.set_ylabel("axis 2 [mm]", fontsize=8)
+        ax.set_title(f'{corner_name(c)}: {c["method"]}, deviation {c["deviation_mm"]:.3g} mm', fontsize=9)
+        ax.set_xlabel(frame.labels[0], fontsize=7)
+        ax.set_ylabel(frame.labels[1], fontsize=7)
         ax.tick_params(labelsize=7)
         ax.grid(alpha=0.3)
     axes.flat[0].legend(fontsize=7)
@@ -289,13 +324,15 @@ def plot_comparison(run_dir, variants, frame):
     ax_t.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
     save_png(fig, os.path.join(run_dir, "compare_speed.png"), DPI, tight=True)
 
-    origin, e1, e2 = frame
     fig, ax = plt.subplots(figsize=(7, 6))
-    ax.plot(*project(xyz(variants[0].program, ""), origin, e1, e2), color="0.6", lw=3, label="programmed")
+    ax.plot(*frame.project(xyz(variants[0].program, "")), color="0.6", lw=3, label="programmed")
     for v in variants:
-        ax.plot(*project(xyz(v.path, ""), origin, e1, e2), lw=1, label=v.name)
+        ax.plot(*frame.project(xyz(v.path, "")), lw=1, label=v.name)
+    for c in variants[0].corners:
+        u, w = frame.project(np.array(c["point_mm"]))
+        ax.annotate(corner_name(c), (u, w), fontsize=7, xytext=(4, 4), textcoords="offset points")
     ax.set_aspect("equal", adjustable="datalim")
-    finish(ax, "Planned path by variant", "in-plane axis 1 [mm]", "in-plane axis 2 [mm]")
+    finish(ax, "Planned path by variant, program coordinates", *frame.labels)
     save_png(fig, os.path.join(run_dir, "compare_path.png"), DPI)
 
     keys = [("cycle_time_s", "cycle time [s]", 1), ("tracking_error_max_mm", "max tracking error [mm]", 1),
@@ -344,14 +381,53 @@ def cell_value(entry, key):
     return value if isinstance(value, (int, float)) else None
 
 
-def comparison_table(entries):
-    """The table's HTML and, per header, the best clean variant's name."""
+# The regression gate's tolerances (beside this script in the data root): a value within a metric's
+# tolerance of the best is as good as the best (a tie), and is shaded with it.
+TOLERANCES = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "results", "baselines",
+                          "tolerances.json")
+
+
+def gate_tolerances():
+    """metric key ("metrics.cycle_time_s") -> (absolute, relative); empty when the file is absent."""
+    try:
+        with open(TOLERANCES) as f:
+            metrics = json.load(f)["metrics"]
+        return {k: (float(v["absolute"]), float(v["relative"])) for k, v in metrics.items()}
+    except (OSError, ValueError, KeyError, TypeError):
+        return {}
+
+
+def cycle_tie_threshold(summary, a, b):
+    """The summary's cycle-time resolution (ranking.resolution): the difference below which two
+    cycle times tie, or None without a ranking."""
+    res = summary.get("ranking", {}).get("resolution")
+    if not res:
+        return None
+    return max(res["grid_s"], res["absolute_s"], res["relative"] * min(a, b))
+
+
+def comparison_table(entries, summary=None):
+    """The table's HTML and, per header, the names of the best clean variants: the best, and every
+    one that ties with it (within the regression gate's tolerance of that metric; cycle times at
+    the run's own resolution)."""
     ok = [e for e in entries if e["status"] == "ok"]
+    gate = gate_tolerances()
     best = {}
     for header, key, _, _, lower, _ in TABLE:
         values = [(cell_value(e, key), e["name"]) for e in ok if cell_value(e, key) is not None]
-        if values:
-            best[header] = (min if lower else max)(values)[1]
+        if not values:
+            continue
+        top = (min if lower else max)(values)[0]
+        names = []
+        for value, name in values:
+            if key == ("metrics", "cycle_time_s") and summary is not None:
+                limit = cycle_tie_threshold(summary, top, value)
+            else:
+                absolute, relative = gate.get(".".join(key), (None, None))
+                limit = None if absolute is None else max(absolute, relative * min(abs(top), abs(value)))
+            if value == top or (limit is not None and abs(value - top) < limit):
+                names.append(name)
+        best[header] = names
     rows = []
     for e in entries:
         status = e["status"]
@@ -362,7 +438,7 @@ def comparison_table(entries):
             text = fmt(cell_value(e, key), digits, scale)
             if extra is not None:
                 text += " / " + fmt(cell_value(e, extra[0]), digits, extra[1])
-            mark = " class='best'" if best.get(header) == e["name"] else ""
+            mark = " class='best'" if e["name"] in best.get(header, []) else ""
             cells.append(f"<td{mark}>{text}</td>")
         rows.append("<tr>" + "".join(cells) + "</tr>")
     head = "<tr><th>variant</th><th>status</th>" + "".join(f"<th>{html.escape(h)}</th>" for h, *_ in TABLE) + "</tr>"
@@ -370,10 +446,11 @@ def comparison_table(entries):
 
 
 def tolerance_notes(summary):
-    """Equal tolerance (docs/methods.md): a line per variant run at a tolerance, at the top of the
-    report: at how many corners it was reached, and, where at none, that it was not, with the largest
-    deviation reached (each corner's note in corners.json says why)."""
-    lines = []
+    """Equal tolerance (docs/methods.md): a line per variant run at a tolerance: at how many corners
+    it was reached, and, where at none, that it was not, with the largest deviation reached (each
+    corner's note in corners.json says why). Returns (the lines of tolerances reached nowhere, for
+    the top of the report; the others)."""
+    bad, lines = [], []
     for entry in summary["variants"]:
         corners = [c for c in entry.get("plan", {}).get("corners", []) if c.get("tolerance_mm") is not None]
         if not corners:
@@ -384,27 +461,117 @@ def tolerance_notes(summary):
         reached = sum(1 for c in corners if c.get("tolerance_reached"))
         deviation = max(c["deviation_mm"] for c in corners)
         if reached == 0:
-            lines.append(f"<p class='bad'><b>{name}: the tolerance {tol} mm is reached at no corner</b> "
+            bad.append(f"<p class='bad'><b>{name}: the tolerance {tol} mm is reached at no corner</b> "
                          f"(largest deviation {deviation:.4g} mm; each corner's note in {name}/corners.json says why: "
                          f"moves too short for it, or nothing to cut).</p>")
         else:
-            lines.append(f"<p>{name}: tolerance {tol} mm reached at {reached} of {len(corners)} corners "
-                         f"(largest deviation {deviation:.4g} mm).</p>")
-    return lines
+            lines.append(f"<li>{name}: tolerance {tol} mm reached at {reached} of {len(corners)} corners "
+                         f"(largest deviation {deviation:.4g} mm)</li>")
+    return bad, lines
 
 
-def report_html(run_dir, summary, variants):
-    table, best = comparison_table(summary["variants"])
+def ms(value):
+    return "—" if value is None else f"{1e3 * value:.0f}"
+
+
+def answer_html(summary):
+    """The answer, first on the page: the recommendation and its reason, then per tolerance the
+    variants by cycle time with the margin to the next (ms and %) and the ties (summary.json
+    `recommendation` and `ranking`; docs/compare.md)."""
+    ranking = summary.get("ranking")
+    rec = summary.get("recommendation")
+    if not ranking or not rec:
+        return []
+    parts = ["<h2>Answer</h2>"]
+    if rec.get("variant"):
+        parts.append(f"<p class='answer'>Recommended: <b>{html.escape(rec['variant'])}</b>, "
+                     f"{html.escape(rec['reason'])}.</p>")
+    else:
+        parts.append(f"<p class='answer bad'><b>No recommendation</b>: {html.escape(rec['reason'])}.</p>")
+    res = ranking["resolution"]
+    rule = (f"two cycle times tie when they differ by less than max({1e3 * res['grid_s']:.0f} ms, "
+            f"{1e3 * res['absolute_s']:.0f} ms, {100 * res['relative']:g} % of the faster)"
+            if not res.get("model_spread") else "two cycle times tie unless their order holds in every perturbed "
+            f"arm model and they differ by {1e3 * res['grid_s']:.0f} ms or more")
+    for note in summary.get("notes", []):
+        parts.append(f"<p>Note: {html.escape(note)}.</p>")
+    parts.append(f"<p><small>Ranked by cycle time; {html.escape(rule)} ({html.escape(res['source'])}). A variant "
+                 "that ties with the first of a rank shares that rank. Only variants with status ok (clean tracking "
+                 "data) are ranked.</small></p>")
+    for group in ranking["tolerances"]:
+        tol = group.get("tolerance_mm")
+        if tol is not None:
+            title = f"At tolerance {tol:g} mm (every corner's deviation solved to it; baselines without transitions)"
+        elif group.get("like_for_like"):
+            title = "The variants (no transitions)"
+        else:
+            title = ("Variants sized by their parameter (they cut corners by different amounts: not like for like; "
+                     "give them a tolerance to compare them)")
+        rows = []
+        for v in group["variants"]:
+            tie = "tie with the next" if v["tie"] else ""
+            pct = "—" if v["margin_to_next_percent"] is None else f"{v['margin_to_next_percent']:.2f}"
+            cls = " class='tie'" if v["tie"] else ""
+            meets = "" if v.get("meets_constraints", True) else " <small class='bad'>(outside the constraints)</small>"
+            rows.append(f"<tr{cls}><td>{v['rank']}</td><td>{html.escape(v['variant'])}{meets}</td>"
+                        f"<td>{v['cycle_time_s']:.3f}</td><td>{ms(v['margin_to_next_s'])}</td><td>{pct}</td>"
+                        f"<td>{tie}</td></tr>")
+        for u in group["unranked"]:
+            rows.append(f"<tr><td>—</td><td>{html.escape(u['variant'])}</td><td colspan='4' class='bad'>"
+                        f"{html.escape(u['reason'])}</td></tr>")
+        parts.append(f"<h3>{html.escape(title)}</h3><table class='ranking'><tr><th>rank</th><th>variant</th>"
+                     "<th>cycle time [s]</th><th>margin to the next [ms]</th><th>margin to the next [%]</th>"
+                     "<th></th></tr>" + "".join(rows) + "</table>")
+    return parts
+
+
+def corners_html(summary, frame):
+    """Every corner as corners.json numbers it (C<index>), the program line it comes from, its point
+    in program coordinates, and per variant the deviation it was given (mm; a tolerance not reached
+    marked)."""
+    entries = [e for e in summary["variants"] if e.get("plan", {}).get("corners")]
+    if not entries:
+        return []
+    first = entries[0]["plan"]["corners"]
+    head = "<tr><th>corner</th><th>source</th><th>point, program coordinates [mm]</th>" + "".join(
+        f"<th>{html.escape(e['name'])}<br><small>deviation [mm]</small></th>" for e in entries) + "</tr>"
+    rows = []
+    for c in first:
+        source = (f"{html.escape(os.path.basename(c.get('source_file') or ''))}:{c['source_line']}"
+                  if c.get("source_line") else "—")
+        point = "—"
+        if c.get("point_mm") is not None and frame is not None:
+            p = frame.program(np.array(c["point_mm"]))
+            point = ", ".join(f"{x:.3f}" for x in p)
+        cells = [f"<td>C{c['index']}</td><td>{source}</td><td>{point}</td>"]
+        for e in entries:
+            d = next((x for x in e["plan"]["corners"] if x["index"] == c["index"]), None)
+            if d is None:
+                cells.append("<td>—</td>")
+                continue
+            mark = " <small class='bad'>not reached</small>" if d.get("tolerance_reached") is False else ""
+            cells.append(f"<td>{d['deviation_mm']:.4g}{mark}</td>")
+        rows.append("<tr>" + "".join(cells) + "</tr>")
+    return ["<h2>Corners</h2><p><small>Numbered as in corners.json, the plots and the videos (C&lt;index&gt;: the "
+            "corner at the end of move index); source: the G-code line, or the YAML line, of the move that ends at "
+            "the corner.</small></p>", f"<table>{head}{''.join(rows)}</table>"]
+
+
+def report_html(run_dir, summary, variants, frame=None):
+    table, best = comparison_table(summary["variants"], summary)
 
     def best_name(header):
-        return html.escape(best.get(header, "—"))
+        names = best.get(header)
+        return html.escape(" = ".join(names) + (" (a tie)" if len(names) > 1 else "")) if names else "—"
     reading = (f"<p>Fastest (cycle time to settled at the end point): <b>{best_name('cycle time [s]')}</b>. "
                f"Most accurate against its own plan (contour error vs the planned path: the servo's error): "
                f"<b>{best_name('contour vs planned max [µm]')}</b>; closest to the programmed path: "
                f"<b>{best_name('contour vs programmed max [mm]')}</b> (that includes each method's designed "
                f"corner deviation). Least residual vibration after the stop: "
                f"<b>{best_name('vibration after stop [µm] / [Hz]')}</b>; after the corners: "
-               f"<b>{best_name('largest corner vibration [µm]')}</b>. Best values are shaded; only variants with "
+               f"<b>{best_name('largest corner vibration [µm]')}</b>. Best values are shaded, with every value "
+               f"that ties with the best (within the regression gate's tolerance of that metric, "
+               f"results/baselines/tolerances.json; cycle times at the resolution above); only variants with "
                f"status ok (clean tracking data) compete.</p>"
                "<p>Why, in the plots: the cycle time follows the planned path speed (<i>Path speed</i>: an exact "
                "stop comes to rest at every corner, a circular arc slows where its curvature jumps, a G2 "
@@ -430,8 +597,12 @@ def report_html(run_dir, summary, variants):
            f"{sim['settle_speed_tolerance_mm_s']:g} mm/s for {sim['settle_window_s']:g} s after the reference ends. "
            f"Residual vibration: tracking error high-passed at {sim['vibration_highpass_hz']:g} Hz, peak-to-peak in "
            f"{sim['vibration_window_s']:g} s windows.</p>")
-    parts = [f"<h1>BlendBench run: {html.escape(summary['scenario'])}</h1>", *tolerance_notes(summary),
-             f"<p>{html.escape(summary.get('description', ''))}</p>", arm, "<h2>Comparison</h2>", reading, table]
+    unreached, reached = tolerance_notes(summary)
+    parts = [f"<h1>BlendBench run: {html.escape(summary['scenario'])}</h1>", *unreached, *answer_html(summary)]
+    if reached:
+        parts.append("<p><small>Tolerances reached:</small></p><ul style='font-size:smaller'>" + "".join(reached) + "</ul>")
+    parts += [f"<p>{html.escape(summary.get('description', ''))}</p>", arm, "<h2>Comparison</h2>", reading, table,
+              *corners_html(summary, frame)]
     for png, title in [("compare_speed.png", "Path speed"), ("compare_metrics.png", "Metrics"),
                        ("compare_path.png", "Paths")]:
         if os.path.exists(os.path.join(run_dir, png)):
@@ -444,6 +615,7 @@ def report_html(run_dir, summary, variants):
     style = ("body{font-family:sans-serif;margin:2em;max-width:1400px} table{border-collapse:collapse;font-size:13px}"
              " td,th{border:1px solid #bbb;padding:4px 6px;text-align:right} td:first-child{text-align:left}"
              " .best{background:#d8f0d8} .ok{color:#070} .bad{color:#b00;text-align:left;max-width:18em}"
+             " .answer{font-size:16px} tr.tie td{background:#eef3fb}"
              " figure{display:inline-block;margin:0.5em} img{max-width:100%}")
     page = ("<!DOCTYPE html><html><head><meta charset='utf-8'><title>BlendBench: "
             f"{html.escape(summary['scenario'])}</title><style>{style}</style></head><body>"
@@ -460,13 +632,13 @@ def main(argv):
         summary = json.load(f)
     variants = [Variant(run_dir, e) for e in summary["variants"] if "metrics" in e]
     if variants:
-        prog = xyz(variants[0].program, "")
-        origin = prog.mean(axis=0)
-        frame = (origin, *plane_basis(prog))
+        frame = Frame(summary, xyz(variants[0].program, ""))
         for v in variants:
             plot_variant(v, frame, summary)
         plot_comparison(run_dir, variants, frame)
-    report_html(run_dir, summary, variants)
+    else:
+        frame = None
+    report_html(run_dir, summary, variants, frame)
     return 0
 
 

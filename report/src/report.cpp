@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 
 #include "blendbench/core/format.hpp"
 #include "blendbench/core/input_error.hpp"
@@ -98,6 +99,13 @@ nlohmann::json corner_json(const CornerReport& c) {
         {"trim_out_mm", c.trim_out / kMm},
         {"stop", c.stop},
   };
+}
+
+std::string corner_name(int index, const SourceRef& source) {
+  std::string name = "C" + std::to_string(index);
+  if (source.line <= 0) return name;
+  const std::string file = std::filesystem::path(source.file).filename().string();
+  return name + (file.empty() ? " (line " + std::to_string(source.line) + ")" : " (" + file + ":" + std::to_string(source.line) + ")");
 }
 
 void add_corner_tolerance_and_source(nlohmann::json& corner, const CornerReport& c) {

@@ -39,8 +39,9 @@ class Robots : public ::testing::Test {
     request.out_dir = dir_;
     request.video = false;
     request.plots = false;
-    request.variants = std::move(variants);
-    return run_scenario(sc, request);
+    RunSelection selection;
+    selection.variants = std::move(variants);
+    return run_pipeline(resolve_run(sc, selection), request);
   }
 
   // scenarios/kr6_default.yaml with one text replacement, parsed where it lies.

@@ -11,6 +11,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "blendbench/corner/blend.hpp"
 #include "blendbench/geometry/arc_construction.hpp"
 #include "blendbench/program/path.hpp"
 #include "support/input_error.hpp"
@@ -932,6 +933,25 @@ TEST(Gcode, PropertyRandomProgramsRoundTrip) {
     }
     EXPECT_NO_THROW(validate(r.program)) << test::seed_text(seed);
   }
+}
+
+// One corner numbering (issue 44): a corner the blender refuses is named in its note as
+// corners.json, the report and the plots name it, C<index> (the corner at the end of move
+// index), with the moves by their N words; here a line into a helix, which the biclothoid's
+// non-planar fallback (seed 000's Bezier) cannot join.
+TEST(Gcode, ABlendersNoteNamesTheCornerAsTheReportDoes) {
+  const GcodeResult r = parse("N10 G64 P0.1\nN20 G1 X10\nN30 G1 X20\nN40 G3 X20 Y0 Z-4 I0 J5 P2\nN50 G1 X0\n");
+  const Path path = blend(r.program);
+  ASSERT_EQ(path.corners.size(), 3u);
+  const CornerReport& refused = path.corners[1];
+  EXPECT_EQ(refused.index, 1);
+  EXPECT_EQ(refused.note.text().rfind("C1 (N30 G1 -> N40 G3): ", 0), 0u) << refused.note.text();
+  // G64 Q merges the two collinear lines before blending: the corner keeps its number
+  const Path merged = blend(parse("N10 G64 P0.1 Q0.01\nN20 G1 X10\nN30 G1 X20\nN40 G3 X20 Y0 Z-4 I0 J5 P2\nN50 G1 X0\n").program);
+  ASSERT_EQ(merged.moves_merged, 1);
+  ASSERT_EQ(merged.corners.size(), 2u);
+  EXPECT_EQ(merged.corners[0].index, 1);
+  EXPECT_EQ(merged.corners[0].note.text().rfind("C1 (", 0), 0u) << merged.corners[0].note.text();
 }
 
 }  // namespace

@@ -47,5 +47,18 @@ TEST(Report, CornersJsonUsesContractUnits) {
   }
 }
 
+TEST(Report, CornerNamesAreTheIndexAndTheProgramLine) {
+  EXPECT_EQ(corner_name(7, SourceRef{"/parts/bracket.ngc", 110, 5}), "C7 (bracket.ngc:110)");
+  EXPECT_EQ(corner_name(0, SourceRef{"", 12, 0}), "C0 (line 12)");
+  EXPECT_EQ(corner_name(3, SourceRef{}), "C3");
+  // the blender's corners carry the move's source: the name follows it
+  Program program = square();
+  program.moves[0].where = {"a/b/part.yaml", 21, 7};
+  program.moves[0].transition = {Method::kArc, 0.01};
+  const Path path = blend(program);
+  ASSERT_EQ(path.corners.size(), 1U);
+  EXPECT_EQ(corner_name(path.corners[0].index, path.corners[0].source), "C0 (part.yaml:21)");
+}
+
 }  // namespace
 }  // namespace blendbench

@@ -182,8 +182,10 @@ double corner_deviation(const CornerFit& fit, const Primitive& in, const Primiti
 
 namespace {
 
-// The blender on a validated program, without merging.
-Path blend_moves(const Program& program) {
+// The blender on a validated program, without merging. `program_corner` maps a corner of
+// `program` to the corner of the program as written (merge_collinear's `last`; empty: the same),
+// so that a refused corner's note names it as corners.json, the report and the plots do: C<index>.
+Path blend_moves(const Program& program, const std::vector<std::size_t>& program_corner = {}) {
   const std::size_t n = program.moves.size();
   std::vector<double> lengths(n);
   for (std::size_t k = 0; k < n; ++k) lengths[k] = length(program.moves[k].geometry);
@@ -206,7 +208,8 @@ Path blend_moves(const Program& program) {
     corner.out_available = b_shared ? 0.5 * lengths[k + 1] : lengths[k + 1];
     corner.spec = a.transition;
     corner.buffer = a.buffer;
-    corner.name = "corner " + std::to_string(k + 1) + " (" + move_name(program, k) + " -> " + move_name(program, k + 1) + ")";
+    corner.name = "C" + std::to_string(program_corner.empty() ? k : program_corner[k]) + " (" + move_name(program, k) +
+                  " -> " + move_name(program, k + 1) + ")";
     corner.where = a.where;
     CornerFit fit = fit_corner(corner);
     if (fit.outcome.ok()) {
@@ -383,7 +386,7 @@ Path blend_unoriented(const Program& program) {
       std::any_of(program.moves.begin(), program.moves.end(), [](const Move& m) { return m.transition.merge_tolerance > 0; });
   const MergedProgram merged = may_merge ? merge_collinear(program) : MergedProgram{};
   if (merged.moves_merged == 0) return blend_moves(program);
-  const Path blended = blend_moves(merged.program);
+  const Path blended = blend_moves(merged.program, merged.last);
   // the pieces and reports with the program's own move and corner indices
   Path path;
   path.reserve(blended.pieces().size());

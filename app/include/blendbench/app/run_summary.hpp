@@ -12,6 +12,7 @@
 #include <string_view>
 #include <vector>
 
+#include "blendbench/app/ranking.hpp"
 #include "blendbench/io/scenario.hpp"
 #include "blendbench/program/path.hpp"
 #include "blendbench/report/report.hpp"
@@ -125,16 +126,28 @@ struct RobotInfo {
 
 struct RunSummary {
   std::string scenario, file, description;
+  // the program frame in the robot base frame (a scenario's `frame`; for a G-code file the
+  // placement of its part): plots and reports show corners in the program's own coordinates
+  Eigen::Isometry3d frame = Eigen::Isometry3d::Identity();
   RobotInfo robot;
   ServoController controller = ServoController::kCascade;
   ServoConfig servo;  // as tuned at the start pose
   SimulationSettings simulation;
   std::vector<VariantSummary> variants;
+  std::vector<std::string> notes;  // the driver's (RunInputs::notes)
+  // the answer (ranking.hpp): summary.json's `ranking` and `recommendation`; none when the run
+  // was interrupted
+  std::optional<Ranking> ranking;
 };
 
 // The comparison block of every variant that has a cycle time against the first exact-stop
 // variant (method none) that ran cleanly; nothing when there is none.
 void compare_with_exact_stop(RunSummary& summary);
+
+// The ranking of the run's variants (ranking.hpp) under `constraints`, at the resolution of its
+// setpoint rate: each variant's cycle time, contour error against the program, and the larger
+// of its residual vibration after the stop and after any corner.
+Ranking rank_run(const RunSummary& summary, const Constraints& constraints, const OrderSpread& spread = {});
 
 // The corners of a plan as corners.json holds them: corner_json with the placement and the
 // times the reference passes the corner (t_start_s, t_end_s).

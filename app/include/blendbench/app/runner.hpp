@@ -14,6 +14,7 @@
 
 #include "blendbench/app/run_summary.hpp"
 #include "blendbench/app/smoothing_flags.hpp"
+#include "blendbench/io/run_inputs.hpp"
 #include "blendbench/io/scenario.hpp"
 
 namespace blendbench {
@@ -35,15 +36,15 @@ struct RunRequest {
   bool compare = false;               // render compare.mp4: every variant side by side (needs BLENDBENCH_RENDER)
   bool plots = true;                  // run the matplotlib script after the summary is written
   bool variant_files = true;          // per variant trace.csv, path.csv, program.csv, corners.json (a sweep keeps only summary.json)
-  std::vector<std::string> variants;  // names to run; empty = all
-  std::optional<LimitsMode> limits;   // replaces the scenario's limits mode (`--limits`)
   std::optional<double> max_samples;  // replaces kMaxRunSamples, plan and settle time (`--max-samples`)
-  // m: equal tolerance (`--tolerance`): every move with a transition method gets this tolerance
-  // in place of its parameter (and start distance), in every variant (apply_tolerance)
-  std::optional<double> tolerance;
   // `--smoothing` replaces every variant's method, `--smoothing-tolerance` the tolerance of
   // those that fit g2_fit (apply_smoothing_flags_to_variant)
   SmoothingFlags smoothing;
+  // the constraints of the recommendation (`--max-contour-error`, `--max-vibration`; ranking.hpp)
+  Constraints constraints;
+  // what runs on perturbed arm models say about the order of two variants' cycle times (the
+  // sensitivity runs): the ties are decided by it where it answers (ranking.hpp); empty: none
+  OrderSpread spread;
   // receives one line of progress at a time (variant started, stage timings, warnings)
   std::function<void(const std::string&)> progress;
 };
@@ -55,13 +56,9 @@ struct RunResult {
   std::optional<std::filesystem::path> report;  // report.html, when the plots were drawn
 };
 
-// `program` with `tolerance` (m, > 0) on every move whose transition has a method: its parameter
-// and start distance cleared (equal tolerance, Transition::tolerance; `--tolerance`).
-void apply_tolerance(Program& program, double tolerance);
-
-// Runs the scenario. Throws InputError for bad input of the whole scenario, found before any
-// variant runs (an unknown variant name, bad smoothing flags or a smoothing tolerance that no
-// variant fits g2_fit with, a start point the robot cannot reach, robot.model not
+// Runs the resolved scenario (io/run_inputs.hpp: `run`, `compare` and sweep points resolve once
+// and hand the same inputs down). Throws InputError for bad input of the whole scenario, found
+// before any variant runs (bad smoothing flags, a start point the robot cannot reach, robot.model not
 // matching the MJCF file, a servo rate that does not divide the model's physics rate: the error
 // names the file, line and field), and std::runtime_error when summary.json cannot be written. A
 // variant whose simulation diverges, whose plan fails, whose data is not clean (saturated,
@@ -70,6 +67,9 @@ void apply_tolerance(Program& program, double tolerance);
 // with its status and message and the others still run. A stop request (SIGINT/SIGTERM) ends
 // the variant in progress (its folder removed), marks it and the rest "interrupted", writes
 // summary.json without plots and returns with interrupted_by set.
+RunResult run_pipeline(const RunInputs& inputs, const RunRequest& request);
+
+// run_pipeline(resolve_run(scenario), request): every variant of the scenario as written.
 RunResult run_scenario(const Scenario& scenario, const RunRequest& request);
 
 // Whether this build can render videos.

@@ -19,6 +19,7 @@
 //   through that corner.
 
 #include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -79,6 +80,12 @@ struct FilmSettings {
   std::string scenario;               // named in the comparison's header
   std::vector<Vec3> programmed;       // the programmed path, densely sampled, m
   std::vector<CornerPlacement> corners;  // the programmed corners (points by corner index)
+  // The corners' names by corner index, as corners.json, report.html and the plots name them:
+  // "C<index>" and the program line, e.g. "C7 (bracket.ngc:110)"; a corner not named here is
+  // "C<index>".
+  std::map<int, std::string> corner_names;
+  // The program frame in the base frame: the worst corner's point is shown in program coordinates.
+  Eigen::Isometry3d program_frame = Eigen::Isometry3d::Identity();
   Vec3 base = Vec3::Zero();           // the robot base (the part camera looks away from it)
   // The tool frame in the flange frame (the model's site "tcp"), m: drawn on the arm
   // (SceneStyle::tool) and named in the legend; none: no tool.

@@ -35,6 +35,11 @@ std::string program_csv(const Program& program, double ds);
 nlohmann::json corner_json(const CornerReport& corner);
 nlohmann::json corner_json(const CornerReport& corner, const CornerPlacement& where);
 
+// A corner's name in every output (report.html, the plots, the videos; plot_run.py writes the same):
+// "C<index>" (corners.json's index: the corner at the end of move `index`) and, when known, the
+// file name and line it comes from (CornerReport::source), e.g. "C7 (bracket.ngc:110)".
+std::string corner_name(int index, const SourceRef& source);
+
 // Adds to a corner's JSON the equal-tolerance fields and where the corner was written
 // (CornerReport): tolerance_mm and tolerance_reached (true/false; null where the corner is sized
 // by its parameter), source_file and source_line (the file and line of the move that ends at the
