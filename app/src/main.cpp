@@ -27,6 +27,7 @@
 #include "blendbench/app/runner.hpp"
 #include "blendbench/app/smoothing_flags.hpp"
 #include "blendbench/app/sweep.hpp"
+#include "blendbench/app/version.hpp"
 #include "blendbench/io/scenario.hpp"
 #include "blendbench/io/scenario_keys.hpp"
 
@@ -39,6 +40,11 @@ constexpr int kExitCheckFailed = 1;
 constexpr int kExitBadInput = 2;
 // a stop by signal N exits 128 + N, as a shell reports a process killed by it
 constexpr int kExitSignalBase = 128;
+
+// A scenario's plausibility warnings, one line each on stderr (summary.json lists them too).
+void print_warnings(const bb::Scenario& scenario) {
+  for (const bb::LoadWarning& w : scenario.warnings) std::cerr << "blendbench: warning: " << bb::to_string(w) << std::endl;
+}
 
 const char* signal_name(int signal) { return signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : "a signal"; }
 
@@ -103,6 +109,7 @@ int cmd_run(std::string scenario_path, std::string out_dir, bool no_video, bool 
   // no scenario given: the default one in the data root (data_root.hpp)
   if (scenario_path.empty()) scenario_path = bb::data_file("scenarios/default.yaml");
   const bb::Scenario scenario = bb::load_scenario(scenario_path);
+  print_warnings(scenario);
   if (out_dir.empty()) out_dir = "results/runs/" + scenario.name;
   // the run goes to a staging folder beside --out, locked, and replaces it as a whole at the end
   bb::RunFolder folder(out_dir);
@@ -241,6 +248,7 @@ LoadedProgram load_program(const std::string& input, const ProgramFlags& flags) 
     out.ignored = std::move(parsed.ignored);
   } else {
     const bb::Scenario scenario = bb::load_scenario(input);
+    print_warnings(scenario);
     const bb::Variant& v = flags.variant.empty() ? scenario.variants.front() : bb::find_variant(scenario, flags.variant);
     out.program = bb::program_for(scenario, v);
     out.ignored = scenario.ignored;
@@ -314,6 +322,7 @@ int cmd_plan(const std::string& input, const ProgramFlags& flags, const TimingFl
     return kExitCheckFailed;
   }
   nlohmann::json j = bb::plan_summary_json(path, timing, loaded.program);
+  j["version"] = bb::version_string();
   j["ignored"] = loaded.ignored;
   j["planning_wall_time_s"] = wall;
   bb::throw_if_stop_requested();
@@ -329,8 +338,13 @@ int cmd_plan(const std::string& input, const ProgramFlags& flags, const TimingFl
 
 // Checks one input without running it: loaded (a scenario, or G-code with the path/plan
 // defaults), checked by the planner and blended, every variant of a scenario, so geometric
-// refusals show. Returns what was checked; throws InputError.
-std::string validate_input(const std::string& input) {
+// refusals show. Returns what was checked and its plausibility warnings; throws InputError.
+struct Validated {
+  std::string checked;
+  std::vector<bb::LoadWarning> warnings;
+};
+
+Validated validate_input(const std::string& input) {
   const auto blend_checked = [](const bb::Program& program) {
     bb::validate(program);
     return bb::blend(program).corners.size();
@@ -338,13 +352,16 @@ std::string validate_input(const std::string& input) {
   if (bb::is_gcode_file(input)) {
     const LoadedProgram loaded = load_program(input, ProgramFlags{});
     const std::size_t corners = blend_checked(loaded.program);
-    return "G-code, " + std::to_string(loaded.program.moves.size()) + " moves, " + std::to_string(corners) +
-           " corners blended, " + std::to_string(loaded.ignored.size()) + " notes";
+    return {"G-code, " + std::to_string(loaded.program.moves.size()) + " moves, " + std::to_string(corners) +
+                " corners blended, " + std::to_string(loaded.ignored.size()) + " notes",
+            {}};
   }
   const bb::Scenario scenario = bb::load_scenario(input);
   for (const bb::Variant& v : scenario.variants) (void)blend_checked(bb::program_for(scenario, v));
-  return "scenario '" + scenario.name + "', " + std::to_string(scenario.program.moves.size()) + " moves, " +
-         std::to_string(scenario.variants.size()) + " variants blended";
+  return {"scenario '" + scenario.name + "', " + std::to_string(scenario.program.moves.size()) + " moves, " +
+              std::to_string(scenario.variants.size()) + " variants blended" +
+              (scenario.warnings.empty() ? "" : ", " + std::to_string(scenario.warnings.size()) + " warning(s)"),
+          scenario.warnings};
 }
 
 // `validate FILE...`: one line per file, "FILE: ok (...)" or the refusal; exit 2 if any is bad.
@@ -357,8 +374,10 @@ int cmd_validate(const std::vector<std::string>& files, bool schema) {
   bool all_ok = true;
   for (const std::string& file : files) {
     try {
-      const std::string checked = validate_input(file);
-      std::cout << file << ": ok (" << checked << ")" << std::endl;
+      const Validated checked = validate_input(file);
+      std::cout << file << ": ok (" << checked.checked << ")" << std::endl;
+      // valid but suspicious: warned, still ok (exit 0)
+      for (const bb::LoadWarning& w : checked.warnings) std::cout << "  warning: " << bb::to_string(w) << std::endl;
     } catch (const bb::InputError& e) {
       // the error names its file, except for a refusal that came from no file
       std::cout << (e.file().empty() ? bb::printable(file) + ": " : std::string()) << e.what() << std::endl;
@@ -420,6 +439,7 @@ int main(int argc, char** argv) {
   bb::install_stop_handlers();
   CLI::App app{"BlendBench: a testbench for blended robot trajectories"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("blendbench ") + bb::version_string(), "Print the version (and the git commit it was built from) and exit");
 
   std::string scenario_path;  // empty: scenarios/default.yaml in the data root
   std::string out_dir;

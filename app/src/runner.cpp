@@ -13,6 +13,7 @@
 #include "blendbench/core/format.hpp"
 #include "blendbench/core/interrupt.hpp"
 #include "blendbench/corner/blend.hpp"
+#include "blendbench/app/version.hpp"
 #include "blendbench/io/urdf_chain.hpp"
 #include "blendbench/io/urdf_model.hpp"
 #include "blendbench/report/csv.hpp"
@@ -624,8 +625,10 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
 
   RunResult result;
   RunSummary& summary = result.summary;
+  summary.version = version_string();
   summary.scenario = scenario.name;
   summary.file = scenario.file;
+  summary.warnings = scenario.warnings;
   summary.description = scenario.description;
   summary.robot.model = arm_model;
   summary.robot.mjcf = mjcf;

@@ -1,4 +1,5 @@
 #include "blendbench/app/sweep_results.hpp"
+#include "blendbench/app/version.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -350,7 +351,8 @@ nlohmann::json sweep_json(const SweepPlan& plan, const SweepTable& table) {
                        {"ok", m.ok},
                        {"meeting_constraints", m.meeting}});
   }
-  return {{"sweep", spec.file},
+  return {{"version", version_string()},
+          {"sweep", spec.file},
           {"scenario", spec.scenario},
           {"description", spec.description},
           {"variants", spec.variants},

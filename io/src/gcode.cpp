@@ -469,6 +469,10 @@ class Reader final : private SystemParams {
     if (const Word* f = lw.get('F')) {
       if (!(f->value > 0)) fail(line, f->column, f->text, "the feed rate F must be positive");
       feed_ = f->value * scale() / 60.0;
+      if (result_.first_feed_where.line == 0) {
+        result_.first_feed_where = {file_, line, f->column};
+        result_.first_feed = feed_;
+      }
     }
     if (const Word* t = lw.get('T')) tool_selected_ = integer_of(*t, line, "the tool number T");
     const auto tl = lw.g_in(GGroup::kToolLength);

@@ -17,6 +17,7 @@
 #include "blendbench/io/data_root.hpp"
 #include "blendbench/io/program_io.hpp"
 #include "blendbench/robot/kinematics.hpp"
+#include "blendbench/io/plausibility.hpp"
 #include "scenario_reader.hpp"
 
 namespace blendbench {
@@ -219,6 +220,7 @@ void read_gcode_program(const Reader& r, const Field& gcode, const Field& angles
   // the tool's start orientation in the program frame: the reader checks a zero-length move against it
   options.start_orientation = Quat(sc.frame.linear().transpose() * sc.program.start_orientation.toRotationMatrix()).normalized();
   const GcodeResult parsed = load_gcode_file(r.existing_file(gcode), options);
+  if (auto warning = gcode_feed_warning(parsed, defaults.limits.velocity)) sc.warnings.push_back(std::move(*warning));
   sc.start = sc.frame * parsed.start;
   sc.ignored = parsed.ignored;
   sc.program.moves.reserve(parsed.program.moves.size());
@@ -544,7 +546,8 @@ Scenario parse_scenario(const std::string& text, const std::string& file, const 
   sc.name = r.text(name);
   if (const std::string problem = folder_name_problem(sc.name); !problem.empty()) r.fail(name, "scenario " + problem);
   sc.description = r.text(r.value(root, "description"));
-  const double scale = r.choice(r.value(root, "units")) == "m" ? 1.0 : 1e-3;
+  const bool units_metres = r.choice(r.value(root, "units")) == "m";
+  const double scale = units_metres ? 1.0 : 1e-3;
   r.set_scale(scale);
   if (const Field frame = r.child(root, "frame"); frame.node.defined()) {
     r.check_keys(frame);
@@ -560,6 +563,12 @@ Scenario parse_scenario(const std::string& text, const std::string& file, const 
   read_variants(r, root, sc);
   // the planner's own checks (joins, limits) on the first variant's program
   validate(program_for(sc, sc.variants.front()));
+  // plausibility: valid, but looks like a mistake (warnings, not errors)
+  const Field units = r.child(root, "units");
+  if (auto warning = unit_warning(sc.program, units_metres, r.where(units.node.defined() ? units : root))) {
+    sc.warnings.insert(sc.warnings.begin(), std::move(*warning));
+  }
+  if (auto warning = feed_speed_warning(sc)) sc.warnings.push_back(std::move(*warning));
   return sc;
 }
 

@@ -124,7 +124,9 @@ struct RobotInfo {
 };
 
 struct RunSummary {
+  std::string version;  // version_string() of the program that ran (version.hpp)
   std::string scenario, file, description;
+  std::vector<LoadWarning> warnings;  // the scenario's plausibility warnings (scenario.hpp)
   RobotInfo robot;
   ServoController controller = ServoController::kCascade;
   ServoConfig servo;  // as tuned at the start pose
