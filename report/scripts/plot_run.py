@@ -17,7 +17,7 @@ reference passes each corner). Writes per variant
   vibration.png        the high-passed tracking error with the residual-vibration windows
   joints.png           joint angles and velocities
 and in RUN_DIR compare_speed.png, compare_path.png, compare_metrics.png and report.html (the
-comparison table and every figure, images beside it: it opens from disk). Every file is written
+comparison table and every figure; report_page.py then makes it one self-contained page). Every file is written
 to a temporary file and renamed, so a failed run never leaves a half-written picture.
 """
 
@@ -32,6 +32,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 from plotio import read_csv, save_png, write_text  # noqa: E402
+import report_page  # noqa: E402
 
 DPI = 100
 CORNER_SHADE = dict(color="0.85", alpha=0.6, lw=0)
@@ -467,6 +468,8 @@ def main(argv):
             plot_variant(v, frame, summary)
         plot_comparison(run_dir, variants, frame)
     report_html(run_dir, summary, variants)
+    # one self-contained page: figures and scripts inlined, interactive views (report_page.py)
+    report_page.finish(run_dir, summary, variants)
     return 0
 
 
