@@ -27,6 +27,7 @@
 #include "blendbench/app/runner.hpp"
 #include "blendbench/app/smoothing_flags.hpp"
 #include "blendbench/app/sweep.hpp"
+#include "blendbench/app/unit_text.hpp"
 #include "blendbench/app/version.hpp"
 #include "blendbench/io/scenario.hpp"
 #include "blendbench/io/scenario_keys.hpp"
@@ -138,10 +139,12 @@ int cmd_run(std::string scenario_path, std::string out_dir, bool no_video, bool 
       continue;
     }
     const bb::Metrics& m = *v.metrics;
-    std::cout << "cycle " << (m.cycle_time ? bb::format_value(*m.cycle_time, 4) + " s" : "not settled") << ", tracking max "
-              << bb::format_value(m.tracking_error_max * 1e3, 3) << " mm, contour (planned path) max "
-              << bb::format_value(m.contour_error_planned_max * 1e3, 3) << " mm, residual vibration "
-              << bb::format_value(m.vibration_final.peak_to_peak * 1e6, 3) << " um";
+    // fixed decimals (a column of variants lines up) and the servo's errors in micrometres (docs/units.md)
+    const char* um = bb::micrometre_text();
+    std::cout << "cycle " << (m.cycle_time ? bb::format_fixed(*m.cycle_time, 3) + " s" : "not settled") << ", tracking max "
+              << bb::format_fixed(m.tracking_error_max * 1e6, 1) << " " << um << ", contour (planned path) max "
+              << bb::format_fixed(m.contour_error_planned_max * 1e6, 1) << " " << um << ", residual vibration "
+              << bb::format_fixed(m.vibration_final.peak_to_peak * 1e6, 1) << " " << um;
     if (v.status != bb::VariantStatus::kOk) std::cout << " [" << bb::to_string(v.status) << ": " << v.message << "]";
     std::cout << std::endl;
   }

@@ -28,7 +28,7 @@ import os
 import re
 
 import numpy as np
-from plotio import write_text
+from plotio import variant_styles, write_text
 
 SCRIPTS = {
     "chart": "/usr/share/javascript/chart.js/chart.min.js",
@@ -39,35 +39,6 @@ SCRIPTS = {
 # many buckets, so peaks survive); the 3D paths at most PATH_POINTS.
 SERIES_POINTS = 1200
 PATH_POINTS = 3000
-
-# One colour per method, the same in every plot of the page (matplotlib's tab10, which the
-# figures use); the exact stop grey. Variants of one method at several tolerances share its
-# colour and are told apart by their dash.
-METHOD_COLOURS = {
-    "none": "#555555",
-    "arc": "#1f77b4",
-    "bezier": "#2ca02c",
-    "clothoid": "#ff7f0e",
-    "biclothoid": "#d62728",
-}
-OTHER_COLOURS = ["#9467bd", "#8c564b", "#e377c2", "#17becf", "#bcbd22"]
-DASHES = [[], [6, 3], [2, 2], [8, 2, 2, 2]]
-
-
-def method_colours(entries):
-    """{variant name: (colour, dash)} for the summary's variants, in their order."""
-    seen = {}
-    out = {}
-    extra = iter(OTHER_COLOURS * 10)
-    for e in entries:
-        method = e.get("method", "")
-        if method not in METHOD_COLOURS and method not in seen:
-            METHOD_COLOURS[method] = next(extra)
-        count = seen.get(method, 0)
-        seen[method] = count + 1
-        out[e["name"]] = (METHOD_COLOURS[method], DASHES[count % len(DASHES)])
-    return out
-
 
 def decimate(t, y, points=SERIES_POINTS):
     """Indices of at most `points` samples of y(t) that keep each bucket's min and max (sorted)."""
@@ -114,7 +85,7 @@ def path_points(x, y, z, points=PATH_POINTS):
 def explore_data(summary, variants):
     """What the interactive views draw: per variant its time series (s; mm/s, µm) and paths (mm,
     robot base frame), the corners (C<index>, point, extent) and the colours."""
-    colours = method_colours(summary["variants"])
+    colours = variant_styles(summary["variants"])
     out = {"variants": [], "program": None}
     for v in variants:
         colour, dash = colours[v.name]

@@ -465,7 +465,9 @@ TEST_F(Cli, RunWritesSummaryTracesPlotsReportAndAPlayableVideo) {
     }
     EXPECT_TRUE(v["comparison"]["cycle_time_saved_percent"].is_number()) << name;
     EXPECT_EQ(v["health"]["saturated"], false) << name;
-    EXPECT_NE(html.str().find("src='" + name + "/vibration.png'"), std::string::npos) << name;
+    // the page is self-contained (figures inlined) and links each variant's video beside it
+    EXPECT_NE(html.str().find("href='" + name + "/video.mp4'"), std::string::npos) << name;
+    EXPECT_EQ(html.str().find("src='" + name + "/vibration.png'"), std::string::npos) << name;
     const fs::path vdir = out / name;
     for (const char* file : {"trace.csv", "path.csv", "program.csv", "corners.json", "path.png", "corners.png", "speed.png",
                              "acceleration.png", "curvature.png", "tracking_error.png", "following_error.png",
