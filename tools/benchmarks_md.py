@@ -4,15 +4,15 @@
 usage:
   /usr/bin/python3 tools/benchmarks_md.py --run BUILD_DIR [--min-time S] [--out docs/benchmarks.md]
       runs every bench/bench_* of BUILD_DIR with --benchmark_format=json (one after the other),
-      keeps their JSON beside --out's file in a temporary folder and writes the page;
+      keeps their JSON in a temporary folder (or --keep DIR) and writes the page;
   /usr/bin/python3 tools/benchmarks_md.py FILE.json... [--out docs/benchmarks.md]
       writes the page from JSON files already made (`bench_x --benchmark_out=x.json
       --benchmark_out_format=json`).
 
 The page states the machine and the date once (from the JSON's context: host, CPUs, MHz,
 caches, load average when the run started, library build type; the CPU model from
-/proc/cpuinfo when --run), then one table per benchmark program: each benchmark's wall and CPU
-time per iteration in a unit chosen per table (ns, µs, ms or s, so one column reads in one unit
+/proc/cpuinfo when --run), then per benchmark program one table per family of benchmarks (the name before
+its first '/'): each benchmark's wall and CPU time per iteration in a unit chosen per table (ns, µs, ms or s, so one column reads in one unit
 with one count of decimals), its iterations, and its user counters (items_per_second etc.).
 With repetitions, the median is shown and the coefficient of variation (stddev / mean) added.
 The history of the figures is git's, not this page's.
@@ -103,19 +103,16 @@ def rows_of(benchmarks):
     return rows
 
 
-def table(program, data):
-    rows = rows_of(data.get("benchmarks", []))
-    out = [f"## {program}", ""]
-    if not rows:
-        return out + ["(no benchmark ran)", ""]
+def family_table(rows):
+    """One Markdown table of rows of one family: one time unit and one count of decimals for its
+    time columns, its own counter columns."""
     timed = [r for r in rows if r[1] is not None]
     unit, scale = unit_for([r[1] for r in timed] + [r[2] for r in timed])
     digits = decimals_for([r[1] / scale for r in timed] + [r[2] / scale for r in timed])
     counters = sorted({k for r in rows for k in r[4]})
     with_cv = any(r[5] is not None for r in rows)
     head = ["benchmark", f"wall [{unit}]", f"CPU [{unit}]", "iterations"] + (["CV"] if with_cv else []) + counters
-    out.append("| " + " | ".join(head) + " |")
-    out.append("|" + "|".join(["---"] + ["---:"] * (len(head) - 1)) + "|")
+    out = ["| " + " | ".join(head) + " |", "|" + "|".join(["---"] + ["---:"] * (len(head) - 1)) + "|"]
     for name, real, cpu, iterations, ctr, cv in rows:
         cells = [f"`{name}`",
                  "—" if real is None else f"{real / scale:.{digits}f}",
@@ -125,7 +122,24 @@ def table(program, data):
             cells.append("—" if cv is None else f"{100 * cv:.1f} %")
         cells += [counter_text(ctr[k]) if k in ctr else "" for k in counters]
         out.append("| " + " | ".join(cells) + " |")
-    return out + [""]
+    return out
+
+
+def table(program, data):
+    """A program's section: one table per benchmark family (the name before its first '/'), so
+    the figures of a table are of one magnitude and share a unit."""
+    rows = rows_of(data.get("benchmarks", []))
+    out = [f"## {program}", ""]
+    if not rows:
+        return out + ["(no benchmark ran)", ""]
+    families = {}
+    for r in rows:
+        families.setdefault(r[0].split("/", 1)[0], []).append(r)
+    for family, members in families.items():
+        if len(families) > 1:
+            out += [f"### {family}", ""]
+        out += family_table(members) + [""]
+    return out
 
 
 def page(results, model):
@@ -178,13 +192,16 @@ def main(argv):
     parser.add_argument("json", nargs="*", help="Google Benchmark JSON files")
     parser.add_argument("--run", metavar="BUILD_DIR", help="run every bench/bench_* of BUILD_DIR first")
     parser.add_argument("--min-time", type=float, default=0, help="--benchmark_min_time for --run (s)")
+    parser.add_argument("--keep", metavar="DIR", help="with --run: keep the programs' JSON files in DIR")
     parser.add_argument("--out", default="docs/benchmarks.md")
     args = parser.parse_args(argv[1:])
     if bool(args.run) == bool(args.json):
         parser.error("give --run BUILD_DIR or JSON files, not both")
     with tempfile.TemporaryDirectory(prefix="benchmarks_md-") as work:
         if args.run:
-            results = run_benchmarks(args.run, args.min_time, work)
+            if args.keep:
+                os.makedirs(args.keep, exist_ok=True)
+            results = run_benchmarks(args.run, args.min_time, args.keep or work)
         else:
             results = []
             for path in args.json:
