@@ -135,11 +135,29 @@ def table(program, data):
     families = {}
     for r in rows:
         families.setdefault(r[0].split("/", 1)[0], []).append(r)
+    # families of one benchmark each share a table while their times stay within a factor
+    # MAX_SPREAD of each other (one unit still reads well)
+    groups = []
     for family, members in families.items():
-        if len(families) > 1:
-            out += [f"### {family}", ""]
+        last = groups[-1] if groups else None
+        if len(members) == 1 and last and last[1] and spread(last[2] + members) <= MAX_SPREAD:
+            last[2].extend(members)
+            last[0].append(family)
+        else:
+            groups.append(([family], len(members) == 1, list(members)))
+    for names, _, members in groups:
+        if len(groups) > 1:
+            out += ["### " + (names[0] if len(names) == 1 else f"{names[0]} … {names[-1]}"), ""]
         out += family_table(members) + [""]
     return out
+
+
+MAX_SPREAD = 1000
+
+
+def spread(rows):
+    times = [r[1] for r in rows if r[1]]
+    return max(times) / min(times) if times else 1.0
 
 
 def page(results, model):
