@@ -289,6 +289,25 @@ def number(v, key):
     return value if isinstance(value, (int, float)) else np.nan
 
 
+def widest_corner(variants):
+    """(index, point_mm, half width mm) of the corner whose deviation differs most between the
+    variants, for a zoomed view; None without corners."""
+    spread = {}
+    for v in variants:
+        for c in v.corners:
+            if "point_mm" not in c:
+                continue
+            lo, hi, point, reach = spread.get(c["index"], (np.inf, -np.inf, c["point_mm"], 0.0))
+            d = float(c.get("deviation_mm") or 0)
+            reach = max(reach, float(c.get("trim_in_mm") or 0), float(c.get("trim_out_mm") or 0))
+            spread[c["index"]] = (min(lo, d), max(hi, d), point, reach)
+    if not spread:
+        return None
+    index = max(spread, key=lambda k: spread[k][1] - spread[k][0])
+    _, _, point, reach = spread[index]
+    return index, point, max(CORNER_MIN_HALF_MM, 1.1 * reach)
+
+
 def plot_comparison(run_dir, variants, frame):
     # over time (who finishes first) and along the path (where each variant slows down)
     styles = variant_styles([v.entry for v in variants])
@@ -306,15 +325,29 @@ def plot_comparison(run_dir, variants, frame):
     ax_t.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
     save_png(fig, os.path.join(run_dir, "compare_speed.png"), DPI, tight=True)
 
+    # the whole path, and beside it the corner where the variants differ most (at full scale
+    # every transition sits on one line)
     origin, e1, e2 = frame
-    fig, ax = plt.subplots(figsize=(7, 6))
-    ax.plot(*project(xyz(variants[0].program, ""), origin, e1, e2), color="0.6", lw=3, label="programmed")
-    for v in variants:
-        colour, dash = styles[v.name]
-        ax.plot(*project(xyz(v.path, ""), origin, e1, e2), lw=1, label=v.name, color=colour, dashes=dash or (None, None))
-    ax.set_aspect("equal", adjustable="datalim")
-    finish(ax, "Planned path by variant", "in-plane axis 1 [mm]", "in-plane axis 2 [mm]")
-    save_png(fig, os.path.join(run_dir, "compare_path.png"), DPI)
+    zoom = widest_corner(variants)
+    fig, axes = plt.subplots(1, 2 if zoom else 1, figsize=(13 if zoom else 7, 6), squeeze=False)
+    for ax in axes[0]:
+        ax.plot(*project(xyz(variants[0].program, ""), origin, e1, e2), color="0.6", lw=3, label="programmed")
+        for v in variants:
+            colour, dash = styles[v.name]
+            ax.plot(*project(xyz(v.path, ""), origin, e1, e2), lw=1.2, label=v.name, color=colour,
+                    dashes=dash or (None, None))
+        ax.set_aspect("equal", adjustable="datalim")
+    finish(axes[0][0], "Planned path by variant", "in-plane axis 1 [mm]", "in-plane axis 2 [mm]")
+    if zoom:
+        index, point, half = zoom
+        u, w = project(np.array(point), origin, e1, e2)
+        ax = axes[0][1]
+        ax.set_xlim(u - half, u + half)
+        ax.set_ylim(w - half, w + half)
+        finish(ax, f"Corner C{index}, where the variants differ most", "in-plane axis 1 [mm]", "in-plane axis 2 [mm]",
+               legend=False)
+        axes[0][0].add_patch(plt.Rectangle((u - half, w - half), 2 * half, 2 * half, fill=False, color="0.3", lw=0.8))
+    save_png(fig, os.path.join(run_dir, "compare_path.png"), DPI, tight=True)
 
     keys = [("cycle_time_s", "cycle time [s]", 1), ("tracking_error_max_mm", "max tracking error [µm]", 1e3),
             ("contour_error_planned_max_mm", "max contour error vs plan [µm]", 1e3),
