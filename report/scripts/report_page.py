@@ -329,7 +329,7 @@ EXPLORE_JS = r"""
     const camera = new THREE.PerspectiveCamera(40, width / height, 0.01, 1e6);
     const controls = new THREE.OrbitControls(camera, renderer.domElement);
     camera.up.set(0, 0, 1);
-    function line(xyz, colour, transform) {
+    function line(xyz, colour, transform, opacity) {
       const n = xyz[0].length, pos = new Float32Array(3 * n);
       for (let i = 0; i < n; ++i) {
         const p = transform ? transform(i) : [xyz[0][i], xyz[1][i], xyz[2][i]];
@@ -337,7 +337,8 @@ EXPLORE_JS = r"""
       }
       const g = new THREE.BufferGeometry();
       g.setAttribute('position', new THREE.BufferAttribute(pos, 3));
-      return new THREE.Line(g, new THREE.LineBasicMaterial({color: colour}));
+      const op = opacity === undefined ? 1 : opacity;
+      return new THREE.Line(g, new THREE.LineBasicMaterial({color: colour, transparent: op < 1, opacity: op}));
     }
     // the programmed path thick: a tube along it (WebGL draws lines one pixel wide)
     const prog = data.program;
@@ -365,7 +366,7 @@ EXPLORE_JS = r"""
       variantGroup.add(line(v.planned, new THREE.Color(v.colour)));
       variantGroup.add(line(v.actual, 0x222222, function (i) {
         return [0, 1, 2].map(function (a) { return v.commanded[a][i] + k * (v.actual[a][i] - v.commanded[a][i]); });
-      }));
+      }, 0.55));
       scene.add(variantGroup);
       const bar = document.getElementById('v3-corners');
       bar.textContent = '';
@@ -390,14 +391,16 @@ EXPLORE_JS = r"""
     controls.addEventListener('change', render);
     select.addEventListener('change', showVariant);
     scaleSel.addEventListener('change', showVariant);
-    document.getElementById('v3-all').addEventListener('click', function () { look(centre, 1.6 * size); });
+    document.getElementById('v3-all').addEventListener('click', function () { look(centre, 1.25 * size); });
     camera.position.set(centre.x + size, centre.y - 1.5 * size, centre.z + size);
     showVariant();
-    look(centre, 1.6 * size);
+    look(centre, 1.25 * size);
   }
 
-  // drew something: pixels that are neither background nor grey (the data's colours)
-  function colouredPixels(canvas) {
+  // drew something: pixels that are neither background nor grey (the data's colours; a plot's
+  // axes and labels are grey and drawn even without data), or with anyInk every pixel that is
+  // not the white background (the 3D view clears to white and draws nothing else)
+  function colouredPixels(canvas, anyInk) {
     const copy = document.createElement('canvas');
     copy.width = canvas.width; copy.height = canvas.height;
     const ctx = copy.getContext('2d');
@@ -406,7 +409,7 @@ EXPLORE_JS = r"""
     let n = 0;
     for (let i = 0; i < px.length; i += 4) {
       const r = px[i], g = px[i + 1], b = px[i + 2], a = px[i + 3];
-      if (a > 0 && !(r > 245 && g > 245 && b > 245) && (Math.max(r, g, b) - Math.min(r, g, b) > 40 || (r < 90 && g < 90 && b < 90))) ++n;
+      if (a > 0 && !(r > 245 && g > 245 && b > 245) && (anyInk || Math.max(r, g, b) - Math.min(r, g, b) > 40 || (r < 90 && g < 90 && b < 90))) ++n;
     }
     return n;
   }
@@ -417,7 +420,7 @@ EXPLORE_JS = r"""
     const plots = charts.map(function (c) { return colouredPixels(c.canvas); });
     plots.forEach(function (n, i) { if (n < 50) problems.push('plot ' + charts[i].canvas.id + ' drew nothing (' + n + ' pixels)'); });
     let view = 0;
-    if (renderer) { view = colouredPixels(renderer.domElement); if (!drawn3d || view < 50) problems.push('3D view drew nothing (' + view + ' pixels)'); }
+    if (renderer) { view = colouredPixels(renderer.domElement, true); if (!drawn3d || view < 50) problems.push('3D view drew nothing (' + view + ' pixels)'); }
     else problems.push('3D view not created');
     out.dataset.status = problems.length ? 'fail' : 'ok';
     out.textContent = 'self-check: ' + (problems.length ? 'FAIL: ' + problems.join('; ')
