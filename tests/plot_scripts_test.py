@@ -6,11 +6,13 @@ usage: plot_scripts_test.py BLENDBENCH SOURCE_DIR OUT_DIR
 Runs `blendbench run tests/data/tiny.yaml --no-video --no-plots`, then report/scripts/plot_run.py
 on the run folder, and report/scripts/corner_figures.py on `blendbench path` outputs of the same
 scenario's variants; checks every image the scripts promise is a PNG of a sensible size with
-real content (many colours, not one flat field), that report.html refers to images that exist,
+real content (many colours, not one flat field), that report.html has every image inlined (each a PNG with content), a table of contents and the
+interactive views,
 that corner_figures.py wrote its Markdown section, and that a run at a tolerance no corner
 reaches says so at the top of its report.html. Exit status 0 when all hold.
 """
 
+import base64
 import os
 import re
 import shutil
@@ -83,9 +85,18 @@ def main(argv):
         images = re.findall(r"<img src='([^']+)'", page)
         if len(images) < 2 * len(VARIANT_PNGS) + len(RUN_PNGS):
             failures.append(f"{report}: only {len(images)} images")
-        for src in images:
-            if not os.path.isfile(os.path.join(run_dir, src)):
-                failures.append(f"{report}: image {src} does not exist beside it")
+        # every figure inlined (the page works copied alone) and still a figure with content
+        for k, src in enumerate(images):
+            prefix = "data:image/png;base64,"
+            if not src.startswith(prefix):
+                failures.append(f"{report}: image {src[:60]} is not inlined")
+                continue
+            inlined = os.path.join(out, f"inlined_{k}.png")
+            with open(inlined, "wb") as f:
+                f.write(base64.b64decode(src[len(prefix):]))
+            check_png(inlined)
+        if "id='explore-data'" not in page or "<nav class='toc'>" not in page:
+            failures.append(f"{report}: no interactive views or no table of contents")
 
     # a tolerance no corner reaches (100 mm on 60 mm lines): the run goes on, and report.html says
     # so at the top (equal tolerance, docs/methods.md); the plain run above says nothing of it
@@ -99,12 +110,12 @@ def main(argv):
         failures.append(f"{far_report}: missing")
     else:
         page = open(far_report).read()
-        top = page[:page.find("<h2>")]
+        top = page[:page.find("<h2")]
         if "arc: the tolerance 100 mm is reached at no corner" not in top:
             failures.append(f"{far_report}: no note at the top that the tolerance is reached at no corner")
         # above the answer (the recommendation, issue 44), which comes before the comparison
         answer = page.find("Recommended: ")
-        if answer < 0 or not page.find("reached at no corner") < answer < page.find("<h2>Comparison</h2>"):
+        if answer < 0 or not page.find("reached at no corner") < answer < page.find("Comparison</h2>"):
             failures.append(f"{far_report}: the recommendation is not first after the tolerance note")
 
     # corner_figures.py on the variants' planned paths and corner reports

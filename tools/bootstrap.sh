@@ -6,6 +6,9 @@
 #   bash tools/bootstrap.sh run [extra arguments for `blendbench run`]
 #   bash tools/bootstrap.sh test
 #
+# "run" builds only the program and the libraries it links (no test suite, no benchmarks), so the
+# first run on a fresh machine waits for what it needs; "test" builds everything.
+#
 # "test" runs, in order: the GCC Release build (build/) and its suite; a clang build of the whole
 # project with assertions on, AddressSanitizer and UndefinedBehaviorSanitizer (build-clang/,
 # Debug at -O1) and the same suite there; then each libFuzzer harness for
@@ -25,13 +28,15 @@ cd "$root"
 packages=(
   build-essential cmake ninja-build pkg-config ccache
   libeigen3-dev libmujoco-dev libosmesa6-dev liburdfdom-dev libyaml-dev libyaml-cpp-dev
-  libcli11-dev nlohmann-json3-dev googletest libgtest-dev libbenchmark-dev
+  libcli11-dev nlohmann-json3-dev
   ffmpeg python3 python3-matplotlib python3-numpy python3-pil python3-yaml
+  libjs-chart.js libjs-three
 )
-# the test suite also brings up a one-machine Slurm for the sweep's job-array test, and the
+# the test suite and benchmarks need GoogleTest and Google Benchmark; the suite also brings up a
+# one-machine Slurm for the sweep's job-array test, opens a report in headless Chromium, and the
 # sanitizer and fuzzing build needs clang with its sanitizer run-times
 if [ "$mode" = test ]; then
-  packages+=(slurm-wlm munge clang libclang-rt-14-dev)
+  packages+=(googletest libgtest-dev libbenchmark-dev slurm-wlm munge clang libclang-rt-14-dev chromium)
 fi
 missing=()
 for p in "${packages[@]}"; do
@@ -75,26 +80,32 @@ step() {
   step_times+=("$name $((SECONDS - start)) s (CPU $((cpu_seconds - before)) s)")
 }
 
-# configure (once) and build: build_in DIR CMAKE_ARGUMENTS... Compiles go through ccache with
+# configure (once) and build: build_in DIR CMAKE_ARGUMENTS... [-- TARGETS...] Compiles go through ccache with
 # paths relative to the checkout, so a second build of the same sources (a re-run, another clone
 # on the same machine) reuses the objects; on a fresh machine it costs what a plain build does.
 export CCACHE_BASEDIR="$root"
 build_in() {
-  local dir=$1
+  local dir=$1 configure=() targets=()
   shift
-  cmake -S . -B "$dir" -G Ninja -DCMAKE_CXX_COMPILER_LAUNCHER=ccache "$@"
-  cmake --build "$dir" -j "$jobs"
+  while [ $# -gt 0 ] && [ "$1" != -- ]; do configure+=("$1"); shift; done
+  [ $# -gt 0 ] && shift
+  targets=("$@")
+  cmake -S . -B "$dir" -G Ninja -DCMAKE_CXX_COMPILER_LAUNCHER=ccache "${configure[@]}"
+  cmake --build "$dir" -j "$jobs" ${targets[@]+--target "${targets[@]}"}
 }
 
-step "gcc build" build_in build -DCMAKE_BUILD_TYPE=Release
-
 if [ "$mode" = run ]; then
+  # the program alone: its libraries, no tests or benchmarks (a later "test" turns them back on)
+  step "gcc build" build_in build -DCMAKE_BUILD_TYPE=Release -DBLENDBENCH_TESTS=OFF -DBLENDBENCH_BENCH=OFF -- blendbench
+  echo "bootstrap: built in ${step_times[0]#gcc build }"
   exec build/blendbench run "$@"
 fi
 
+step "gcc build" build_in build -DCMAKE_BUILD_TYPE=Release -DBLENDBENCH_TESTS=ON -DBLENDBENCH_BENCH=ON
+
 step "gcc ctest" ctest --test-dir build --output-on-failure -j "$jobs" "$@"
 # clang, assertions on, ASan + UBSan, libFuzzer's coverage (cmake/BlendbenchSanitize.cmake)
-step "clang build" build_in build-clang -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Debug -DBLENDBENCH_FUZZ=ON
+step "clang build" build_in build-clang -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=Debug -DBLENDBENCH_FUZZ=ON -DBLENDBENCH_TESTS=ON -DBLENDBENCH_BENCH=ON
 step "clang ctest" ctest --test-dir build-clang --output-on-failure -j "$jobs" "$@"
 step "fuzzing" bash tests/fuzz/run_fuzzers.sh build-clang "${BLENDBENCH_FUZZ_SECONDS:-60}"
 echo "bootstrap: test steps: $(IFS=';'; echo "${step_times[*]}" | sed 's/;/; /g')"

@@ -30,6 +30,8 @@
 #include "blendbench/app/runner.hpp"
 #include "blendbench/app/smoothing_flags.hpp"
 #include "blendbench/app/sweep.hpp"
+#include "blendbench/app/unit_text.hpp"
+#include "blendbench/app/version.hpp"
 #include "blendbench/io/scenario.hpp"
 #include "blendbench/io/scenario_keys.hpp"
 
@@ -42,6 +44,11 @@ constexpr int kExitCheckFailed = 1;
 constexpr int kExitBadInput = 2;
 // a stop by signal N exits 128 + N, as a shell reports a process killed by it
 constexpr int kExitSignalBase = 128;
+
+// A scenario's plausibility warnings, one line each on stderr (summary.json lists them too).
+void print_warnings(const bb::Scenario& scenario) {
+  for (const bb::LoadWarning& w : scenario.warnings) std::cerr << "blendbench: warning: " << bb::to_string(w) << std::endl;
+}
 
 const char* signal_name(int signal) { return signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : "a signal"; }
 
@@ -146,10 +153,12 @@ int finish_run(bb::RunFolder& folder, const bb::RunResult& result, const std::st
       continue;
     }
     const bb::Metrics& m = *v.metrics;
-    std::cout << "cycle " << (m.cycle_time ? bb::format_value(*m.cycle_time, 4) + " s" : "not settled") << ", tracking max "
-              << bb::format_value(m.tracking_error_max * 1e3, 3) << " mm, contour (planned path) max "
-              << bb::format_value(m.contour_error_planned_max * 1e3, 3) << " mm, residual vibration "
-              << bb::format_value(m.vibration_final.peak_to_peak * 1e6, 3) << " um";
+    // fixed decimals (a column of variants lines up) and the servo's errors in micrometres (docs/units.md)
+    const char* um = bb::micrometre_text();
+    std::cout << "cycle " << (m.cycle_time ? bb::format_fixed(*m.cycle_time, 3) + " s" : "not settled") << ", tracking max "
+              << bb::format_fixed(m.tracking_error_max * 1e6, 1) << " " << um << ", contour (planned path) max "
+              << bb::format_fixed(m.contour_error_planned_max * 1e6, 1) << " " << um << ", residual vibration "
+              << bb::format_fixed(m.vibration_final.peak_to_peak * 1e6, 1) << " " << um;
     if (v.status != bb::VariantStatus::kOk) std::cout << " [" << bb::to_string(v.status) << ": " << v.message << "]";
     std::cout << std::endl;
   }
@@ -178,6 +187,7 @@ int cmd_run(std::string scenario_path, std::string out_dir, bool no_video, bool 
   if (scenario_path.empty()) scenario_path = bb::data_file("scenarios/default.yaml");
   const bool gcode = bb::is_gcode_file(scenario_path);
   const bb::Scenario scenario = load_input(scenario_path);
+  print_warnings(scenario);
   const bb::RunInputs inputs = bb::resolve_run(scenario, selection);
   if (out_dir.empty()) out_dir = "results/runs/" + scenario.name;
   // the run goes to a staging folder beside --out, locked, and replaces it as a whole at the end
@@ -235,6 +245,7 @@ int cmd_compare(const CompareFlags& flags, const TimingFlags& timing_flags) {
   if (!flags.robot.empty()) robot = bb::named_robot(flags.robot, "--robot");
 
   bb::Scenario scenario = load_input(flags.input, robot);
+  print_warnings(scenario);
   if (limits) scenario.limits = *limits;
   if (limits == bb::LimitsMode::kPath) scenario.axis_limits.reset();
   const bb::ComparePlan plan = bb::plan_compare(scenario, compare);
@@ -352,6 +363,7 @@ LoadedProgram load_program(const std::string& input, const ProgramFlags& flags) 
     out.ignored = std::move(parsed.ignored);
   } else {
     const bb::Scenario scenario = bb::load_scenario(input);
+    print_warnings(scenario);
     bb::VariantInputs v = bb::resolve_variant(
         scenario, flags.variant.empty() ? scenario.variants.front() : bb::find_variant(scenario, flags.variant));
     out.program = std::move(v.program);
@@ -426,6 +438,7 @@ int cmd_plan(const std::string& input, const ProgramFlags& flags, const TimingFl
     return kExitCheckFailed;
   }
   nlohmann::json j = bb::plan_summary_json(path, timing, loaded.program);
+  j["version"] = bb::version_string();
   j["ignored"] = loaded.ignored;
   j["planning_wall_time_s"] = wall;
   bb::throw_if_stop_requested();
@@ -441,8 +454,13 @@ int cmd_plan(const std::string& input, const ProgramFlags& flags, const TimingFl
 
 // Checks one input without running it: loaded (a scenario, or G-code with the path/plan
 // defaults), checked by the planner and blended, every variant of a scenario, so geometric
-// refusals show. Returns what was checked; throws InputError.
-std::string validate_input(const std::string& input, const std::vector<std::string>& subroutine_path) {
+// refusals show. Returns what was checked and its plausibility warnings; throws InputError.
+struct Validated {
+  std::string checked;
+  std::vector<bb::LoadWarning> warnings;
+};
+
+Validated validate_input(const std::string& input, const std::vector<std::string>& subroutine_path) {
   const auto blend_checked = [](const bb::Program& program) {
     bb::validate(program);
     return bb::blend(program).corners.size();
@@ -452,13 +470,16 @@ std::string validate_input(const std::string& input, const std::vector<std::stri
     flags.subroutine_path = subroutine_path;
     const LoadedProgram loaded = load_program(input, flags);
     const std::size_t corners = blend_checked(loaded.program);
-    return "G-code, " + std::to_string(loaded.program.moves.size()) + " moves, " + std::to_string(corners) +
-           " corners blended, " + std::to_string(loaded.ignored.size()) + " notes";
+    return {"G-code, " + std::to_string(loaded.program.moves.size()) + " moves, " + std::to_string(corners) +
+                " corners blended, " + std::to_string(loaded.ignored.size()) + " notes",
+            {}};
   }
   const bb::Scenario scenario = bb::load_scenario(input);
   for (const bb::Variant& v : scenario.variants) (void)blend_checked(bb::program_for(scenario, v));
-  return "scenario '" + scenario.name + "', " + std::to_string(scenario.program.moves.size()) + " moves, " +
-         std::to_string(scenario.variants.size()) + " variants blended";
+  return {"scenario '" + scenario.name + "', " + std::to_string(scenario.program.moves.size()) + " moves, " +
+              std::to_string(scenario.variants.size()) + " variants blended" +
+              (scenario.warnings.empty() ? "" : ", " + std::to_string(scenario.warnings.size()) + " warning(s)"),
+          scenario.warnings};
 }
 
 // `validate FILE...`: one line per file, "FILE: ok (...)" or the refusal; exit 2 if any is bad.
@@ -471,8 +492,10 @@ int cmd_validate(const std::vector<std::string>& files, bool schema, const std::
   bool all_ok = true;
   for (const std::string& file : files) {
     try {
-      const std::string checked = validate_input(file, subroutine_path);
-      std::cout << file << ": ok (" << checked << ")" << std::endl;
+      const Validated checked = validate_input(file, subroutine_path);
+      std::cout << file << ": ok (" << checked.checked << ")" << std::endl;
+      // valid but suspicious: warned, still ok (exit 0)
+      for (const bb::LoadWarning& w : checked.warnings) std::cout << "  warning: " << bb::to_string(w) << std::endl;
     } catch (const bb::InputError& e) {
       // the error names its file, except for a refusal that came from no file
       std::cout << (e.file().empty() ? bb::printable(file) + ": " : std::string()) << e.what() << std::endl;
@@ -534,6 +557,7 @@ int main(int argc, char** argv) {
   bb::install_stop_handlers();
   CLI::App app{"BlendBench: a testbench for blended robot trajectories"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("blendbench ") + bb::version_string(), "Print the version (and the git commit it was built from) and exit");
 
   std::string scenario_path;  // empty: scenarios/default.yaml in the data root
   std::string out_dir;

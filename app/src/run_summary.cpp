@@ -390,8 +390,15 @@ void to_json(nlohmann::json& out, const VariantSummary& v) {
 void to_json(nlohmann::json& out, const RunSummary& s) {
   const RobotInfo& r = s.robot;
   const SimulationSettings& sim = s.simulation;
-  out = {{"scenario", s.scenario},
+  nlohmann::json warnings = nlohmann::json::array();
+  for (const LoadWarning& w : s.warnings) {
+    warnings.push_back({{"file", w.where.file}, {"line", w.where.line}, {"column", w.where.column}, {"field", w.field},
+                        {"message", w.message}, {"text", to_string(w)}});
+  }
+  out = {{"version", s.version},
+         {"scenario", s.scenario},
          {"file", s.file},
+         {"warnings", warnings},
          {"description", s.description},
          {"frame", frame_json(s.frame)},
          {"robot",

@@ -14,6 +14,8 @@
 #include "blendbench/core/format.hpp"
 #include "blendbench/core/interrupt.hpp"
 #include "blendbench/corner/blend.hpp"
+#include "blendbench/app/unit_text.hpp"
+#include "blendbench/app/version.hpp"
 #include "blendbench/io/urdf_chain.hpp"
 #include "blendbench/io/urdf_model.hpp"
 #include "blendbench/report/csv.hpp"
@@ -419,9 +421,11 @@ class VariantRun {
       write_file_atomic(dir_ / "corners.json", corners_json(plan).dump(2) + "\n");
     }
     const std::string cycle = m.cycle_time ? format_fixed(*m.cycle_time, 3) + " s" : std::string("not settled");
-    say("cycle " + cycle + ", tracking error max " + format_fixed(m.tracking_error_max / kMm, 3) +
-        " mm, contour error (planned path) max " + format_fixed(m.contour_error_planned_max / kMm, 3) +
-        " mm, residual vibration " + format_fixed(m.vibration_final.peak_to_peak / kMm * 1e3, 1) + " um");
+    // the servo's errors in micrometres (docs/units.md)
+    const std::string um = std::string(" ") + micrometre_text();
+    say("cycle " + cycle + ", tracking error max " + format_fixed(m.tracking_error_max / kMm * 1e3, 1) + um +
+        ", contour error (planned path) max " + format_fixed(m.contour_error_planned_max / kMm * 1e3, 1) + um +
+        ", residual vibration " + format_fixed(m.vibration_final.peak_to_peak / kMm * 1e3, 1) + um);
     if (out.status != VariantStatus::kOk) say(std::string(to_string(out.status)) + ": " + out.message);
     return out;
   }
@@ -594,8 +598,10 @@ RunResult run_pipeline(const RunInputs& scenario, const RunRequest& request) {
 
   RunResult result;
   RunSummary& summary = result.summary;
+  summary.version = version_string();
   summary.scenario = scenario.name;
   summary.file = scenario.file;
+  summary.warnings = scenario.warnings;
   summary.description = scenario.description;
   summary.frame = scenario.frame;
   summary.notes = scenario.notes;

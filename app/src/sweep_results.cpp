@@ -1,4 +1,5 @@
 #include "blendbench/app/sweep_results.hpp"
+#include "blendbench/app/version.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -350,7 +351,8 @@ nlohmann::json sweep_json(const SweepPlan& plan, const SweepTable& table) {
                        {"ok", m.ok},
                        {"meeting_constraints", m.meeting}});
   }
-  return {{"sweep", spec.file},
+  return {{"version", version_string()},
+          {"sweep", spec.file},
           {"scenario", spec.scenario},
           {"description", spec.description},
           {"variants", spec.variants},
@@ -401,13 +403,47 @@ std::string best_text(const SweepPlan& plan, const SweepTable& table) {
   return out;
 }
 
+namespace {
+
+// A column of numbers for the page: each with the same decimals, enough for three significant
+// digits of its smallest non-zero magnitude (0 to 6), so 0.8710605408 over 12.5 reads 0.871 over
+// 12.500. Cells that are not numbers stay as they are.
+void fix_decimals(std::vector<std::vector<std::string>>& cells, std::size_t column) {
+  double smallest = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 1; k < cells.size(); ++k) {
+    if (column >= cells[k].size() || cells[k][column].empty()) continue;
+    char* end = nullptr;
+    const double v = std::strtod(cells[k][column].c_str(), &end);
+    if (end == cells[k][column].c_str() || *end != '\0' || !std::isfinite(v)) return;  // not a number column
+    if (v != 0) smallest = std::min(smallest, std::abs(v));
+  }
+  const int decimals = std::isfinite(smallest) ? std::clamp(2 - static_cast<int>(std::floor(std::log10(smallest))), 0, 6) : 0;
+  for (std::size_t k = 1; k < cells.size(); ++k) {
+    if (column >= cells[k].size() || cells[k][column].empty()) continue;
+    cells[k][column] = format_fixed(std::strtod(cells[k][column].c_str(), nullptr), decimals);
+  }
+}
+
+// A header that may break after each '_' (a long key does not widen the table past the page).
+std::string breakable(const std::string& key) {
+  std::string out;
+  for (const char c : html_escape(key)) {
+    out += c;
+    if (c == '_') out += "<wbr>";
+  }
+  return out;
+}
+
+}  // namespace
+
 std::string report_html(const SweepPlan& plan, const SweepTable& table, const std::string& pareto_png) {
   const SweepSpec& spec = plan.spec;
   std::string out =
       "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>sweep " + html_escape(spec.file) +
       "</title>\n<style>body{font-family:sans-serif;max-width:1100px;margin:2em auto;padding:0 1em}"
       "table{border-collapse:collapse}td,th{border:1px solid #bbb;padding:3px 8px;text-align:right}"
-      "th{background:#eee}td:first-child,td:nth-child(2){text-align:left}img{max-width:100%}</style>\n</head><body>\n";
+      "th{background:#eee;font-size:12px}td:first-child,td:nth-child(2){text-align:left}img{max-width:100%}"
+      ".wide{overflow-x:auto}</style>\n</head><body>\n";
   out += "<h1>Sweep: " + html_escape(spec.file) + "</h1>\n";
   if (!spec.description.empty()) out += "<p>" + html_escape(spec.description) + "</p>\n";
   out += "<p>Scenario " + html_escape(spec.scenario) + "; " + std::to_string(plan.points.size()) + " points, " +
@@ -424,18 +460,22 @@ std::string report_html(const SweepPlan& plan, const SweepTable& table, const st
   } else {
     out += "<img alt=\"Pareto front per method\" src=\"data:image/png;base64," + base64(pareto_png) + "\">\n";
   }
-  out += "<h2>Best setting per method under the constraints</h2>\n<table>\n";
-  const std::vector<std::vector<std::string>> cells = best_cells(plan, table);
+  out += "<h2>Best setting per method under the constraints</h2>\n<div class=\"wide\"><table>\n";
+  std::vector<std::vector<std::string>> cells = best_cells(plan, table);
+  // the metric columns (after method, variant, point and the axes) with one count of decimals each
+  for (std::size_t c = 3 + spec.axes.size(); c < cells.front().size(); ++c) fix_decimals(cells, c);
   for (std::size_t k = 0; k < cells.size(); ++k) {
     const char* tag = k == 0 ? "th" : "td";
     out += "<tr>";
-    for (const std::string& cell : cells[k]) out += std::string("<") + tag + ">" + html_escape(cell) + "</" + tag + ">";
+    for (const std::string& cell : cells[k]) {
+      out += std::string("<") + tag + ">" + (k == 0 ? breakable(cell) : html_escape(cell)) + "</" + tag + ">";
+    }
     if (k > 0 && cells[k].size() == 1) {
       out += "<td colspan=\"" + std::to_string(cells[0].size() - 1) + "\">no setting meets the constraints</td>";
     }
     out += "</tr>\n";
   }
-  out += "</table>\n<p>Every row: <code>sweep.csv</code>, <code>sweep.json</code>.</p>\n</body></html>\n";
+  out += "</table></div>\n<p>Every row: <code>sweep.csv</code>, <code>sweep.json</code>.</p>\n</body></html>\n";
   return out;
 }
 

@@ -600,6 +600,11 @@ class Reader final : private SystemParams {
       // per minute (G94) or per revolution (G95), as the mode in force reads the number.
       if (!(f->value >= 0)) fail(line, f->column, f->text, "the feed rate F must be >= 0");
       feed_value_ = f->value * scale();
+      // the first F word in units per minute, for the warning that it overrides defaults.velocity
+      if (result_.first_feed_where.line == 0 && !per_revolution_ && feed_value_ > 0) {
+        result_.first_feed_where = {cur_->name, line, f->column};
+        result_.first_feed = feed_value_ / 60.0;
+      }
     }
     if (const Word* sw = lw.get('S')) {
       if (!(sw->value >= 0)) fail(line, sw->column, sw->text, "the spindle speed S must be >= 0");

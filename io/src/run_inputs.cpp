@@ -47,6 +47,7 @@ RunInputs resolve_run(const Scenario& scenario, const RunSelection& selection) {
   out.frame = scenario.frame;
   out.start = scenario.start;
   out.ignored = scenario.ignored;
+  out.warnings = scenario.warnings;
   out.robot = scenario.robot;
   out.servo = scenario.servo;
   out.simulation = scenario.simulation;

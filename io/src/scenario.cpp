@@ -19,6 +19,7 @@
 #include "blendbench/io/program_io.hpp"
 #include "blendbench/io/run_inputs.hpp"
 #include "blendbench/robot/kinematics.hpp"
+#include "blendbench/io/plausibility.hpp"
 #include "scenario_reader.hpp"
 
 namespace blendbench {
@@ -249,7 +250,9 @@ void read_gcode_program(const Reader& r, const Field& gcode, const Field& angles
   if (subroutine_path.node.defined()) options.subroutine_path = r.existing_folders(subroutine_path);
   options.start = r.vec3(start);
   if (angles.node.defined()) options.angles = read_gcode_angles(r, angles);
-  place_gcode(load_gcode_file(r.existing_file(gcode), options), defaults.angular, sc);
+  const GcodeResult parsed = load_gcode_file(r.existing_file(gcode), options);
+  if (auto warning = gcode_feed_warning(parsed, defaults.limits.velocity)) sc.warnings.push_back(std::move(*warning));
+  place_gcode(parsed, defaults.angular, sc);
 }
 
 // A folder name made of a file's name, extension included (folder_name_problem's rule):
@@ -595,7 +598,8 @@ Scenario parse_scenario(const std::string& text, const std::string& file, const 
   sc.name = r.text(name);
   if (const std::string problem = folder_name_problem(sc.name); !problem.empty()) r.fail(name, "scenario " + problem);
   sc.description = r.text(r.value(root, "description"));
-  const double scale = r.choice(r.value(root, "units")) == "m" ? 1.0 : 1e-3;
+  const bool units_metres = r.choice(r.value(root, "units")) == "m";
+  const double scale = units_metres ? 1.0 : 1e-3;
   r.set_scale(scale);
   if (const Field frame = r.child(root, "frame"); frame.node.defined()) {
     r.check_keys(frame);
@@ -611,6 +615,12 @@ Scenario parse_scenario(const std::string& text, const std::string& file, const 
   read_variants(r, root, sc);
   // the planner's own checks (joins, limits) on the first variant's program
   validate(program_for(sc, sc.variants.front()));
+  // plausibility: valid, but looks like a mistake (warnings, not errors)
+  const Field units = r.child(root, "units");
+  if (auto warning = unit_warning(sc.program, units_metres, r.where(units.node.defined() ? units : root))) {
+    sc.warnings.insert(sc.warnings.begin(), std::move(*warning));
+  }
+  if (auto warning = feed_speed_warning(sc)) sc.warnings.push_back(std::move(*warning));
   return sc;
 }
 

@@ -19,7 +19,7 @@ reference passes each corner). Writes per variant
 and in RUN_DIR compare_speed.png, compare_path.png, compare_metrics.png and report.html (first
 the answer: the recommendation and the ranking per tolerance from the summary, ties shown as
 ties; then the corners with the program lines they come from, the comparison table and every
-figure, images beside it: it opens from disk). Paths and corners are drawn in the program's own
+figure; report_page.py then makes it one self-contained page). Paths and corners are drawn in the program's own
 coordinates (summary.json's `frame` maps the base frame back to them), and every corner is named
 as corners.json numbers it, C<index>, with its source line. Every file is written to a temporary
 file and renamed, so a failed run never leaves a half-written picture.
@@ -35,7 +35,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
-from plotio import read_csv, save_png, write_text  # noqa: E402
+from plotio import read_csv, save_png, variant_styles, write_text  # noqa: E402
+import report_page  # noqa: E402
 
 DPI = 100
 CORNER_SHADE = dict(color="0.85", alpha=0.6, lw=0)
@@ -139,12 +140,26 @@ def plot_path(v, frame):
     ax.plot(*frame.project(xyz(v.program, "")), color="0.6", lw=3, label="programmed")
     ax.plot(*frame.project(xyz(v.path, "")), color="tab:blue", lw=1.2, label="planned (blended)")
     ax.plot(*frame.project(xyz(v.trace, "act_")), color="tab:red", lw=0.8, ls="--", label="actual TCP")
-    for c in v.corners:
-        u, w = frame.project(np.array(c["point_mm"]))
-        ax.annotate(corner_name(c), (u, w), fontsize=8, xytext=(4, 4), textcoords="offset points")
+    label_corners(ax, [(corner_name(c), *frame.project(np.array(c["point_mm"]))) for c in v.corners])
     ax.set_aspect("equal", adjustable="datalim")
     finish(ax, f"Path in program coordinates — {v.title}", *frame.labels)
     save_png(fig, v.png("path.png"), DPI)
+
+
+def label_corners(ax, corners):
+    """Each corner's name beside its point (name, u, w); a label that would sit on one already
+    placed (within 4 % of the plot's extent) is stacked above it instead."""
+    if not corners:
+        return
+    us = [u for _, u, _ in corners]
+    ws = [w for _, _, w in corners]
+    near = 0.04 * max(max(us) - min(us), max(ws) - min(ws), 1e-9)
+    placed = []
+    for index, u, w in corners:
+        stack = sum(1 for pu, pw in placed if abs(pu - u) < near and abs(pw - w) < near)
+        placed.append((u, w))
+        ax.annotate(index, (u, w), fontsize=8, xytext=(4, 4 + 10 * stack), textcoords="offset points",
+                    arrowprops=dict(arrowstyle="-", color="0.6", lw=0.5) if stack else None)
 
 
 def plot_corners(v, frame):
@@ -209,7 +224,7 @@ def plot_curvature(v):
     ax.plot(v.path["s"], v.path["kappa"], color="tab:green")
     finish(ax, f"Curvature of the planned path (transitions shaded) — {v.title}", "arc length s [mm]",
            "curvature κ [1/mm]", legend=False)
-    save_png(fig, v.png("curvature.png"), DPI)
+    save_png(fig, v.png("curvature.png"), DPI, tight=True)
 
 
 def plot_errors(v):
@@ -309,12 +324,33 @@ def number(v, key):
     return value if isinstance(value, (int, float)) else np.nan
 
 
+def widest_corner(variants):
+    """(index, point_mm, half width mm) of the corner whose deviation differs most between the
+    variants, for a zoomed view; None without corners."""
+    spread = {}
+    for v in variants:
+        for c in v.corners:
+            if "point_mm" not in c:
+                continue
+            lo, hi, point, reach = spread.get(c["index"], (np.inf, -np.inf, c["point_mm"], 0.0))
+            d = float(c.get("deviation_mm") or 0)
+            reach = max(reach, float(c.get("trim_in_mm") or 0), float(c.get("trim_out_mm") or 0))
+            spread[c["index"]] = (min(lo, d), max(hi, d), point, reach)
+    if not spread:
+        return None
+    index = max(spread, key=lambda k: spread[k][1] - spread[k][0])
+    _, _, point, reach = spread[index]
+    return index, point, max(CORNER_MIN_HALF_MM, 1.1 * reach)
+
+
 def plot_comparison(run_dir, variants, frame):
     # over time (who finishes first) and along the path (where each variant slows down)
+    styles = variant_styles([v.entry for v in variants])
     fig, (ax_t, ax_s) = plt.subplots(2, 1, figsize=(10, 6.5))
     for v in variants:
-        ax_t.plot(v.t, v.trace["v_mm_s"], lw=1.2, label=v.name)
-        ax_s.plot(v.trace["s_mm"], v.trace["v_mm_s"], lw=1.2, label=v.name)
+        colour, dash = styles[v.name]
+        ax_t.plot(v.t, v.trace["v_mm_s"], lw=1.2, label=v.name, color=colour, dashes=dash or (None, None))
+        ax_s.plot(v.trace["s_mm"], v.trace["v_mm_s"], lw=1.2, label=v.name, color=colour, dashes=dash or (None, None))
     ax_t.set_xlabel("time [s]")
     ax_s.set_xlabel("arc length along the planned path [mm]")
     for ax in (ax_t, ax_s):
@@ -324,54 +360,85 @@ def plot_comparison(run_dir, variants, frame):
     ax_t.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
     save_png(fig, os.path.join(run_dir, "compare_speed.png"), DPI, tight=True)
 
-    fig, ax = plt.subplots(figsize=(7, 6))
-    ax.plot(*frame.project(xyz(variants[0].program, "")), color="0.6", lw=3, label="programmed")
-    for v in variants:
-        ax.plot(*frame.project(xyz(v.path, "")), lw=1, label=v.name)
-    for c in variants[0].corners:
-        u, w = frame.project(np.array(c["point_mm"]))
-        ax.annotate(corner_name(c), (u, w), fontsize=7, xytext=(4, 4), textcoords="offset points")
-    ax.set_aspect("equal", adjustable="datalim")
-    finish(ax, "Planned path by variant, program coordinates", *frame.labels)
-    save_png(fig, os.path.join(run_dir, "compare_path.png"), DPI)
+    # the whole path, and beside it the corner where the variants differ most (at full scale
+    # every transition sits on one line)
+    zoom = widest_corner(variants)
+    fig, axes = plt.subplots(1, 2 if zoom else 1, figsize=(13 if zoom else 7, 6), squeeze=False)
+    for ax in axes[0]:
+        ax.plot(*frame.project(xyz(variants[0].program, "")), color="0.6", lw=3, label="programmed")
+        for v in variants:
+            colour, dash = styles[v.name]
+            ax.plot(*frame.project(xyz(v.path, "")), lw=1.2, label=v.name, color=colour, dashes=dash or (None, None))
+        ax.set_aspect("equal", adjustable="datalim")
+    label_corners(axes[0][0], [(corner_name(c), *frame.project(np.array(c["point_mm"]))) for c in variants[0].corners])
+    finish(axes[0][0], "Planned path by variant, program coordinates", *frame.labels)
+    if zoom:
+        index, point, half = zoom
+        u, w = frame.project(np.array(point))
+        ax = axes[0][1]
+        ax.set_xlim(u - half, u + half)
+        ax.set_ylim(w - half, w + half)
+        finish(ax, f"Corner C{index}, where the variants differ most", *frame.labels, legend=False)
+        axes[0][0].add_patch(plt.Rectangle((u - half, w - half), 2 * half, 2 * half, fill=False, color="0.3", lw=0.8))
+    save_png(fig, os.path.join(run_dir, "compare_path.png"), DPI, tight=True)
 
-    keys = [("cycle_time_s", "cycle time [s]", 1), ("tracking_error_max_mm", "max tracking error [mm]", 1),
-            ("contour_error_planned_max_mm", "max contour error vs plan [mm]", 1),
+    keys = [("cycle_time_s", "cycle time [s]", 1), ("tracking_error_max_mm", "max tracking error [µm]", 1e3),
+            ("contour_error_planned_max_mm", "max contour error vs plan [µm]", 1e3),
             ("residual_vibration_final_mm", "residual vibration after stop [µm]", 1e3),
             ("residual_vibration_corner_max_mm", "largest corner vibration [µm]", 1e3)]
     fig, axes = plt.subplots(1, len(keys), figsize=(3.6 * len(keys), 4))
     names = [v.name for v in variants]
     for ax, (key, label, scale) in zip(axes, keys):
-        ax.bar(range(len(names)), [scale * number(v.entry, key) for v in variants], color="tab:blue")
+        values = [scale * number(v.entry, key) for v in variants]
+        ax.bar(range(len(names)), values, color=[styles[n][0] for n in names], edgecolor="black", linewidth=0.4)
         ax.set_xticks(range(len(names)))
         ax.set_xticklabels(names, rotation=35, ha="right", fontsize=8)
-        ax.set_title(label, fontsize=10)
         ax.grid(alpha=0.3, axis="y")
+        # the axis starts below the smallest bar (not at zero), so differences of a few per cent
+        # show; the title says where it starts when that is not zero
+        finite = [x for x in values if np.isfinite(x)]
+        bottom = 0.0
+        if finite and min(finite) > 0:
+            lo, hi = min(finite), max(finite)
+            bottom = max(0.0, lo - 0.25 * max(hi - lo, 0.02 * hi))
+            ax.set_ylim(bottom, hi + 0.08 * max(hi - bottom, 1e-12))
+        ax.set_title(label + (f"\n(axis from {bottom:.3g})" if bottom > 0 else ""), fontsize=10)
+        for i, x in enumerate(values):
+            if np.isfinite(x):
+                ax.annotate(f"{x:.3g}", (i, x), ha="center", va="bottom", fontsize=7, xytext=(0, 1), textcoords="offset points")
     save_png(fig, os.path.join(run_dir, "compare_metrics.png"), DPI, tight=True)
 
 
-def fmt(value, digits=3, scale=1.0):
+def fmt(value, decimals=3, scale=1.0):
+    """A number with a fixed count of decimals, so a column lines up (5.390 over 6.188)."""
     if not isinstance(value, (int, float)) or value is None:
         return "—"
-    return f"{scale * value:.{digits}g}"
+    return f"{scale * value:.{decimals}f}"
 
 
-# The comparison table: header, key of the value (part of the variant entry, name), digits,
-# scale, whether lower is better, and an optional second value shown after a slash (key, scale).
+def on_off(value):
+    """A switch as a word, not Python's True/False."""
+    return "on" if value is True else "off" if value is False else html.escape(str(value))
+
+
+# The comparison table: header, key of the value (part of the variant entry, name), decimals,
+# scale, whether lower is better, and an optional second value shown after a slash (key, scale,
+# decimals). Units as docs/units.md: lengths and deviations from the program in mm, the servo's
+# errors and vibration in µm, jerk in mm/s³.
 TABLE = [
-    ("cycle time [s]", ("metrics", "cycle_time_s"), 4, 1, True, None),
-    ("saved vs exact stop [%]", ("comparison", "cycle_time_saved_percent"), 3, 1, False, None),
-    ("planned [s]", ("plan", "planned_cycle_time_s"), 4, 1, True, None),
-    ("tracking max / RMS [µm]", ("metrics", "tracking_error_max_mm"), 3, 1e3, True,
-     (("metrics", "tracking_error_rms_mm"), 1e3)),
-    ("orientation max [deg]", ("metrics", "orientation_error_max_deg"), 2, 1, True, None),
+    ("cycle time [s]", ("metrics", "cycle_time_s"), 3, 1, True, None),
+    ("saved vs exact stop [%]", ("comparison", "cycle_time_saved_percent"), 1, 1, False, None),
+    ("planned [s]", ("plan", "planned_cycle_time_s"), 3, 1, True, None),
+    ("tracking max / RMS [µm]", ("metrics", "tracking_error_max_mm"), 1, 1e3, True,
+     (("metrics", "tracking_error_rms_mm"), 1e3, 1)),
+    ("orientation max [deg]", ("metrics", "orientation_error_max_deg"), 4, 1, True, None),
     ("contour vs programmed max [mm]", ("metrics", "contour_error_programmed_max_mm"), 3, 1, True, None),
-    ("contour vs planned max [µm]", ("metrics", "contour_error_planned_max_mm"), 3, 1e3, True, None),
+    ("contour vs planned max [µm]", ("metrics", "contour_error_planned_max_mm"), 1, 1e3, True, None),
     ("path deviation max [mm]", ("plan", "path_deviation_max_mm"), 3, 1, True, None),
-    ("actual jerk peak [m/s³]", ("metrics", "jerk_actual_peak_mm_s3"), 3, 1e-3, True, None),
-    ("vibration after stop [µm] / [Hz]", ("metrics", "residual_vibration_final_mm"), 3, 1e3, True,
-     (("metrics", "residual_vibration_final_frequency_hz"), 1)),
-    ("largest corner vibration [µm]", ("metrics", "residual_vibration_corner_max_mm"), 3, 1e3, True, None),
+    ("actual jerk peak [mm/s³]", ("metrics", "jerk_actual_peak_mm_s3"), 0, 1, True, None),
+    ("vibration after stop [µm] / [Hz]", ("metrics", "residual_vibration_final_mm"), 2, 1e3, True,
+     (("metrics", "residual_vibration_final_frequency_hz"), 1, 1)),
+    ("largest corner vibration [µm]", ("metrics", "residual_vibration_corner_max_mm"), 2, 1e3, True, None),
 ]
 
 
@@ -437,7 +504,7 @@ def comparison_table(entries, summary=None):
         for header, key, digits, scale, _, extra in TABLE:
             text = fmt(cell_value(e, key), digits, scale)
             if extra is not None:
-                text += " / " + fmt(cell_value(e, extra[0]), digits, extra[1])
+                text += " / " + fmt(cell_value(e, extra[0]), extra[2], extra[1])
             mark = " class='best'" if e["name"] in best.get(header, []) else ""
             cells.append(f"<td{mark}>{text}</td>")
         rows.append("<tr>" + "".join(cells) + "</tr>")
@@ -589,9 +656,9 @@ def report_html(run_dir, summary, variants, frame=None):
            + (f"; natural frequencies at the start pose with the motors held: {freqs} Hz" if freqs else "")
            + f". Servo: {html.escape(s['controller'])}, {s['rate_hz']:g} Hz, measurement delay "
            f"{s['measurement_delay_ticks']} tick(s), {s['encoder_counts_per_turn']:.0f} counts per turn; velocity "
-           f"feed-forward {s['velocity_feedforward']}, acceleration (inverse-dynamics) feed-forward "
-           f"{s['acceleration_feedforward']}, gravity compensation {s['gravity_compensation']}, deflection "
-           f"compensation {s['deflection_compensation']}; velocity-loop bandwidth "
+           f"feed-forward {on_off(s['velocity_feedforward'])}, acceleration (inverse-dynamics) feed-forward "
+           f"{on_off(s['acceleration_feedforward'])}, gravity compensation {on_off(s['gravity_compensation'])}, deflection "
+           f"compensation {on_off(s['deflection_compensation'])}; velocity-loop bandwidth "
            + ", ".join(f"{b:.1f}" for b in s["velocity_bandwidth_hz"])
            + f" Hz per joint. Settled: within {sim['settle_tolerance_mm']:g} mm and "
            f"{sim['settle_speed_tolerance_mm_s']:g} mm/s for {sim['settle_window_s']:g} s after the reference ends. "
@@ -639,6 +706,8 @@ def main(argv):
     else:
         frame = None
     report_html(run_dir, summary, variants, frame)
+    # one self-contained page: figures and scripts inlined, interactive views (report_page.py)
+    report_page.finish(run_dir, summary, variants)
     return 0
 
 

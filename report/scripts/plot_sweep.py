@@ -13,16 +13,16 @@ best rows are the ones sweep.json names (computed by the program), not recompute
 import json
 import os
 import sys
+import textwrap
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter  # noqa: E402
-from plotio import save_png  # noqa: E402
+from plotio import method_colour, method_marker, metric_label, save_png  # noqa: E402
 
 DPI = 110
-MARKERS = ["o", "s", "^", "D", "v", "P", "X", "<", ">"]
 
 
 def constraint_bounds(constraints, metric):
@@ -49,13 +49,13 @@ def main(sweep_dir):
         r["metrics"] = dict(zip(names, r["metrics"]))
 
     fig, ax = plt.subplots(figsize=(8.5, 6))
-    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
     ys = []
     for k, method in enumerate(sweep["methods"]):
-        colour = colours[k % len(colours)]
-        # a marker and size per method, so methods that coincide stay visible
-        marker = MARKERS[k % len(MARKERS)]
-        size = 60 - 10 * (k % 4)
+        # the method's colour and marker (plotio: the same in every figure), and a size per
+        # method, so methods whose points coincide stay visible
+        colour = method_colour(method["method"])
+        marker = method_marker(method["method"])
+        size = 70 - 12 * (k % 4)
         mine = [r for r in rows if r["method"] == method["method"] and r["status"] == "ok"]
         mine = [r for r in mine if r["metrics"].get(x_name) is not None and r["metrics"].get(y_name) is not None]
         meeting = [r for r in mine if r["meets_constraints"]]
@@ -84,11 +84,12 @@ def main(sweep_dir):
         ax.yaxis.set_major_locator(LogLocator(base=10, subs=(1.0, 2.0, 5.0)))
         ax.yaxis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
         ax.yaxis.set_minor_formatter(NullFormatter())
-    ax.set_xlabel(x_name)
-    ax.set_ylabel(y_name)
+    ax.set_xlabel(metric_label(x_name))
+    ax.set_ylabel(metric_label(y_name))
     constraints = ", ".join(sweep["constraints"]) or "no constraints"
-    ax.set_title(f"Pareto front per method (lines); star: best setting\nfilled: meets {constraints}; hollow: does not",
-                 fontsize=10)
+    # the subtitle wrapped to the axes' width, so a long constraint is not cut off
+    subtitle = textwrap.fill(f"filled: meets {constraints}; hollow: does not", width=95)
+    ax.set_title(f"Pareto front per method (lines); star: best setting\n{subtitle}", fontsize=10)
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8)
     save_png(fig, os.path.join(sweep_dir, "pareto.png"), DPI, tight=True)

@@ -487,7 +487,9 @@ TEST_F(Cli, RunWritesSummaryTracesPlotsReportAndAPlayableVideo) {
     }
     EXPECT_TRUE(v["comparison"]["cycle_time_saved_percent"].is_number()) << name;
     EXPECT_EQ(v["health"]["saturated"], false) << name;
-    EXPECT_NE(html.str().find("src='" + name + "/vibration.png'"), std::string::npos) << name;
+    // the page is self-contained (figures inlined) and links each variant's video beside it
+    EXPECT_NE(html.str().find("href='" + name + "/video.mp4'"), std::string::npos) << name;
+    EXPECT_EQ(html.str().find("src='" + name + "/vibration.png'"), std::string::npos) << name;
     const fs::path vdir = out / name;
     for (const char* file : {"trace.csv", "path.csv", "program.csv", "corners.json", "path.png", "corners.png", "speed.png",
                              "acceleration.png", "curvature.png", "tracking_error.png", "following_error.png",
@@ -560,6 +562,37 @@ TEST_F(Cli, RunWithoutPlotsSaysThereIsNoReport) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("no report (--no-plots)"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(out / "report.html"));
+}
+
+// Plausibility warnings: `validate` prints each under its file (still ok, exit 0), `run` prints
+// them on stderr and lists them in summary.json's `warnings`; the summary carries the version
+// that `--version` prints.
+TEST_F(Cli, WarningsArePrintedAndListedAndTheVersionIsInTheSummary) {
+  const fs::path part = dir_ / "part.ngc";
+  std::ofstream(part) << "G21 G90\nG1 X60 F6000\nG1 Y60\nM2\n";
+  const std::string scenario = scenario_with("program:\n  start: [0, 0, 0]\n  moves:\n    - line: [60, 0, 0]\n    - line: [60, 60, 0]\n",
+                                             "program:\n  start: [0, 0, 0]\n  gcode: " + part.string() + "\n");
+  Result r = run("validate " + scenario);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("1 warning(s))\n  warning: " + part.string() + ":2:8: 'F': the program's F words set the feed (100 mm/s"),
+            std::string::npos)
+      << r.output;
+  const Result version = run("--version");
+  EXPECT_EQ(version.exit_code, 0) << version.output;
+  ASSERT_EQ(version.output.rfind("blendbench 0.", 0), 0u) << version.output;
+  const fs::path out = dir_ / "warned";
+  r = run("run " + scenario + " --no-video --no-plots --variant exact --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("blendbench: warning: " + part.string() + ":2:8: 'F'"), std::string::npos) << r.output;
+  std::ifstream in(out / "summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(in);
+  ASSERT_EQ(summary.at("warnings").size(), 1u);
+  EXPECT_EQ(summary["warnings"][0].at("field"), "F");
+  EXPECT_EQ(summary["warnings"][0].at("line"), 2);
+  EXPECT_EQ(summary["warnings"][0].at("file"), part.string());
+  std::string printed = version.output.substr(std::string("blendbench ").size());
+  printed.erase(printed.find_last_not_of('\n') + 1);
+  EXPECT_EQ(summary.at("version"), printed);
 }
 
 // --smoothing and --smoothing-tolerance on path and plan: a circle written as 400 short lines is

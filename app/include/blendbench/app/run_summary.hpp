@@ -125,10 +125,12 @@ struct RobotInfo {
 };
 
 struct RunSummary {
+  std::string version;  // version_string() of the program that ran (version.hpp)
   std::string scenario, file, description;
   // the program frame in the robot base frame (a scenario's `frame`; for a G-code file the
   // placement of its part): plots and reports show corners in the program's own coordinates
   Eigen::Isometry3d frame = Eigen::Isometry3d::Identity();
+  std::vector<LoadWarning> warnings;  // the scenario's plausibility warnings (scenario.hpp)
   RobotInfo robot;
   ServoController controller = ServoController::kCascade;
   ServoConfig servo;  // as tuned at the start pose

@@ -286,6 +286,11 @@ struct GcodeResult {
   Program program;  // metres and orientations in the program frame (placing it in the robot workspace is done elsewhere)
   Vec3 start = Vec3::Zero();         // m: the position before the first move
   std::vector<std::string> ignored;  // e.g. "S1000 (line 3)", "G4 P0.5 (line 9): dwell treated as an exact stop"
+  // The first F word of the program: where it stands (line 0: the program has none) and the feed
+  // it sets (m/s). From there on the program's F words, not options.limits.velocity, set the feed
+  // of its moves (a scenario warns when it differs from defaults.velocity).
+  SourceRef first_feed_where;
+  double first_feed = 0;
 };
 
 // Reads a part program. Each move gets where = {file_name, line, column of its motion word or

@@ -38,6 +38,7 @@ struct RunInputs {
   Eigen::Isometry3d frame = Eigen::Isometry3d::Identity();  // program frame in the base frame
   Vec3 start = Vec3::Zero();                                // m, base frame: every variant's first pose
   std::vector<std::string> ignored;                         // G-code words read and ignored
+  std::vector<LoadWarning> warnings;                        // plausibility warnings (scenario.hpp)
   RobotSettings robot;
   ServoSettings servo;
   SimulationSettings simulation;

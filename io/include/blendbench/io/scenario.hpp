@@ -105,6 +105,19 @@ struct Variant {
   SourceRef where;
 };
 
+// A plausibility warning: the input is valid but looks like a mistake (coordinates in another
+// unit, a feed beyond the arm, a G-code feed overriding the scenario's). Printed by the commands
+// that load a scenario (run, compare, validate, path, plan) and listed in summary.json's
+// `warnings`; never an error.
+struct LoadWarning {
+  SourceRef where;
+  std::string field;    // the key or word it concerns, e.g. "units", "defaults.velocity", "F"
+  std::string message;
+};
+
+// "file:line:column: 'field': message", as InputError formats a refusal.
+std::string to_string(const LoadWarning& warning);
+
 struct Scenario {
   std::string file;  // path as given
   std::string name;
@@ -125,6 +138,7 @@ struct Scenario {
   ServoSettings servo;
   SimulationSettings simulation;
   VideoSettings video;
+  std::vector<LoadWarning> warnings;  // plausibility (plausibility.hpp), in the order found
 };
 
 // The most variants one scenario may have: each is planned, simulated and rendered.
