@@ -1,6 +1,9 @@
 #include "blendbench/report/output.hpp"
 
+#include <dirent.h>
 #include <fcntl.h>
+#include <signal.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -11,6 +14,7 @@
 #include <stdexcept>
 
 #include "blendbench/core/input_error.hpp"
+#include "blendbench/core/input_file.hpp"
 #include "blendbench/report/run_folder.hpp"
 
 namespace blendbench {
@@ -39,6 +43,83 @@ bool write_all(int fd, std::string_view content) {
   return true;
 }
 
+// A file descriptor closed on every way out.
+struct Descriptor {
+  int fd = -1;
+  ~Descriptor() {
+    if (fd >= 0) ::close(fd);
+  }
+};
+
+// A name inside a folder: one component, never "." or "..".
+void check_entry_name(const std::string& name, const std::filesystem::path& folder) {
+  if (name.empty() || name == "." || name == ".." || name.find('/') != std::string::npos || name.find('\0') != std::string::npos) {
+    throw std::runtime_error("'" + name + "' is not a name of a file inside " + folder.string());
+  }
+}
+
+// Removes the temporaries of `name` in the folder (`name`.tmp.<pid>) whose process no longer
+// runs: a SIGKILL leaves its temporary behind, and only the next write into the same place can
+// clean it. A process that still runs (another writer of the same file) keeps its own.
+void remove_stale_temporaries(int dir_fd, const std::string& name) {
+  const int copy = ::dup(dir_fd);
+  if (copy < 0) return;
+  DIR* dir = ::fdopendir(copy);
+  if (dir == nullptr) {
+    ::close(copy);
+    return;
+  }
+  ::rewinddir(dir);
+  const std::string prefix = name + ".tmp.";
+  const pid_t self = ::getpid();
+  while (const dirent* entry = ::readdir(dir)) {
+    const std::string_view entry_name(entry->d_name);
+    if (entry_name.size() <= prefix.size() || entry_name.compare(0, prefix.size(), prefix) != 0) continue;
+    const std::string_view digits = entry_name.substr(prefix.size());
+    if (digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string_view::npos) continue;
+    const auto pid = static_cast<pid_t>(std::stol(std::string(digits)));
+    if (pid <= 0 || pid == self) continue;
+    if (::kill(pid, 0) != 0 && errno == ESRCH) ::unlinkat(dir_fd, entry->d_name, 0);
+  }
+  ::closedir(dir);
+}
+
+// Writes `content` to `name` in the open folder atomically: a temporary file beside it, created
+// exclusively and never through a symbolic link, written, synced, renamed over `name`. `shown`
+// names the file in messages.
+void write_atomic_at(int dir_fd, const std::string& name, const std::filesystem::path& shown, std::string_view content) {
+  // an existing target must be a regular file: a link, FIFO or device is never replaced
+  struct stat existing {};
+  if (::fstatat(dir_fd, name.c_str(), &existing, AT_SYMLINK_NOFOLLOW) == 0 && !S_ISREG(existing.st_mode)) {
+    throw std::runtime_error("refusing to replace " + shown.string() + ": it is " + kind_of(existing.st_mode) +
+                             ", not a regular file");
+  }
+  remove_stale_temporaries(dir_fd, name);
+  // the temporary file: created exclusively (a stale one of a killed process with our pid is
+  // removed first), never through a symbolic link
+  const std::string tmp = temporary_path_for(name).string();
+  const std::filesystem::path tmp_shown = temporary_path_for(shown);
+  constexpr int kCreate = O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC;
+  int fd = ::openat(dir_fd, tmp.c_str(), kCreate, 0666);
+  if (fd < 0 && errno == EEXIST && ::unlinkat(dir_fd, tmp.c_str(), 0) == 0) fd = ::openat(dir_fd, tmp.c_str(), kCreate, 0666);
+  if (fd < 0) throw std::runtime_error("cannot write " + tmp_shown.string() + ": " + std::strerror(errno));
+  const std::uint64_t cleanup = register_cleanup(tmp_shown);
+  const auto fail = [&](const std::string& what, int error) {
+    ::unlinkat(dir_fd, tmp.c_str(), 0);
+    unregister_cleanup(cleanup);
+    throw std::runtime_error(what + ": " + std::strerror(error));
+  };
+
+  const bool written = write_all(fd, content) && ::fsync(fd) == 0;
+  const int saved_errno = errno;
+  const bool closed = ::close(fd) == 0;
+  if (!written || !closed) fail("cannot write " + shown.string(), written ? errno : saved_errno);
+  if (::renameat(dir_fd, tmp.c_str(), dir_fd, name.c_str()) != 0) {
+    fail("cannot rename " + tmp_shown.string() + " to " + shown.string(), errno);
+  }
+  unregister_cleanup(cleanup);
+}
+
 }  // namespace
 
 std::filesystem::path temporary_path_for(const std::filesystem::path& path) {
@@ -49,39 +130,113 @@ std::filesystem::path temporary_path_for(const std::filesystem::path& path) {
 
 void write_file_atomic(const std::filesystem::path& path, std::string_view content) {
   namespace fs = std::filesystem;
-  if (path.has_parent_path()) {
+  const fs::path parent = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  std::error_code ec;
+  fs::create_directories(parent, ec);
+  if (ec) throw std::runtime_error("cannot create directory " + parent.string() + ": " + ec.message());
+  const Descriptor dir{::open(parent.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC)};
+  if (dir.fd < 0) throw std::runtime_error("cannot open directory " + parent.string() + ": " + std::strerror(errno));
+  write_atomic_at(dir.fd, path.filename().string(), path, content);
+}
+
+OutputDir::OutputDir(const std::filesystem::path& path, bool create) : path_(path) {
+  if (create) {
     std::error_code ec;
-    fs::create_directories(path.parent_path(), ec);
-    if (ec) throw std::runtime_error("cannot create directory " + path.parent_path().string() + ": " + ec.message());
+    std::filesystem::create_directories(path, ec);
+    if (ec) throw std::runtime_error("cannot create the folder " + path.string() + ": " + ec.message());
   }
-  // an existing target must be a regular file: a link, FIFO or device is never replaced
-  struct stat existing {};
-  if (::lstat(path.c_str(), &existing) == 0 && !S_ISREG(existing.st_mode)) {
-    throw std::runtime_error("refusing to replace " + path.string() + ": it is " + kind_of(existing.st_mode) +
-                             ", not a regular file");
-  }
+  const int fd = ::open(path.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) throw std::runtime_error("cannot open the folder " + path.string() + ": " + std::strerror(errno));
+  fd_ = std::shared_ptr<const int>(new int(fd), [](const int* p) {
+    ::close(*p);
+    delete p;
+  });
+}
 
-  // the temporary file: created exclusively (a stale one of a killed process with our pid is
-  // removed first), never through a symbolic link
-  const fs::path tmp = temporary_path_for(path);
-  int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
-  if (fd < 0 && errno == EEXIST && ::unlink(tmp.c_str()) == 0) {
-    fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+std::optional<OutputDir> OutputDir::find(const std::string& name) const {
+  check_entry_name(name, path_);
+  const int fd = ::openat(*fd_, name.c_str(), O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
+  if (fd < 0) {
+    if (errno == ENOENT) return std::nullopt;
+    const int error = errno;
+    struct stat st {};
+    if (::fstatat(*fd_, name.c_str(), &st, AT_SYMLINK_NOFOLLOW) == 0 && !S_ISDIR(st.st_mode)) {
+      throw std::runtime_error((path_ / name).string() + " exists and is " + kind_of(st.st_mode) +
+                               ", not a folder: refusing to write or read through it");
+    }
+    throw std::runtime_error("cannot open the folder " + (path_ / name).string() + ": " + std::strerror(error));
   }
-  if (fd < 0) throw std::runtime_error("cannot write " + tmp.string() + ": " + std::strerror(errno));
-  const std::uint64_t cleanup = register_cleanup(tmp);
-  const auto fail = [&](const std::string& what, int error) {
-    ::unlink(tmp.c_str());
-    unregister_cleanup(cleanup);
-    throw std::runtime_error(what + ": " + std::strerror(error));
-  };
+  return OutputDir(std::shared_ptr<const int>(new int(fd),
+                                              [](const int* p) {
+                                                ::close(*p);
+                                                delete p;
+                                              }),
+                   path_ / name);
+}
 
-  const bool written = write_all(fd, content) && ::fsync(fd) == 0;
-  const int saved_errno = errno;
-  const bool closed = ::close(fd) == 0;
-  if (!written || !closed) fail("cannot write " + path.string(), written ? errno : saved_errno);
-  if (::rename(tmp.c_str(), path.c_str()) != 0) fail("cannot rename " + tmp.string() + " to " + path.string(), errno);
-  unregister_cleanup(cleanup);
+OutputDir OutputDir::sub(const std::string& name) const {
+  check_entry_name(name, path_);
+  if (::mkdirat(*fd_, name.c_str(), 0777) != 0 && errno != EEXIST) {
+    throw std::runtime_error("cannot create the folder " + (path_ / name).string() + ": " + std::strerror(errno));
+  }
+  std::optional<OutputDir> found = find(name);
+  if (!found) throw std::runtime_error("the folder " + (path_ / name).string() + " vanished as it was created");
+  return *found;
+}
+
+void OutputDir::write(const std::string& name, std::string_view content) const {
+  check_entry_name(name, path_);
+  write_atomic_at(*fd_, name, path_ / name, content);
+}
+
+std::optional<std::string> OutputDir::read(const std::string& name, const std::string& what) const {
+  return read_input_file_at(*fd_, name, (path_ / name).string(), what);
+}
+
+int OutputDir::create_fresh(const std::string& name) const {
+  check_entry_name(name, path_);
+  const std::string shown = (path_ / name).string();
+  if (::unlinkat(*fd_, name.c_str(), 0) != 0 && errno != ENOENT) {
+    throw std::runtime_error("cannot replace " + shown + ": " + std::strerror(errno));
+  }
+  const int fd = ::openat(*fd_, name.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+  if (fd < 0) throw std::runtime_error("cannot create " + shown + ": " + std::strerror(errno));
+  return fd;
+}
+
+int OutputDir::try_lock(const std::string& name, bool shared) const {
+  check_entry_name(name, path_);
+  const int fd = ::openat(*fd_, name.c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0644);
+  if (fd < 0) throw std::runtime_error("cannot open the lock file " + (path_ / name).string() + ": " + std::strerror(errno));
+  if (::flock(fd, (shared ? LOCK_SH : LOCK_EX) | LOCK_NB) != 0) {
+    const int error = errno;
+    ::close(fd);
+    if (error == EWOULDBLOCK) return -1;
+    throw std::runtime_error("cannot lock " + (path_ / name).string() + ": " + std::strerror(error));
+  }
+  if (!shared) {
+    // the pid is only for the message of a second process; the lock holds without it
+    const std::string pid = std::to_string(::getpid());
+    if (::ftruncate(fd, 0) != 0 || ::pwrite(fd, pid.data(), pid.size(), 0) < 0) {
+    }
+  }
+  return fd;
+}
+
+std::string OutputDir::lock_holder(const std::string& name) const {
+  try {
+    std::string pid = read_input_file_at(*fd_, name, (path_ / name).string(), "lock file", 32).value_or("");
+    return pid.find_first_not_of("0123456789") == std::string::npos ? pid : std::string();
+  } catch (const InputError&) {
+    return {};
+  }
+}
+
+void OutputDir::remove(const std::string& name) const {
+  check_entry_name(name, path_);
+  if (::unlinkat(*fd_, name.c_str(), 0) != 0 && errno != ENOENT) {
+    throw std::runtime_error("cannot remove " + (path_ / name).string() + ": " + std::strerror(errno));
+  }
 }
 
 void check_output_files(const std::vector<std::pair<std::string, std::filesystem::path>>& outputs) {

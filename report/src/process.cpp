@@ -31,6 +31,10 @@ ProcessResult run_process(const std::vector<std::string>& argv, const ProcessOpt
     posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, options.output_file.c_str(),
                                      O_WRONLY | O_CREAT | O_TRUNC, 0644);
     posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  } else if (options.output_fd >= 0) {
+    // dup2 clears close-on-exec on the copies; the caller's descriptor stays close-on-exec
+    posix_spawn_file_actions_adddup2(&actions, options.output_fd, STDOUT_FILENO);
+    posix_spawn_file_actions_adddup2(&actions, options.output_fd, STDERR_FILENO);
   }
   pid_t pid = -1;
   const int rc = posix_spawnp(&pid, pointers[0], &actions, nullptr, pointers.data(), environ);

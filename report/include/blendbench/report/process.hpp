@@ -18,6 +18,10 @@ struct ProcessOptions {
   // When set, the child's standard output and error go to this file (created or truncated);
   // otherwise they are the caller's.
   std::string output_file;
+  // When >= 0 (and no output_file), the child's standard output and error go to this open
+  // descriptor (OutputDir::create_fresh: a file that cannot lead out of its folder); the caller
+  // keeps it and closes it.
+  int output_fd = -1;
 };
 
 // Runs argv[0] (looked up on PATH when it has no slash) with the arguments argv[1..] and waits

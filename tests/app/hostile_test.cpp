@@ -1,0 +1,147 @@
+// Issue 42: the hostile inputs and situations a campaign found, each run against the program as
+// a user (or an attacker) meets it, in a scratch folder, with a deadline: every one ends in a
+// positioned exit 2 or a correct run, in bounded time, with nothing written or read outside the
+// folders named, nothing lost and no child left running.
+
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "support/files.hpp"
+#include "support/program.hpp"
+#include "support/scratch.hpp"
+#include "support/source_tree.hpp"
+
+namespace blendbench {
+namespace {
+
+namespace fs = std::filesystem;
+using test::read_file;
+
+// How long any one command may take before the test calls it a hang (a run of the tiny scenario
+// takes about 0.1 s, a small sweep about 2 s on this machine).
+constexpr double kDeadline = 60;
+
+bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+class Hostile : public ::testing::Test {
+ protected:
+  struct Result {
+    int exit_code = -1;  // -2: killed at the deadline
+    std::string output;  // stdout and stderr
+  };
+
+  // Runs the program with an argument vector in the scratch folder, killed at `deadline` s.
+  Result run(const std::vector<std::string>& args, double deadline = kDeadline) const {
+    test::Child child(test::blendbench_binary(), args, dir_.path());
+    Result r;
+    r.exit_code = child.wait_within(deadline);
+    r.output = child.output();
+    return r;
+  }
+
+  // A file in the scratch folder; returns its path.
+  std::string write(const std::string& name, const std::string& text) const { return dir_.write(name, text); }
+
+  // The tiny scenario (tests/data/tiny.yaml) with `from` replaced by `to`, written as `name`.
+  std::string tiny_with(const std::string& from, const std::string& to, const std::string& name = "scenario.yaml") const {
+    std::string text = read_file(test::source_path("tests/data/tiny.yaml"));
+    const std::size_t at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    if (at != std::string::npos) text.replace(at, from.size(), to);
+    return write(name, text);
+  }
+
+  // A sweep over the tiny scenario: two velocities, both variants.
+  std::string small_sweep(const std::string& name = "sweep.yaml") const {
+    return write(name, "scenario: " + test::source_path("tests/data/tiny.yaml") +
+                           "\naxes:\n  defaults.velocity: [150, 200]\n");
+  }
+
+  test::ScratchDir dir_{"hostile"};
+};
+
+// --- security -----------------------------------------------------------------------------------
+
+TEST_F(Hostile, AUrdfNameCannotIncludeAFileIntoTheModel) {
+  // the robot name closes the model and includes a file that changes gravity: the run uses the
+  // URDF's model (the name is escaped), the file is never read
+  const std::string evil = write("evil.xml", "<mujoco><option gravity=\"0 0 100\"/></mujoco>");
+  std::string urdf = read_file(test::source_path("models/offset_wrist_kinematic.urdf"));
+  const std::string name = "&quot;&gt;&lt;include file=&quot;" + evil + "&quot;/&gt;&lt;/mujoco&gt;&lt;mujoco model=&quot;";
+  const std::size_t at = urdf.find("<robot name=\"") + 13;
+  urdf.replace(at, urdf.find('"', at) - at, name);
+  const std::string urdf_file = write("arm.urdf", urdf);
+  std::string scenario = read_file(test::source_path("scenarios/urdf_only.yaml"));
+  const std::string key = "urdf: models/offset_wrist_kinematic.urdf";
+  scenario.replace(scenario.find(key), key.size(), "urdf: " + urdf_file);
+  write("urdf_only.yaml", scenario);
+  const Result r = run({"run", "urdf_only.yaml", "--no-video", "--no-plots", "--variant", "exact_stop", "--out", "out"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string model = read_file(dir_ / "out" / "robot_from_urdf.xml");
+  EXPECT_FALSE(has(model, "<include")) << model.substr(0, 400);
+  EXPECT_TRUE(has(model, "&lt;include file=&quot;")) << model.substr(0, 400);
+  const nlohmann::json summary = nlohmann::json::parse(read_file(dir_ / "out" / "summary.json"));
+  EXPECT_EQ(summary["variants"][0]["status"], "ok");
+}
+
+TEST_F(Hostile, LinksPlantedInASweepFolderSendNoWriteOutsideIt) {
+  const std::string sweep = small_sweep();
+  ASSERT_EQ(run({"sweep", sweep, "--out", "sw", "--no-plots", "--jobs", "1"}).exit_code, 0);
+  const test::ScratchDir outside("hostile_outside");
+  const std::string victim = outside.write("victim.txt", "keep");
+  // a link at a point's log.txt: replaced by the point's log, the file it named untouched
+  fs::path point;
+  for (const auto& e : fs::directory_iterator(dir_ / "sw" / "points")) point = e.path();
+  ASSERT_FALSE(point.empty());
+  fs::remove(point / "log.txt");
+  fs::create_symlink(victim, point / "log.txt");
+  const Result again = run({"sweep", sweep, "--out", "sw", "--no-plots", "--jobs", "1"});
+  EXPECT_EQ(again.exit_code, 0) << again.output;
+  EXPECT_EQ(read_file(victim), "keep");
+  EXPECT_EQ(fs::symlink_status(point / "log.txt").type(), fs::file_type::regular);
+  // points/ itself a link to a folder outside: refused, nothing written there
+  fs::rename(dir_ / "sw" / "points", dir_ / "points_moved");
+  fs::create_directory(outside.path() / "points");
+  fs::create_directory_symlink(outside.path() / "points", dir_ / "sw" / "points");
+  const Result linked = run({"sweep", sweep, "--out", "sw", "--no-plots", "--jobs", "1"});
+  EXPECT_EQ(linked.exit_code, 1) << linked.output;
+  EXPECT_TRUE(has(linked.output, "points exists and is a symbolic link, not a folder")) << linked.output;
+  EXPECT_TRUE(fs::is_empty(outside.path() / "points"));
+}
+
+TEST_F(Hostile, CollectReadsNothingOutsideTheSweepFolder) {
+  const std::string sweep = small_sweep();
+  ASSERT_EQ(run({"sweep", sweep, "--out", "sw", "--no-plots", "--jobs", "1"}).exit_code, 0);
+  const test::ScratchDir outside("hostile_secret");
+  // a plan whose point hash climbs out of points/
+  const fs::path plan_file = dir_ / "sw" / "sweep.plan.json";
+  const std::string plan_text = read_file(plan_file);
+  nlohmann::json plan = nlohmann::json::parse(plan_text);
+  plan["points"][1]["hash"] = "../../" + outside.path().filename().string() + "/x";
+  std::ofstream(plan_file) << plan.dump(2);
+  const Result climbing = run({"sweep", "--collect", "sw", "--no-plots"});
+  EXPECT_EQ(climbing.exit_code, 2) << climbing.output;
+  EXPECT_TRUE(has(climbing.output, "sweep.plan.json: 'points[1].hash': a point's hash must be 16 hexadecimal digits"))
+      << climbing.output;
+  // a point's summary that is a link to a file outside: not read through
+  std::ofstream(plan_file) << plan_text;
+  const std::string secret = outside.write("summary.json", read_file(dir_ / "sw" / "points" / plan["points"][0]["hash"].get<std::string>() / "summary.json"));
+  const fs::path summary = dir_ / "sw" / "points" / plan["points"][0]["hash"].get<std::string>() / "summary.json";
+  fs::remove(summary);
+  fs::create_symlink(secret, summary);
+  const Result linked = run({"sweep", "--collect", "sw", "--no-plots"});
+  EXPECT_EQ(linked.exit_code, 2) << linked.output;
+  EXPECT_TRUE(has(linked.output, "summary.json: the point's run summary is a symbolic link: it is not read through"))
+      << linked.output;
+}
+
+}  // namespace
+}  // namespace blendbench
