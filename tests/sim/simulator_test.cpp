@@ -113,6 +113,33 @@ TEST(SimulatorLoad, MissingFileNamesTheFile) {
   test::expect_input_error([] { (void)Simulator("/nonexistent/arm.xml"); }, {.file = "/nonexistent/arm.xml", .field = "mjcf"});
 }
 
+// Issue 42: values of a model that made what is computed from them overflow are refused, naming
+// the model's element: a NaN timestep (a library's "vector::reserve"), a timestep of 1e-290 s (a
+// servo period of -9e-282 s), a body of 1e308 kg (blamed on 'servo.kv').
+TEST(SimulatorLoad, ValuesBeyondWhatAnArmHasAreRefusedNamingThem) {
+  struct Case {
+    std::string from, to, field, message;
+  };
+  const Case cases[] = {
+      {"timestep=\"0.001\"", "timestep=\"nan\"", "option.timestep", "the timestep nan s is outside [1e-06, 0.008] s"},
+      {"timestep=\"0.001\"", "timestep=\"1e-290\"", "option.timestep", "the timestep 1e-290 s is outside"},
+      {"timestep=\"0.001\"", "timestep=\"0.5\"", "option.timestep", "the timestep 0.5 s is outside"},
+      {"mass=\"3.7\"", "mass=\"1e308\"", "body.mass", "has a mass of 1e+308 kg; at most 100000 kg are accepted"},
+  };
+  for (const Case& c : cases) {
+    std::string xml = test::kTestArmXml;
+    const std::size_t at = xml.find(c.from);
+    ASSERT_NE(at, std::string::npos) << c.from;
+    xml.replace(at, c.from.size(), c.to);
+    test::expect_input_error([&] { (void)Simulator::from_xml_string(xml); },
+                             {.file = "<string>", .field = c.field, .message = c.message}, c.to);
+  }
+  ModelChanges changes;
+  changes.timestep = 1e-300;
+  test::expect_input_error([&] { (void)Simulator::from_xml_string(test::kTestArmXml, changes); },
+                           {.field = "mjcf", .message = "timestep must be 0 (the model's) or in"});
+}
+
 TEST(SimulatorLoad, ModelWithoutTcpSiteIsRejected) {
   std::string xml = test::kTestArmXml;
   xml.replace(xml.find("name=\"tcp\""), 10, "name=\"tip\"");
