@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <new>
+#include <stdexcept>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -188,6 +190,34 @@ TEST(Printable, InputErrorMessagesAreEscapedButFieldAndFileKeptAsGiven) {
   EXPECT_EQ(e.detail(), "unknown key '\\x1b[31m'");
   EXPECT_EQ(e.field(), "na\x02me");
   EXPECT_EQ(e.file(), "bin\x01.yaml");
+}
+
+// Issue 42: a library's exception raised by bad input ("number overflow parsing '1e400'",
+// "filesystem error: Too many levels of symbolic links") becomes a positioned InputError; an
+// InputError, running out of memory and a stop request pass as they are.
+TEST(InputErrorBoundary, ALibrarysExceptionBecomesBadInputAtItsPlace) {
+  const SourceRef where{"run/summary.json", 0, 0};
+  const auto through = [&](const auto& raise) {
+    try {
+      try {
+        raise();
+      } catch (...) {
+        rethrow_as_input_error(where, "variants", "not a run summary: ");
+      }
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    } catch (const std::bad_alloc&) {
+      return std::string("bad_alloc");
+    } catch (int signal) {
+      return "signal " + std::to_string(signal);
+    }
+    return std::string("nothing");
+  };
+  EXPECT_EQ(through([] { throw std::out_of_range("number overflow parsing '1e400'\n"); }),
+            "run/summary.json: 'variants': not a run summary: number overflow parsing '1e400'\\n");
+  EXPECT_EQ(through([] { throw InputError("a.yaml", 2, 3, "key", "as it was"); }), "a.yaml:2:3: 'key': as it was");
+  EXPECT_EQ(through([] { throw std::bad_alloc(); }), "bad_alloc");
+  EXPECT_EQ(through([] { throw 15; }), "signal 15");
 }
 
 }  // namespace
