@@ -9,11 +9,11 @@
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <optional>
 
 #include "blendbench/core/format.hpp"
+#include "blendbench/core/input_file.hpp"
 #include "blendbench/corner/blend.hpp"
 #include "blendbench/timing/timing.hpp"
 #include "blendbench/report/check.hpp"
@@ -326,13 +326,19 @@ int cmd_validate(const std::vector<std::string>& files, bool schema) {
   return all_ok ? kExitOk : kExitBadInput;
 }
 
+// A JSON input file: read as every input is (a regular file, bounded: a FIFO never blocks), and
+// any error of the parser (a number overflow such as 1e400 included) bad input naming the file.
 nlohmann::json read_json(const std::string& path, const std::string& what) {
-  std::ifstream in(path);
-  if (!in) throw bb::InputError(path, 0, 0, "", "cannot open the " + what);
+  const std::string text = bb::read_input_file(path, what);
   try {
-    return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw bb::InputError(path, 0, 0, "", "invalid JSON in the " + what + ": " + e.what());
+    return nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {
+    // the parser's reason without its tag ("[json.exception.parse_error.101] ")
+    const std::string reason = e.what();
+    const std::size_t tag = reason.rfind("[json.exception.", 0) == 0 ? reason.find("] ") : std::string::npos;
+    throw bb::InputError(path, 0, 0, "", "invalid JSON in the " + what + ": " + (tag == std::string::npos ? reason : reason.substr(tag + 2)));
+  } catch (...) {
+    bb::rethrow_as_input_error({path, 0, 0}, "", "invalid JSON in the " + what + ": ");
   }
 }
 
@@ -340,6 +346,7 @@ nlohmann::json read_json(const std::string& path, const std::string& what) {
 int cmd_check(const std::string& run_dir, std::string baseline_file, std::string tolerance_file, bool update) {
   const std::string summary_file = (std::filesystem::path(run_dir) / "summary.json").string();
   const nlohmann::json summary = read_json(summary_file, "run summary");
+  bb::validate_run_summary(summary, summary_file);
   const std::string name = summary.value("scenario", "");
   if (baseline_file.empty()) {
     // the scenario name picks the baseline file: never a path that leaves results/baselines/

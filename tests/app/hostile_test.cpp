@@ -143,5 +143,39 @@ TEST_F(Hostile, CollectReadsNothingOutsideTheSweepFolder) {
       << linked.output;
 }
 
+// --- crashes, hangs, exit codes ------------------------------------------------------------------
+
+TEST_F(Hostile, CheckReadsRegularJsonFilesOnlyAndNamesWhatIsWrong) {
+  fs::create_directories(dir_ / "run");
+  write("base.json", R"({"scenario": "tiny", "variants": {}})");
+  struct Case {
+    std::string summary;  // empty: a FIFO
+    std::vector<std::string> args;
+    std::string message;
+  };
+  const Case cases[] = {
+      {"", {"check", "run", "--baseline", "base.json"}, "run/summary.json: the run summary is a FIFO (named pipe), not a regular file"},
+      {R"({"scenario": "tiny", "variants": []})", {"check", "run", "--baseline", "fifo.json"},
+       "fifo.json: the baseline is a FIFO (named pipe), not a regular file"},
+      {R"({"scenario": "tiny", "variants": [1e400]})", {"check", "run", "--baseline", "base.json"},
+       "run/summary.json: invalid JSON in the run summary: number overflow parsing '1e400'"},
+      {"[]", {"check", "run"}, "run/summary.json: not a run summary"},
+      {R"({"scenario": "tiny", "variants": []})", {"check", "run", "--baseline", "array.json"}, "array.json: 'variants': a baseline needs"},
+  };
+  write("array.json", "[1, 2]");
+  ASSERT_EQ(::mkfifo((dir_ / "fifo.json").c_str(), 0600), 0);
+  for (const Case& c : cases) {
+    fs::remove(dir_ / "run" / "summary.json");
+    if (c.summary.empty()) {
+      ASSERT_EQ(::mkfifo((dir_ / "run" / "summary.json").c_str(), 0600), 0);
+    } else {
+      write("run/summary.json", c.summary);
+    }
+    const Result r = run(c.args, 20);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_TRUE(has(r.output, c.message)) << "expected '" << c.message << "' in\n" << r.output;
+  }
+}
+
 }  // namespace
 }  // namespace blendbench
