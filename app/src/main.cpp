@@ -39,7 +39,9 @@ constexpr int kExitBadInput = 2;
 // a stop by signal N exits 128 + N, as a shell reports a process killed by it
 constexpr int kExitSignalBase = 128;
 
-const char* signal_name(int signal) { return signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : "a signal"; }
+const char* signal_name(int signal) {
+  return signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : signal == SIGPIPE ? "SIGPIPE" : "a signal";
+}
 
 // A run stopped by a signal: its finished variants are kept (in --out, or beside it as
 // <out>.interrupted when --out holds a previous run, which stays intact); one line says where.
@@ -314,6 +316,7 @@ int cmd_validate(const std::vector<std::string>& files, bool schema) {
   if (files.empty()) throw bb::InputError("", 0, 0, "FILE", "name at least one file to check (or --schema)");
   bool all_ok = true;
   for (const std::string& file : files) {
+    bb::throw_if_stop_requested();
     try {
       const std::string checked = validate_input(file);
       std::cout << file << ": ok (" << checked << ")" << std::endl;
@@ -376,6 +379,19 @@ int cmd_check(const std::string& run_dir, std::string baseline_file, std::string
   std::cout << (report.passed() ? "check passed against " : "check FAILED against ") << baseline_file << " ("
             << report.rows.size() << " metrics compared; tolerances: " << tolerance_file << ")" << std::endl;
   return report.passed() ? kExitOk : kExitCheckFailed;
+}
+
+// The exit code once what was printed has been handed on: standard output on a full device (or a
+// closed pipe) lost everything printed, and a run that says "done" must not exit 0 then.
+int finish(int code) {
+  std::cout.flush();
+  const bool lost = !std::cout.good() || std::fflush(stdout) != 0 || std::ferror(stdout) != 0;
+  if (bb::stop_signal() == SIGPIPE) return kExitSignalBase + SIGPIPE;  // the reader went away
+  if (lost) {
+    std::cerr << "blendbench: error: cannot write to standard output (a full device?): what was printed is lost" << std::endl;
+    if (code == kExitOk) return kExitCheckFailed;
+  }
+  return code;
 }
 
 }  // namespace
@@ -496,28 +512,31 @@ int main(int argc, char** argv) {
     return code == 0 ? kExitOk : kExitBadInput;
   }
 
-  try {
-    if (*run) return cmd_run(scenario_path, out_dir, no_video, no_plots, compare, variants, timing_flags);
-    if (*path) return cmd_path(input, flags, csv, report, ds_mm);
-    if (*plan) return cmd_plan(input, flags, timing_flags, csv, summary);
-    if (*check) return cmd_check(run_dir, baseline, tolerances, update);
-    if (*validate) return cmd_validate(validate_files, schema);
-    if (*reproduce) return bb::reproduce(paper, papers_out, !no_paper_plots, std::cout);
-    if (*sweep) {
-      sweep_args.plots = !sweep_no_plots;
-      return bb::sweep_command(sweep_args, std::cout);
+  const int code = [&]() -> int {
+    try {
+      if (*run) return cmd_run(scenario_path, out_dir, no_video, no_plots, compare, variants, timing_flags);
+      if (*path) return cmd_path(input, flags, csv, report, ds_mm);
+      if (*plan) return cmd_plan(input, flags, timing_flags, csv, summary);
+      if (*check) return cmd_check(run_dir, baseline, tolerances, update);
+      if (*validate) return cmd_validate(validate_files, schema);
+      if (*reproduce) return bb::reproduce(paper, papers_out, !no_paper_plots, std::cout);
+      if (*sweep) {
+        sweep_args.plots = !sweep_no_plots;
+        return bb::sweep_command(sweep_args, std::cout);
+      }
+    } catch (const bb::Interrupted& stop) {
+      // unwound: temporary files and a staging folder are gone, previous outputs untouched (a
+      // sweep keeps the points it finished, for --resume)
+      std::cerr << "blendbench: interrupted by " << signal_name(stop.signal) << "; no output file was replaced" << std::endl;
+      return kExitSignalBase + stop.signal;
+    } catch (const bb::InputError& e) {
+      std::cerr << "blendbench: error: " << e.what() << std::endl;
+      return kExitBadInput;
+    } catch (const std::exception& e) {
+      std::cerr << "blendbench: failed: " << bb::printable(e.what()) << std::endl;
+      return kExitCheckFailed;
     }
-  } catch (const bb::Interrupted& stop) {
-    // unwound: temporary files and a staging folder are gone, previous outputs untouched (a
-    // sweep keeps the points it finished, for --resume)
-    std::cerr << "blendbench: interrupted by " << signal_name(stop.signal) << "; no output file was replaced" << std::endl;
-    return kExitSignalBase + stop.signal;
-  } catch (const bb::InputError& e) {
-    std::cerr << "blendbench: error: " << e.what() << std::endl;
-    return kExitBadInput;
-  } catch (const std::exception& e) {
-    std::cerr << "blendbench: failed: " << bb::printable(e.what()) << std::endl;
-    return kExitCheckFailed;
-  }
-  return kExitOk;
+    return kExitOk;
+  }();
+  return finish(code);
 }

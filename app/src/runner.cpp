@@ -662,10 +662,16 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
     const ProcessResult plotted =
         run_process({"/usr/bin/python3", data_file("report/scripts/plot_run.py"), request.out_dir.string()});
     if (plotted.ok) result.report = request.out_dir / "report.html";
-    if (request.progress) {
+    if (request.progress && stop_signal() == 0) {
       request.progress(plotted.ok ? "plots and report written (" + format_fixed(seconds_since(plot_start), 1) + " s)"
                                   : "warning: the plot script failed (" + plotted.message + ")");
     }
+  }
+  // a stop request while the plots were drawn (the script was stopped with it): the variants
+  // are finished, the run was not
+  if (result.interrupted_by == 0 && stop_signal() != 0) {
+    result.interrupted_by = stop_signal();
+    result.all_ok = false;
   }
   return result;
 }

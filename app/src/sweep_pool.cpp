@@ -2,6 +2,7 @@
 
 #include <sched.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -10,6 +11,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <mutex>
@@ -29,6 +31,9 @@ namespace {
 
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
+
+// The environment variable through which a point's child learns its sweep's pid.
+constexpr const char* kParentVariable = "BLENDBENCH_SWEEP_PARENT";
 
 // A JSON file of the sweep's folder; null when absent, discarded (null-like) when malformed.
 nlohmann::json read_json_or_null(const OutputDir& dir, const std::string& name, const std::string& what) {
@@ -67,6 +72,8 @@ PointOutcome run_one(const SweepPlan& plan, const SweepPoint& point, const Outpu
   // the log: a new file in the point's folder, whatever was there (a link planted at its name is
   // replaced, not written through)
   options.output_fd = dir.create_fresh("log.txt");
+  // the child ends with this process, however this one ends (run_point_folder)
+  options.environment = {std::string(kParentVariable) + "=" + std::to_string(::getpid())};
   ProcessResult result;
   try {
     result = run_process({self, "sweep", "--run-point", dir.path().string()}, options);
@@ -272,6 +279,13 @@ PoolStats run_pool(const SweepPlan& plan, const std::vector<std::size_t>& runs, 
 }
 
 int run_point_folder(const fs::path& dir) {
+  // a point runs only while the sweep that started it does: SIGTERM when it ends, SIGKILL
+  // included (the request is checked at every step, and the watchdog ends what blocks); a sweep
+  // that ended before the request was made is seen by the parent's pid
+  if (const char* parent = std::getenv(kParentVariable); parent != nullptr) {
+    ::prctl(PR_SET_PDEATHSIG, SIGTERM);
+    if (std::to_string(::getppid()) != parent) throw Interrupted{SIGTERM};
+  }
   // the point's folder and the points/ folder above it are real folders: the run writes its
   // summary there and must not be sent elsewhere by a link planted in the sweep's folder
   for (const fs::path& folder : {dir, dir.parent_path()}) {

@@ -1,11 +1,13 @@
 #include "blendbench/report/run_folder.hpp"
 
 #include <fcntl.h>
+#include <poll.h>
 #include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <cstring>
@@ -14,9 +16,11 @@
 #include <mutex>
 #include <stdexcept>
 #include <system_error>
+#include <thread>
 
 #include "blendbench/core/input_error.hpp"
 #include "blendbench/core/interrupt.hpp"
+#include "blendbench/report/process.hpp"
 
 namespace blendbench {
 namespace fs = std::filesystem;
@@ -85,13 +89,72 @@ constexpr unsigned kRenameExchange = 1U << 1;
 // Whether renameat2 failed because the file system or kernel cannot do it (fall back).
 bool unsupported(int error) { return error == EINVAL || error == ENOSYS || error == ENOTSUP || error == EOPNOTSUPP; }
 
-// Process-wide registry of paths to remove on the way out.
-std::mutex g_cleanup_mutex;
-std::map<std::uint64_t, fs::path> g_cleanup;
+// Process-wide registry of paths to remove on the way out. Never destroyed: the stop watchdog
+// may use it while the program exits.
+std::mutex& cleanup_mutex() {
+  static auto* mutex = new std::mutex;
+  return *mutex;
+}
+std::map<std::uint64_t, fs::path>& cleanup_paths() {
+  static auto* paths = new std::map<std::uint64_t, fs::path>;
+  return *paths;
+}
 std::uint64_t g_next_cleanup = 1;
 std::terminate_handler g_previous_terminate = nullptr;
 
-extern "C" void on_stop_signal(int signal) { request_stop(signal); }
+// The handler writes each stop signal's number here; the watchdog reads it.
+int g_stop_pipe[2] = {-1, -1};
+
+extern "C" void on_stop_signal(int signal) {
+  const int saved = errno;
+  request_stop(signal);
+  const auto byte = static_cast<unsigned char>(signal);
+  if (g_stop_pipe[1] >= 0) (void)!::write(g_stop_pipe[1], &byte, 1);
+  errno = saved;
+}
+
+// Writes a line to standard error without locks or allocation beyond the string given.
+void say(const std::string& line) {
+  const std::string text = line + "\n";
+  (void)!::write(STDERR_FILENO, text.data(), text.size());
+}
+
+// The second stage of a stop request. The first signal only records the request, so that the
+// work unwinds at its next check and keeps what it finished (core/interrupt.hpp); the children
+// are asked to stop at once. A call that blocks (a write to a full pipe nobody reads, an open
+// that waits) never reaches that check, and SA_RESTART restarts it: kStopGrace after the
+// request, or at a second signal, the children are killed, every registered temporary file and
+// staging folder removed, and the program ends with 128 + the first signal.
+void stop_watchdog() {
+  unsigned char first = 0;
+  while (::read(g_stop_pipe[0], &first, 1) != 1) {
+    if (errno != EINTR) return;
+  }
+  signal_children(SIGTERM);
+  const auto deadline = std::chrono::steady_clock::now() + kStopGrace;
+  bool second = false;
+  for (;;) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    if (left.count() <= 0) break;
+    pollfd p{g_stop_pipe[0], POLLIN, 0};
+    if (::poll(&p, 1, static_cast<int>(left.count())) > 0) {
+      unsigned char next = 0;
+      if (::read(g_stop_pipe[0], &next, 1) == 1) {
+        second = true;
+        break;
+      }
+    }
+  }
+  signal_children(SIGKILL);
+  remove_registered_paths();
+  // the message last, and never waiting: standard error may be the full pipe the program blocks on
+  ::fcntl(STDERR_FILENO, F_SETFL, ::fcntl(STDERR_FILENO, F_GETFL) | O_NONBLOCK);
+  say(std::string("blendbench: ") + (second ? "a second stop signal" : "still running " +
+                                                                            std::to_string(static_cast<int>(kStopGrace.count())) +
+                                                                            " s after the stop signal") +
+      ": ending now; temporary files removed");
+  ::_exit(128 + first);
+}
 
 [[noreturn]] void on_terminate() {
   remove_registered_paths();
@@ -251,32 +314,42 @@ void RunFolder::commit_to(const fs::path& where_in) {
 }
 
 void install_stop_handlers() {
+  // the watchdog first, so that no signal can come before it listens
+  if (::pipe2(g_stop_pipe, O_CLOEXEC) == 0) {
+    std::thread(stop_watchdog).detach();
+  }
   struct sigaction action {};
   action.sa_handler = on_stop_signal;
   sigemptyset(&action.sa_mask);
-  // restart interrupted system calls (writes go on); the second signal gets the default action
-  action.sa_flags = SA_RESTART | SA_RESETHAND;
+  // restart interrupted system calls (writes go on): the watchdog ends what stays blocked
+  action.sa_flags = SA_RESTART;
   sigaction(SIGINT, &action, nullptr);
   sigaction(SIGTERM, &action, nullptr);
+  // a reader that went away (`blendbench ... | head`) is a stop request too: the work unwinds and
+  // leaves no temporary file, where the default action would end it on the spot
+  sigaction(SIGPIPE, &action, nullptr);
+  // past a file-size limit (ulimit -f) a write fails with EFBIG and says so, instead of SIGXFSZ
+  // ending the program with its temporary files
+  std::signal(SIGXFSZ, SIG_IGN);
   g_previous_terminate = std::set_terminate(on_terminate);
 }
 
 std::uint64_t register_cleanup(const fs::path& path) {
-  const std::lock_guard<std::mutex> lock(g_cleanup_mutex);
+  const std::lock_guard<std::mutex> lock(cleanup_mutex());
   const std::uint64_t handle = g_next_cleanup++;
-  g_cleanup.emplace(handle, path);
+  cleanup_paths().emplace(handle, path);
   return handle;
 }
 
 void unregister_cleanup(std::uint64_t handle) noexcept {
   if (handle == 0) return;
-  const std::lock_guard<std::mutex> lock(g_cleanup_mutex);
-  g_cleanup.erase(handle);
+  const std::lock_guard<std::mutex> lock(cleanup_mutex());
+  cleanup_paths().erase(handle);
 }
 
 void remove_registered_paths() noexcept {
-  const std::lock_guard<std::mutex> lock(g_cleanup_mutex);
-  for (const auto& [handle, path] : g_cleanup) {
+  const std::lock_guard<std::mutex> lock(cleanup_mutex());
+  for (const auto& [handle, path] : cleanup_paths()) {
     try {
       std::error_code ec;
       fs::remove_all(path, ec);
@@ -284,7 +357,7 @@ void remove_registered_paths() noexcept {
       // out of memory on the way out: remove what can be removed
     }
   }
-  g_cleanup.clear();
+  cleanup_paths().clear();
 }
 
 }  // namespace blendbench

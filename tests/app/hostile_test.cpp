@@ -4,6 +4,7 @@
 // folders named, nothing lost and no child left running.
 
 #include <fcntl.h>
+#include <signal.h>
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -175,6 +176,79 @@ TEST_F(Hostile, CheckReadsRegularJsonFilesOnlyAndNamesWhatIsWrong) {
     EXPECT_EQ(r.exit_code, 2) << r.output;
     EXPECT_TRUE(has(r.output, c.message)) << "expected '" << c.message << "' in\n" << r.output;
   }
+}
+
+// --- signals and limits -------------------------------------------------------------------------
+
+TEST_F(Hostile, AStopRequestEndsTheProgramHoweverItIsBlocked) {
+  // the program blocks in a write to a pipe nobody reads (as an open blocked on a FIFO did, 1,019
+  // s after `timeout`'s SIGTERM): the handler's flag is never checked and the call restarts, so
+  // the watchdog ends it, kStopGrace (5 s) after the signal, with 128 + SIGTERM
+  const std::string tiny = test::source_path("tests/data/tiny.yaml");
+  std::vector<std::string> args = {"validate"};
+  for (int i = 0; i < 4000; ++i) args.push_back(tiny);  // ~300 kB of output, the pipe holds 64 kB
+  test::Child child(test::blendbench_binary(), args, dir_.path());
+  // blocked once the pipe is full (its state shows in /proc)
+  const fs::path wchan = "/proc/" + std::to_string(child.pid()) + "/wchan";
+  const auto start = std::chrono::steady_clock::now();
+  while (read_file(wchan) != "pipe_write" && read_file(wchan) != "anon_pipe_write" &&
+         std::chrono::steady_clock::now() - start < std::chrono::seconds(30)) {
+    ::usleep(50000);
+  }
+  ASSERT_TRUE(has(read_file(wchan), "pipe_write")) << read_file(wchan);
+  child.signal(SIGTERM);
+  const auto signalled = std::chrono::steady_clock::now();
+  const int code = child.wait_exit_within(20);
+  const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - signalled).count();
+  EXPECT_EQ(code, 143) << child.output().substr(child.output().size() > 400 ? child.output().size() - 400 : 0);
+  EXPECT_GT(took, 4.0);
+  EXPECT_LT(took, 10.0);
+}
+
+TEST_F(Hostile, SweepPointsDieWithTheSweepEvenWhenItIsKilled) {
+  // points of 3 s each, two at a time; the sweep is killed (SIGKILL) while they run
+  write("slow.yaml", "scenario: " + test::source_path("tests/data/tiny.yaml") +
+                         "\naxes:\n  defaults.velocity: [100, 120, 140, 160]\n  simulation.settle_time_s: [3]\n");
+  test::Child sweep(test::blendbench_binary(), {"sweep", "slow.yaml", "--out", "sw", "--no-plots", "--jobs", "2"}, dir_.path());
+  ASSERT_TRUE(sweep.wait_for_line("sweep: slow.yaml")) << sweep.output();
+  // the points' processes, found by their command line
+  const auto points = [&] {
+    int n = 0;
+    for (const auto& e : fs::directory_iterator("/proc")) {
+      const std::string cmdline = read_file(e.path() / "cmdline");
+      n += has(cmdline, "--run-point") && has(cmdline, (dir_ / "sw").string()) ? 1 : 0;
+    }
+    return n;
+  };
+  const auto start = std::chrono::steady_clock::now();
+  while (points() < 2 && std::chrono::steady_clock::now() - start < std::chrono::seconds(20)) ::usleep(50000);
+  ASSERT_EQ(points(), 2);
+  sweep.signal(SIGKILL);
+  EXPECT_EQ(sweep.wait_within(20), -1);
+  const auto killed = std::chrono::steady_clock::now();
+  while (points() > 0 && std::chrono::steady_clock::now() - killed < std::chrono::seconds(10)) ::usleep(50000);
+  EXPECT_EQ(points(), 0) << "a point outlived its sweep";
+  // no status for a point that did not finish: --resume runs it again
+  for (const auto& e : fs::directory_iterator(dir_ / "sw" / "points")) EXPECT_FALSE(fs::exists(e.path() / "status.json"));
+}
+
+TEST_F(Hostile, AFileSizeLimitIsAWriteErrorNotAKill) {
+  // ulimit -f: SIGXFSZ used to kill the program (its temporary file left behind)
+  const std::string tiny = test::source_path("tests/data/tiny.yaml");
+  test::Child child("/bin/sh", {"-c", "ulimit -f 16 && exec \"$0\" \"$@\"", test::blendbench_binary(), "plan", tiny, "--csv",
+                                "plan.csv", "--summary", "plan.json"},
+                    dir_.path());
+  EXPECT_EQ(child.wait_within(kDeadline), 1) << child.output();
+  EXPECT_TRUE(has(child.output(), "plan.csv: File too large")) << child.output();
+  for (const auto& e : fs::directory_iterator(dir_.path())) EXPECT_FALSE(has(e.path().filename().string(), ".tmp.")) << e.path();
+  EXPECT_FALSE(fs::exists(dir_ / "plan.csv"));
+}
+
+TEST_F(Hostile, OutputLostOnAFullDeviceIsNotSuccess) {
+  const std::string tiny = test::source_path("tests/data/tiny.yaml");
+  test::Child child("/bin/sh", {"-c", "exec \"$0\" validate \"$1\" > /dev/full", test::blendbench_binary(), tiny}, dir_.path());
+  EXPECT_EQ(child.wait_within(kDeadline), 1) << child.output();
+  EXPECT_TRUE(has(child.output(), "cannot write to standard output")) << child.output();
 }
 
 }  // namespace

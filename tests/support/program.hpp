@@ -109,6 +109,28 @@ class Child {
     }
   }
 
+  // Waits at most `seconds` for the child to end without reading its output (so a child that
+  // writes more than the pipe holds stays blocked in that write); past that it is killed
+  // (SIGKILL) and -2 is returned. Then reads what it printed; otherwise as wait().
+  int wait_exit_within(double seconds) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+    int status = 0;
+    while (::waitpid(pid_, &status, WNOHANG) == 0) {
+      if (std::chrono::steady_clock::now() > deadline) {
+        ::kill(pid_, SIGKILL);
+        (void)wait();
+        return -2;
+      }
+      ::usleep(20000);
+    }
+    reaped_ = true;
+    while (read_some()) {
+    }
+    output_ += pending_;
+    pending_.clear();
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+
   // What it printed so far (all of it after wait()).
   [[nodiscard]] const std::string& output() const { return output_; }
   [[nodiscard]] pid_t pid() const { return pid_; }

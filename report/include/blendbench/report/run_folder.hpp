@@ -22,6 +22,7 @@
 // out, used by write_file_atomic and RunFolder and emptied by main's exit paths and by
 // std::terminate.
 
+#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -68,10 +69,19 @@ class RunFolder {
   std::uint64_t staging_cleanup_ = 0, lock_cleanup_ = 0;
 };
 
-// Installs handlers for SIGINT and SIGTERM that only record the signal
-// (core/interrupt.hpp, request_stop) and are reset after the first one, so a second Ctrl-C ends
-// the program at once; and a std::terminate handler that removes the registered paths before
-// aborting. Call once, early in main.
+// How long a stop request may take to unwind before the program ends anyway (issue 42: an open
+// blocked on a FIFO outlived `timeout` by 1,019 s). A run unwinds in well under a second (the
+// simulation checks for a request at every step); the rest is headroom for an encoder or a plot
+// script to end after the SIGTERM forwarded to it.
+inline constexpr std::chrono::seconds kStopGrace{5};
+
+// Installs handlers for SIGINT, SIGTERM and SIGPIPE that only record the signal
+// (core/interrupt.hpp, request_stop) and wake a watchdog thread, which forwards SIGTERM to the
+// child processes (report/process.hpp) and, when the program has not ended kStopGrace later or a
+// second signal comes, kills them, removes the registered paths and exits with 128 + the first
+// signal. SIGXFSZ is ignored (a write past a file-size limit fails with an error instead). Also
+// a std::terminate handler that removes the registered paths before aborting. Call once, early
+// in main.
 void install_stop_handlers();
 
 // Registers `path` (a file or a folder) to be removed by remove_registered_paths; returns a
