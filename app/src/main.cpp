@@ -97,6 +97,7 @@ int cmd_run(std::string scenario_path, std::string out_dir, bool no_video, bool 
   bb::RunFolder folder(out_dir);
   bb::RunRequest request;
   request.out_dir = folder.staging();
+  request.published_dir = folder.target();
   request.video = !no_video;
   request.compare = compare;
   request.plots = !no_plots;
@@ -303,8 +304,10 @@ std::string validate_input(const std::string& input) {
   }
   const bb::Scenario scenario = bb::load_scenario(input);
   for (const bb::Variant& v : scenario.variants) (void)blend_checked(bb::program_for(scenario, v));
+  // the robot's files as `run` opens them (a URDF or MJCF that run refuses is refused here)
+  bb::check_robot(scenario);
   return "scenario '" + scenario.name + "', " + std::to_string(scenario.program.moves.size()) + " moves, " +
-         std::to_string(scenario.variants.size()) + " variants blended";
+         std::to_string(scenario.variants.size()) + " variants blended, robot loaded";
 }
 
 // `validate FILE...`: one line per file, "FILE: ok (...)" or the refusal; exit 2 if any is bad.
@@ -367,7 +370,8 @@ int cmd_check(const std::string& run_dir, std::string baseline_file, std::string
     std::cout << "baseline written: " << baseline_file << std::endl;
     return kExitOk;
   }
-  if (!std::filesystem::exists(baseline_file)) {
+  std::error_code absent;
+  if (!std::filesystem::exists(baseline_file, absent) && !absent) {
     throw bb::InputError(baseline_file, 0, 0, "",
                          "no baseline for scenario '" + name + "'; after checking the run is right, create it deliberately " +
                              "with `blendbench check " + run_dir + " --update` and commit it");
@@ -379,6 +383,21 @@ int cmd_check(const std::string& run_dir, std::string baseline_file, std::string
   std::cout << (report.passed() ? "check passed against " : "check FAILED against ") << baseline_file << " ("
             << report.rows.size() << " metrics compared; tolerances: " << tolerance_file << ")" << std::endl;
   return report.passed() ? kExitOk : kExitCheckFailed;
+}
+
+// An option or argument given with an empty value ("--out ''", "run ''") names nothing: refused,
+// where its default would otherwise take its place silently.
+void refuse_empty_values(const CLI::App& app) {
+  for (const CLI::App* command : app.get_subcommands()) {
+    for (const CLI::Option* option : command->get_options()) {
+      if (option->count() == 0) continue;
+      for (const std::string& value : option->results()) {
+        if (value.empty()) {
+          throw bb::InputError("", 0, 0, option->get_name(), "an empty value names nothing: give one, or leave the option out");
+        }
+      }
+    }
+  }
 }
 
 // The exit code once what was printed has been handed on: standard output on a full device (or a
@@ -514,6 +533,7 @@ int main(int argc, char** argv) {
 
   const int code = [&]() -> int {
     try {
+      refuse_empty_values(app);
       if (*run) return cmd_run(scenario_path, out_dir, no_video, no_plots, compare, variants, timing_flags);
       if (*path) return cmd_path(input, flags, csv, report, ds_mm);
       if (*plan) return cmd_plan(input, flags, timing_flags, csv, summary);

@@ -503,48 +503,28 @@ VariantSummary run_variant(const Scenario& sc, const Robot& robot, const RunRequ
   return unfinished(sc, variant, VariantStatus::kInterrupted);
 }
 
-}  // namespace
-
-bool video_supported() {
-#ifdef BLENDBENCH_HAS_RENDER
-  return true;
-#else
-  return false;
-#endif
-}
-
-RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
-  if (request.video && !video_supported()) {
-    throw InputError("", 0, 0, "--no-video", "this build has no rendering (BLENDBENCH_RENDER=OFF): pass --no-video");
-  }
-  if (request.compare && !video_supported()) {
-    throw InputError("", 0, 0, "--compare", "this build has no rendering (BLENDBENCH_RENDER=OFF)");
-  }
-  std::vector<const Variant*> selected;
-  for (const std::string& name : request.variants) selected.push_back(&find_variant(scenario, name));
-  if (request.variants.empty()) {
-    for (const Variant& v : scenario.variants) selected.push_back(&v);
-  }
-  // variant names become folders under out_dir: never a path that leaves it
-  for (const Variant* v : selected) {
-    if (const std::string problem = folder_name_problem(v->name); !problem.empty()) {
-      throw InputError(scenario.file, v->where.line, v->where.column, "variants[].name", "variant " + problem);
-    }
-  }
-
-  // the robot: kinematics, dynamics (checked against robot.model), the start pose, the servo
+// The robot of a scenario as run_scenario runs it, checked as it checks it before the first
+// variant: kinematics, dynamics (against robot.model), servo rate against the model's timestep,
+// the start pose, the servo. A library's exception while the robot files are read is bad input
+// of the scenario's robot (rethrow_as_input_error).
+struct LoadedRobot {
   Robot robot;
-  std::vector<std::string> robot_notes;
-  std::string mjcf = scenario.robot.mjcf;
-  ArmModel arm_model = scenario.robot.model;
+  std::vector<std::string> notes;  // what was estimated or replaced (a URDF alone)
+  std::string built_mjcf;          // the model built from a URDF alone; empty when the scenario names an MJCF
+  ArmModel arm_model = ArmModel::kElastic;
+};
+
+LoadedRobot load_robot_files(const Scenario& scenario, const Variant& first_variant) {
+  LoadedRobot loaded;
+  Robot& robot = loaded.robot;
+  loaded.arm_model = scenario.robot.model;
   if (scenario.robot.estimate_total_mass > 0 && !scenario.robot.mjcf_from_urdf) {
     fail_at(scenario, scenario.robot.estimate_where, "robot.estimate_inertia",
             "estimate_inertia applies only to a URDF run without an MJCF; " + scenario.robot.mjcf +
                 " states the dynamics");
   }
   if (scenario.robot.mjcf_from_urdf) {
-    // a URDF alone: its dynamics built from it (rigid joints: a URDF states no gear stiffness),
-    // written into the run folder for the reader
+    // a URDF alone: its dynamics built from it (rigid joints: a URDF states no gear stiffness)
     if (scenario.robot.model == ArmModel::kElastic && scenario.robot.model_where.line > 0) {
       fail_at(scenario, scenario.robot.model_where, "robot.model",
               "elastic joints need gear stiffnesses a URDF does not state: give robot.mjcf, or robot.model: rigid");
@@ -552,15 +532,11 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
     UrdfModel built = model_from_urdf(scenario.robot.urdf, scenario.robot.base_link, scenario.robot.tip_link,
                                       scenario.robot.estimate_total_mass);
     robot.chain = std::move(built.chain);
-    robot_notes = std::move(built.notes);
-    std::filesystem::create_directories(request.out_dir);
-    mjcf = (request.out_dir / "robot_from_urdf.xml").string();
-    write_file_atomic(mjcf, built.mjcf);
-    robot.sim = std::make_unique<Simulator>(mjcf);
-    arm_model = ArmModel::kRigid;
-    if (request.progress) {
-      for (const std::string& note : robot_notes) request.progress("robot: " + note);
-    }
+    loaded.notes = std::move(built.notes);
+    robot.sim = std::make_unique<Simulator>(
+        Simulator::from_xml_string(built.mjcf, {}, scenario.robot.urdf + " (the MuJoCo model built from it)"));
+    loaded.built_mjcf = std::move(built.mjcf);
+    loaded.arm_model = ArmModel::kRigid;
   } else {
     robot.chain = load_urdf_chain(scenario.robot.urdf, scenario.robot.base_link, scenario.robot.tip_link);
     robot.sim = std::make_unique<Simulator>(scenario.robot.mjcf);
@@ -583,7 +559,7 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
   }
   // the program's start point is every variant's first pose: out of reach, the scenario itself
   // is bad input (at the first move), found before any variant runs
-  const Program first = program_for(scenario, *selected.front());
+  const Program first = program_for(scenario, first_variant);
   const IkSolver::Result start = robot.ik->solve(tool_pose(scenario.start, scenario.robot.tool_rotation), scenario.robot.q_seed);
   if (!start.outcome.ok()) {
     throw move_error(scenario, first, 0,
@@ -592,6 +568,68 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
   robot.q0 = start.q;
   robot.servo = servo_of(scenario, *robot.sim, robot.q0);
   robot.keep_out = keep_out_of(robot.sim->model());
+  return loaded;
+}
+
+LoadedRobot load_robot(const Scenario& scenario, const Variant& first_variant) {
+  try {
+    return load_robot_files(scenario, first_variant);
+  } catch (...) {
+    rethrow_as_input_error(scenario.robot.urdf_where.line > 0 ? scenario.robot.urdf_where : SourceRef{scenario.file, 0, 0},
+                           "robot", "cannot load the robot: ");
+  }
+}
+
+}  // namespace
+
+bool video_supported() {
+#ifdef BLENDBENCH_HAS_RENDER
+  return true;
+#else
+  return false;
+#endif
+}
+
+void check_robot(const Scenario& scenario) {
+  if (scenario.variants.empty()) return;
+  (void)load_robot(scenario, scenario.variants.front());
+}
+
+RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
+  if (request.video && !video_supported()) {
+    throw InputError("", 0, 0, "--no-video", "this build has no rendering (BLENDBENCH_RENDER=OFF): pass --no-video");
+  }
+  if (request.compare && !video_supported()) {
+    throw InputError("", 0, 0, "--compare", "this build has no rendering (BLENDBENCH_RENDER=OFF)");
+  }
+  std::vector<const Variant*> selected;
+  for (const std::string& name : request.variants) selected.push_back(&find_variant(scenario, name));
+  if (request.variants.empty()) {
+    for (const Variant& v : scenario.variants) selected.push_back(&v);
+  }
+  // variant names become folders under out_dir: never a path that leaves it
+  for (const Variant* v : selected) {
+    if (const std::string problem = folder_name_problem(v->name); !problem.empty()) {
+      throw InputError(scenario.file, v->where.line, v->where.column, "variants[].name", "variant " + problem);
+    }
+  }
+
+  // the robot: kinematics, dynamics (checked against robot.model), the start pose, the servo
+  LoadedRobot loaded = load_robot(scenario, *selected.front());
+  Robot& robot = loaded.robot;
+  const std::vector<std::string>& robot_notes = loaded.notes;
+  std::string mjcf = scenario.robot.mjcf;
+  if (!loaded.built_mjcf.empty()) {
+    // the model built from the URDF, written into the run folder for the reader (the run itself
+    // compiled it from memory: a message names the URDF, never a staging folder)
+    write_file_atomic(request.out_dir / "robot_from_urdf.xml", loaded.built_mjcf);
+    mjcf = ((request.published_dir.empty() ? request.out_dir : request.published_dir) / "robot_from_urdf.xml").string();
+    if (request.progress) {
+      for (const std::string& note : robot_notes) request.progress("robot: " + note);
+    }
+  }
+  const ArmModel arm_model = loaded.arm_model;
+  const Program first = program_for(scenario, *selected.front());
 
   RunResult result;
   RunSummary& summary = result.summary;

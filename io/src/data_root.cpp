@@ -56,7 +56,8 @@ fs::path find_data_root(const char* env_value, const fs::path& executable) {
     // 3. the build tree: a file naming the source tree, beside the program or one folder up
     for (const fs::path& dir : {bin, bin.parent_path()}) {
       const fs::path marker = dir / kDataRootFile;
-      if (!fs::exists(marker)) {
+      std::error_code ec;
+      if (!fs::exists(marker, ec)) {
         tried.push_back(marker.string() + " (no such file)");
         continue;
       }

@@ -185,7 +185,8 @@ UrdfModel model_from_urdf(const std::string& urdf_path, const std::string& base_
   if (!meshes.empty()) {
     std::size_t missing_files = 0;
     for (const std::string& m : meshes) {
-      if (m.starts_with("package://") || !std::filesystem::is_regular_file(m)) ++missing_files;
+      std::error_code ec;
+      if (m.starts_with("package://") || !std::filesystem::is_regular_file(m, ec)) ++missing_files;
     }
     out.notes.push_back(std::to_string(meshes.size()) + " visual meshes replaced by simple shapes (" +
                         std::to_string(missing_files) + " of them missing here, e.g. '" + meshes.front() + "')");

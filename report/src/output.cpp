@@ -265,6 +265,20 @@ void check_output_files(const std::vector<std::pair<std::string, std::filesystem
     // the folder as the system resolves it (symbolic links, "..", relative spelling)
     const fs::path absolute = fs::absolute(path).lexically_normal();
     std::error_code ec;
+    // a folder that exists must be one the file can be written in (a loop of links, a file)
+    for (fs::path up = absolute.parent_path(); !up.empty(); up = up.parent_path()) {
+      std::error_code status_ec;
+      const fs::file_status status = fs::status(up, status_ec);
+      if (status.type() == fs::file_type::not_found) {
+        if (up == up.parent_path()) break;
+        continue;
+      }
+      if (status_ec) throw InputError("", 0, 0, option, path.string() + ": cannot use the folder " + up.string() + ": " + status_ec.message());
+      if (status.type() != fs::file_type::directory) {
+        throw InputError("", 0, 0, option, path.string() + ": " + up.string() + " is not a folder");
+      }
+      break;
+    }
     const fs::path folder = fs::weakly_canonical(absolute.parent_path(), ec);
     out.canonical = (ec ? absolute.parent_path() : folder) / absolute.filename();
     for (const Seen& other : seen) {

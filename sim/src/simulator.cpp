@@ -249,8 +249,8 @@ ServoConfig with_controller(ServoConfig servo, Controller controller) {
 Simulator::Simulator(const std::string& mjcf_path, const ModelChanges& changes)
     : Simulator(nullptr, mjcf_path, changes) {}
 
-Simulator Simulator::from_xml_string(const std::string& xml, const ModelChanges& changes) {
-  return Simulator(load_model(sim_detail::model_text_files(xml, "<string>"), "<string>"), "<string>", changes);
+Simulator Simulator::from_xml_string(const std::string& xml, const ModelChanges& changes, const std::string& source) {
+  return Simulator(load_model(sim_detail::model_text_files(xml, source), source), source, changes);
 }
 
 Simulator::Simulator(mjModel* model, const std::string& source, const ModelChanges& changes) {

@@ -178,6 +178,81 @@ TEST_F(Hostile, CheckReadsRegularJsonFilesOnlyAndNamesWhatIsWrong) {
   }
 }
 
+TEST_F(Hostile, ValidateOpensTheRobotFilesRunOpens) {
+  // an MJCF that names a FIFO as its mesh, a URDF nested 10^5 elements deep: `validate` said ok
+  // (it did not open them) and `run` refused or crashed
+  ASSERT_EQ(::mkfifo((dir_ / "pipe.obj").c_str(), 0600), 0);
+  std::string mjcf = read_file(test::source_path("models/ur5e_like_rigid.xml"));
+  mjcf.replace(mjcf.find("<asset>"), 7, "<asset><mesh name='m' file='pipe.obj'/>");
+  write("arm.xml", mjcf);
+  const std::string robot = "robot: {urdf: " + test::source_path("models/ur5e_like.urdf") + ", mjcf: arm.xml, model: rigid}";
+  tiny_with("units: mm", "units: mm\n" + robot, "fifo_mesh.yaml");
+  std::string deep = "<robot name='x'>";
+  for (int i = 0; i < 100000; ++i) deep += "<a>";
+  write("deep.urdf", deep);
+  tiny_with("units: mm", "units: mm\nrobot: {urdf: deep.urdf, mjcf: " + test::source_path("models/ur5e_like_rigid.xml") +
+                             ", model: rigid}", "deep.yaml");
+  for (const std::string& command : {std::string("validate"), std::string("run")}) {
+    for (const auto& [file, message] : {std::pair<std::string, std::string>{"fifo_mesh.yaml", "the mesh file is a FIFO"},
+                                        {"deep.yaml", "deep.urdf:1:"}}) {
+      std::vector<std::string> args = {command, file};
+      if (command == "run") args.insert(args.end(), {"--no-video", "--no-plots", "--out", "out"});
+      const Result r = run(args, 20);
+      EXPECT_EQ(r.exit_code, 2) << command << " " << file << "\n" << r.output;
+      EXPECT_TRUE(has(r.output, message)) << command << " " << file << "\n" << r.output;
+      if (command == "validate") EXPECT_TRUE(has(r.output, "elements are nested more than 64 deep") || file != "deep.yaml") << r.output;
+    }
+  }
+}
+
+TEST_F(Hostile, AModelBuiltFromAUrdfIsBlamedOnTheUrdfNeverOnAStagingFolder) {
+  // a URDF whose link weighs 1e308 kg: the message named .out.staging-<pid>/robot_from_urdf.xml,
+  // a file deleted before anyone could read it
+  std::string urdf = read_file(test::source_path("models/kr6_like.urdf"));
+  const std::size_t mass = urdf.find("<mass value=\"", urdf.find("<link name=\"link_2\"")) + 13;
+  urdf.replace(mass, urdf.find('"', mass) - mass, "1e308");
+  write("heavy.urdf", urdf);
+  tiny_with("units: mm", "units: mm\nrobot: {urdf: heavy.urdf, model: rigid}", "heavy.yaml");
+  const Result r = run({"run", "heavy.yaml", "--no-video", "--no-plots", "--out", "out"});
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_TRUE(has(r.output, "heavy.urdf (the MuJoCo model built from it): 'body.mass'")) << r.output;
+  EXPECT_FALSE(has(r.output, "staging")) << r.output;
+}
+
+TEST_F(Hostile, EmptyValuesAndLoopingLinksAreBadInputNamingTheOption) {
+  const std::string tiny = test::source_path("tests/data/tiny.yaml");
+  const std::vector<std::vector<std::string>> empty = {
+      {"run", tiny, "--out", "", "--no-video", "--no-plots"},  // wrote to results/runs/tiny silently
+      {"run", "", "--no-video", "--no-plots"},
+      {"path", tiny, "--csv", ""},
+      {"sweep", "--collect", ""},
+  };
+  for (const auto& args : empty) {
+    const Result r = run(args);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_TRUE(has(r.output, "an empty value names nothing")) << r.output;
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "results"));
+  // a loop of symbolic links where a file is named: "filesystem error: Too many levels of
+  // symbolic links" (exit 1) before
+  fs::create_symlink(dir_ / "loop_b", dir_ / "loop_a");
+  fs::create_symlink(dir_ / "loop_a", dir_ / "loop_b");
+  fs::create_directories(dir_ / "run");
+  write("run/summary.json", R"({"scenario": "tiny", "variants": []})");
+  const std::vector<std::vector<std::string>> loops = {
+      {"check", "run", "--baseline", "loop_a"},
+      {"run", "loop_a", "--no-video", "--no-plots"},
+      {"run", tiny, "--out", "loop_a/x", "--no-video", "--no-plots"},
+      {"path", tiny, "--csv", "loop_a/x.csv"},
+  };
+  for (const auto& args : loops) {
+    const Result r = run(args);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_TRUE(has(r.output, "Too many levels of symbolic links")) << r.output;
+    EXPECT_FALSE(has(r.output, "filesystem error")) << r.output;
+  }
+}
+
 // --- signals and limits -------------------------------------------------------------------------
 
 TEST_F(Hostile, AStopRequestEndsTheProgramHoweverItIsBlocked) {
