@@ -165,6 +165,15 @@ void check_positive(double value, const char* flag) {
   if (!(value > 0)) throw bb::InputError("", 0, 0, flag, "must be positive");
 }
 
+// A transition size from a flag (mm): 0 or at least the planner's smallest (program.hpp).
+void check_transition_size(double mm, const char* flag) {
+  if (mm > 0 && mm * 1e-3 < bb::kMinTransitionSize) {
+    throw bb::InputError("", 0, 0, flag,
+                         "is 0 (no transition) or at least " + bb::format_value(bb::kMinTransitionSize * 1e3) + " mm, got " +
+                             bb::format_value(mm) + " mm");
+  }
+}
+
 // Reads a G-code file or a scenario variant and applies the overrides: --method/--param replace
 // the transition of every move; --feed/--amax/--jmax replace the limits of every move.
 LoadedProgram load_program(const std::string& input, const ProgramFlags& flags) {
@@ -181,6 +190,7 @@ LoadedProgram load_program(const std::string& input, const ProgramFlags& flags) 
       }
       if (flags.param_mm) throw bb::InputError("", 0, 0, "--start-distance", "give --param or --start-distance, not both");
       check_positive(*flags.start_distance_mm, "--start-distance");
+      check_transition_size(*flags.start_distance_mm, "--start-distance");
       transition->start_distance = *flags.start_distance_mm * 1e-3;
     } else if (*method == bb::Method::kNone) {
       if (flags.param_mm) throw bb::InputError("", 0, 0, "--param", "has no meaning with --method none (an exact stop)");
@@ -190,6 +200,7 @@ LoadedProgram load_program(const std::string& input, const ProgramFlags& flags) 
                                                       (*method == bb::Method::kBiclothoid ? ", or --start-distance" : ""));
       }
       if (!(*flags.param_mm >= 0)) throw bb::InputError("", 0, 0, "--param", "must be >= 0 (mm)");
+      check_transition_size(*flags.param_mm, "--param");
       transition->parameter = *flags.param_mm * 1e-3;
     }
   } else if (flags.param_mm) {

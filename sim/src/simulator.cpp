@@ -765,6 +765,7 @@ Trace Simulator::run(const JointTrajectory& reference, const ServoConfig& servo,
       if (servo.velocity_feedforward) speed_cmd += motor_speed_then;
       const JointVector speed_error = speed_cmd - measured_speed;
       JointVector tau = servo.kv.cwiseProduct(speed_error) + integral + gravity + setpoints.at(t, &Setpoint::feedforward);
+      ++trace.servo_ticks;
       for (std::size_t i = 0; i < 6; ++i) {
         const auto ii = static_cast<Eigen::Index>(i);
         const bool saturated = std::abs(tau[ii]) > limit[ii];

@@ -253,6 +253,31 @@ TEST_F(Hostile, EmptyValuesAndLoopingLinksAreBadInputNamingTheOption) {
   }
 }
 
+// --- wrong numbers -------------------------------------------------------------------------------
+
+TEST_F(Hostile, TinyTransitionsAreRefusedNeverRowsOfNan) {
+  const std::string tiny = test::source_path("tests/data/tiny.yaml");
+  const std::vector<std::vector<std::string>> cases = {
+      {"--method", "clothoid", "--param", "1e-201"},
+      {"--method", "biclothoid", "--param", "1e-300"},
+      {"--method", "biclothoid", "--start-distance", "1e-200"},
+  };
+  for (const auto& flags : cases) {
+    std::vector<std::string> args = {"path", tiny, "--csv", "path.csv"};
+    args.insert(args.end(), flags.begin(), flags.end());
+    const Result r = run(args);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_TRUE(has(r.output, "'" + flags[2] + "': is 0 (no transition) or at least 1e-06 mm")) << r.output;
+    EXPECT_FALSE(fs::exists(dir_ / "path.csv"));
+  }
+  // in a scenario, refused at the variant's move
+  tiny_with("{name: arc, transition: {method: arc, parameter: 5}}", "{name: c, transition: {method: clothoid, parameter: 1e-201}}",
+            "tiny_clothoid.yaml");
+  const Result r = run({"path", "tiny_clothoid.yaml", "--variant", "c", "--csv", "path.csv"});
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_TRUE(has(r.output, "'transition.parameter'")) << r.output;
+}
+
 // --- signals and limits -------------------------------------------------------------------------
 
 TEST_F(Hostile, AStopRequestEndsTheProgramHoweverItIsBlocked) {
