@@ -4,6 +4,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -43,6 +44,16 @@ const char* signal_name(int signal) {
   return signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : signal == SIGPIPE ? "SIGPIPE" : "a signal";
 }
 
+// What a run's staging folder must hold to be published: its summary and the folder of every
+// variant the summary reports figures of (a failed or interrupted variant has none).
+std::vector<std::string> published_entries(const bb::RunResult& result) {
+  std::vector<std::string> entries = {"summary.json"};
+  for (const bb::VariantSummary& v : result.summary.variants) {
+    if (v.metrics) entries.push_back(v.name);
+  }
+  return entries;
+}
+
 // A run stopped by a signal: its finished variants are kept (in --out, or beside it as
 // <out>.interrupted when --out holds a previous run, which stays intact); one line says where.
 int interrupted_run(bb::RunFolder& folder, const bb::RunResult& result) {
@@ -56,7 +67,7 @@ int interrupted_run(bb::RunFolder& folder, const bb::RunResult& result) {
   if (count > 0) {
     const std::filesystem::path kept =
         folder.had_previous_run() ? std::filesystem::path(folder.target().string() + ".interrupted") : folder.target();
-    folder.commit_to(kept);
+    folder.commit_to(kept, published_entries(result));
     where = "kept " + std::to_string(count) + " finished variant(s) (" + finished + ") in " + kept.string();
   }
   std::cout << std::flush;
@@ -108,7 +119,21 @@ int cmd_run(std::string scenario_path, std::string out_dir, bool no_video, bool 
   std::cout << "blendbench: scenario '" << scenario.name << "' (" << scenario_path << ") -> " << out_dir << std::endl;
   const bb::RunResult result = bb::run_scenario(scenario, request);
   if (result.interrupted_by != 0) return interrupted_run(folder, result);
-  folder.commit();
+  // a run without one clean variant (a disk that filled, a model every variant fails on) never
+  // replaces a previous run: it is kept beside it
+  const bool any_clean = std::any_of(result.summary.variants.begin(), result.summary.variants.end(),
+                                     [](const bb::VariantSummary& v) { return v.status == bb::VariantStatus::kOk; });
+  if (!any_clean && folder.had_previous_run()) {
+    const std::filesystem::path kept(folder.target().string() + ".failed");
+    folder.commit_to(kept, published_entries(result));
+    std::cout << "no variant ran clean: " << out_dir << " still holds the previous run; this one is in " << kept.string()
+              << std::endl;
+    for (const bb::VariantSummary& v : result.summary.variants) {
+      std::cout << "  " << v.name << ": " << bb::to_string(v.status) << " - " << v.message << std::endl;
+    }
+    return kExitCheckFailed;
+  }
+  folder.commit(published_entries(result));
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::cout << "done in " << bb::format_value(wall, 3) << " s: " << (std::filesystem::path(out_dir) / "summary.json").string()
             << std::endl;
@@ -259,8 +284,11 @@ int cmd_path(const std::string& input, const ProgramFlags& flags, const std::str
                              " rows; the limit is " + bb::format_value(bb::kMaxPathSamples, 3) + " (raise --ds)");
   }
   bb::throw_if_stop_requested();
-  bb::write_file_atomic(csv, bb::path_csv(path, ds_mm * 1e-3));
-  if (!report.empty()) bb::write_file_atomic(report, bb::corners_json(path, loaded.program).dump(2) + "\n");
+  // the outputs locked while they are written: a second command writing them is refused
+  const bb::OutputFilesLock lock({{"--csv", csv}, {"--report", report}});
+  std::vector<std::pair<std::filesystem::path, std::string>> files = {{csv, bb::path_csv(path, ds_mm * 1e-3)}};
+  if (!report.empty()) files.emplace_back(report, bb::corners_json(path, loaded.program).dump(2) + "\n");
+  bb::write_files_atomic(files);
   std::cout << "path: " << bb::format_value(path.length() * 1e3, 6) << " mm, " << path.pieces().size() << " pieces, "
             << path.corners.size() << " corners -> " << csv << std::endl;
   return kExitOk;
@@ -290,8 +318,8 @@ int cmd_plan(const std::string& input, const ProgramFlags& flags, const TimingFl
   j["ignored"] = loaded.ignored;
   j["planning_wall_time_s"] = wall;
   bb::throw_if_stop_requested();
-  bb::write_file_atomic(csv, bb::timed_csv(path, timing));
-  bb::write_file_atomic(summary, j.dump(2) + "\n");
+  const bb::OutputFilesLock lock({{"--csv", csv}, {"--summary", summary}});
+  bb::write_files_atomic({{csv, bb::timed_csv(path, timing)}, {summary, j.dump(2) + "\n"}});
   std::cout << "plan: " << bb::format_value(path.length() * 1e3, 6) << " mm in " << bb::format_value(timing.cycle_time, 6)
             << " s, " << path.corners.size() << " corners, planned in " << bb::format_value(wall * 1e3, 3) << " ms -> "
             << csv << ", " << summary << std::endl;

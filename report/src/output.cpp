@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstring>
 #include <stdexcept>
+#include <utility>
 
 #include "blendbench/core/input_error.hpp"
 #include "blendbench/core/input_file.hpp"
@@ -43,9 +44,14 @@ bool write_all(int fd, std::string_view content) {
   return true;
 }
 
-// A file descriptor closed on every way out.
+// A file descriptor closed on every way out; moved, never copied.
 struct Descriptor {
   int fd = -1;
+  explicit Descriptor(int f) : fd(f) {}
+  Descriptor(Descriptor&& other) noexcept : fd(std::exchange(other.fd, -1)) {}
+  Descriptor(const Descriptor&) = delete;
+  Descriptor& operator=(const Descriptor&) = delete;
+  Descriptor& operator=(Descriptor&&) = delete;
   ~Descriptor() {
     if (fd >= 0) ::close(fd);
   }
@@ -84,10 +90,17 @@ void remove_stale_temporaries(int dir_fd, const std::string& name) {
   ::closedir(dir);
 }
 
-// Writes `content` to `name` in the open folder atomically: a temporary file beside it, created
-// exclusively and never through a symbolic link, written, synced, renamed over `name`. `shown`
-// names the file in messages.
-void write_atomic_at(int dir_fd, const std::string& name, const std::filesystem::path& shown, std::string_view content) {
+// A file written to its temporary beside it and not yet renamed over its name.
+struct Staged {
+  int dir_fd = -1;  // not owned
+  std::string name, tmp;
+  std::filesystem::path shown, tmp_shown;
+  std::uint64_t cleanup = 0;
+};
+
+// Writes `content` to a temporary beside `name` in the open folder: created exclusively and never
+// through a symbolic link, written and synced. `shown` names the file in messages.
+Staged stage_at(int dir_fd, const std::string& name, const std::filesystem::path& shown, std::string_view content) {
   // an existing target must be a regular file: a link, FIFO or device is never replaced
   struct stat existing {};
   if (::fstatat(dir_fd, name.c_str(), &existing, AT_SYMLINK_NOFOLLOW) == 0 && !S_ISREG(existing.st_mode)) {
@@ -97,27 +110,57 @@ void write_atomic_at(int dir_fd, const std::string& name, const std::filesystem:
   remove_stale_temporaries(dir_fd, name);
   // the temporary file: created exclusively (a stale one of a killed process with our pid is
   // removed first), never through a symbolic link
-  const std::string tmp = temporary_path_for(name).string();
-  const std::filesystem::path tmp_shown = temporary_path_for(shown);
+  Staged staged{dir_fd, name, temporary_path_for(name).string(), shown, temporary_path_for(shown), 0};
   constexpr int kCreate = O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC;
-  int fd = ::openat(dir_fd, tmp.c_str(), kCreate, 0666);
-  if (fd < 0 && errno == EEXIST && ::unlinkat(dir_fd, tmp.c_str(), 0) == 0) fd = ::openat(dir_fd, tmp.c_str(), kCreate, 0666);
-  if (fd < 0) throw std::runtime_error("cannot write " + tmp_shown.string() + ": " + std::strerror(errno));
-  const std::uint64_t cleanup = register_cleanup(tmp_shown);
-  const auto fail = [&](const std::string& what, int error) {
-    ::unlinkat(dir_fd, tmp.c_str(), 0);
-    unregister_cleanup(cleanup);
-    throw std::runtime_error(what + ": " + std::strerror(error));
-  };
-
+  int fd = ::openat(dir_fd, staged.tmp.c_str(), kCreate, 0666);
+  if (fd < 0 && errno == EEXIST && ::unlinkat(dir_fd, staged.tmp.c_str(), 0) == 0) fd = ::openat(dir_fd, staged.tmp.c_str(), kCreate, 0666);
+  if (fd < 0) throw std::runtime_error("cannot write " + staged.tmp_shown.string() + ": " + std::strerror(errno));
+  staged.cleanup = register_cleanup(staged.tmp_shown);
   const bool written = write_all(fd, content) && ::fsync(fd) == 0;
   const int saved_errno = errno;
   const bool closed = ::close(fd) == 0;
-  if (!written || !closed) fail("cannot write " + shown.string(), written ? errno : saved_errno);
-  if (::renameat(dir_fd, tmp.c_str(), dir_fd, name.c_str()) != 0) {
-    fail("cannot rename " + tmp_shown.string() + " to " + shown.string(), errno);
+  if (!written || !closed) {
+    const int error = written ? errno : saved_errno;
+    ::unlinkat(dir_fd, staged.tmp.c_str(), 0);
+    unregister_cleanup(staged.cleanup);
+    throw std::runtime_error("cannot write " + shown.string() + ": " + std::strerror(error));
   }
-  unregister_cleanup(cleanup);
+  return staged;
+}
+
+// Removes a staged temporary that will not be published.
+void discard(const Staged& staged) noexcept {
+  ::unlinkat(staged.dir_fd, staged.tmp.c_str(), 0);
+  unregister_cleanup(staged.cleanup);
+}
+
+// Renames a staged temporary over its name.
+void publish(const Staged& staged) {
+  if (::renameat(staged.dir_fd, staged.tmp.c_str(), staged.dir_fd, staged.name.c_str()) != 0) {
+    const int error = errno;
+    discard(staged);
+    throw std::runtime_error("cannot rename " + staged.tmp_shown.string() + " to " + staged.shown.string() + ": " +
+                             std::strerror(error));
+  }
+  unregister_cleanup(staged.cleanup);
+}
+
+// Writes `content` to `name` in the open folder atomically: staged, then renamed.
+void write_atomic_at(int dir_fd, const std::string& name, const std::filesystem::path& shown, std::string_view content) {
+  publish(stage_at(dir_fd, name, shown, content));
+}
+
+// The folder of an output file, created when missing and opened (following the links of the path
+// the user named).
+Descriptor open_parent(const std::filesystem::path& path) {
+  namespace fs = std::filesystem;
+  const fs::path parent = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  std::error_code ec;
+  fs::create_directories(parent, ec);
+  if (ec) throw std::runtime_error("cannot create directory " + parent.string() + ": " + ec.message());
+  Descriptor dir{::open(parent.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC)};
+  if (dir.fd < 0) throw std::runtime_error("cannot open directory " + parent.string() + ": " + std::strerror(errno));
+  return dir;
 }
 
 }  // namespace
@@ -129,14 +172,66 @@ std::filesystem::path temporary_path_for(const std::filesystem::path& path) {
 }
 
 void write_file_atomic(const std::filesystem::path& path, std::string_view content) {
-  namespace fs = std::filesystem;
-  const fs::path parent = path.has_parent_path() ? path.parent_path() : fs::path(".");
-  std::error_code ec;
-  fs::create_directories(parent, ec);
-  if (ec) throw std::runtime_error("cannot create directory " + parent.string() + ": " + ec.message());
-  const Descriptor dir{::open(parent.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC)};
-  if (dir.fd < 0) throw std::runtime_error("cannot open directory " + parent.string() + ": " + std::strerror(errno));
+  const Descriptor dir = open_parent(path);
   write_atomic_at(dir.fd, path.filename().string(), path, content);
+}
+
+void write_files_atomic(const std::vector<std::pair<std::filesystem::path, std::string>>& files) {
+  std::vector<Descriptor> dirs;
+  dirs.reserve(files.size());
+  std::vector<Staged> staged;
+  try {
+    for (const auto& [path, content] : files) {
+      dirs.push_back(open_parent(path));
+      staged.push_back(stage_at(dirs.back().fd, path.filename().string(), path, content));
+    }
+  } catch (...) {
+    for (const Staged& s : staged) discard(s);
+    throw;
+  }
+  // every file is whole on disk: now the renames, one after the other
+  for (std::size_t i = 0; i < staged.size(); ++i) {
+    try {
+      publish(staged[i]);
+    } catch (...) {
+      for (std::size_t k = i + 1; k < staged.size(); ++k) discard(staged[k]);
+      throw;
+    }
+  }
+}
+
+OutputFilesLock::OutputFilesLock(const std::vector<std::pair<std::string, std::filesystem::path>>& outputs) {
+  for (const auto& [option, path] : outputs) {
+    if (path.empty()) continue;
+    // appended apart: "." + name draws GCC 12's -Wrestrict false positive
+    std::string lock_name = ".";
+    lock_name += path.filename().string();
+    lock_name += ".lock";
+    const std::filesystem::path lock = path.parent_path() / lock_name;
+    std::error_code ec;
+    std::filesystem::create_directories(path.has_parent_path() ? path.parent_path() : ".", ec);
+    const int fd = ::open(lock.c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0644);
+    if (fd < 0) throw std::runtime_error("cannot open the lock file " + lock.string() + ": " + std::strerror(errno));
+    if (::flock(fd, LOCK_EX | LOCK_NB) != 0) {
+      const int error = errno;
+      ::close(fd);
+      if (error == EWOULDBLOCK) {
+        throw InputError("", 0, 0, option, path.string() + " is being written by another command (lock " + lock.string() +
+                                               "): wait for it or choose another file");
+      }
+      throw std::runtime_error("cannot lock " + lock.string() + ": " + std::strerror(error));
+    }
+    held_.push_back({fd, lock, register_cleanup(lock)});
+  }
+}
+
+OutputFilesLock::~OutputFilesLock() {
+  for (const Held& h : held_) {
+    // removed while held: a command that opened it before retries on a new file
+    ::unlink(h.path.c_str());
+    ::close(h.fd);
+    unregister_cleanup(h.cleanup);
+  }
 }
 
 OutputDir::OutputDir(const std::filesystem::path& path, bool create) : path_(path) {

@@ -6,6 +6,7 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <gtest/gtest.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -276,6 +277,116 @@ TEST_F(Hostile, TinyTransitionsAreRefusedNeverRowsOfNan) {
   const Result r = run({"path", "tiny_clothoid.yaml", "--variant", "c", "--csv", "path.csv"});
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_TRUE(has(r.output, "'transition.parameter'")) << r.output;
+}
+
+// --- lost or half-written results ----------------------------------------------------------------
+
+TEST_F(Hostile, ARunWithoutACleanVariantNeverReplacesThePreviousRun) {
+  // a disk that fills (a file-size limit here) fails every variant: the previous run stays
+  const std::string tiny = test::source_path("tests/data/tiny.yaml");
+  ASSERT_EQ(run({"run", tiny, "--no-video", "--no-plots", "--out", "out"}).exit_code, 0);
+  const std::string before = read_file(dir_ / "out" / "summary.json");
+  test::Child full("/bin/sh", {"-c", "ulimit -f 40 && exec \"$0\" \"$@\"", test::blendbench_binary(), "run", tiny, "--no-video",
+                               "--no-plots", "--out", "out"},
+                   dir_.path());
+  EXPECT_EQ(full.wait_within(kDeadline), 1) << full.output();
+  EXPECT_TRUE(has(full.output(), "no variant ran clean: out still holds the previous run")) << full.output();
+  EXPECT_EQ(read_file(dir_ / "out" / "summary.json"), before);
+  EXPECT_TRUE(fs::is_directory(dir_ / "out" / "exact"));
+  EXPECT_TRUE(fs::is_regular_file(dir_ / "out.failed" / "summary.json"));
+}
+
+TEST_F(Hostile, OutputFoldersCannotNestOrShareTheMachinerysNames) {
+  const std::string tiny = test::source_path("tests/data/tiny.yaml");
+  ASSERT_EQ(run({"run", tiny, "--no-video", "--no-plots", "--out", "out"}).exit_code, 0);
+  // inside a finished run: the next run into `out` would delete it
+  Result r = run({"run", tiny, "--no-video", "--no-plots", "--out", "out/inner"});
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_TRUE(has(r.output, "is inside the run folder")) << r.output;
+  // a name of the machinery
+  r = run({"run", tiny, "--no-video", "--no-plots", "--out", ".foo.staging-7"});
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_TRUE(has(r.output, "has the name of a run's lock or staging folder")) << r.output;
+  // `foo` and `foo.staging-1` share a prefix: a run of foo leaves the other's staging folder alone
+  const fs::path others = dir_ / (".foo.staging-1.staging-" + std::to_string(::getpid()));
+  fs::create_directories(others / "exact");
+  EXPECT_EQ(run({"run", tiny, "--no-video", "--no-plots", "--out", "foo"}).exit_code, 0);
+  EXPECT_TRUE(fs::is_directory(others / "exact"));
+  // inside the folder of a run that is running (its lock held)
+  write("slow.yaml", read_file(tiny).replace(read_file(tiny).find("settle_time_s: 0.3"), 18, "settle_time_s: 60"));
+  test::Child slow(test::blendbench_binary(), {"run", "slow.yaml", "--no-video", "--no-plots", "--out", "busy"}, dir_.path());
+  ASSERT_TRUE(slow.wait_for_line("[1/2]")) << slow.output();
+  r = run({"run", tiny, "--no-video", "--no-plots", "--out", "busy/inner"});
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_TRUE(has(r.output, "the output folder of a run that is running")) << r.output;
+  slow.signal(SIGTERM);
+  EXPECT_EQ(slow.wait_within(kDeadline), 143) << slow.output();
+}
+
+TEST_F(Hostile, AFolderAboveTheOutputChangedDuringTheRunPublishesNothing) {
+  // the folder above --out moved away and replaced while the run ran: nothing is published that
+  // mixes the two, and the run's files are kept where they were written, the message says where
+  const std::string tiny = read_file(test::source_path("tests/data/tiny.yaml"));
+  write("slow.yaml", std::string(tiny).replace(tiny.find("settle_time_s: 0.3"), 18, "settle_time_s: 3"));
+  fs::create_directories(dir_ / "parent");
+  test::Child child(test::blendbench_binary(), {"run", "slow.yaml", "--no-video", "--no-plots", "--out", "parent/x"}, dir_.path());
+  ASSERT_TRUE(child.wait_for_line("[1/2]")) << child.output();
+  fs::rename(dir_ / "parent", dir_ / "moved");
+  fs::create_directories(dir_ / "elsewhere");
+  fs::create_directory_symlink(dir_ / "elsewhere", dir_ / "parent");
+  EXPECT_EQ(child.wait_within(kDeadline), 1) << child.output();
+  EXPECT_TRUE(has(child.output(), "not published as")) << child.output();
+  EXPECT_TRUE(has(child.output(), "the run's files stay in")) << child.output();
+  EXPECT_FALSE(fs::exists(dir_ / "elsewhere" / "x"));
+  EXPECT_FALSE(fs::exists(dir_ / "moved" / "x"));
+}
+
+TEST_F(Hostile, TwoSweepsIntoOneFolderAtOnceAreRefused) {
+  write("slow.yaml", "scenario: " + test::source_path("tests/data/tiny.yaml") +
+                         "\naxes:\n  defaults.velocity: [100, 120]\n  simulation.settle_time_s: [20]\n");
+  test::Child first(test::blendbench_binary(), {"sweep", "slow.yaml", "--out", "sw", "--no-plots", "--jobs", "1"}, dir_.path());
+  ASSERT_TRUE(first.wait_for_line("sweep: slow.yaml")) << first.output();
+  const Result second = run({"sweep", small_sweep(), "--out", "sw", "--no-plots"});
+  EXPECT_EQ(second.exit_code, 2) << second.output;
+  EXPECT_TRUE(has(second.output, "is in use by another sweep (pid " + std::to_string(first.pid()) + ")")) << second.output;
+  first.signal(SIGTERM);
+  EXPECT_EQ(first.wait_within(kDeadline), 143) << first.output();
+}
+
+TEST_F(Hostile, TemporariesOfAKilledCommandAreRemovedByTheNextOne) {
+  // a `plan` killed by SIGKILL leaves plan.csv.tmp.<pid>; the next plan into the same place
+  // removes it (the pid no longer runs)
+  const std::string tiny = test::source_path("tests/data/tiny.yaml");
+  test::Child killed(test::blendbench_binary(), {"validate", tiny}, dir_.path());
+  const pid_t dead = killed.pid();
+  (void)killed.wait();
+  write("plan.csv.tmp." + std::to_string(dead), "half");
+  write("plan.json.tmp." + std::to_string(dead), "half");
+  ASSERT_EQ(run({"plan", tiny, "--csv", "plan.csv", "--summary", "plan.json"}).exit_code, 0);
+  for (const auto& e : fs::directory_iterator(dir_.path())) EXPECT_FALSE(has(e.path().filename().string(), ".tmp.")) << e.path();
+  // and a command writing the same files at once is refused while the first holds them
+  write(".plan.csv.lock", "");
+  const int fd = ::open((dir_ / ".plan.csv.lock").c_str(), O_RDWR);
+  ASSERT_EQ(::flock(fd, LOCK_EX), 0);
+  const Result busy = run({"plan", tiny, "--csv", "plan.csv", "--summary", "plan.json"});
+  ::close(fd);
+  EXPECT_EQ(busy.exit_code, 2) << busy.output;
+  EXPECT_TRUE(has(busy.output, "'--csv': ")) << busy.output;
+  EXPECT_TRUE(has(busy.output, "is being written by another command")) << busy.output;
+}
+
+TEST_F(Hostile, AReproductionReplacesItsFolderAsAWhole) {
+  // killed between two files, `reproduce` left a new results.json beside an old README.md: now a
+  // paper's folder is staged and published whole, so an old file never sits beside new ones
+  fs::create_directories(dir_ / "papers" / "004");
+  write("papers/004/results.json", "old");
+  write("papers/004/stale_from_an_old_run.csv", "old");
+  const Result r = run({"reproduce", "004", "--out", "papers", "--no-plots"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(read_file(dir_ / "papers" / "004" / "results.json"), "old");
+  EXPECT_TRUE(fs::is_regular_file(dir_ / "papers" / "004" / "README.md"));
+  EXPECT_FALSE(fs::exists(dir_ / "papers" / "004" / "stale_from_an_old_run.csv"));
+  for (const auto& e : fs::directory_iterator(dir_ / "papers")) EXPECT_EQ(e.path().filename(), "004") << e.path();
 }
 
 // --- signals and limits -------------------------------------------------------------------------

@@ -2,6 +2,7 @@
 // Writing results: every file is written atomically (a temporary file in the same directory,
 // then rename), so a crash or a full disk never leaves a half-written result behind.
 
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -21,6 +22,32 @@ namespace blendbench {
 // naming the path and the system error when it cannot, and when `path` exists but is not a
 // regular file (a symbolic link, a FIFO, a directory, a device is never replaced).
 void write_file_atomic(const std::filesystem::path& path, std::string_view content);
+
+// Writes several files as one output (`plan`'s CSV and summary): each is first written whole to
+// its temporary beside it (write_file_atomic's rules), and only then are they renamed over their
+// names, so a stop or a failure while writing never leaves a new file beside an old one. Throws
+// std::runtime_error as write_file_atomic; the temporaries are removed.
+void write_files_atomic(const std::vector<std::pair<std::filesystem::path, std::string>>& files);
+
+// The lock of a command's output files, as (option, path) pairs, held while the object lives: an
+// exclusive flock on `.<file>.lock` beside each (removed at the end), so two commands writing the
+// same file cannot mix their outputs; the second is refused at once with InputError naming the
+// option. Empty paths are skipped.
+class OutputFilesLock {
+ public:
+  explicit OutputFilesLock(const std::vector<std::pair<std::string, std::filesystem::path>>& outputs);
+  ~OutputFilesLock();
+  OutputFilesLock(const OutputFilesLock&) = delete;
+  OutputFilesLock& operator=(const OutputFilesLock&) = delete;
+
+ private:
+  struct Held {
+    int fd;
+    std::filesystem::path path;
+    std::uint64_t cleanup;
+  };
+  std::vector<Held> held_;
+};
 
 // A folder this program manages (a sweep's folder and everything below it), held open: every file
 // and folder below it is reached from the folder's descriptor one name at a time and never
