@@ -254,6 +254,71 @@ TEST_F(Hostile, EmptyValuesAndLoopingLinksAreBadInputNamingTheOption) {
   }
 }
 
+TEST_F(Hostile, HostileModelFilesEndInExitTwoAtTheirElementQuickly) {
+  // each refused before MuJoCo sees it (a crash, a hang, minutes of work, a library's message
+  // or a wrong blame before)
+  ASSERT_EQ(::mkfifo((dir_ / "pipe.xml").c_str(), 0600), 0);
+  fs::create_directories(dir_ / "meshes.obj");
+  write("bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 400000000\n");
+  std::string geoms;
+  for (int i = 0; i < 100000; ++i) geoms += "<geom size='0.01'/>";
+  const std::string model = read_file(test::source_path("models/ur5e_like_rigid.xml"));
+  struct Case {
+    std::string from, to, message;
+  };
+  const Case cases[] = {
+      {"<worldbody>", "<include file='pipe.xml'/><worldbody>", "the included file is a FIFO"},
+      {"<asset>", "<asset><mesh name='m' file='bad.obj'/>", "a face uses vertex 400000000, but the file has 4"},
+      {"<asset>", "<asset><mesh name='m' file='meshes.obj'/>", "the mesh file is a folder"},
+      {"<worldbody>", "<worldbody>" + geoms, "the model holds more than 2000 elements"},
+      {"timestep=\"0.000125\"", "timestep=\"nan\"", "'option.timestep': the timestep nan s is outside"},
+      {"timestep=\"0.000125\"", "timestep=\"1e-290\"", "'option.timestep': the timestep 1e-290 s is outside"},
+  };
+  for (const Case& c : cases) {
+    std::string xml = model;
+    xml.replace(xml.find(c.from), c.from.size(), c.to);
+    write("arm.xml", xml);
+    tiny_with("units: mm", "units: mm\nrobot: {urdf: " + test::source_path("models/ur5e_like.urdf") + ", mjcf: arm.xml, model: rigid}",
+              "model.yaml");
+    const Result r = run({"run", "model.yaml", "--no-video", "--no-plots", "--out", "out"}, 20);
+    EXPECT_EQ(r.exit_code, 2) << c.message << "\n" << r.output.substr(0, 600);
+    EXPECT_TRUE(has(r.output, "arm.xml")) << r.output.substr(0, 600);
+    EXPECT_TRUE(has(r.output, c.message)) << c.message << "\n" << r.output.substr(0, 600);
+  }
+}
+
+TEST_F(Hostile, HostileSweepFilesEndInExitTwo) {
+  const std::string tiny = test::source_path("tests/data/tiny.yaml");
+  std::string base = read_file(tiny);
+  write("no_variants.yaml", base.substr(0, base.find("variants:")));
+  std::string deep = "a";
+  for (int i = 1; i < 20000; ++i) deep += ".a";
+  const std::string head = "scenario: " + tiny + "\naxes:\n  defaults.velocity: [150]\n";
+  struct Case {
+    std::string text, message;
+  };
+  const Case cases[] = {
+      {head + "---\nfoo: 1\n", "a second YAML document"},
+      {head + "axes:\n  defaults.velocity: [170]\n", "duplicate key 'axes'"},
+      {head + std::string("#\0\n", 3), "control characters are not allowed"},
+      {"scenario: " + tiny + "\ndescription: \"\xff\"\naxes:\n  defaults.velocity: [150]\n", "invalid leading UTF-8 octet"},
+      {"scenario: " + tiny + "\naxes:\n  ? " + deep + "\n  : [1]\n", "it has more than 64 steps"},
+      {"scenario: no_variants.yaml\naxes:\n  defaults.velocity: [150]\n", "'variants': missing required field"},
+  };
+  for (const Case& c : cases) {
+    write("hostile.yaml", c.text);
+    const Result r = run({"sweep", "hostile.yaml", "--out", "sw", "--no-plots"}, 20);
+    EXPECT_EQ(r.exit_code, 2) << c.message << "\n" << r.output.substr(0, 400);
+    EXPECT_TRUE(has(r.output, c.message)) << c.message << "\n" << r.output.substr(0, 400);
+  }
+  // --collect with a plan that is a link to /dev/zero: refused, not read forever
+  fs::create_directories(dir_ / "zero");
+  fs::create_symlink("/dev/zero", dir_ / "zero" / "sweep.plan.json");
+  const Result zero = run({"sweep", "--collect", "zero", "--no-plots"}, 20);
+  EXPECT_EQ(zero.exit_code, 2) << zero.output;
+  EXPECT_TRUE(has(zero.output, "sweep.plan.json: the sweep plan is a symbolic link")) << zero.output;
+}
+
 // --- wrong numbers -------------------------------------------------------------------------------
 
 TEST_F(Hostile, TinyTransitionsAreRefusedNeverRowsOfNan) {
