@@ -83,7 +83,13 @@ urdf::ModelInterfaceSharedPtr parse(const std::string& path) {
   const std::string text = read_input_file(path, "URDF file");
   xml_detail::check_xml(text, path, "URDF file", xml_detail::XmlLimits{});
   const CapturedLog log;
-  urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(text);
+  urdf::ModelInterfaceSharedPtr model;
+  try {
+    model = urdf::parseURDF(text);
+  } catch (...) {
+    // urdfdom's own exceptions (a number it cannot convert) are bad input of the URDF
+    rethrow_as_input_error({path, 0, 0}, "", "not a valid URDF: ");
+  }
   if (!model) throw InputError(path, 0, 0, "", "not a valid URDF: " + (log.text().empty() ? "parse failed" : log.text()));
   return model;
 }

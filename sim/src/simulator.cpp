@@ -212,7 +212,14 @@ mjModel* load_model(const sim_detail::ModelFiles& files, const std::string& sour
     vfs->filesize[index] = static_cast<int>(content.size());
   }
   char error[1024] = "";
-  mjModel* model = mj_loadXML(files.main.c_str(), vfs.get(), error, sizeof error);
+  mjModel* model = nullptr;
+  try {
+    model = mj_loadXML(files.main.c_str(), vfs.get(), error, sizeof error);
+  } catch (...) {
+    // MuJoCo's fatal error (its handler throws, install_mujoco_handlers) while compiling this
+    // model is bad input of the model
+    rethrow_as_input_error({source, 0, 0}, "mjcf", "MuJoCo cannot compile the model: ");
+  }
   if (model == nullptr) {
     const auto [message, line] = tidy_mujoco_message(error);
     throw InputError(source, line, 0, "mjcf", message);
