@@ -219,6 +219,11 @@ void check_obj(const std::string& text, const std::string& file) {
   std::array<long, 3> largest{};
   std::array<int, 3> largest_line{};
   const char* const kinds[] = {"vertex", "texture coordinate", "normal"};
+  // the first face corner without a normal: MuJoCo 2.2.2 copies a normal for every corner by its
+  // index once the file has any `vn`, and a corner without one (index -1) reads before the array
+  // (found by fuzz_mjcf under AddressSanitizer)
+  int corner_without_normal_line = 0;
+  std::string corner_without_normal;
   int line_number = 0;
   std::size_t at = 0;
   while (at < text.size()) {
@@ -242,6 +247,10 @@ void check_obj(const std::string& text, const std::string& file) {
     for (std::size_t w = 1; w < words.size(); ++w) {
       // v, v/vt, v//vn or v/vt/vn
       std::string_view corner = words[w];
+      if (corner_without_normal_line == 0 && std::count(corner.begin(), corner.end(), '/') < 2) {
+        corner_without_normal_line = line_number;
+        corner_without_normal = std::string(corner);
+      }
       for (std::size_t k = 0; k < 3 && !corner.empty(); ++k) {
         const std::size_t slash = corner.find('/');
         const std::string_view part = corner.substr(0, slash);
@@ -275,6 +284,12 @@ void check_obj(const std::string& text, const std::string& file) {
                        "a face uses " + std::string(kinds[k]) + " " + std::to_string(largest[k]) + ", but the file has " +
                            std::to_string(count[k]));
     }
+  }
+  if (count[2] > 0 && corner_without_normal_line != 0) {
+    throw InputError(file, corner_without_normal_line, 0, "",
+                     "face " + printable(corner_without_normal) +
+                         ": has no normal, but the file has normals (vn); with normals every face corner needs "
+                         "one (v//vn or v/vt/vn)");
   }
 }
 
