@@ -425,14 +425,23 @@ int cmd_check(const std::string& run_dir, std::string baseline_file, std::string
 }
 
 // An option or argument given with an empty value ("--out ''", "run ''") names nothing: refused,
-// where its default would otherwise take its place silently.
-void refuse_empty_values(const CLI::App& app) {
+// where its default would otherwise take its place silently. A value that is not UTF-8 (a file
+// named "t\xff.yaml") is refused too: names and values are recorded in the JSON outputs, which
+// hold only UTF-8, and nlohmann::json refused to write them after every variant had run
+// ("[json.exception.type_error.316] invalid UTF-8 byte", exit 1).
+void refuse_unusable_values(const CLI::App& app) {
   for (const CLI::App* command : app.get_subcommands()) {
     for (const CLI::Option* option : command->get_options()) {
       if (option->count() == 0) continue;
       for (const std::string& value : option->results()) {
         if (value.empty()) {
           throw bb::InputError("", 0, 0, option->get_name(), "an empty value names nothing: give one, or leave the option out");
+        }
+        if (!bb::is_utf8(value)) {
+          throw bb::InputError("", 0, 0, option->get_name(),
+                               "'" + bb::printable(value) +
+                                   "' is not UTF-8 text: names are recorded in the JSON outputs, which hold only UTF-8; "
+                                   "rename the file or folder");
         }
       }
     }
@@ -572,7 +581,7 @@ int main(int argc, char** argv) {
 
   const int code = [&]() -> int {
     try {
-      refuse_empty_values(app);
+      refuse_unusable_values(app);
       if (*run) return cmd_run(scenario_path, out_dir, no_video, no_plots, compare, variants, timing_flags);
       if (*path) return cmd_path(input, flags, csv, report, ds_mm);
       if (*plan) return cmd_plan(input, flags, timing_flags, csv, summary);

@@ -448,6 +448,13 @@ SweepSpec parse_sweep_text(const std::string& text, const std::string& file, con
     }
   }
   if (spec.scenario.empty()) r.fail(scenario, "scenario", "file not found: " + name);
+  // the scenario's folder is recorded in the plan and each point's JSON, which hold only UTF-8
+  // (a folder above named "d\xff" failed every point with nlohmann's type_error 316, exit 1)
+  if (!is_utf8(spec.scenario)) {
+    r.fail(scenario, "scenario",
+           "the path '" + printable(spec.scenario) +
+               "' is not UTF-8 text: the sweep records it in its JSON files, which hold only UTF-8; rename the folder");
+  }
   if (const YAML::Node d = doc["description"]; d.IsDefined()) spec.description = r.text(d, "description");
 
   if (const YAML::Node v = doc["variants"]; v.IsDefined()) {

@@ -201,7 +201,9 @@ TEST_F(Hostile, ValidateOpensTheRobotFilesRunOpens) {
       const Result r = run(args, 20);
       EXPECT_EQ(r.exit_code, 2) << command << " " << file << "\n" << r.output;
       EXPECT_TRUE(has(r.output, message)) << command << " " << file << "\n" << r.output;
-      if (command == "validate") EXPECT_TRUE(has(r.output, "elements are nested more than 64 deep") || file != "deep.yaml") << r.output;
+      if (command == "validate") {
+        EXPECT_TRUE(has(r.output, "elements are nested more than 64 deep") || file != "deep.yaml") << r.output;
+      }
     }
   }
 }
@@ -252,6 +254,35 @@ TEST_F(Hostile, EmptyValuesAndLoopingLinksAreBadInputNamingTheOption) {
     EXPECT_TRUE(has(r.output, "Too many levels of symbolic links")) << r.output;
     EXPECT_FALSE(has(r.output, "filesystem error")) << r.output;
   }
+}
+
+TEST_F(Hostile, NamesThatAreNotUtf8AreRefusedBeforeAnythingRuns) {
+  // a file or folder named with a byte 0xff reached the JSON writer after every variant had run:
+  // "[json.exception.type_error.316] invalid UTF-8 byte", exit 1
+  const std::string tiny = read_file(test::source_path("tests/data/tiny.yaml"));
+  write("t\xff.yaml", tiny);
+  write("t.yaml", tiny);
+  write("s\xff.yaml", "scenario: t.yaml\naxes:\n  defaults.velocity: [150]\n");
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"run", "t\xff.yaml", "--no-video", "--no-plots", "--out", "out"}, "'scenario': 't\\xff.yaml' is not UTF-8 text"},
+      {{"run", "t.yaml", "--no-video", "--no-plots", "--out", "r\xff"}, "'--out': 'r\\xff' is not UTF-8 text"},
+      {{"sweep", "s\xff.yaml", "--out", "sw", "--no-plots"}, "'s\\xff.yaml' is not UTF-8 text"},
+  };
+  for (const auto& [args, message] : cases) {
+    const Result r = run(args);
+    EXPECT_EQ(r.exit_code, 2) << r.output;
+    EXPECT_TRUE(has(r.output, message)) << message << "\n" << r.output;
+  }
+  EXPECT_FALSE(fs::exists(dir_ / "out"));
+  EXPECT_FALSE(fs::exists(dir_ / "sw"));
+  // a sweep in a folder so named: its points record the scenario's folder in JSON
+  fs::create_directories(dir_ / "d\xff");
+  write("d\xff/t.yaml", tiny);
+  write("d\xff/s.yaml", "scenario: t.yaml\naxes:\n  defaults.velocity: [150]\n");
+  test::Child sweep(test::blendbench_binary(), {"sweep", "s.yaml", "--out", "sw", "--no-plots"}, dir_ / "d\xff");
+  EXPECT_EQ(sweep.wait_within(kDeadline), 2) << sweep.output();
+  EXPECT_TRUE(has(sweep.output(), "s.yaml:1:11: 'scenario': the path '")) << sweep.output();
+  EXPECT_TRUE(has(sweep.output(), "d\\xff/t.yaml' is not UTF-8 text")) << sweep.output();
 }
 
 TEST_F(Hostile, HostileModelFilesEndInExitTwoAtTheirElementQuickly) {

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "blendbench/core/input_error.hpp"
 #include "support/property.hpp"
 
@@ -182,6 +184,46 @@ TEST(Printable, RandomBytesBecomeOneLineOfPrintableText) {
     }
     ASSERT_EQ(printable(out), out) << test::seed_text(seed);
   }
+}
+
+// Issue 42: a file named "t\xff.yaml" reached nlohmann's JSON writer, which refused it after the
+// run (type_error 316). is_utf8 decides what a JSON output can hold: checked against nlohmann's
+// own decoder (a DFA, an independent formulation) on random bytes biased to UTF-8's ranges.
+TEST(IsUtf8, AgreesWithTheJsonWritersDecoderOnRandomBytes) {
+  EXPECT_TRUE(is_utf8(""));
+  EXPECT_TRUE(is_utf8("a\nb\x01 X\u22125 \u00b0 \U0010FFFF"));
+  for (const char* bad : {"\xff", "\xe2\x88", "\xc0\xaf", "\xed\xa0\x80", "\xf4\x90\x80\x80", "t\xff.yaml"}) {
+    EXPECT_FALSE(is_utf8(bad)) << printable(bad);
+  }
+  const auto json_holds = [](const std::string& bytes) {
+    try {
+      (void)nlohmann::json(bytes).dump();
+      return true;
+    } catch (const nlohmann::json::type_error&) {
+      return false;
+    }
+  };
+  const int cases = test::property_cases(20000);
+  int valid = 0;
+  for (int c = 0; c < cases; ++c) {
+    const std::uint64_t seed = 0x07f8c0de + static_cast<std::uint64_t>(c);
+    std::mt19937_64 rng = test::make_rng(seed);
+    std::string bytes(1 + rng() % 6, '\0');
+    for (char& b : bytes) {
+      // ASCII, a continuation byte, or a lead byte (with its edge values: C0/C1, E0, ED, F0, F4, F5)
+      switch (rng() % 4) {
+        case 0: b = static_cast<char>(rng() % 0x80); break;
+        case 1: b = static_cast<char>(0x80 + rng() % 0x40); break;
+        default: b = static_cast<char>(0xC0 + rng() % 0x40); break;
+      }
+    }
+    const bool expected = json_holds(bytes);
+    valid += expected ? 1 : 0;
+    ASSERT_EQ(is_utf8(bytes), expected) << printable(bytes) << " " << test::seed_text(seed);
+  }
+  // the draw reaches both answers
+  EXPECT_GT(valid, cases / 50);
+  EXPECT_LT(valid, cases - cases / 50);
 }
 
 TEST(Printable, InputErrorMessagesAreEscapedButFieldAndFileKeptAsGiven) {
