@@ -134,7 +134,10 @@ TEST(Check, SummariesAndBaselinesOfTheWrongShapeAreBadInputNamingTheField) {
                             {R"({"scenario": "s"})", "variants"},
                             {R"({"scenario": "s", "variants": [3]})", "variants[0]"},
                             {R"({"scenario": "s", "variants": [{"name": 1}]})", "variants[0].name"},
-                            {R"({"scenario": "s", "variants": [{"name": "a", "status": []}]})", "variants[0].status"}};
+                            {R"({"scenario": "s", "variants": [{"name": "a", "status": []}]})", "variants[0].status"},
+                            // fuzz_check: a variant without a status reached make_baseline's at("status")
+                            {R"({"scenario": "s", "variants": [{"name": "a", "stadus": "ok"}]})", "variants[0].status"},
+                            {R"({"scenario": "s", "variants": [{"name": "a", "status": "ok", "message": 1}]})", "variants[0].message"}};
   for (const Case& c : summaries) {
     test::expect_input_error([&] { validate_run_summary(nlohmann::json::parse(c.json), "run/summary.json"); },
                              {.file = "run/summary.json", .field = c.field}, c.json);
