@@ -90,7 +90,7 @@ TEST(SweepFile, TheScenarioLoadersYamlRulesApply) {
   const Case cases[] = {
       {tiny_sweep(axes + "---\ndescription: second\n"), 4, "a second YAML document"},
       {tiny_sweep(axes + "axes:\n  defaults.velocity: [170]\n"), 4, "duplicate key 'axes'"},
-      {tiny_sweep(axes + std::string("# a NUL \0 here\n", 17)), 4, "control characters are not allowed (byte 0x00)"},
+      {tiny_sweep(axes + std::string("# a NUL \0 here\n", 15)), 4, "control characters are not allowed (byte 0x00)"},
       {tiny_sweep("description: \"\xff\xfe\"\n" + axes), 2, "invalid leading UTF-8 octet (byte 0xff)"},
   };
   for (const Case& c : cases) {
