@@ -9,7 +9,8 @@
 #     dependencies point one way, from the planner's core out to app), or of no known stage;
 #   - includes a framework's header outside the folders allowed to use it: MuJoCo in sim and
 #     render, libyaml (yaml.h), yaml-cpp and urdfdom (urdf_*, console_bridge) in io, GL (OSMesa) in render,
-#     nlohmann-json in report, papers and app, CLI11 in app. So the planner stays Eigen-only and
+#     nlohmann-json in report, papers and app, CLI11 in app, expat (the XML files' checks before
+#     urdfdom and MuJoCo read them) in io and sim. So the planner stays Eigen-only and
 #     sim reads no YAML.
 # Only include directives that start a line are read (the tree is formatted that way).
 
@@ -40,7 +41,7 @@ set(may_app ${planner_stages} io sim render report papers)
 set(stages ${planner_stages} io sim render report papers app)
 
 # frameworks by the first part of the header's path, and the stages that may include them
-set(frameworks mujoco yaml yaml-cpp urdf_parser urdf_model urdf_world urdf_sensor urdf_exception console_bridge GL nlohmann CLI)
+set(frameworks mujoco yaml yaml-cpp urdf_parser urdf_model urdf_world urdf_sensor urdf_exception console_bridge GL nlohmann CLI expat)
 set(users_mujoco sim render)
 set(users_yaml-cpp io)
 set(users_yaml io)
@@ -50,6 +51,7 @@ endforeach()
 set(users_GL render)
 set(users_nlohmann report papers app)
 set(users_CLI app)
+set(users_expat io sim)
 
 set(violations "")
 set(scanned 0)

@@ -28,7 +28,7 @@ cd "$root"
 packages=(
   build-essential cmake ninja-build pkg-config ccache
   libeigen3-dev libmujoco-dev libosmesa6-dev liburdfdom-dev libyaml-dev libyaml-cpp-dev
-  libcli11-dev nlohmann-json3-dev
+  libcli11-dev nlohmann-json3-dev libexpat1-dev googletest libgtest-dev libbenchmark-dev
   ffmpeg python3 python3-matplotlib python3-numpy python3-pil python3-yaml
   libjs-chart.js libjs-three
 )

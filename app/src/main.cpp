@@ -4,18 +4,19 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "blendbench/core/format.hpp"
+#include "blendbench/core/input_file.hpp"
 #include "blendbench/corner/blend.hpp"
 #include "blendbench/timing/timing.hpp"
 #include "blendbench/report/check.hpp"
@@ -50,7 +51,19 @@ void print_warnings(const bb::Scenario& scenario) {
   for (const bb::LoadWarning& w : scenario.warnings) std::cerr << "blendbench: warning: " << bb::to_string(w) << std::endl;
 }
 
-const char* signal_name(int signal) { return signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : "a signal"; }
+const char* signal_name(int signal) {
+  return signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : signal == SIGPIPE ? "SIGPIPE" : "a signal";
+}
+
+// What a run's staging folder must hold to be published: its summary and the folder of every
+// variant the summary reports figures of (a failed or interrupted variant has none).
+std::vector<std::string> published_entries(const bb::RunResult& result) {
+  std::vector<std::string> entries = {"summary.json"};
+  for (const bb::VariantSummary& v : result.summary.variants) {
+    if (v.metrics) entries.push_back(v.name);
+  }
+  return entries;
+}
 
 // A run stopped by a signal: its finished variants are kept (in --out, or beside it as
 // <out>.interrupted when --out holds a previous run, which stays intact); one line says where.
@@ -65,7 +78,7 @@ int interrupted_run(bb::RunFolder& folder, const bb::RunResult& result) {
   if (count > 0) {
     const std::filesystem::path kept =
         folder.had_previous_run() ? std::filesystem::path(folder.target().string() + ".interrupted") : folder.target();
-    folder.commit_to(kept);
+    folder.commit_to(kept, published_entries(result));
     where = "kept " + std::to_string(count) + " finished variant(s) (" + finished + ") in " + kept.string();
   }
   std::cout << std::flush;
@@ -142,7 +155,21 @@ void print_answer(const bb::RunSummary& summary) {
 int finish_run(bb::RunFolder& folder, const bb::RunResult& result, const std::string& out_dir, bool plots,
                std::chrono::steady_clock::time_point start) {
   if (result.interrupted_by != 0) return interrupted_run(folder, result);
-  folder.commit();
+  // a run without one clean variant (a disk that filled, a model every variant fails on) never
+  // replaces a previous run: it is kept beside it
+  const bool any_clean = std::any_of(result.summary.variants.begin(), result.summary.variants.end(),
+                                     [](const bb::VariantSummary& v) { return v.status == bb::VariantStatus::kOk; });
+  if (!any_clean && folder.had_previous_run()) {
+    const std::filesystem::path kept(folder.target().string() + ".failed");
+    folder.commit_to(kept, published_entries(result));
+    std::cout << "no variant ran clean: " << out_dir << " still holds the previous run; this one is in " << kept.string()
+              << std::endl;
+    for (const bb::VariantSummary& v : result.summary.variants) {
+      std::cout << "  " << v.name << ": " << bb::to_string(v.status) << " - " << v.message << std::endl;
+    }
+    return kExitCheckFailed;
+  }
+  folder.commit(published_entries(result));
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::cout << "done in " << bb::format_value(wall, 3) << " s: " << (std::filesystem::path(out_dir) / "summary.json").string()
             << std::endl;
@@ -194,6 +221,7 @@ int cmd_run(std::string scenario_path, std::string out_dir, bool no_video, bool 
   bb::RunFolder folder(out_dir);
   bb::RunRequest request;
   request.out_dir = folder.staging();
+  request.published_dir = folder.target();
   request.video = !no_video;
   request.compare = compare;
   request.plots = !no_plots;
@@ -253,6 +281,7 @@ int cmd_compare(const CompareFlags& flags, const TimingFlags& timing_flags) {
   bb::RunFolder folder(out_dir);
   bb::RunRequest request;
   request.out_dir = folder.staging();
+  request.published_dir = folder.target();
   request.video = !flags.no_video;
   request.compare = !flags.no_video && plan.inputs.variants.size() > 1;
   request.plots = !flags.no_plots;
@@ -295,6 +324,15 @@ void check_positive(double value, const char* flag) {
   if (!(value > 0)) throw bb::InputError("", 0, 0, flag, "must be positive");
 }
 
+// A transition size from a flag (mm): 0 or at least the planner's smallest (program.hpp).
+void check_transition_size(double mm, const char* flag) {
+  if (mm > 0 && mm * 1e-3 < bb::kMinTransitionSize) {
+    throw bb::InputError("", 0, 0, flag,
+                         "is 0 (no transition) or at least " + bb::format_value(bb::kMinTransitionSize * 1e3) + " mm, got " +
+                             bb::format_value(mm) + " mm");
+  }
+}
+
 // Reads a G-code file or a scenario variant and applies the overrides: --method/--param replace
 // the transition of every move; --tolerance replaces the parameter of every move with a method
 // (with --method: of every move); --feed/--amax/--jmax replace the limits of every move.
@@ -320,6 +358,7 @@ LoadedProgram load_program(const std::string& input, const ProgramFlags& flags) 
       }
       if (flags.param_mm) throw bb::InputError("", 0, 0, "--start-distance", "give --param or --start-distance, not both");
       check_positive(*flags.start_distance_mm, "--start-distance");
+      check_transition_size(*flags.start_distance_mm, "--start-distance");
       transition->start_distance = *flags.start_distance_mm * 1e-3;
     } else if (*method == bb::Method::kNone) {
       if (flags.param_mm) throw bb::InputError("", 0, 0, "--param", "has no meaning with --method none (an exact stop)");
@@ -332,6 +371,7 @@ LoadedProgram load_program(const std::string& input, const ProgramFlags& flags) 
                                                       (*method == bb::Method::kBiclothoid ? ", or --start-distance" : ""));
       }
       if (!(*flags.param_mm >= 0)) throw bb::InputError("", 0, 0, "--param", "must be >= 0 (mm)");
+      check_transition_size(*flags.param_mm, "--param");
       transition->parameter = *flags.param_mm * 1e-3;
     }
   } else if (flags.param_mm) {
@@ -409,8 +449,11 @@ int cmd_path(const std::string& input, const ProgramFlags& flags, const std::str
                              " rows; the limit is " + bb::format_value(bb::kMaxPathSamples, 3) + " (raise --ds)");
   }
   bb::throw_if_stop_requested();
-  bb::write_file_atomic(csv, bb::path_csv(path, ds_mm * 1e-3));
-  if (!report.empty()) bb::write_file_atomic(report, bb::corners_json(path, loaded.program).dump(2) + "\n");
+  // the outputs locked while they are written: a second command writing them is refused
+  const bb::OutputFilesLock lock({{"--csv", csv}, {"--report", report}});
+  std::vector<std::pair<std::filesystem::path, std::string>> files = {{csv, bb::path_csv(path, ds_mm * 1e-3)}};
+  if (!report.empty()) files.emplace_back(report, bb::corners_json(path, loaded.program).dump(2) + "\n");
+  bb::write_files_atomic(files);
   std::cout << "path: " << bb::format_value(path.length() * 1e3, 6) << " mm, " << path.pieces().size() << " pieces, "
             << path.corners.size() << " corners -> " << csv << std::endl;
   print_smoothing(path.smoothing);
@@ -442,8 +485,8 @@ int cmd_plan(const std::string& input, const ProgramFlags& flags, const TimingFl
   j["ignored"] = loaded.ignored;
   j["planning_wall_time_s"] = wall;
   bb::throw_if_stop_requested();
-  bb::write_file_atomic(csv, bb::timed_csv(path, timing));
-  bb::write_file_atomic(summary, j.dump(2) + "\n");
+  const bb::OutputFilesLock lock({{"--csv", csv}, {"--summary", summary}});
+  bb::write_files_atomic({{csv, bb::timed_csv(path, timing)}, {summary, j.dump(2) + "\n"}});
   std::cout << "plan: " << bb::format_value(path.length() * 1e3, 6) << " mm in " << bb::format_value(timing.cycle_time, 6)
             << " s, " << path.corners.size() << " corners, planned in " << bb::format_value(wall * 1e3, 3) << " ms -> "
             << csv << ", " << summary << std::endl;
@@ -476,8 +519,10 @@ Validated validate_input(const std::string& input, const std::vector<std::string
   }
   const bb::Scenario scenario = bb::load_scenario(input);
   for (const bb::Variant& v : scenario.variants) (void)blend_checked(bb::program_for(scenario, v));
+  // the robot's files as `run` opens them (a URDF or MJCF that run refuses is refused here)
+  bb::check_robot(scenario);
   return {"scenario '" + scenario.name + "', " + std::to_string(scenario.program.moves.size()) + " moves, " +
-              std::to_string(scenario.variants.size()) + " variants blended" +
+              std::to_string(scenario.variants.size()) + " variants blended, robot loaded" +
               (scenario.warnings.empty() ? "" : ", " + std::to_string(scenario.warnings.size()) + " warning(s)"),
           scenario.warnings};
 }
@@ -491,6 +536,7 @@ int cmd_validate(const std::vector<std::string>& files, bool schema, const std::
   if (files.empty()) throw bb::InputError("", 0, 0, "FILE", "name at least one file to check (or --schema)");
   bool all_ok = true;
   for (const std::string& file : files) {
+    bb::throw_if_stop_requested();
     try {
       const Validated checked = validate_input(file, subroutine_path);
       std::cout << file << ": ok (" << checked.checked << ")" << std::endl;
@@ -505,13 +551,19 @@ int cmd_validate(const std::vector<std::string>& files, bool schema, const std::
   return all_ok ? kExitOk : kExitBadInput;
 }
 
+// A JSON input file: read as every input is (a regular file, bounded: a FIFO never blocks), and
+// any error of the parser (a number overflow such as 1e400 included) bad input naming the file.
 nlohmann::json read_json(const std::string& path, const std::string& what) {
-  std::ifstream in(path);
-  if (!in) throw bb::InputError(path, 0, 0, "", "cannot open the " + what);
+  const std::string text = bb::read_input_file(path, what);
   try {
-    return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw bb::InputError(path, 0, 0, "", "invalid JSON in the " + what + ": " + e.what());
+    return nlohmann::json::parse(text);
+  } catch (const nlohmann::json::exception& e) {
+    // the parser's reason without its tag ("[json.exception.parse_error.101] ")
+    const std::string reason = e.what();
+    const std::size_t tag = reason.rfind("[json.exception.", 0) == 0 ? reason.find("] ") : std::string::npos;
+    throw bb::InputError(path, 0, 0, "", "invalid JSON in the " + what + ": " + (tag == std::string::npos ? reason : reason.substr(tag + 2)));
+  } catch (...) {
+    bb::rethrow_as_input_error({path, 0, 0}, "", "invalid JSON in the " + what + ": ");
   }
 }
 
@@ -519,6 +571,7 @@ nlohmann::json read_json(const std::string& path, const std::string& what) {
 int cmd_check(const std::string& run_dir, std::string baseline_file, std::string tolerance_file, bool update) {
   const std::string summary_file = (std::filesystem::path(run_dir) / "summary.json").string();
   const nlohmann::json summary = read_json(summary_file, "run summary");
+  bb::validate_run_summary(summary, summary_file);
   const std::string name = summary.value("scenario", "");
   if (baseline_file.empty()) {
     // the scenario name picks the baseline file: never a path that leaves results/baselines/
@@ -536,7 +589,8 @@ int cmd_check(const std::string& run_dir, std::string baseline_file, std::string
     std::cout << "baseline written: " << baseline_file << std::endl;
     return kExitOk;
   }
-  if (!std::filesystem::exists(baseline_file)) {
+  std::error_code absent;
+  if (!std::filesystem::exists(baseline_file, absent) && !absent) {
     throw bb::InputError(baseline_file, 0, 0, "",
                          "no baseline for scenario '" + name + "'; after checking the run is right, create it deliberately " +
                              "with `blendbench check " + run_dir + " --update` and commit it");
@@ -548,6 +602,43 @@ int cmd_check(const std::string& run_dir, std::string baseline_file, std::string
   std::cout << (report.passed() ? "check passed against " : "check FAILED against ") << baseline_file << " ("
             << report.rows.size() << " metrics compared; tolerances: " << tolerance_file << ")" << std::endl;
   return report.passed() ? kExitOk : kExitCheckFailed;
+}
+
+// An option or argument given with an empty value ("--out ''", "run ''") names nothing: refused,
+// where its default would otherwise take its place silently. A value that is not UTF-8 (a file
+// named "t\xff.yaml") is refused too: names and values are recorded in the JSON outputs, which
+// hold only UTF-8, and nlohmann::json refused to write them after every variant had run
+// ("[json.exception.type_error.316] invalid UTF-8 byte", exit 1).
+void refuse_unusable_values(const CLI::App& app) {
+  for (const CLI::App* command : app.get_subcommands()) {
+    for (const CLI::Option* option : command->get_options()) {
+      if (option->count() == 0) continue;
+      for (const std::string& value : option->results()) {
+        if (value.empty()) {
+          throw bb::InputError("", 0, 0, option->get_name(), "an empty value names nothing: give one, or leave the option out");
+        }
+        if (!bb::is_utf8(value)) {
+          throw bb::InputError("", 0, 0, option->get_name(),
+                               "'" + bb::printable(value) +
+                                   "' is not UTF-8 text: names are recorded in the JSON outputs, which hold only UTF-8; "
+                                   "rename the file or folder");
+        }
+      }
+    }
+  }
+}
+
+// The exit code once what was printed has been handed on: standard output on a full device (or a
+// closed pipe) lost everything printed, and a run that says "done" must not exit 0 then.
+int finish(int code) {
+  std::cout.flush();
+  const bool lost = !std::cout.good() || std::fflush(stdout) != 0 || std::ferror(stdout) != 0;
+  if (bb::stop_signal() == SIGPIPE) return kExitSignalBase + SIGPIPE;  // the reader went away
+  if (lost) {
+    std::cerr << "blendbench: error: cannot write to standard output (a full device?): what was printed is lost" << std::endl;
+    if (code == kExitOk) return kExitCheckFailed;
+  }
+  return code;
 }
 
 }  // namespace
@@ -711,29 +802,33 @@ int main(int argc, char** argv) {
     return code == 0 ? kExitOk : kExitBadInput;
   }
 
-  try {
-    if (*run) return cmd_run(scenario_path, out_dir, no_video, no_plots, compare, variants, timing_flags, run_tolerance_mm, run_smoothing);
-    if (*compare_cmd) return cmd_compare(compare_flags, timing_flags);
-    if (*path) return cmd_path(input, flags, csv, report, ds_mm);
-    if (*plan) return cmd_plan(input, flags, timing_flags, csv, summary);
-    if (*check) return cmd_check(run_dir, baseline, tolerances, update);
-    if (*validate) return cmd_validate(validate_files, schema, validate_subroutine_path);
-    if (*reproduce) return bb::reproduce(paper, papers_out, !no_paper_plots, std::cout);
-    if (*sweep) {
-      sweep_args.plots = !sweep_no_plots;
-      return bb::sweep_command(sweep_args, std::cout);
+  const int code = [&]() -> int {
+    try {
+      refuse_unusable_values(app);
+      if (*run) return cmd_run(scenario_path, out_dir, no_video, no_plots, compare, variants, timing_flags, run_tolerance_mm, run_smoothing);
+      if (*compare_cmd) return cmd_compare(compare_flags, timing_flags);
+      if (*path) return cmd_path(input, flags, csv, report, ds_mm);
+      if (*plan) return cmd_plan(input, flags, timing_flags, csv, summary);
+      if (*check) return cmd_check(run_dir, baseline, tolerances, update);
+      if (*validate) return cmd_validate(validate_files, schema, validate_subroutine_path);
+      if (*reproduce) return bb::reproduce(paper, papers_out, !no_paper_plots, std::cout);
+      if (*sweep) {
+        sweep_args.plots = !sweep_no_plots;
+        return bb::sweep_command(sweep_args, std::cout);
+      }
+    } catch (const bb::Interrupted& stop) {
+      // unwound: temporary files and a staging folder are gone, previous outputs untouched (a
+      // sweep keeps the points it finished, for --resume)
+      std::cerr << "blendbench: interrupted by " << signal_name(stop.signal) << "; no output file was replaced" << std::endl;
+      return kExitSignalBase + stop.signal;
+    } catch (const bb::InputError& e) {
+      std::cerr << "blendbench: error: " << e.what() << std::endl;
+      return kExitBadInput;
+    } catch (const std::exception& e) {
+      std::cerr << "blendbench: failed: " << bb::printable(e.what()) << std::endl;
+      return kExitCheckFailed;
     }
-  } catch (const bb::Interrupted& stop) {
-    // unwound: temporary files and a staging folder are gone, previous outputs untouched (a
-    // sweep keeps the points it finished, for --resume)
-    std::cerr << "blendbench: interrupted by " << signal_name(stop.signal) << "; no output file was replaced" << std::endl;
-    return kExitSignalBase + stop.signal;
-  } catch (const bb::InputError& e) {
-    std::cerr << "blendbench: error: " << e.what() << std::endl;
-    return kExitBadInput;
-  } catch (const std::exception& e) {
-    std::cerr << "blendbench: failed: " << bb::printable(e.what()) << std::endl;
-    return kExitCheckFailed;
-  }
-  return kExitOk;
+    return kExitOk;
+  }();
+  return finish(code);
 }

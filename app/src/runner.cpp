@@ -505,41 +505,28 @@ VariantSummary run_variant(const RunInputs& sc, const Robot& robot, const RunReq
   return unfinished(variant, VariantStatus::kInterrupted);
 }
 
-}  // namespace
-
-bool video_supported() {
-#ifdef BLENDBENCH_HAS_RENDER
-  return true;
-#else
-  return false;
-#endif
-}
-
-RunResult run_scenario(const Scenario& scenario, const RunRequest& request) { return run_pipeline(resolve_run(scenario), request); }
-
-RunResult run_pipeline(const RunInputs& scenario, const RunRequest& request) {
-  if (request.video && !video_supported()) {
-    throw InputError("", 0, 0, "--no-video", "this build has no rendering (BLENDBENCH_RENDER=OFF): pass --no-video");
-  }
-  if (request.compare && !video_supported()) {
-    throw InputError("", 0, 0, "--compare", "this build has no rendering (BLENDBENCH_RENDER=OFF)");
-  }
-  // variant names become folders under out_dir: resolve_run refused any that would leave it
-  assert(!scenario.variants.empty());
-
-  // the robot: kinematics, dynamics (checked against robot.model), the start pose, the servo
+// The robot of a run as run_pipeline runs it, checked as it checks it before the first
+// variant: kinematics, dynamics (against robot.model), servo rate against the model's timestep,
+// the start pose, the servo. A library's exception while the robot files are read is bad input
+// of the scenario's robot (rethrow_as_input_error).
+struct LoadedRobot {
   Robot robot;
-  std::vector<std::string> robot_notes;
-  std::string mjcf = scenario.robot.mjcf;
-  ArmModel arm_model = scenario.robot.model;
+  std::vector<std::string> notes;  // what was estimated or replaced (a URDF alone)
+  std::string built_mjcf;          // the model built from a URDF alone; empty when the scenario names an MJCF
+  ArmModel arm_model = ArmModel::kElastic;
+};
+
+LoadedRobot load_robot_files(const RunInputs& scenario) {
+  LoadedRobot loaded;
+  Robot& robot = loaded.robot;
+  loaded.arm_model = scenario.robot.model;
   if (scenario.robot.estimate_total_mass > 0 && !scenario.robot.mjcf_from_urdf) {
     fail_at(scenario, scenario.robot.estimate_where, "robot.estimate_inertia",
             "estimate_inertia applies only to a URDF run without an MJCF; " + scenario.robot.mjcf +
                 " states the dynamics");
   }
   if (scenario.robot.mjcf_from_urdf) {
-    // a URDF alone: its dynamics built from it (rigid joints: a URDF states no gear stiffness),
-    // written into the run folder for the reader
+    // a URDF alone: its dynamics built from it (rigid joints: a URDF states no gear stiffness)
     if (scenario.robot.model == ArmModel::kElastic && scenario.robot.model_where.line > 0) {
       fail_at(scenario, scenario.robot.model_where, "robot.model",
               "elastic joints need gear stiffnesses a URDF does not state: give robot.mjcf, or robot.model: rigid");
@@ -547,15 +534,11 @@ RunResult run_pipeline(const RunInputs& scenario, const RunRequest& request) {
     UrdfModel built = model_from_urdf(scenario.robot.urdf, scenario.robot.base_link, scenario.robot.tip_link,
                                       scenario.robot.estimate_total_mass);
     robot.chain = std::move(built.chain);
-    robot_notes = std::move(built.notes);
-    std::filesystem::create_directories(request.out_dir);
-    mjcf = (request.out_dir / "robot_from_urdf.xml").string();
-    write_file_atomic(mjcf, built.mjcf);
-    robot.sim = std::make_unique<Simulator>(mjcf);
-    arm_model = ArmModel::kRigid;
-    if (request.progress) {
-      for (const std::string& note : robot_notes) request.progress("robot: " + note);
-    }
+    loaded.notes = std::move(built.notes);
+    robot.sim = std::make_unique<Simulator>(
+        Simulator::from_xml_string(built.mjcf, {}, scenario.robot.urdf + " (the MuJoCo model built from it)"));
+    loaded.built_mjcf = std::move(built.mjcf);
+    loaded.arm_model = ArmModel::kRigid;
   } else {
     robot.chain = load_urdf_chain(scenario.robot.urdf, scenario.robot.base_link, scenario.robot.tip_link);
     robot.sim = std::make_unique<Simulator>(scenario.robot.mjcf);
@@ -576,14 +559,6 @@ RunResult run_pipeline(const RunInputs& scenario, const RunRequest& request) {
                 format_value(robot.sim->timestep(), 6) + " s (" + format_value(1 / robot.sim->timestep(), 6) +
                 " Hz physics: use a rate that divides it)");
   }
-  // the command line's smoothing: a tolerance must reach a variant that fits g2_fit
-  check_smoothing_flags(request.smoothing);
-  if (request.smoothing.tolerance_mm &&
-      std::none_of(scenario.variants.begin(), scenario.variants.end(), [&](const VariantInputs& v) {
-        return apply_smoothing_flags_to_variant(request.smoothing, v.program.smoothing).method == SmoothingMethod::kG2Fit;
-      })) {
-    throw InputError("", 0, 0, "--smoothing-tolerance", "no variant run smooths with g2_fit (add --smoothing g2_fit)");
-  }
   // the program's start point is every variant's first pose: out of reach, the scenario itself
   // is bad input (at the first move), found before any variant runs
   const Program& first = scenario.variants.front().program;
@@ -595,6 +570,69 @@ RunResult run_pipeline(const RunInputs& scenario, const RunRequest& request) {
   robot.q0 = start.q;
   robot.servo = servo_of(scenario, *robot.sim, robot.q0);
   robot.keep_out = keep_out_of(robot.sim->model());
+  return loaded;
+}
+
+LoadedRobot load_robot(const RunInputs& scenario) {
+  try {
+    return load_robot_files(scenario);
+  } catch (...) {
+    rethrow_as_input_error(scenario.robot.urdf_where.line > 0 ? scenario.robot.urdf_where : SourceRef{scenario.file, 0, 0},
+                           "robot", "cannot load the robot: ");
+  }
+}
+
+}  // namespace
+
+bool video_supported() {
+#ifdef BLENDBENCH_HAS_RENDER
+  return true;
+#else
+  return false;
+#endif
+}
+
+void check_robot(const Scenario& scenario) {
+  if (scenario.variants.empty()) return;
+  (void)load_robot(resolve_run(scenario));
+}
+
+RunResult run_scenario(const Scenario& scenario, const RunRequest& request) { return run_pipeline(resolve_run(scenario), request); }
+
+RunResult run_pipeline(const RunInputs& scenario, const RunRequest& request) {
+  if (request.video && !video_supported()) {
+    throw InputError("", 0, 0, "--no-video", "this build has no rendering (BLENDBENCH_RENDER=OFF): pass --no-video");
+  }
+  if (request.compare && !video_supported()) {
+    throw InputError("", 0, 0, "--compare", "this build has no rendering (BLENDBENCH_RENDER=OFF)");
+  }
+  // variant names become folders under out_dir: resolve_run refused any that would leave it
+  assert(!scenario.variants.empty());
+  // the command line's smoothing: a tolerance must reach a variant that fits g2_fit
+  check_smoothing_flags(request.smoothing);
+  if (request.smoothing.tolerance_mm &&
+      std::none_of(scenario.variants.begin(), scenario.variants.end(), [&](const VariantInputs& v) {
+        return apply_smoothing_flags_to_variant(request.smoothing, v.program.smoothing).method == SmoothingMethod::kG2Fit;
+      })) {
+    throw InputError("", 0, 0, "--smoothing-tolerance", "no variant run smooths with g2_fit (add --smoothing g2_fit)");
+  }
+
+  // the robot: kinematics, dynamics (checked against robot.model), the start pose, the servo
+  LoadedRobot loaded = load_robot(scenario);
+  Robot& robot = loaded.robot;
+  const std::vector<std::string>& robot_notes = loaded.notes;
+  std::string mjcf = scenario.robot.mjcf;
+  if (!loaded.built_mjcf.empty()) {
+    // the model built from the URDF, written into the run folder for the reader (the run itself
+    // compiled it from memory: a message names the URDF, never a staging folder)
+    write_file_atomic(request.out_dir / "robot_from_urdf.xml", loaded.built_mjcf);
+    mjcf = ((request.published_dir.empty() ? request.out_dir : request.published_dir) / "robot_from_urdf.xml").string();
+    if (request.progress) {
+      for (const std::string& note : robot_notes) request.progress("robot: " + note);
+    }
+  }
+  const ArmModel arm_model = loaded.arm_model;
+  const Program& first = scenario.variants.front().program;
 
   RunResult result;
   RunSummary& summary = result.summary;
@@ -674,10 +712,16 @@ RunResult run_pipeline(const RunInputs& scenario, const RunRequest& request) {
     const ProcessResult plotted =
         run_process({"/usr/bin/python3", data_file("report/scripts/plot_run.py"), request.out_dir.string()});
     if (plotted.ok) result.report = request.out_dir / "report.html";
-    if (request.progress) {
+    if (request.progress && stop_signal() == 0) {
       request.progress(plotted.ok ? "plots and report written (" + format_fixed(seconds_since(plot_start), 1) + " s)"
                                   : "warning: the plot script failed (" + plotted.message + ")");
     }
+  }
+  // a stop request while the plots were drawn (the script was stopped with it): the variants
+  // are finished, the run was not
+  if (result.interrupted_by == 0 && stop_signal() != 0) {
+    result.interrupted_by = stop_signal();
+    result.all_ok = false;
   }
   return result;
 }

@@ -22,7 +22,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using sweep_detail::point_dir;
-using sweep_detail::read_text;
 
 constexpr int kExitOk = 0;
 constexpr int kExitNotOk = 1;
@@ -40,16 +39,50 @@ SourceRef where_from(const nlohmann::json& j, const std::string& file) {
   return {file, j.value("line", 0), j.value("column", 0)};
 }
 
-nlohmann::json read_plan(const fs::path& out_dir) {
-  const fs::path file = out_dir / kPlanFile;
-  const std::optional<std::string> text = read_text(file);
+constexpr const char* kLockFile = ".blendbench-sweep.lock";
+
+nlohmann::json read_plan(const OutputDir& dir) {
+  const std::string file = (dir.path() / kPlanFile).string();
+  const std::optional<std::string> text = dir.read(kPlanFile, "sweep plan");
   if (!text) {
-    throw InputError(file.string(), 0, 0, "--collect", "no sweep plan here: run `blendbench sweep FILE --out DIR` (or --slurm) first");
+    throw InputError(file, 0, 0, "--collect", "no sweep plan here: run `blendbench sweep FILE --out DIR` (or --slurm) first");
   }
   nlohmann::json j = nlohmann::json::parse(*text, nullptr, false);
-  if (j.is_discarded()) throw InputError(file.string(), 0, 0, "", "invalid JSON in the sweep plan");
+  if (j.is_discarded()) throw InputError(file, 0, 0, "", "invalid JSON in the sweep plan");
   return j;
 }
+
+// The sweep's folder, opened (and created) as the folder a sweep writes into; a folder the system
+// refuses is bad input of `flag`.
+OutputDir open_sweep_dir(const fs::path& path, bool create, const std::string& flag) {
+  try {
+    return OutputDir(path, create);
+  } catch (const std::runtime_error& e) {
+    throw InputError("", 0, 0, flag, e.what());
+  }
+}
+
+// The sweep's lock, held while the sweep writes into its folder: exclusive for a local sweep, the
+// Slurm submission and --collect (which write the plan and the tables), shared for the shards of
+// an array (which run their own points of one plan side by side). A second sweep into a folder in
+// use is refused at once: two sweeps would mix their plans and points.
+class SweepLock {
+ public:
+  SweepLock(const OutputDir& dir, bool shared, const std::string& flag) : fd_(dir.try_lock(kLockFile, shared)) {
+    if (fd_ < 0) {
+      const std::string holder = dir.lock_holder(kLockFile);
+      throw InputError("", 0, 0, flag,
+                       dir.path().string() + " is in use by another sweep" + (holder.empty() ? "" : " (pid " + holder + ")") +
+                           ": wait for it or choose another folder");
+    }
+  }
+  ~SweepLock() { ::close(fd_); }
+  SweepLock(const SweepLock&) = delete;
+  SweepLock& operator=(const SweepLock&) = delete;
+
+ private:
+  int fd_;
+};
 
 // "I/K" with 0 <= I < K.
 std::pair<std::size_t, std::size_t> parse_shard(const std::string& text) {
@@ -67,25 +100,31 @@ std::pair<std::size_t, std::size_t> parse_shard(const std::string& text) {
 
 // Validates one point; a refused point's scenario is written to its folder so the loader's message
 // names a file that exists.
-void validate_in(const SweepPlan& plan, const SweepPoint& point, const fs::path& out_dir) {
-  const fs::path file = point_dir(out_dir, point) / "scenario.yaml";
+void validate_in(const SweepPlan& plan, const SweepPoint& point, const OutputDir& dir) {
+  const fs::path file = point_dir(dir.path(), point) / "scenario.yaml";
   try {
     validate_point(plan, point, file.string());
   } catch (const InputError&) {
-    write_file_atomic(file, point.scenario_text);
+    sweep_detail::point_folder(dir, point, true)->write("scenario.yaml", point.scenario_text);
     throw;
   }
 }
 
 // Validates the points `indices` (the first of each hash is enough).
-void validate_points(const SweepPlan& plan, const std::vector<std::size_t>& indices, const fs::path& out_dir) {
-  for (const std::size_t i : indices) validate_in(plan, plan.points[i], out_dir);
+void validate_points(const SweepPlan& plan, const std::vector<std::size_t>& indices, const OutputDir& dir) {
+  for (const std::size_t i : indices) validate_in(plan, plan.points[i], dir);
+}
+
+// The plan as text: strings that are not UTF-8 (a name in the base scenario) replaced, never a
+// library's error.
+std::string plan_text(const SweepPlan& plan) {
+  return plan_json(plan).dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
 }
 
 // The plan file, rewritten only when it changes.
-void write_plan(const fs::path& out_dir, const SweepPlan& plan) {
-  const std::string text = plan_json(plan).dump(2) + "\n";
-  if (read_text(out_dir / kPlanFile) != text) write_file_atomic(out_dir / kPlanFile, text);
+void write_plan(const OutputDir& dir, const SweepPlan& plan) {
+  const std::string text = plan_text(plan);
+  if (dir.read(kPlanFile, "sweep plan") != text) dir.write(kPlanFile, text);
 }
 
 // Whether two plans expand to the same points (the sweep file's name may be written differently).
@@ -98,8 +137,9 @@ bool same_plan(nlohmann::json a, nlohmann::json b) {
 std::string jobs_text(int jobs) { return "--jobs " + std::to_string(jobs); }
 
 // The tables from the points' results: sweep.csv, sweep.json, best.csv, pareto.png, report.html.
-int collect(const fs::path& out_dir, bool plots, std::ostream& out) {
-  const SweepPlan plan = plan_from_json(read_plan(out_dir), (out_dir / kPlanFile).string());
+int collect(const OutputDir& dir, bool plots, std::ostream& out) {
+  const fs::path& out_dir = dir.path();
+  const SweepPlan plan = plan_from_json(read_plan(dir), (out_dir / kPlanFile).string());
   // one outcome per point; a point that shares its run with an earlier one copies it
   std::vector<PointOutcome> outcomes;
   outcomes.reserve(plan.points.size());
@@ -113,7 +153,8 @@ int collect(const fs::path& out_dir, bool plots, std::ostream& out) {
       continue;
     }
     first_of_hash.emplace(p.hash, p.index);
-    std::optional<PointOutcome> outcome = sweep_detail::read_outcome(point_dir(out_dir, p), named, &known);
+    const std::optional<OutputDir> folder = sweep_detail::point_folder(dir, p, false);
+    std::optional<PointOutcome> outcome = folder ? sweep_detail::read_outcome(*folder, named, &known) : std::nullopt;
     if (!outcome) missing.push_back(p.index);
     outcomes.push_back(outcome ? std::move(*outcome) : PointOutcome());
   }
@@ -127,21 +168,24 @@ int collect(const fs::path& out_dir, bool plots, std::ostream& out) {
   }
   const SweepTable table = build_table(plan, std::move(outcomes), known);
 
-  write_file_atomic(out_dir / "sweep.csv", sweep_csv(plan, table));
-  write_file_atomic(out_dir / "sweep.json", sweep_json(plan, table).dump(2) + "\n");
-  write_file_atomic(out_dir / "best.csv", best_csv(plan, table));
+  dir.write("sweep.csv", sweep_csv(plan, table));
+  dir.write("sweep.json", sweep_json(plan, table).dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
+  dir.write("best.csv", best_csv(plan, table));
   std::string png;
   if (plots) {
+    // the script writes pareto.png by name: whatever stands there (a link) is removed first, so
+    // it writes a new file in the folder
+    dir.remove("pareto.png");
     // an argument vector, no shell: the output folder is data, whatever characters it holds
     const ProcessResult plotted =
         run_process({"/usr/bin/python3", data_file("report/scripts/plot_sweep.py"), out_dir.string()});
     if (plotted.ok) {
-      png = read_text(out_dir / "pareto.png").value_or("");
+      png = dir.read("pareto.png", "Pareto plot").value_or("");
     } else {
       std::cerr << "sweep: warning: the plot script failed (" << plotted.message << ")" << std::endl;
     }
   }
-  write_file_atomic(out_dir / "report.html", report_html(plan, table, png));
+  dir.write("report.html", report_html(plan, table, png));
 
   out << best_text(plan, table);
   std::size_t not_ok = 0;
@@ -173,10 +217,11 @@ std::string find_on_path(const std::string& program) {
   return {};
 }
 
-int run_slurm(const SweepCommand& command, const SweepPlan& plan, const fs::path& out_dir, std::ostream& out) {
+int run_slurm(const SweepCommand& command, const SweepPlan& plan, const OutputDir& dir, std::ostream& out) {
+  const fs::path& out_dir = dir.path();
   const std::vector<std::size_t> runs = distinct_runs(plan);
-  validate_points(plan, runs, out_dir);
-  write_plan(out_dir, plan);
+  validate_points(plan, runs, dir);
+  write_plan(dir, plan);
   if (command.array_size < 0) throw InputError("", 0, 0, "--array-size", "must be at least 1");
   const std::size_t wanted = command.array_size > 0 ? static_cast<std::size_t>(command.array_size) : kDefaultArraySize;
   const std::size_t tasks = std::min(wanted, runs.size());
@@ -187,8 +232,8 @@ int run_slurm(const SweepCommand& command, const SweepPlan& plan, const fs::path
   options.resume = command.resume;
   const std::string binary = fs::read_symlink("/proc/self/exe").string();
   const fs::path script = out_dir / "sweep.sbatch";
-  write_file_atomic(script, sbatch_script(binary, fs::absolute(command.file).lexically_normal().string(), out_dir, tasks, options));
-  fs::create_directories(out_dir / "slurm");
+  dir.write("sweep.sbatch", sbatch_script(binary, fs::absolute(command.file).lexically_normal().string(), out_dir, tasks, options));
+  const OutputDir slurm = dir.sub("slurm");
   out << "sweep: " << plan.points.size() << " points (" << runs.size() << " runs) in " << tasks << " array tasks -> "
       << script.string() << std::endl;
 
@@ -200,44 +245,45 @@ int run_slurm(const SweepCommand& command, const SweepPlan& plan, const fs::path
     return kExitOk;
   }
   ProcessOptions submit;
-  submit.output_file = (out_dir / "slurm" / "submit.log").string();
+  submit.output_fd = slurm.create_fresh("submit.log");
   const ProcessResult result = run_process({sbatch, "--parsable", script.string()}, submit);
-  const std::string reply = read_text(submit.output_file).value_or("");
+  ::close(submit.output_fd);
+  const std::string reply = slurm.read("submit.log", "sbatch's reply").value_or("");
   if (!result.ok) {
     out << "sweep: sbatch failed (" << result.message << "): " << reply << std::endl;
     return kExitNotOk;
   }
   // --parsable prints "JOBID" or "JOBID;CLUSTER"
   const std::string job = reply.substr(0, reply.find_first_of(";\n"));
-  write_file_atomic(out_dir / "slurm" / "job_id", job + "\n");
+  slurm.write("job_id", job + "\n");
   out << "sweep: submitted Slurm job array " << job << " (" << tasks << " tasks); when it has ended: blendbench sweep --collect "
       << out_dir.string() << std::endl;
   return kExitOk;
 }
 
-int run_shard(const SweepCommand& command, const SweepPlan& plan, const fs::path& out_dir, int jobs, std::ostream& out) {
+int run_shard(const SweepCommand& command, const SweepPlan& plan, const OutputDir& dir, int jobs, std::ostream& out) {
   const auto [index, count] = parse_shard(command.shard);
   // every task of the array must expand the same sweep the plan holds
-  const fs::path plan_file = out_dir / kPlanFile;
-  if (read_text(plan_file)) {
-    if (!same_plan(read_plan(out_dir), plan_json(plan))) {
+  const fs::path plan_file = dir.path() / kPlanFile;
+  if (dir.read(kPlanFile, "sweep plan")) {
+    if (!same_plan(read_plan(dir), nlohmann::json::parse(plan_text(plan)))) {
       throw InputError(command.file, 0, 0, "--shard",
                        "the sweep no longer expands to the points of " + plan_file.string() +
                            " (the sweep file or its scenario changed since the array was written): write it again with --slurm");
     }
   } else {
-    write_plan(out_dir, plan);
+    write_plan(dir, plan);
   }
   const std::vector<std::size_t> all = distinct_runs(plan);
   std::vector<std::size_t> mine;
   for (std::size_t j = index; j < all.size(); j += count) mine.push_back(all[j]);
-  validate_points(plan, mine, out_dir);
-  const sweep_detail::PoolStats stats = sweep_detail::run_pool(plan, mine, out_dir, jobs, command.resume);
+  validate_points(plan, mine, dir);
+  const sweep_detail::PoolStats stats = sweep_detail::run_pool(plan, mine, dir, jobs, command.resume);
 
   nlohmann::json points = nlohmann::json::array();
   for (const std::size_t i : mine) points.push_back(i);
-  write_file_atomic(out_dir / "shards" / (std::to_string(index) + "-of-" + std::to_string(count) + ".json"),
-                    nlohmann::json({{"shard", index},
+  dir.sub("shards").write(std::to_string(index) + "-of-" + std::to_string(count) + ".json",
+                          nlohmann::json({{"shard", index},
                                     {"of", count},
                                     {"points", points},
                                     {"ran", stats.ran},
@@ -344,6 +390,12 @@ SweepPlan plan_from_json(const nlohmann::json& j, const std::string& file) {
       point.choice = p.at("choice").get<std::vector<std::size_t>>();
       point.variants = p.at("variants").get<std::vector<std::string>>();
       point.hash = p.at("hash").get<std::string>();
+      // the hash names the point's folder: exactly what content_hash writes (16 hex digits), so a
+      // plan cannot send a read or a run outside DIR/points/ ("../../secret/x")
+      if (point.hash.size() != 16 || point.hash.find_first_not_of("0123456789abcdef") != std::string::npos) {
+        throw InputError(file, 0, 0, "points[" + std::to_string(point.index) + "].hash",
+                         "a point's hash must be 16 hexadecimal digits, got '" + printable(point.hash) + "'");
+      }
       if (point.choice.size() != spec.axes.size()) throw InputError(file, 0, 0, "points", "a point's values do not match the axes");
       for (std::size_t a = 0; a < spec.axes.size(); ++a) {
         if (point.choice[a] >= spec.axes[a].labels.size()) throw InputError(file, 0, 0, "points", "a point's value is out of range");
@@ -359,29 +411,36 @@ SweepPlan plan_from_json(const nlohmann::json& j, const std::string& file) {
 int sweep_command(const SweepCommand& command, std::ostream& out) {
   if (!command.run_point.empty()) return sweep_detail::run_point_folder(command.run_point);
   check_flags(command);
-  if (!command.collect.empty()) return collect(fs::absolute(command.collect).lexically_normal(), command.plots, out);
+  if (!command.collect.empty()) {
+    const OutputDir dir = open_sweep_dir(fs::absolute(command.collect).lexically_normal(), false, "--collect");
+    const SweepLock lock(dir, false, "--collect");
+    return collect(dir, command.plots, out);
+  }
 
   const SweepSpec spec = load_sweep(command.file);
   const fs::path out_dir = fs::absolute(command.out_dir.empty() ? "results/runs/sweeps/" + fs::path(command.file).stem().string()
                                                                 : command.out_dir)
                                .lexically_normal();
+  const OutputDir dir = open_sweep_dir(out_dir, true, "--out");
+  // shards of one array share the folder; anything else has it alone
+  const SweepLock lock(dir, !command.shard.empty(), "--out");
   // the first point is validated as soon as it exists: an axis that makes no valid scenario is
   // refused before the whole product is expanded
   const SweepPlan plan =
-      expand_sweep(spec, [&](const SweepPlan& first, const SweepPoint& point) { validate_in(first, point, out_dir); });
+      expand_sweep(spec, [&](const SweepPlan& first, const SweepPoint& point) { validate_in(first, point, dir); });
   const int jobs = command.jobs > 0 ? command.jobs : sweep_detail::available_cores();
-  if (command.slurm) return run_slurm(command, plan, out_dir, out);
-  if (!command.shard.empty()) return run_shard(command, plan, out_dir, jobs, out);
+  if (command.slurm) return run_slurm(command, plan, dir, out);
+  if (!command.shard.empty()) return run_shard(command, plan, dir, jobs, out);
 
   // locally: every point on a pool, then the tables
   const std::vector<std::size_t> runs = distinct_runs(plan);
-  validate_points(plan, runs, out_dir);
-  write_plan(out_dir, plan);
+  validate_points(plan, runs, dir);
+  write_plan(dir, plan);
   out << "sweep: " << command.file << ": " << plan.points.size() << " points (" << runs.size() << " runs) -> "
       << out_dir.string() << " at " << jobs_text(jobs) << std::endl;
-  const sweep_detail::PoolStats stats = sweep_detail::run_pool(plan, runs, out_dir, jobs, command.resume);
+  const sweep_detail::PoolStats stats = sweep_detail::run_pool(plan, runs, dir, jobs, command.resume);
   report_pool("", stats, jobs, out);
-  return collect(out_dir, command.plots, out);
+  return collect(dir, command.plots, out);
 }
 
 }  // namespace blendbench

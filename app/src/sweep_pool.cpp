@@ -2,6 +2,7 @@
 
 #include <sched.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -10,6 +11,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <iostream>
 #include <mutex>
@@ -30,15 +32,24 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-nlohmann::json read_json_or_null(const fs::path& path) {
-  const std::optional<std::string> text = read_text(path);
+// The environment variable through which a point's child learns its sweep's pid.
+constexpr const char* kParentVariable = "BLENDBENCH_SWEEP_PARENT";
+
+// A JSON file of the sweep's folder; null when absent, discarded (null-like) when malformed.
+nlohmann::json read_json_or_null(const OutputDir& dir, const std::string& name, const std::string& what) {
+  const std::optional<std::string> text = dir.read(name, what);
   if (!text) return nullptr;
-  return nlohmann::json::parse(*text, nullptr, false);  // discarded (null-like) when malformed
+  return nlohmann::json::parse(*text, nullptr, false);
 }
 
 // The last line the child printed that says something: why a run stopped.
-std::string last_line(const fs::path& log) {
-  const std::string text = read_text(log).value_or("");
+std::string last_line(const OutputDir& dir) {
+  std::string text;
+  try {
+    text = dir.read("log.txt", "point's log").value_or("");
+  } catch (const InputError& e) {
+    return e.what();
+  }
   std::string last;
   std::istringstream lines(text);
   for (std::string line; std::getline(lines, line);) {
@@ -48,22 +59,32 @@ std::string last_line(const fs::path& log) {
 }
 
 // Runs one point in its folder and records how it ended in status.json.
-PointOutcome run_one(const SweepPlan& plan, const SweepPoint& point, const fs::path& dir, const std::string& self,
+PointOutcome run_one(const SweepPlan& plan, const SweepPoint& point, const OutputDir& dir, const std::string& self,
                      std::set<std::string>& known) {
-  write_file_atomic(dir / "point.json", nlohmann::json({{"base_dir", plan.base_dir}, {"variants", point.variants}}).dump(2) + "\n");
-  if (read_text(dir / "scenario.yaml") != point.scenario_text) write_file_atomic(dir / "scenario.yaml", point.scenario_text);
+  dir.write("point.json", nlohmann::json({{"base_dir", plan.base_dir}, {"variants", point.variants}}).dump(2) + "\n");
+  if (dir.read("scenario.yaml", "point's scenario") != point.scenario_text) dir.write("scenario.yaml", point.scenario_text);
   // nothing of an earlier run may stand for this one
-  std::error_code ec;
-  fs::remove(dir / "status.json", ec);
-  fs::remove(dir / "summary.json", ec);
+  dir.remove("status.json");
+  dir.remove("summary.json");
 
   const auto start = Clock::now();
   ProcessOptions options;
-  options.output_file = (dir / "log.txt").string();
-  const ProcessResult result = run_process({self, "sweep", "--run-point", dir.string()}, options);
+  // the log: a new file in the point's folder, whatever was there (a link planted at its name is
+  // replaced, not written through)
+  options.output_fd = dir.create_fresh("log.txt");
+  // the child ends with this process, however this one ends (run_point_folder)
+  options.environment = {std::string(kParentVariable) + "=" + std::to_string(::getpid())};
+  ProcessResult result;
+  try {
+    result = run_process({self, "sweep", "--run-point", dir.path().string()}, options);
+  } catch (...) {
+    ::close(options.output_fd);
+    throw;
+  }
+  ::close(options.output_fd);
   PointOutcome outcome;
   outcome.wall_time_s = std::chrono::duration<double>(Clock::now() - start).count();
-  const nlohmann::json summary = read_json_or_null(dir / "summary.json");
+  const nlohmann::json summary = read_json_or_null(dir, "summary.json", "point's run summary");
   outcome.has_summary = summary.is_object();
   outcome.variants = variant_results(summary, named_metrics(plan.spec), &known);
   if (result.ok) {
@@ -80,7 +101,7 @@ PointOutcome run_one(const SweepPlan& plan, const SweepPoint& point, const fs::p
     outcome.message = "a variant failed";
   } else {
     outcome.status = "error";
-    const std::string line = last_line(dir / "log.txt");
+    const std::string line = last_line(dir);
     outcome.message = line.empty() ? result.message : line;
   }
   nlohmann::json status = {{"status", outcome.status},
@@ -88,7 +109,7 @@ PointOutcome run_one(const SweepPlan& plan, const SweepPoint& point, const fs::p
                            {"signal", result.signal},
                            {"wall_time_s", outcome.wall_time_s}};
   if (!outcome.message.empty()) status["message"] = outcome.message;
-  write_file_atomic(dir / "status.json", status.dump(2) + "\n");
+  dir.write("status.json", status.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
   return outcome;
 }
 
@@ -120,22 +141,25 @@ class Progress {
 
 fs::path point_dir(const fs::path& out_dir, const SweepPoint& point) { return out_dir / "points" / point.hash; }
 
-std::optional<std::string> read_text(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
+std::optional<OutputDir> point_folder(const OutputDir& sweep_dir, const SweepPoint& point, bool create) {
+  if (create) return sweep_dir.sub("points").sub(point.hash);
+  const std::optional<OutputDir> points = sweep_dir.find("points");
+  return points ? points->find(point.hash) : std::nullopt;
 }
 
-std::optional<PointOutcome> read_outcome(const fs::path& dir, const std::set<std::string>& named, std::set<std::string>* known) {
-  const nlohmann::json status = read_json_or_null(dir / "status.json");
+std::optional<PointOutcome> read_outcome(const OutputDir& dir, const std::set<std::string>& named, std::set<std::string>* known) {
+  const nlohmann::json status = read_json_or_null(dir, "status.json", "point's status");
   if (!status.is_object() || !status.contains("status") || !status["status"].is_string()) return std::nullopt;
   PointOutcome outcome;
   outcome.status = status["status"].get<std::string>();
-  outcome.message = status.value("message", "");
-  outcome.wall_time_s = status.value("wall_time_s", 0.0);
-  const nlohmann::json summary = read_json_or_null(dir / "summary.json");
+  const auto text = [&](const char* key) {
+    const auto it = status.find(key);
+    return it != status.end() && it->is_string() ? it->get<std::string>() : std::string();
+  };
+  outcome.message = text("message");
+  const auto wall = status.find("wall_time_s");
+  outcome.wall_time_s = wall != status.end() && wall->is_number() ? wall->get<double>() : 0.0;
+  const nlohmann::json summary = read_json_or_null(dir, "summary.json", "point's run summary");
   outcome.has_summary = summary.is_object();
   outcome.variants = variant_results(summary, named, known);
   return outcome;
@@ -148,7 +172,7 @@ int available_cores() {
   return std::max(1U, std::thread::hardware_concurrency());
 }
 
-PoolStats run_pool(const SweepPlan& plan, const std::vector<std::size_t>& runs, const fs::path& out_dir, int jobs,
+PoolStats run_pool(const SweepPlan& plan, const std::vector<std::size_t>& runs, const OutputDir& out_dir, int jobs,
                    bool resume) {
   PoolStats stats;
   stats.runs = runs.size();
@@ -158,11 +182,11 @@ PoolStats run_pool(const SweepPlan& plan, const std::vector<std::size_t>& runs, 
   std::vector<std::size_t> todo;
   for (const std::size_t i : runs) {
     const SweepPoint& point = plan.points[i];
-    const fs::path dir = point_dir(out_dir, point);
-    if (resume) {
-      const std::optional<PointOutcome> done = read_outcome(dir, {}, nullptr);
+    const std::optional<OutputDir> dir = resume ? point_folder(out_dir, point, false) : std::nullopt;
+    if (dir) {
+      const std::optional<PointOutcome> done = read_outcome(*dir, {}, nullptr);
       if (done && done->status != "crashed" && done->status != "interrupted" &&
-          read_text(dir / "scenario.yaml") == point.scenario_text) {
+          dir->read("scenario.yaml", "point's scenario") == point.scenario_text) {
         ++stats.resumed;
         stats.not_ok += done->status == "ok" ? 0 : 1;
         continue;
@@ -198,7 +222,7 @@ PoolStats run_pool(const SweepPlan& plan, const std::vector<std::size_t>& runs, 
       PointOutcome outcome;
       std::set<std::string> known;
       try {
-        outcome = run_one(plan, point, point_dir(out_dir, point), self, known);
+        outcome = run_one(plan, point, *point_folder(out_dir, point, true), self, known);
       } catch (...) {
         const std::lock_guard<std::mutex> lock(mutex);
         if (!failure) failure = std::current_exception();
@@ -214,7 +238,7 @@ PoolStats run_pool(const SweepPlan& plan, const std::vector<std::size_t>& runs, 
         ++stats.not_ok;
         progress.say("point " + std::to_string(point.index) + " (" + point_values_text(plan.spec, point) + "): " +
                      outcome.status + (outcome.message.empty() ? "" : ": " + outcome.message) + " [" +
-                     (point_dir(out_dir, point) / "log.txt").string() + "]");
+                     (point_dir(out_dir.path(), point) / "log.txt").string() + "]");
       }
       // the metric names of the sweep file, against the first summary that has ok variants
       if (!names_checked) {
@@ -255,11 +279,36 @@ PoolStats run_pool(const SweepPlan& plan, const std::vector<std::size_t>& runs, 
 }
 
 int run_point_folder(const fs::path& dir) {
-  const std::optional<std::string> text = read_text(dir / "scenario.yaml");
+  // a point runs only while the sweep that started it does: SIGTERM when it ends, SIGKILL
+  // included (the request is checked at every step, and the watchdog ends what blocks); a sweep
+  // that ended before the request was made is seen by the parent's pid
+  if (const char* parent = std::getenv(kParentVariable); parent != nullptr) {
+    ::prctl(PR_SET_PDEATHSIG, SIGTERM);
+    if (std::to_string(::getppid()) != parent) throw Interrupted{SIGTERM};
+  }
+  // the point's folder and the points/ folder above it are real folders: the run writes its
+  // summary there and must not be sent elsewhere by a link planted in the sweep's folder
+  for (const fs::path& folder : {dir, dir.parent_path()}) {
+    std::error_code ec;
+    if (!folder.empty() && fs::symlink_status(folder, ec).type() == fs::file_type::symlink) {
+      throw InputError(folder.string(), 0, 0, "--run-point", "is a symbolic link: a point's folder must be a folder of the sweep");
+    }
+  }
+  const OutputDir folder = [&] {
+    try {
+      return OutputDir(dir, false);
+    } catch (const std::runtime_error& e) {
+      throw InputError(dir.string(), 0, 0, "--run-point", e.what());
+    }
+  }();
+  const std::optional<std::string> text = folder.read("scenario.yaml", "point's scenario");
   if (!text) throw InputError((dir / "scenario.yaml").string(), 0, 0, "--run-point", "no scenario.yaml in the point folder");
-  const nlohmann::json point = read_json_or_null(dir / "point.json");
+  const nlohmann::json point = read_json_or_null(folder, "point.json", "point file");
   if (!point.is_object() || !point["base_dir"].is_string() || !point["variants"].is_array()) {
     throw InputError((dir / "point.json").string(), 0, 0, "--run-point", "not a sweep point's point.json");
+  }
+  for (const nlohmann::json& v : point["variants"]) {
+    if (!v.is_string()) throw InputError((dir / "point.json").string(), 0, 0, "--run-point", "not a sweep point's point.json");
   }
   const Scenario scenario = parse_scenario(*text, (dir / "scenario.yaml").string(), point["base_dir"].get<std::string>());
   RunRequest request;

@@ -1,9 +1,11 @@
 #include "blendbench/io/data_root.hpp"
 
 #include <cstdlib>
-#include <fstream>
 #include <system_error>
 #include <vector>
+
+#include "blendbench/core/input_error.hpp"
+#include "blendbench/core/input_file.hpp"
 
 namespace blendbench {
 
@@ -22,11 +24,16 @@ bool is_folder(const fs::path& p) {
   return fs::is_directory(p, ec);
 }
 
-// The first line of `file` without trailing blanks; empty when the file cannot be read.
+// The first line of `file` without trailing blanks; empty when the file cannot be read (read as
+// every input is: a regular file, bounded, core/input_file.hpp).
 std::string first_line(const fs::path& file) {
-  std::ifstream in(file);
-  std::string line;
-  if (!in || !std::getline(in, line)) return {};
+  std::string text;
+  try {
+    text = read_input_file(file.string(), "data-root file", 1 << 16);
+  } catch (const InputError&) {
+    return {};
+  }
+  std::string line = text.substr(0, text.find('\n'));
   while (!line.empty() && (line.back() == '\r' || line.back() == ' ' || line.back() == '\t')) line.pop_back();
   return line;
 }
@@ -56,7 +63,8 @@ fs::path find_data_root(const char* env_value, const fs::path& executable) {
     // 3. the build tree: a file naming the source tree, beside the program or one folder up
     for (const fs::path& dir : {bin, bin.parent_path()}) {
       const fs::path marker = dir / kDataRootFile;
-      if (!fs::exists(marker)) {
+      std::error_code ec;
+      if (!fs::exists(marker, ec)) {
         tried.push_back(marker.string() + " (no such file)");
         continue;
       }

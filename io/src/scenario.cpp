@@ -25,6 +25,14 @@
 namespace blendbench {
 namespace {
 
+// Whether `path` is a regular file; a path the system cannot examine (a loop of symbolic links)
+// is not one here (the file that is read next says why when it matters).
+bool is_regular_file_here(const std::string& path) {
+  std::error_code ec;
+  return std::filesystem::is_regular_file(path, ec);
+}
+
+
 using namespace scenario_detail;  // the reader private to the scenario loader
 
 
@@ -380,7 +388,7 @@ void read_robot(const Reader& r, const Field& root, Scenario& sc) {
   // without an MJCF: the URDF's own MJCF beside it (model_file), else dynamics built from the URDF
   if (mjcf.node.defined()) {
     sc.robot.mjcf = r.existing_file(mjcf);
-  } else if (const std::string beside = model_file(sc.robot.urdf, sc.robot.model); std::filesystem::is_regular_file(beside)) {
+  } else if (const std::string beside = model_file(sc.robot.urdf, sc.robot.model); is_regular_file_here(beside)) {
     sc.robot.mjcf = beside;
   } else {
     sc.robot.mjcf_from_urdf = true;

@@ -13,11 +13,22 @@
 #include "blendbench/io/program_io.hpp"
 #include "blendbench/io/scenario.hpp"
 #include "blendbench/core/format.hpp"
+#include "yaml_document.hpp"
 
 namespace blendbench {
 namespace {
 
 namespace fs = std::filesystem;
+
+static_assert(kMaxKeyPathSteps == static_cast<std::size_t>(yaml_detail::kMaxDepth));
+
+// A key path as messages show it: a path of thousands of characters is cut, so that a refusal
+// stays one readable line.
+std::string shortened(const std::string& path) {
+  constexpr std::size_t kShown = 120;
+  if (path.size() <= kShown) return path;
+  return path.substr(0, kShown) + "... (" + std::to_string(path.size()) + " characters)";
+}
 
 SourceRef mark_of(const std::string& file, const YAML::Node& node) {
   const YAML::Mark mark = node.IsDefined() ? node.Mark() : YAML::Mark::null_mark();
@@ -139,7 +150,7 @@ SweepAxis read_axis(const SweepReader& r, const YAML::Node& key, const YAML::Nod
   SweepAxis axis;
   axis.path = r.text(key, "axes");
   axis.where = r.where(key);
-  const std::string field = "axes." + axis.path;
+  const std::string field = "axes." + shortened(axis.path);
   axis.steps = parse_key_path(axis.path, axis.where, field);
   if (value.IsMap()) {
     read_range(r, value, field, axis);
@@ -274,7 +285,9 @@ std::vector<std::string> point_variants(const SweepSpec& spec, const YAML::Node&
   std::vector<std::string> names;
   const YAML::Node& root = doc;
   const YAML::Node variants = root["variants"];
-  if (!variants.IsSequence()) return names;
+  // a key the base lacks is an undefined node, whose type yaml-cpp refuses to tell
+  // ("invalid node; first invalid key"): the loader says what is missing
+  if (!variants.IsDefined() || !variants.IsSequence()) return names;
   for (std::size_t i = 0; i < variants.size(); ++i) {
     const YAML::Node name = variants[i].IsMap() ? variants[i]["name"] : YAML::Node();
     names.push_back(name.IsScalar() ? name.Scalar() : std::string());
@@ -284,7 +297,7 @@ std::vector<std::string> point_variants(const SweepSpec& spec, const YAML::Node&
 
 [[noreturn]] void bad_key_path(const std::string& path, const SourceRef& where, const std::string& field,
                                const std::string& why) {
-  fail_at(where, field, "bad key path '" + path + "': " + why + " (keys separated by '.', [N] or [*] after a key)");
+  fail_at(where, field, "bad key path '" + shortened(path) + "': " + why + " (keys separated by '.', [N] or [*] after a key)");
 }
 
 [[noreturn]] void bad_constraint(const std::string& text, const SourceRef& where, const std::string& field,
@@ -300,6 +313,12 @@ std::vector<KeyStep> parse_key_path(const std::string& path, const SourceRef& wh
   std::vector<KeyStep> steps;
   std::size_t i = 0;
   while (i < path.size()) {
+    // a scenario nests at most yaml_detail::kMaxDepth levels, so no longer path names a value
+    // (a path of 2*10^4 steps overflowed the stack of the recursive setter)
+    if (steps.size() >= kMaxKeyPathSteps) {
+      bad("it has more than " + std::to_string(kMaxKeyPathSteps) + " steps; a scenario nests at most " +
+          std::to_string(yaml_detail::kMaxDepth) + " levels");
+    }
     // a key up to '.', '[' or the end
     std::size_t end = i;
     while (end < path.size() && path[end] != '.' && path[end] != '[' && path[end] != ']') ++end;
@@ -320,6 +339,10 @@ std::vector<KeyStep> parse_key_path(const std::string& path, const SourceRef& wh
         bad("'[" + inner + "]' is neither an index nor [*]");
       }
       i = close + 1;
+    }
+    if (steps.size() > kMaxKeyPathSteps) {
+      bad("it has more than " + std::to_string(kMaxKeyPathSteps) + " steps; a scenario nests at most " +
+          std::to_string(yaml_detail::kMaxDepth) + " levels");
     }
     if (i < path.size()) {
       if (path[i] != '.') bad("expected '.' or '[' at character " + std::to_string(i + 1));
@@ -383,7 +406,13 @@ bool meets(const Constraint& c, double value) {
   return false;
 }
 
-SweepSpec parse_sweep(const std::string& text, const std::string& file, const std::string& base_dir) {
+namespace {
+
+SweepSpec parse_sweep_text(const std::string& text, const std::string& file, const std::string& base_dir) {
+  // the YAML rules of a scenario file first (yaml_document.hpp): one document, no key twice in a
+  // map, no control character (a NUL), UTF-8, bounded size and depth; yaml-cpp, which reads the
+  // sweep, keeps the last of two keys and the first document silently
+  (void)yaml_detail::Document(text, file);
   const SweepReader r(file);
   YAML::Node doc;
   try {
@@ -419,6 +448,13 @@ SweepSpec parse_sweep(const std::string& text, const std::string& file, const st
     }
   }
   if (spec.scenario.empty()) r.fail(scenario, "scenario", "file not found: " + name);
+  // the scenario's folder is recorded in the plan and each point's JSON, which hold only UTF-8
+  // (a folder above named "d\xff" failed every point with nlohmann's type_error 316, exit 1)
+  if (!is_utf8(spec.scenario)) {
+    r.fail(scenario, "scenario",
+           "the path '" + printable(spec.scenario) +
+               "' is not UTF-8 text: the sweep records it in its JSON files, which hold only UTF-8; rename the folder");
+  }
   if (const YAML::Node d = doc["description"]; d.IsDefined()) spec.description = r.text(d, "description");
 
   if (const YAML::Node v = doc["variants"]; v.IsDefined()) {
@@ -486,6 +522,16 @@ SweepSpec parse_sweep(const std::string& text, const std::string& file, const st
   return spec;
 }
 
+}  // namespace
+
+SweepSpec parse_sweep(const std::string& text, const std::string& file, const std::string& base_dir) {
+  try {
+    return parse_sweep_text(text, file, base_dir);
+  } catch (...) {
+    rethrow_as_input_error({file, 0, 0}, "", "cannot read the sweep file: ");
+  }
+}
+
 SweepSpec load_sweep(const std::string& path) {
   const std::string dir = fs::path(path).parent_path().string();
   return parse_sweep(read_file_text(path, "sweep file"), path, dir.empty() ? "." : dir);
@@ -497,13 +543,18 @@ std::size_t sweep_point_count(const SweepSpec& spec) {
   return count;
 }
 
-SweepPlan expand_sweep(const SweepSpec& spec, const SweepPointCheck& check_first) {
+namespace {
+
+SweepPlan expand(const SweepSpec& spec, const SweepPointCheck& check_first) {
   SweepPlan plan;
   plan.spec = spec;
   plan.base_dir = fs::path(spec.scenario).parent_path().string();
   YAML::Node base;
+  const std::string base_text = read_file_text(spec.scenario, "scenario file");
+  // the scenario loader's YAML rules, as for the sweep file
+  (void)yaml_detail::Document(base_text, spec.scenario);
   try {
-    base = YAML::Load(read_file_text(spec.scenario, "scenario file"));
+    base = YAML::Load(base_text);
   } catch (const YAML::ParserException& e) {
     throw InputError(spec.scenario, e.mark.line + 1, e.mark.column + 1, "", "invalid YAML: " + e.msg);
   }
@@ -578,6 +629,16 @@ SweepPlan expand_sweep(const SweepSpec& spec, const SweepPointCheck& check_first
     if (index == 0 && check_first) check_first(plan, plan.points.front());
   }
   return plan;
+}
+
+}  // namespace
+
+SweepPlan expand_sweep(const SweepSpec& spec, const SweepPointCheck& check_first) {
+  try {
+    return expand(spec, check_first);
+  } catch (...) {
+    rethrow_as_input_error(spec.axes_where, "axes", "cannot expand the sweep over " + spec.scenario + ": ");
+  }
 }
 
 std::string point_values_text(const SweepSpec& spec, const SweepPoint& point) {

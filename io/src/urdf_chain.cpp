@@ -4,13 +4,13 @@
 #include <urdf_parser/urdf_parser.h>
 
 #include <algorithm>
-#include <fstream>
 #include <limits>
-#include <sstream>
 
 #include "blendbench/core/format.hpp"
 #include "blendbench/core/input_error.hpp"
+#include "blendbench/core/input_file.hpp"
 #include "urdf_read.hpp"
+#include "xml_check.hpp"
 
 namespace blendbench {
 namespace urdf_read {
@@ -78,12 +78,18 @@ void collect_leaves(const urdf::Link& link, std::vector<std::string>& out) {
 }  // namespace
 
 urdf::ModelInterfaceSharedPtr parse(const std::string& path) {
-  std::ifstream file(path);
-  if (!file) throw InputError(path, 0, 0, "", "cannot open the URDF file");
-  std::stringstream text;
-  text << file.rdbuf();
+  // read as every input is (a regular file of at most kMaxInputBytes: a 1.5 GB URDF was read
+  // whole), then checked by expat before urdfdom's recursive parser sees it
+  const std::string text = read_input_file(path, "URDF file");
+  xml_detail::check_xml(text, path, "URDF file", xml_detail::XmlLimits{});
   const CapturedLog log;
-  urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(text.str());
+  urdf::ModelInterfaceSharedPtr model;
+  try {
+    model = urdf::parseURDF(text);
+  } catch (...) {
+    // urdfdom's own exceptions (a number it cannot convert) are bad input of the URDF
+    rethrow_as_input_error({path, 0, 0}, "", "not a valid URDF: ");
+  }
   if (!model) throw InputError(path, 0, 0, "", "not a valid URDF: " + (log.text().empty() ? "parse failed" : log.text()));
   return model;
 }

@@ -10,6 +10,7 @@
 #include "blendbench/core/format.hpp"
 #include "blendbench/core/input_error.hpp"
 #include "urdf_read.hpp"
+#include "xml_writer.hpp"
 
 namespace blendbench {
 namespace {
@@ -59,11 +60,10 @@ std::string num(double v) { return format_value(v, 17); }
 
 std::string numbers(const Vec3& v) { return num(v.x()) + " " + num(v.y()) + " " + num(v.z()); }
 
-// pos="..." quat="w x y z" of a transform.
-std::string placement(const Eigen::Isometry3d& t) {
+// The "w x y z" quaternion of a transform's rotation.
+std::string quaternion(const Eigen::Isometry3d& t) {
   const Eigen::Quaterniond q(t.linear());
-  return "pos=\"" + numbers(t.translation()) + "\" quat=\"" + num(q.w()) + " " + num(q.x()) + " " +
-         num(q.y()) + " " + num(q.z()) + "\"";
+  return num(q.w()) + " " + num(q.x()) + " " + num(q.y()) + " " + num(q.z());
 }
 
 std::string list_of(const std::vector<std::string>& names) {
@@ -185,7 +185,8 @@ UrdfModel model_from_urdf(const std::string& urdf_path, const std::string& base_
   if (!meshes.empty()) {
     std::size_t missing_files = 0;
     for (const std::string& m : meshes) {
-      if (m.starts_with("package://") || !std::filesystem::is_regular_file(m)) ++missing_files;
+      std::error_code ec;
+      if (m.starts_with("package://") || !std::filesystem::is_regular_file(m, ec)) ++missing_files;
     }
     out.notes.push_back(std::to_string(meshes.size()) + " visual meshes replaced by simple shapes (" +
                         std::to_string(missing_files) + " of them missing here, e.g. '" + meshes.front() + "')");
@@ -196,77 +197,94 @@ UrdfModel model_from_urdf(const std::string& urdf_path, const std::string& base_
   for (std::size_t i = 0; i < 6; ++i) reach += extent[i].norm();
   reach = std::max(reach, 0.3);
 
-  // the MJCF: options as the shipped models have them (8 kHz semi-implicit Euler), world, bodies
-  std::string xml = "<mujoco model=\"" + model->getName() + "_from_urdf\">\n"
-                    "  <compiler angle=\"radian\" autolimits=\"true\"/>\n"
-                    "  <option timestep=\"0.000125\" integrator=\"Euler\"/>\n"
-                    "  <visual><global offwidth=\"1280\" offheight=\"720\"/>"
-                    "<headlight ambient=\"0.35 0.35 0.35\" diffuse=\"0.45 0.45 0.45\" specular=\"0.1 0.1 0.1\"/></visual>\n"
-                    "  <asset>\n"
-                    "    <texture name=\"sky\" type=\"skybox\" builtin=\"gradient\" rgb1=\"0.78 0.84 0.9\" rgb2=\"0.32 0.36 0.42\" "
-                    "width=\"256\" height=\"256\"/>\n"
-                    "    <texture name=\"grid\" type=\"2d\" builtin=\"checker\" rgb1=\"0.86 0.86 0.84\" rgb2=\"0.76 0.76 0.74\" "
-                    "width=\"512\" height=\"512\"/>\n"
-                    "    <material name=\"floor\" texture=\"grid\" texrepeat=\"10 10\" texuniform=\"true\"/>\n"
-                    "    <material name=\"link\" rgba=\"0.55 0.6 0.7 1\"/>\n"
-                    "  </asset>\n"
-                    "  <default><geom contype=\"0\" conaffinity=\"0\" material=\"link\"/></default>\n"
-                    "  <worldbody>\n"
-                    "    <light name=\"sun\" directional=\"true\" pos=\"0 0 4\" dir=\"-0.3 0.25 -1\" diffuse=\"0.6 0.6 0.6\"/>\n";
-  xml += "    <geom name=\"floor\" type=\"plane\" size=\"" + format_value(2 * reach) + " " + format_value(2 * reach) +
-         " 0.05\" material=\"floor\"/>\n";
+  // the MJCF, every name and number written through the XML writer (escaped: a name from the
+  // URDF is text, never markup): options as the shipped models have them (8 kHz semi-implicit
+  // Euler), world, bodies
+  if (!xml_detail::xml_writable(model->getName())) {
+    throw InputError(urdf_path, 0, 0, "robot.name", "the robot's name holds a control character");
+  }
+  for (const JointSpec& j : chain.joints) {
+    if (!xml_detail::xml_writable(j.name)) throw InputError(urdf_path, 0, 0, "joint.name", "a joint's name holds a control character");
+  }
+  xml_detail::XmlWriter xml;
+  xml.open("mujoco", {{"model", model->getName() + "_from_urdf"}});
+  xml.leaf("compiler", {{"angle", "radian"}, {"autolimits", "true"}});
+  xml.leaf("option", {{"timestep", "0.000125"}, {"integrator", "Euler"}});
+  xml.open("visual");
+  xml.leaf("global", {{"offwidth", "1280"}, {"offheight", "720"}});
+  xml.leaf("headlight", {{"ambient", "0.35 0.35 0.35"}, {"diffuse", "0.45 0.45 0.45"}, {"specular", "0.1 0.1 0.1"}});
+  xml.close();
+  xml.open("asset");
+  xml.leaf("texture", {{"name", "sky"}, {"type", "skybox"}, {"builtin", "gradient"}, {"rgb1", "0.78 0.84 0.9"},
+                       {"rgb2", "0.32 0.36 0.42"}, {"width", "256"}, {"height", "256"}});
+  xml.leaf("texture", {{"name", "grid"}, {"type", "2d"}, {"builtin", "checker"}, {"rgb1", "0.86 0.86 0.84"},
+                       {"rgb2", "0.76 0.76 0.74"}, {"width", "512"}, {"height", "512"}});
+  xml.leaf("material", {{"name", "floor"}, {"texture", "grid"}, {"texrepeat", "10 10"}, {"texuniform", "true"}});
+  xml.leaf("material", {{"name", "link"}, {"rgba", "0.55 0.6 0.7 1"}});
+  xml.close();
+  xml.open("default");
+  xml.leaf("geom", {{"contype", "0"}, {"conaffinity", "0"}, {"material", "link"}});
+  xml.close();
+  xml.open("worldbody");
+  xml.leaf("light", {{"name", "sun"}, {"directional", "true"}, {"pos", "0 0 4"}, {"dir", "-0.3 0.25 -1"},
+                     {"diffuse", "0.6 0.6 0.6"}});
+  const std::string floor = format_value(2 * reach);
+  xml.leaf("geom", {{"name", "floor"}, {"type", "plane"}, {"size", floor + " " + floor + " 0.05"}, {"material", "floor"}});
   // the camera in front of the arm, to its right and above, looking at the middle of its reach
   const Vec3 eye(1.6 * reach, -1.0 * reach, 1.1 * reach);
   const Vec3 target(0.3 * reach, 0, 0.35 * reach);
   const Vec3 forward = (target - eye).normalized();
   const Vec3 right = forward.cross(Vec3::UnitZ()).normalized();
   const Vec3 up = right.cross(forward);
-  xml += "    <camera name=\"overview\" pos=\"" + numbers(eye) + "\" xyaxes=\"" + numbers(right) + " " + numbers(up) +
-         "\" fovy=\"45\"/>\n";
+  xml.leaf("camera", {{"name", "overview"}, {"pos", numbers(eye)}, {"xyaxes", numbers(right) + " " + numbers(up)}, {"fovy", "45"}});
   // the fixed base: from the base frame to the first joint
   if (chain.joints[0].origin.translation().norm() > 1e-3) {
-    xml += "    <geom name=\"base\" type=\"capsule\" fromto=\"0 0 0 " + numbers(chain.joints[0].origin.translation()) +
-           "\" size=\"" + num(1.5 * kRodRadius) + "\"/>\n";
+    xml.leaf("geom", {{"name", "base"}, {"type", "capsule"}, {"fromto", "0 0 0 " + numbers(chain.joints[0].origin.translation())},
+                      {"size", num(1.5 * kRodRadius)}});
   }
-  std::string indent = "    ";
   for (std::size_t i = 0; i < 6; ++i) {
     const JointSpec& j = chain.joints[i];
     const Inertia& b = body[i];
-    xml += indent + "<body name=\"" + j.name + "_body\" " + placement(j.origin) + ">\n";
-    indent += "  ";
-    xml += indent + "<joint name=\"" + j.name + "\" type=\"hinge\" axis=\"" + numbers(j.axis.normalized()) + "\"";
-    if (std::isfinite(j.lower) && std::isfinite(j.upper)) {
-      xml += " range=\"" + num(j.lower) + " " + num(j.upper) + "\"";
-    }
-    xml += " damping=\"" + num(damping[i]) + "\" frictionloss=\"" + num(friction[i]) + "\"/>\n";
-    const Mat3& I = b.tensor;
-    xml += indent + "<inertial pos=\"" + numbers(b.centre) + "\" mass=\"" + num(b.mass) + "\" fullinertia=\"" +
-           num(I(0, 0)) + " " + num(I(1, 1)) + " " + num(I(2, 2)) + " " + num(I(0, 1)) +
-           " " + num(I(0, 2)) + " " + num(I(1, 2)) + "\"/>\n";
-    if (extent[i].norm() > 1e-3) {
-      xml += indent + "<geom type=\"capsule\" fromto=\"0 0 0 " + numbers(extent[i]) + "\" size=\"" +
-             num(kRodRadius) + "\"/>\n";
+    xml.open("body", {{"name", j.name + "_body"}, {"pos", numbers(j.origin.translation())}, {"quat", quaternion(j.origin)}});
+    const std::string range = std::isfinite(j.lower) && std::isfinite(j.upper) ? num(j.lower) + " " + num(j.upper) : "";
+    if (range.empty()) {
+      xml.leaf("joint", {{"name", j.name}, {"type", "hinge"}, {"axis", numbers(j.axis.normalized())},
+                         {"damping", num(damping[i])}, {"frictionloss", num(friction[i])}});
     } else {
-      xml += indent + "<geom type=\"sphere\" size=\"" + format_value(0.6 * kRodRadius) + "\"/>\n";
+      xml.leaf("joint", {{"name", j.name}, {"type", "hinge"}, {"axis", numbers(j.axis.normalized())}, {"range", range},
+                         {"damping", num(damping[i])}, {"frictionloss", num(friction[i])}});
+    }
+    const Mat3& I = b.tensor;
+    xml.leaf("inertial", {{"pos", numbers(b.centre)},
+                          {"mass", num(b.mass)},
+                          {"fullinertia", num(I(0, 0)) + " " + num(I(1, 1)) + " " + num(I(2, 2)) + " " + num(I(0, 1)) + " " +
+                                              num(I(0, 2)) + " " + num(I(1, 2))}});
+    if (extent[i].norm() > 1e-3) {
+      xml.leaf("geom", {{"type", "capsule"}, {"fromto", "0 0 0 " + numbers(extent[i])}, {"size", num(kRodRadius)}});
+    } else {
+      xml.leaf("geom", {{"type", "sphere"}, {"size", format_value(0.6 * kRodRadius)}});
     }
   }
-  xml += indent + "<site name=\"tcp\" " + placement(chain.tcp) + " size=\"0.008\" rgba=\"0.9 0.15 0.1 1\"/>\n";
-  for (std::size_t i = 0; i < 6; ++i) {
-    indent.resize(indent.size() - 2);
-    xml += indent + "</body>\n";
-  }
-  xml += "  </worldbody>\n  <actuator>\n";
+  xml.leaf("site", {{"name", "tcp"}, {"pos", numbers(chain.tcp.translation())}, {"quat", quaternion(chain.tcp)},
+                    {"size", "0.008"}, {"rgba", "0.9 0.15 0.1 1"}});
+  for (std::size_t i = 0; i < 6; ++i) xml.close();
+  xml.close();  // worldbody
+  xml.open("actuator");
   for (const JointSpec& j : chain.joints) {
-    xml += "    <motor name=\"" + j.name + "\" joint=\"" + j.name + "\" gear=\"1\" ctrlrange=\"" +
-           num(-j.effort_limit) + " " + num(j.effort_limit) + "\"/>\n";
+    xml.leaf("motor", {{"name", j.name}, {"joint", j.name}, {"gear", "1"},
+                       {"ctrlrange", num(-j.effort_limit) + " " + num(j.effort_limit)}});
   }
-  xml += "  </actuator>\n  <custom>\n    <numeric name=\"velocity_limits\" data=\"";
+  xml.close();
+  std::string velocity_limits;
   for (std::size_t i = 0; i < 6; ++i) {
-    if (i > 0) xml += ' ';  // appended apart: " " + num(...) drew GCC 12's -Wrestrict false positive
-    xml += num(chain.joints[i].velocity_limit);
+    if (i > 0) velocity_limits += ' ';  // appended apart: " " + num(...) drew GCC 12's -Wrestrict false positive
+    velocity_limits += num(chain.joints[i].velocity_limit);
   }
-  xml += "\"/>\n  </custom>\n</mujoco>\n";
-  out.mjcf = std::move(xml);
+  xml.open("custom");
+  xml.leaf("numeric", {{"name", "velocity_limits"}, {"data", velocity_limits}});
+  xml.close();
+  xml.close();  // mujoco
+  out.mjcf = xml.text();
   return out;
 }
 

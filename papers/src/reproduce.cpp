@@ -12,12 +12,14 @@
 #include <nlohmann/json.hpp>
 
 #include "blendbench/core/input_error.hpp"
+#include "blendbench/core/interrupt.hpp"
 #include "blendbench/io/data_root.hpp"
 #include "blendbench/papers/paper_002.hpp"
 #include "blendbench/report/json.hpp"
 #include "blendbench/report/output.hpp"
 #include "blendbench/report/process.hpp"
 #include "blendbench/report/report.hpp"
+#include "blendbench/report/run_folder.hpp"
 #include "papers_internal.hpp"
 
 namespace blendbench {
@@ -162,7 +164,10 @@ int reproduce(const std::string& name, const std::filesystem::path& out_dir, boo
   bool plots_ok = true;
   if (name == "004" || name == "all") {
     const Paper004 r = reproduce_004();
-    const std::filesystem::path dir = out_dir / "004";
+    // each paper's folder is staged and replaces the previous one as a whole when complete
+    // (report/run_folder.hpp): killed between two files, the old README never sits beside new data
+    RunFolder folder(out_dir / "004", "results.json", "--out");
+    const std::filesystem::path& dir = folder.staging();
     const nlohmann::json j = {{"paper", "004"},
                               {"tables",
                                {table_json(r.section5), table_json(r.table1), table_json(r.table2), table_json(r.table3),
@@ -181,12 +186,15 @@ int reproduce(const std::string& name, const std::filesystem::path& out_dir, boo
     write_file_atomic(dir / "listing1.csv", program_csv(listing1(Transition{}), 0.5 * kMm));
     write_file_atomic(dir / "table2_fillets.csv", table2_fillets_csv(r));
     write_file_atomic(dir / "README.md", markdown_004(r));
-    log << "reproduce 004 -> " << dir.string() << std::endl;
     if (plots) plots_ok = plot(dir, "004", log) && plots_ok;
+    throw_if_stop_requested();
+    folder.commit({"results.json", "README.md"});
+    log << "reproduce 004 -> " << folder.target().string() << std::endl;
   }
   if (name == "000" || name == "all") {
     const Paper000 r = reproduce_000();
-    const std::filesystem::path dir = out_dir / "000";
+    RunFolder folder(out_dir / "000", "results.json", "--out");
+    const std::filesystem::path& dir = folder.staging();
     const nlohmann::json j = {{"paper", "000"},
                               {"tables", {table_json(r.section3_2), table_json(r.corners)}},
                               {"runs", runs_json(r.runs)}};
@@ -195,14 +203,20 @@ int reproduce(const std::string& name, const std::filesystem::path& out_dir, boo
       write_file_atomic(dir / ("profile_" + run.name + ".csv"), profile_csv(run, kDecimate000));
     }
     write_file_atomic(dir / "README.md", markdown_000(r));
-    log << "reproduce 000 -> " << dir.string() << std::endl;
     if (plots) plots_ok = plot(dir, "000", log) && plots_ok;
+    throw_if_stop_requested();
+    folder.commit({"results.json", "README.md"});
+    log << "reproduce 000 -> " << folder.target().string() << std::endl;
   }
   if (name == "002" || name == "all") {
-    const std::filesystem::path dir = out_dir / "002";
-    write_002(reproduce_002(), dir);
-    log << "reproduce 002 -> " << dir.string() << std::endl;
+    const Paper002 r = reproduce_002();
+    RunFolder folder(out_dir / "002", "results.json", "--out");
+    const std::filesystem::path& dir = folder.staging();
+    write_002(r, dir);
     if (plots) plots_ok = plot(dir, "002", log) && plots_ok;
+    throw_if_stop_requested();
+    folder.commit({"results.json", "README.md"});
+    log << "reproduce 002 -> " << folder.target().string() << std::endl;
   }
   return plots_ok ? 0 : 1;
 }

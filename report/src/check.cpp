@@ -67,6 +67,9 @@ std::vector<MetricTolerance> parse_tolerances(const nlohmann::json& content, con
         bad(field + "." + key, "needs a finite number >= 0");
       }
     }
+    for (const char* key : {"better", "why"}) {
+      if (entry.contains(key) && !entry[key].is_string()) bad(field + "." + key, "must be a string");
+    }
     t.relative = entry["relative"].get<double>();
     t.absolute = entry["absolute"].get<double>();
     const std::string better = entry.value("better", "lower");
@@ -81,6 +84,23 @@ std::vector<MetricTolerance> parse_tolerances(const nlohmann::json& content, con
     out.push_back(std::move(t));
   }
   return out;
+}
+
+void validate_run_summary(const nlohmann::json& summary, const std::string& file) {
+  const auto bad = [&](const std::string& field, const std::string& message) { throw InputError(file, 0, 0, field, message); };
+  if (!summary.is_object()) bad("", "not a run summary: expected a JSON object with 'scenario' and 'variants'");
+  if (const auto it = summary.find("scenario"); it != summary.end() && !it->is_string()) bad("scenario", "must be a name");
+  const auto variants = summary.find("variants");
+  if (variants == summary.end() || !variants->is_array()) bad("variants", "a run summary needs a list 'variants'");
+  for (std::size_t i = 0; i < variants->size(); ++i) {
+    const nlohmann::json& v = (*variants)[i];
+    const std::string field = "variants[" + std::to_string(i) + "]";
+    if (!v.is_object()) bad(field, "must be an object with 'name' and 'status'");
+    if (!v.contains("name") || !v["name"].is_string()) bad(field + ".name", "must be a name");
+    // every variant of a run has a status (make_baseline copies it; fuzz_check found one without)
+    if (!v.contains("status") || !v["status"].is_string()) bad(field + ".status", "must be a string (ok, failed, ...)");
+    if (v.contains("message") && !v["message"].is_string()) bad(field + ".message", "must be a string");
+  }
 }
 
 nlohmann::json make_baseline(const nlohmann::json& summary, const std::vector<MetricTolerance>& tolerances) {
@@ -115,6 +135,8 @@ CheckReport check_run(const nlohmann::json& summary, const nlohmann::json& basel
   for (const auto& v : summary.at("variants")) run[v.at("name").get<std::string>()] = &v;
 
   for (const auto& [name, base] : baseline["variants"].items()) {
+    if (!base.is_object()) bad("variants." + name, "must be an object {status, metric: value, ...}");
+    if (base.contains("status") && !base["status"].is_string()) bad("variants." + name + ".status", "must be a string");
     const auto it = run.find(name);
     if (it == run.end()) {
       report.regressions.push_back(name + ": variant missing from the run");

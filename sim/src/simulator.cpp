@@ -18,6 +18,7 @@
 #include "blendbench/core/format.hpp"
 #include "blendbench/core/input_error.hpp"
 #include "blendbench/core/interrupt.hpp"
+#include "model_files.hpp"
 
 namespace blendbench {
 namespace {
@@ -80,7 +81,8 @@ std::pair<std::string, int> tidy_mujoco_message(std::string message) {
 long multiple_of(double x, double period) {
   if (!(x > 0) || !std::isfinite(x)) return 0;
   const double n = std::round(x / period);
-  if (n < 1 || std::abs(n * period - x) > kMultipleTolerance * x) return 0;
+  // a count a long cannot hold is no multiple the loop can run (converting it is undefined)
+  if (!(n >= 1 && n <= 1e15) || std::abs(n * period - x) > kMultipleTolerance * x) return 0;
   return static_cast<long>(n);
 }
 
@@ -128,6 +130,103 @@ struct LinkTorques {
   JointVector full, gravity;
 };
 
+// The range of a model's own values the simulator accepts (beyond them a value is a typo or an
+// attack, and what is computed from it overflows: a timestep of 1e-290 s made the number of
+// physics steps per servo period overflow a long, a body of 1e308 kg an infinite servo gain).
+//   timestep: 1 us (1 MHz physics, 125x the fastest servo rate) to the slowest servo period,
+//             8 ms (125 Hz), which the timestep must divide;
+//   mass:     at most 1e5 kg per body (the heaviest industrial arms weigh about 5 t in all);
+//   inertia:  at most 1e6 kg m^2 per body and axis (1e5 kg at a radius of gyration of 3 m).
+constexpr double kMinTimestep = 1e-6;     // s
+constexpr double kMaxTimestep = 8e-3;     // s
+constexpr double kMaxBodyMass = 1e5;      // kg
+constexpr double kMaxBodyInertia = 1e6;   // kg m^2
+
+// Checks the model's values the simulation computes with: finite, and the timestep, masses and
+// inertias within the ranges above. `fail(field, message)` refuses, naming what is wrong.
+template <class Fail>
+void check_model_values(const mjModel& m, const Fail& fail) {
+  const double dt = m.opt.timestep;
+  if (!(dt >= kMinTimestep && dt <= kMaxTimestep)) {
+    fail("option.timestep", "the timestep " + format_value(dt) + " s is outside [" + format_value(kMinTimestep) + ", " +
+                                format_value(kMaxTimestep) + "] s");
+  }
+  for (int k = 0; k < 3; ++k) {
+    if (!std::isfinite(m.opt.gravity[k])) fail("option.gravity", "gravity must be finite");
+  }
+  for (int b = 0; b < m.nbody; ++b) {
+    const std::string body = "body " + object_name(m, mjOBJ_BODY, b);
+    if (!(m.body_mass[b] >= 0 && m.body_mass[b] <= kMaxBodyMass)) {
+      fail("body.mass", body + " has a mass of " + format_value(m.body_mass[b]) + " kg; at most " + format_value(kMaxBodyMass) +
+                            " kg are accepted");
+    }
+    for (int k = 0; k < 3; ++k) {
+      if (!(m.body_inertia[3 * b + k] >= 0 && m.body_inertia[3 * b + k] <= kMaxBodyInertia)) {
+        fail("body.inertia", body + " has a principal inertia of " + format_value(m.body_inertia[3 * b + k]) +
+                                 " kg*m^2; at most " + format_value(kMaxBodyInertia) + " kg*m^2 are accepted");
+      }
+      if (!std::isfinite(m.body_pos[3 * b + k]) || !std::isfinite(m.body_ipos[3 * b + k])) {
+        fail("body.pos", body + " has a position that is not finite");
+      }
+    }
+  }
+  const auto finite_non_negative = [&](const double* values, int count, const char* field, int object) {
+    for (int i = 0; i < count; ++i) {
+      if (!(values[i] >= 0) || !std::isfinite(values[i])) {
+        fail(field, std::string(field) + " of " + (object == mjOBJ_JOINT ? "joint " : "dof ") + object_name(m, object, i) +
+                        " must be finite and >= 0, got " + format_value(values[i]));
+      }
+    }
+  };
+  finite_non_negative(m.jnt_stiffness, m.njnt, "joint.stiffness", mjOBJ_JOINT);
+  finite_non_negative(m.dof_damping, m.nv, "joint.damping", mjOBJ_DOF);
+  finite_non_negative(m.dof_armature, m.nv, "joint.armature", mjOBJ_DOF);
+  finite_non_negative(m.dof_frictionloss, m.nv, "joint.frictionloss", mjOBJ_DOF);
+  for (int a = 0; a < m.nu; ++a) {
+    const double values[] = {m.actuator_gear[6 * a], m.actuator_gainprm[mjNGAIN * a], m.actuator_ctrlrange[2 * a],
+                             m.actuator_ctrlrange[2 * a + 1], m.actuator_forcerange[2 * a], m.actuator_forcerange[2 * a + 1]};
+    for (const double v : values) {
+      if (!std::isfinite(v)) fail("actuator", "actuator " + object_name(m, mjOBJ_ACTUATOR, a) + " has a value that is not finite");
+    }
+  }
+}
+
+// Compiles a model from its files in memory: MuJoCo 2.2.2 reads text only through its virtual
+// file system, and finds every file there (model_files.hpp), so it opens none itself. Throws
+// InputError (file `source`, field "mjcf") with MuJoCo's message.
+mjModel* load_model(const sim_detail::ModelFiles& files, const std::string& source) {
+  install_mujoco_handlers();
+  const auto vfs = std::make_unique<mjVFS>();
+  mj_defaultVFS(vfs.get());
+  struct Deleter {
+    mjVFS* v;
+    ~Deleter() { mj_deleteVFS(v); }
+  } deleter{vfs.get()};
+  for (const auto& [name, content] : files.files) {
+    if (name.size() >= mjMAXVFSNAME || content.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()) ||
+        mj_makeEmptyFileVFS(vfs.get(), name.c_str(), static_cast<int>(std::max<std::size_t>(content.size(), 1))) != 0) {
+      throw InputError(source, 0, 0, "mjcf", "cannot place the model file '" + name + "' in MuJoCo's virtual file system");
+    }
+    const int index = mj_findFileVFS(vfs.get(), name.c_str());
+    std::memcpy(vfs->filedata[index], content.data(), content.size());
+    vfs->filesize[index] = static_cast<int>(content.size());
+  }
+  char error[1024] = "";
+  mjModel* model = nullptr;
+  try {
+    model = mj_loadXML(files.main.c_str(), vfs.get(), error, sizeof error);
+  } catch (...) {
+    // MuJoCo's fatal error (its handler throws, install_mujoco_handlers) while compiling this
+    // model is bad input of the model
+    rethrow_as_input_error({source, 0, 0}, "mjcf", "MuJoCo cannot compile the model: ");
+  }
+  if (model == nullptr) {
+    const auto [message, line] = tidy_mujoco_message(error);
+    throw InputError(source, line, 0, "mjcf", message);
+  }
+  return model;
+}
+
 }  // namespace
 
 void install_mujoco_handlers() {
@@ -157,43 +256,22 @@ ServoConfig with_controller(ServoConfig servo, Controller controller) {
 Simulator::Simulator(const std::string& mjcf_path, const ModelChanges& changes)
     : Simulator(nullptr, mjcf_path, changes) {}
 
-Simulator Simulator::from_xml_string(const std::string& xml, const ModelChanges& changes) {
-  install_mujoco_handlers();
-  // MuJoCo 2.2.2 loads text only through its virtual file system
-  const auto vfs = std::make_unique<mjVFS>();
-  mj_defaultVFS(vfs.get());
-  const char* name = "model.xml";
-  if (mj_makeEmptyFileVFS(vfs.get(), name, static_cast<int>(xml.size())) != 0) {
-    mj_deleteVFS(vfs.get());
-    throw InputError("<string>", 0, 0, "mjcf", "cannot place the model text in MuJoCo's virtual file system");
-  }
-  std::memcpy(vfs->filedata[mj_findFileVFS(vfs.get(), name)], xml.data(), xml.size());
-  char error[1024] = "";
-  mjModel* model = mj_loadXML(name, vfs.get(), error, sizeof error);
-  mj_deleteVFS(vfs.get());
-  if (model == nullptr) {
-    const auto [message, line] = tidy_mujoco_message(error);
-    throw InputError("<string>", line, 0, "mjcf", message);
-  }
-  return Simulator(model, "<string>", changes);
+Simulator Simulator::from_xml_string(const std::string& xml, const ModelChanges& changes, const std::string& source) {
+  return Simulator(load_model(sim_detail::model_text_files(xml, source), source), source, changes);
 }
 
 Simulator::Simulator(mjModel* model, const std::string& source, const ModelChanges& changes) {
   install_mujoco_handlers();
-  // load from the file when not given a compiled model
-  if (model == nullptr) {
-    char error[1024] = "";
-    model = mj_loadXML(source.c_str(), nullptr, error, sizeof error);
-    if (model == nullptr) {
-      const auto [message, line] = tidy_mujoco_message(error);
-      throw InputError(source, line, 0, "mjcf", message);
-    }
-  }
+  // read from the file when not given a compiled model: every file of the model read and checked
+  // here, MuJoCo loading from memory (model_files.hpp)
+  if (model == nullptr) model = load_model(sim_detail::read_model_files(source), source);
   std::unique_ptr<mjModel, void (*)(mjModel*)> owned(model, mj_deleteModel);
   mjModel& m = *model;
   const auto fail = [&](const std::string& field, const std::string& message) {
     throw InputError(source, 0, 0, field, message);
   };
+  // the model's own values, before anything is computed from them
+  check_model_values(m, fail);
 
   // six actuators, each a direct-torque motor on its own hinge joint
   if (m.nu != 6) fail("actuator", "expected 6 actuators (one per arm joint), found " + std::to_string(m.nu));
@@ -217,7 +295,10 @@ Simulator::Simulator(mjModel* model, const std::string& source, const ModelChang
 
   // the gears' stiffness and the timestep as asked
   if (!(changes.stiffness_scale > 0) || !std::isfinite(changes.stiffness_scale)) fail("mjcf", "stiffness scale must be positive");
-  if (changes.timestep < 0 || !std::isfinite(changes.timestep)) fail("mjcf", "timestep must be >= 0");
+  if (changes.timestep < 0 || !std::isfinite(changes.timestep) ||
+      (changes.timestep > 0 && !(changes.timestep >= kMinTimestep && changes.timestep <= kMaxTimestep))) {
+    fail("mjcf", "timestep must be 0 (the model's) or in [" + format_value(kMinTimestep) + ", " + format_value(kMaxTimestep) + "] s");
+  }
   if (changes.timestep > 0) m.opt.timestep = changes.timestep;
 
   // per arm joint: addresses, the gear hinge after the motor hinge (elastic), limits
@@ -691,6 +772,7 @@ Trace Simulator::run(const JointTrajectory& reference, const ServoConfig& servo,
       if (servo.velocity_feedforward) speed_cmd += motor_speed_then;
       const JointVector speed_error = speed_cmd - measured_speed;
       JointVector tau = servo.kv.cwiseProduct(speed_error) + integral + gravity + setpoints.at(t, &Setpoint::feedforward);
+      ++trace.servo_ticks;
       for (std::size_t i = 0; i < 6; ++i) {
         const auto ii = static_cast<Eigen::Index>(i);
         const bool saturated = std::abs(tau[ii]) > limit[ii];

@@ -197,7 +197,7 @@ TEST_F(Cli, ValidateChecksEveryFileWithoutRunningIt) {
     return out;
   }();
   ASSERT_EQ(lines.size(), 4u) << r.output;
-  EXPECT_EQ(lines[0], tiny + ": ok (scenario 'tiny', 2 moves, 2 variants blended)");
+  EXPECT_EQ(lines[0], tiny + ": ok (scenario 'tiny', 2 moves, 2 variants blended, robot loaded)");
   EXPECT_EQ(lines[1], typo + ":5:27: 'defaults.acceleraton': unknown key 'acceleraton' (did you mean 'acceleration'?)");
   EXPECT_EQ(lines[2], part.string() + ": ok (G-code, 3 moves, 2 corners blended, 0 notes)");
   EXPECT_EQ(lines[3].rfind(bad_part.string() + ":3:15: 'P101': the number of turns P of G2/G3 must be an integer from 1 to 100", 0), 0u)

@@ -47,7 +47,7 @@ fuzz_one() {
 }
 
 # the harnesses, as many at a time as there are cores; each reports when it ends
-harnesses=(fuzz_scenario fuzz_gcode fuzz_sweep)
+harnesses=(fuzz_scenario fuzz_gcode fuzz_sweep fuzz_urdf fuzz_mjcf fuzz_check)
 parallel=$(nproc 2>/dev/null || echo 1)
 status=0
 pids=()

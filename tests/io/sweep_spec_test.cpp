@@ -14,6 +14,7 @@
 #include "blendbench/corner/blend.hpp"
 #include "blendbench/io/scenario.hpp"
 #include "support/input_error.hpp"
+#include "support/files.hpp"
 #include "support/property.hpp"
 #include "support/scratch.hpp"
 
@@ -65,6 +66,46 @@ TEST(KeyPath, RefusesMalformedPathsNamingTheField) {
     EXPECT_EQ(e.field(), "axes.x") << bad;
     EXPECT_EQ(e.line(), 3) << bad;
     EXPECT_TRUE(has(e.detail(), "bad key path")) << bad << ": " << e.what();
+  }
+}
+
+// Issue 42: a key path of 2*10^4 to 10^5 steps overflowed the recursive setter's stack; a path is
+// at most as deep as a scenario may nest.
+TEST(KeyPath, APathDeeperThanAnyScenarioIsRefused) {
+  std::string path = "a";
+  for (std::size_t i = 1; i < kMaxKeyPathSteps; ++i) path += i % 2 == 0 ? ".a" : "[0]";
+  EXPECT_EQ(parse_key_path(path, {}, "f").size(), kMaxKeyPathSteps);
+  for (const std::size_t steps : {kMaxKeyPathSteps + 1, std::size_t{20000}, std::size_t{100000}}) {
+    std::string long_path = "a";
+    for (std::size_t i = 1; i < steps; ++i) long_path += ".a";
+    const InputError e = error_of([&] { (void)parse_key_path(long_path, {"s.yaml", 3, 5}, "axes.x"); });
+    EXPECT_TRUE(has(e.what(), "it has more than 64 steps")) << e.what();
+    EXPECT_LT(std::string(e.what()).size(), 600u);
+    // in a sweep file, the axis names the path, shortened
+    const InputError in_file = error_of([&] { (void)parse(tiny_sweep("axes:\n  ? " + long_path + "\n  : [1]\n")); });
+    EXPECT_EQ(in_file.line(), 3);
+    EXPECT_TRUE(has(in_file.what(), "characters)': bad key path")) << std::string(in_file.what()).substr(0, 300);
+  }
+}
+
+// Issue 42: yaml-cpp accepted these silently (the scenario loader refuses them): the sweep file
+// passes the loader's YAML rules first.
+TEST(SweepFile, TheScenarioLoadersYamlRulesApply) {
+  const std::string axes = "axes:\n  defaults.velocity: [150]\n";
+  struct Case {
+    std::string text;
+    int line;
+    std::string message;
+  };
+  const Case cases[] = {
+      {tiny_sweep(axes + "---\ndescription: second\n"), 4, "a second YAML document"},
+      {tiny_sweep(axes + "axes:\n  defaults.velocity: [170]\n"), 4, "duplicate key 'axes'"},
+      {tiny_sweep(axes + std::string("# a NUL \0 here\n", 15)), 4, "control characters are not allowed (byte 0x00)"},
+      {tiny_sweep("description: \"\xff\xfe\"\n" + axes), 2, "invalid leading UTF-8 octet (byte 0xff)"},
+  };
+  for (const Case& c : cases) {
+    test::expect_input_error([&] { (void)parse(c.text); }, {.file = "sweep.yaml", .line = c.line, .message = c.message},
+                             c.message);
   }
 }
 
@@ -402,6 +443,21 @@ TEST(Expansion, FirstPointIsCheckedBeforeTheRestIsExpanded) {
 
 // The hash is a function of the content: equal texts and variants give equal hashes, and it
 // changes with a value or with the selection.
+// Issue 42: a base scenario without `variants` gave yaml-cpp's "invalid node; first invalid key"
+// (exit 1); the loader's message names what is missing.
+TEST(Expansion, ABaseScenarioWithoutVariantsIsTheLoadersError) {
+  const test::ScratchDir dir("sweep_spec_no_variants");
+  std::string base = test::read_file(source_path("tests/data/tiny.yaml"));
+  base.erase(base.find("variants:"));
+  const std::string scenario = dir.write("base.yaml", base);
+  const SweepSpec spec = parse("scenario: " + scenario + "\naxes:\n  defaults.velocity: [150]\n");
+  const SweepPlan plan = expand_sweep(spec);
+  ASSERT_EQ(plan.points.size(), 1u);
+  EXPECT_TRUE(plan.points[0].variants.empty());
+  test::expect_input_error([&] { validate_point(plan, plan.points[0], "point.yaml"); },
+                           {.file = "sweep.yaml", .field = "axes", .message = "'variants': missing required field"});
+}
+
 TEST(Expansion, HashFollowsTheContent) {
   const SweepPlan a = expand_sweep(parse(tiny_sweep("axes:\n  defaults.velocity: [100, 150, 100]\n")));
   EXPECT_EQ(a.points[0].hash, a.points[2].hash);

@@ -1,6 +1,8 @@
 #include "blendbench/io/urdf_chain.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <fstream>
@@ -155,7 +157,34 @@ TEST(UrdfChain, RejectsUnreadableAndInvalidFiles) {
   const std::string missing = (dir / "no_such_file.urdf").string();
   expect_input_error(missing, "", "cannot open");
   const std::string broken = write_file("broken", "<robot name='x'><link name='a'></robot>");
-  expect_input_error(broken, "", "not a valid URDF");
+  expect_input_error(broken, "", "not well-formed XML: mismatched tag");
+}
+
+// Issue 42: inputs that crashed or exhausted the program before urdfdom's parser saw them.
+TEST(UrdfChain, RefusesWhatWouldCrashOrExhaustTheParser) {
+  const test::ScratchDir dir("urdf_chain_hostile");
+  // 10^5 nested elements: TinyXML's recursion overflowed the stack (SIGSEGV)
+  std::string deep = "<robot name='x'>";
+  for (int i = 0; i < 100000; ++i) deep += "<a>";
+  for (int i = 0; i < 100000; ++i) deep += "</a>";
+  deep += "</robot>";
+  const std::string deep_file = dir.write("deep.urdf", deep);
+  test::expect_input_error([&] { (void)load_urdf_chain(deep_file); },
+                           {.file = deep_file, .line = 1, .message = "elements are nested more than 64 deep"});
+  // a file of 1.5 GB (sparse: no disk used) is refused by its size, before a byte is read
+  const std::string huge = (dir / "huge.urdf").string();
+  ASSERT_EQ(::truncate(dir.write("huge.urdf", "<robot/>").c_str(), off_t{1536} << 20), 0);
+  test::expect_input_error([&] { (void)load_urdf_chain(huge); }, {.file = huge, .message = "the URDF file is 1536 MiB; the limit is 64 MiB"});
+  // a FIFO is not opened (it would wait for a writer forever)
+  const std::string fifo = (dir / "fifo.urdf").string();
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  test::expect_input_error([&] { (void)load_urdf_chain(fifo); }, {.file = fifo, .message = "a FIFO (named pipe), not a regular file"});
+  // entities that expand exponentially ("billion laughs"): refused by expat's amplification limit
+  std::string laughs = "<?xml version='1.0'?><!DOCTYPE robot [<!ENTITY a0 'ha'>";
+  for (int i = 1; i <= 30; ++i) laughs += "<!ENTITY a" + std::to_string(i) + " '&a" + std::to_string(i - 1) + ";&a" + std::to_string(i - 1) + ";'>";
+  laughs += "]><robot name='&a30;'/>";
+  const std::string laughs_file = dir.write("laughs.urdf", laughs);
+  test::expect_input_error([&] { (void)load_urdf_chain(laughs_file); }, {.file = laughs_file, .message = "not well-formed XML"});
 }
 
 TEST(UrdfChain, RejectsMissingOrUnconnectedLinks) {

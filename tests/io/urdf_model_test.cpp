@@ -131,5 +131,31 @@ TEST(UrdfModel, TheEstimateIsStatedAndItsTorquesHoldTheArmAnywhere) {
   EXPECT_NE(notes.find("7 visual meshes replaced by simple shapes (7 of them missing"), std::string::npos) << notes;
 }
 
+TEST(UrdfModel, NamesFromTheUrdfAreTextNeverMarkup) {
+  // issue 42: a robot name that closed the model and included another file changed gravity (any
+  // file could be included); names are now written escaped, so the model is the URDF's
+  static const test::ScratchDir dir("urdf_model_injection");
+  const std::string evil = dir.write("evil.xml", "<mujoco><option gravity=\"0 0 100\"/></mujoco>");
+  const std::string injected = "\"><include file=\"" + evil + "\"/></mujoco><mujoco model=\"";
+  std::string escaped;
+  for (const char c : injected) escaped += c == '"' ? std::string("&quot;") : c == '<' ? "&lt;" : c == '>' ? "&gt;" : std::string(1, c);
+  std::string text = text_of(test::source_path("models/kr6_like.urdf"));
+  const std::size_t name_at = text.find("<robot name=\"");
+  ASSERT_NE(name_at, std::string::npos);
+  const std::size_t value_at = name_at + std::string("<robot name=\"").size();
+  text.replace(value_at, text.find('"', value_at) - value_at, escaped);
+  // a joint named with markup as well
+  for (std::size_t at; (at = text.find("\"joint_a1\"")) != std::string::npos;) text.replace(at, 10, "\"a1 &lt;/joint&gt;&amp;\"");
+  const std::string urdf = write_file("injected", text);
+  const UrdfModel built = model_from_urdf(urdf, "", "", 0);
+  EXPECT_EQ(built.mjcf.find("<include"), std::string::npos) << built.mjcf.substr(0, 300);
+  const Simulator sim = Simulator::from_xml_string(built.mjcf);
+  const mjModel& m = sim.model();
+  EXPECT_EQ(std::string(m.names), injected + "_from_urdf");
+  EXPECT_EQ(m.opt.gravity[2], -9.81);
+  EXPECT_EQ(std::string(mj_id2name(&m, mjOBJ_JOINT, 0)), "a1 </joint>&");
+  EXPECT_EQ(std::string(mj_id2name(&m, mjOBJ_ACTUATOR, 0)), "a1 </joint>&");
+}
+
 }  // namespace
 }  // namespace blendbench

@@ -122,5 +122,37 @@ TEST(Check, MalformedBaselineOrToleranceFileIsBadInput) {
       {.file = "t.json", .field = "metrics.m.rel", .message = "unknown key"});
 }
 
+// Issue 42: a summary or baseline of the wrong shape reached nlohmann's "cannot use value() with
+// array" (exit 1); every shape a check reads is checked first, naming the field.
+TEST(Check, SummariesAndBaselinesOfTheWrongShapeAreBadInputNamingTheField) {
+  struct Case {
+    const char* json;
+    const char* field;
+  };
+  const Case summaries[] = {{"[]", ""},
+                            {R"({"scenario": 3, "variants": []})", "scenario"},
+                            {R"({"scenario": "s"})", "variants"},
+                            {R"({"scenario": "s", "variants": [3]})", "variants[0]"},
+                            {R"({"scenario": "s", "variants": [{"name": 1}]})", "variants[0].name"},
+                            {R"({"scenario": "s", "variants": [{"name": "a", "status": []}]})", "variants[0].status"},
+                            // fuzz_check: a variant without a status reached make_baseline's at("status")
+                            {R"({"scenario": "s", "variants": [{"name": "a", "stadus": "ok"}]})", "variants[0].status"},
+                            {R"({"scenario": "s", "variants": [{"name": "a", "status": "ok", "message": 1}]})", "variants[0].message"}};
+  for (const Case& c : summaries) {
+    test::expect_input_error([&] { validate_run_summary(nlohmann::json::parse(c.json), "run/summary.json"); },
+                             {.file = "run/summary.json", .field = c.field}, c.json);
+  }
+  EXPECT_NO_THROW(validate_run_summary(summary(2.0, 0.5), "run/summary.json"));
+  const Case baselines[] = {{R"({"scenario": "s", "variants": {"a": 3}})", "variants.a"},
+                            {R"({"scenario": "s", "variants": {"a": {"status": 1}}})", "variants.a.status"}};
+  for (const Case& c : baselines) {
+    test::expect_input_error([&] { (void)check_run(summary(2.0, 0.5), nlohmann::json::parse(c.json), kTolerances, "b.json"); },
+                             {.file = "b.json", .field = c.field}, c.json);
+  }
+  test::expect_input_error(
+      [] { (void)parse_tolerances(nlohmann::json::parse(R"({"metrics": {"m": {"relative": 0, "absolute": 0, "better": 1}}})"), "t.json"); },
+      {.file = "t.json", .field = "metrics.m.better", .message = "must be a string"});
+}
+
 }  // namespace
 }  // namespace blendbench

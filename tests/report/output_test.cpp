@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 #include <sys/resource.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <csignal>
 
@@ -170,6 +172,75 @@ TEST_F(OutputTest, NonRegularOutputsAreRefusedBeforeAnyWork) {
           << e.what();
     }
   }
+}
+
+// A SIGKILL leaves its temporary file behind; the next write of the same file removes the
+// temporaries of processes that no longer run, and keeps those of a process that still does.
+TEST_F(OutputTest, TemporariesOfKilledProcessesAreRemovedByTheNextWrite) {
+  fs::create_directories(dir_);
+  const pid_t dead = ::fork();
+  if (dead == 0) ::_exit(0);
+  ASSERT_GT(dead, 0);
+  ASSERT_EQ(::waitpid(dead, nullptr, 0), dead);
+  const fs::path target = dir_ / "path.csv";
+  const fs::path stale = dir_ / ("path.csv.tmp." + std::to_string(dead));
+  const fs::path living = dir_ / ("path.csv.tmp." + std::to_string(::getppid()));
+  const fs::path other = dir_ / ("summary.json.tmp." + std::to_string(dead));
+  for (const fs::path& p : {stale, living, other}) std::ofstream(p) << "half";
+  write_file_atomic(target, "whole");
+  EXPECT_EQ(read_file(target), "whole");
+  EXPECT_FALSE(fs::exists(stale));
+  EXPECT_TRUE(fs::exists(living));
+  EXPECT_TRUE(fs::exists(other));  // another file's, until that file is written
+}
+
+// A managed folder reaches everything below it from its descriptor and never through a link.
+TEST_F(OutputTest, AManagedFolderNeverWritesOrReadsThroughALink) {
+  const OutputDir root(dir_ / "sweep", true);
+  const fs::path outside = dir_ / "outside";
+  fs::create_directories(outside);
+  std::ofstream(outside / "victim.txt") << "keep";
+  // a link in place of a sub-folder is refused, not followed
+  fs::create_directory_symlink(outside, dir_ / "sweep" / "points");
+  try {
+    (void)root.sub("points");
+    ADD_FAILURE() << "expected a refusal";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("points exists and is a symbolic link, not a folder"), std::string::npos) << e.what();
+  }
+  // a link (or a hard link) at a log's name is replaced by a new file
+  const OutputDir point = root.sub("p");
+  fs::create_symlink(outside / "victim.txt", dir_ / "sweep" / "p" / "log.txt");
+  ASSERT_EQ(::link((outside / "victim.txt").c_str(), (dir_ / "sweep" / "p" / "hard.txt").c_str()), 0);
+  for (const char* name : {"log.txt", "hard.txt"}) {
+    const int fd = point.create_fresh(name);
+    ASSERT_GE(fd, 0);
+    ASSERT_EQ(::write(fd, "log", 3), 3);
+    ::close(fd);
+    EXPECT_EQ(read_file(dir_ / "sweep" / "p" / name), "log");
+  }
+  EXPECT_EQ(read_file(outside / "victim.txt"), "keep");
+  // a write replaces a link at its name (rename, not write-through); reads refuse links
+  point.write("status.json", "{}");
+  EXPECT_EQ(point.read("status.json", "status"), std::optional<std::string>("{}"));
+  EXPECT_EQ(point.read("absent.json", "status"), std::nullopt);
+  fs::create_symlink(outside / "victim.txt", dir_ / "sweep" / "p" / "summary.json");
+  EXPECT_THROW((void)point.read("summary.json", "summary"), InputError);
+  EXPECT_THROW(point.write("../escape.txt", "x"), std::runtime_error);
+  EXPECT_FALSE(fs::exists(dir_ / "sweep" / "escape.txt"));
+  // the lock: exclusive excludes everything, shared admits shared
+  const int held = root.try_lock(".lock", false);
+  ASSERT_GE(held, 0);
+  EXPECT_EQ(root.try_lock(".lock", true), -1);
+  EXPECT_EQ(root.lock_holder(".lock"), std::to_string(::getpid()));
+  ::close(held);
+  const int shared = root.try_lock(".lock", true);
+  const int shared2 = root.try_lock(".lock", true);
+  EXPECT_GE(shared, 0);
+  EXPECT_GE(shared2, 0);
+  EXPECT_EQ(root.try_lock(".lock", false), -1);
+  ::close(shared);
+  ::close(shared2);
 }
 
 TEST(FormatValue, TenDigitsShortestFormAndNonFinite) {

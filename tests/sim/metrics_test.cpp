@@ -413,6 +413,7 @@ TEST(MetricsTest, HealthNamesTheFirstViolationAndTheSaturation) {
   Trace trace = zero_trace(10, 0.002);
   trace.samples[5].qd[1] = 0.1;  // 50 rad/s^2 over one tick
   trace.saturated_ticks = {0, 0, 5, 0, 0, 1};
+  trace.servo_ticks = 10;  // a servo at the setpoint rate: one tick per sample
   const Health h = check_health(trace, reference, limits);
   EXPECT_TRUE(h.reference_velocity.exceeded);
   EXPECT_EQ(h.reference_velocity.joint, 2);

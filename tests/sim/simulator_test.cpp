@@ -3,6 +3,7 @@
 // frames and bad input. The elastic UR5e-like model's physics is tested in elastic_model_test.
 
 #include "blendbench/sim/simulator.hpp"
+#include "blendbench/sim/metrics.hpp"
 
 #include <gtest/gtest.h>
 
@@ -111,6 +112,33 @@ TEST(SimulatorLoad, InvalidXmlIsAnInputErrorWithMujocosMessageAndLine) {
 
 TEST(SimulatorLoad, MissingFileNamesTheFile) {
   test::expect_input_error([] { (void)Simulator("/nonexistent/arm.xml"); }, {.file = "/nonexistent/arm.xml", .field = "mjcf"});
+}
+
+// Issue 42: values of a model that made what is computed from them overflow are refused, naming
+// the model's element: a NaN timestep (a library's "vector::reserve"), a timestep of 1e-290 s (a
+// servo period of -9e-282 s), a body of 1e308 kg (blamed on 'servo.kv').
+TEST(SimulatorLoad, ValuesBeyondWhatAnArmHasAreRefusedNamingThem) {
+  struct Case {
+    std::string from, to, field, message;
+  };
+  const Case cases[] = {
+      {"timestep=\"0.001\"", "timestep=\"nan\"", "option.timestep", "the timestep nan s is outside [1e-06, 0.008] s"},
+      {"timestep=\"0.001\"", "timestep=\"1e-290\"", "option.timestep", "the timestep 1e-290 s is outside"},
+      {"timestep=\"0.001\"", "timestep=\"0.5\"", "option.timestep", "the timestep 0.5 s is outside"},
+      {"mass=\"3.7\"", "mass=\"1e308\"", "body.mass", "has a mass of 1e+308 kg; at most 100000 kg are accepted"},
+  };
+  for (const Case& c : cases) {
+    std::string xml = test::kTestArmXml;
+    const std::size_t at = xml.find(c.from);
+    ASSERT_NE(at, std::string::npos) << c.from;
+    xml.replace(at, c.from.size(), c.to);
+    test::expect_input_error([&] { (void)Simulator::from_xml_string(xml); },
+                             {.file = "<string>", .field = c.field, .message = c.message}, c.to);
+  }
+  ModelChanges changes;
+  changes.timestep = 1e-300;
+  test::expect_input_error([&] { (void)Simulator::from_xml_string(test::kTestArmXml, changes); },
+                           {.field = "mjcf", .message = "timestep must be 0 (the model's) or in"});
 }
 
 TEST(SimulatorLoad, ModelWithoutTcpSiteIsRejected) {
@@ -322,6 +350,7 @@ TEST_F(SimulatorTest, TorqueIsClampedAtTheLimitsAndCountedPerJoint) {
   ServoConfig servo = servo_at(sim_, q0_);
   servo.kp.setConstant(1e4);
   servo.kv.setConstant(1e2);
+  servo.setpoint_rate_hz = 250;  // four servo ticks per sample, as a drive runs
   RunOptions options;
   options.settle_time = 0.5;
   options.frame_rate = 1000;
@@ -330,7 +359,7 @@ TEST_F(SimulatorTest, TorqueIsClampedAtTheLimitsAndCountedPerJoint) {
   options.on_frame = [&](const mjModel& m, const mjData& d, double) {
     for (int a = 0; a < m.nu; ++a) actuator_within = actuator_within && std::abs(d.ctrl[a]) <= limits[a] + 1e-9;
   };
-  const Trace trace = sim_.run(step_reference(q0_, JointVector::Constant(1.0), 0.001), servo, options);
+  const Trace trace = sim_.run(step_reference(q0_, JointVector::Constant(1.0), 0.004), servo, options);
   EXPECT_FALSE(trace.diverged) << trace.warning;
   EXPECT_TRUE(actuator_within);
   JointVector peak = JointVector::Zero();
@@ -339,10 +368,18 @@ TEST_F(SimulatorTest, TorqueIsClampedAtTheLimitsAndCountedPerJoint) {
     peak = peak.cwiseMax(s.tau.cwiseAbs());
   }
   EXPECT_EQ(peak, limits);
-  // every joint saturated for a while, but not for the whole run
+  // every joint saturated for a while, but not for the whole run: the ticks counted are servo
+  // ticks, (samples - 1) * (servo rate / setpoint rate) + 1 of them, and the share of them is at
+  // most 1 (issue 42: a share of samples reached 399.5 %)
+  const long ticks_per_sample = std::lround(servo.rate_hz / servo.setpoint_rate_hz);
+  EXPECT_EQ(trace.servo_ticks, static_cast<long>(trace.samples.size() - 1) * ticks_per_sample + 1);
+  const Health health = check_health(trace, JointTrajectory{}, sim_.limits());
   for (std::size_t i = 0; i < 6; ++i) {
     EXPECT_GT(trace.saturated_ticks[i], 0) << i;
-    EXPECT_LT(trace.saturated_ticks[i], static_cast<long>(trace.samples.size())) << i;
+    EXPECT_LT(trace.saturated_ticks[i], trace.servo_ticks) << i;
+    EXPECT_DOUBLE_EQ(health.saturated_share[static_cast<Eigen::Index>(i)],
+                     static_cast<double>(trace.saturated_ticks[i]) / static_cast<double>(trace.servo_ticks));
+    EXPECT_LE(health.saturated_share[static_cast<Eigen::Index>(i)], 1.0);
   }
 }
 

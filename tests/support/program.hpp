@@ -3,10 +3,13 @@
 // standard output and error read from one pipe: line by line while it runs (to act on a
 // progress line, e.g. send it a signal), or all at once.
 
+#include <poll.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <chrono>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -73,6 +76,58 @@ class Child {
     int status = 0;
     ::waitpid(pid_, &status, 0);
     reaped_ = true;
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+
+  // Reads the rest of the output and waits at most `seconds`; past that the child is killed
+  // (SIGKILL) and -2 is returned. Otherwise as wait().
+  int wait_within(double seconds) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+    for (;;) {
+      const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+      if (left.count() <= 0) {
+        ::kill(pid_, SIGKILL);
+        (void)wait();
+        return -2;
+      }
+      pollfd p{fd_, POLLIN, 0};
+      const int ready = fd_ < 0 ? 0 : ::poll(&p, 1, static_cast<int>(std::min<long long>(left.count(), 200)));
+      if (fd_ < 0 || (ready > 0 && !read_some())) {
+        // the output ended: the child exits (or closed its output); wait for it within the time left
+        while (std::chrono::steady_clock::now() < deadline) {
+          int status = 0;
+          const pid_t done = ::waitpid(pid_, &status, WNOHANG);
+          if (done == pid_) {
+            reaped_ = true;
+            output_ += pending_;
+            pending_.clear();
+            return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+          }
+          ::usleep(10000);
+        }
+      }
+    }
+  }
+
+  // Waits at most `seconds` for the child to end without reading its output (so a child that
+  // writes more than the pipe holds stays blocked in that write); past that it is killed
+  // (SIGKILL) and -2 is returned. Then reads what it printed; otherwise as wait().
+  int wait_exit_within(double seconds) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+    int status = 0;
+    while (::waitpid(pid_, &status, WNOHANG) == 0) {
+      if (std::chrono::steady_clock::now() > deadline) {
+        ::kill(pid_, SIGKILL);
+        (void)wait();
+        return -2;
+      }
+      ::usleep(20000);
+    }
+    reaped_ = true;
+    while (read_some()) {
+    }
+    output_ += pending_;
+    pending_.clear();
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   }
 

@@ -53,6 +53,43 @@ std::string lengths_note(std::string_view head, double first, std::string_view l
   return note;
 }
 
+namespace {
+
+// The length of the well-formed UTF-8 sequence of two to four bytes that starts at text[i], or 0:
+// the length from the lead byte, continuation bytes 10xxxxxx, no overlong form, no surrogate, at
+// most U+10FFFF (RFC 3629).
+std::size_t utf8_length(std::string_view text, std::size_t i) {
+  const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(text[k]); };
+  const unsigned char c = byte(i);
+  const std::size_t len = c >= 0xC2 && c <= 0xDF ? 2 : c >= 0xE0 && c <= 0xEF ? 3 : c >= 0xF0 && c <= 0xF4 ? 4 : 0;
+  bool ok = len > 0 && i + len <= text.size();
+  for (std::size_t k = 1; ok && k < len; ++k) ok = (byte(i + k) & 0xC0) == 0x80;
+  if (ok && len == 3) {
+    const unsigned char c1 = byte(i + 1);
+    ok = !(c == 0xE0 && c1 < 0xA0) && !(c == 0xED && c1 >= 0xA0);
+  }
+  if (ok && len == 4) {
+    const unsigned char c1 = byte(i + 1);
+    ok = !(c == 0xF0 && c1 < 0x90) && !(c == 0xF4 && c1 >= 0x90);
+  }
+  return ok ? len : 0;
+}
+
+}  // namespace
+
+bool is_utf8(std::string_view text) {
+  for (std::size_t i = 0; i < text.size();) {
+    if (static_cast<unsigned char>(text[i]) < 0x80) {
+      ++i;
+      continue;
+    }
+    const std::size_t len = utf8_length(text, i);
+    if (len == 0) return false;
+    i += len;
+  }
+  return true;
+}
+
 std::string printable(std::string_view text) {
   static constexpr char kHex[] = "0123456789abcdef";
   std::string out;
@@ -79,19 +116,9 @@ std::string printable(std::string_view text) {
       ++i;
       continue;
     }
-    // a UTF-8 sequence: its length from the lead byte, continuation bytes 10xxxxxx, no overlong
-    // form, no surrogate, at most U+10FFFF (RFC 3629); the C1 controls U+0080-U+009F escaped
-    const std::size_t len = c >= 0xC2 && c <= 0xDF ? 2 : c >= 0xE0 && c <= 0xEF ? 3 : c >= 0xF0 && c <= 0xF4 ? 4 : 0;
-    bool ok = len > 0 && i + len <= text.size();
-    for (std::size_t k = 1; ok && k < len; ++k) ok = (byte(i + k) & 0xC0) == 0x80;
-    if (ok && len == 3) {
-      const unsigned char c1 = byte(i + 1);
-      ok = !(c == 0xE0 && c1 < 0xA0) && !(c == 0xED && c1 >= 0xA0);
-    }
-    if (ok && len == 4) {
-      const unsigned char c1 = byte(i + 1);
-      ok = !(c == 0xF0 && c1 < 0x90) && !(c == 0xF4 && c1 >= 0x90);
-    }
+    // a well-formed UTF-8 sequence is kept; the C1 controls U+0080-U+009F escaped
+    const std::size_t len = utf8_length(text, i);
+    bool ok = len > 0;
     if (ok && len == 2 && c == 0xC2 && byte(i + 1) < 0xA0) ok = false;  // C1 control
     if (!ok) {
       escape(c);

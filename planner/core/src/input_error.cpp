@@ -1,5 +1,6 @@
 #include "blendbench/core/input_error.hpp"
 
+#include <new>
 #include <utility>
 
 #include "blendbench/core/format.hpp"
@@ -47,6 +48,18 @@ InputError::InputError(std::string file, int line, int column, std::string field
 
 void fail_at(const SourceRef& where, const std::string& field, const std::string& message) {
   throw InputError(where.file, where.line, where.column, field, message);
+}
+
+void rethrow_as_input_error(const SourceRef& where, const std::string& field, const std::string& context) {
+  try {
+    throw;
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError(where.file, where.line, where.column, field, context + e.what());
+  }
 }
 
 }  // namespace blendbench

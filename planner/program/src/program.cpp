@@ -188,6 +188,14 @@ void validate(const Program& program) {
     if (!std::isfinite(move.transition.start_distance) || move.transition.start_distance < 0) {
       fail_at(move.where, "transition.start_distance", who + ": the start distance must be >= 0, got " + format_mm(move.transition.start_distance));
     }
+    for (const auto& [value, field] : {std::pair{move.transition.parameter, "transition.parameter"},
+                                       std::pair{move.transition.start_distance, "transition.start_distance"}}) {
+      if (value > 0 && value < kMinTransitionSize) {
+        fail_at(move.where, field,
+                who + ": a transition is 0 (none) or at least " + format_mm(kMinTransitionSize) +
+                    " (below that the rounding of the coordinates swamps the curve), got " + format_mm(value));
+      }
+    }
     if (move.transition.start_distance > 0 && move.transition.method != Method::kBiclothoid) {
       fail_at(move.where, "transition.start_distance",
               who + ": a start distance sizes only a biclothoid transition, not " +

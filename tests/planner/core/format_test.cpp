@@ -3,8 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <limits>
+#include <new>
+#include <stdexcept>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -182,12 +185,110 @@ TEST(Printable, RandomBytesBecomeOneLineOfPrintableText) {
   }
 }
 
+// Well-formed UTF-8 by the other formulation of RFC 3629: decode each sequence to its code point
+// from the lead byte's length and the continuation bits, then refuse by value (shorter than the
+// shortest form, a surrogate, beyond U+10FFFF) -- where is_utf8 checks the bytes' ranges.
+bool utf8_by_code_points(const std::string& text) {
+  for (std::size_t i = 0; i < text.size();) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    std::size_t len = 0;
+    std::uint32_t point = 0;
+    if (c < 0x80) {
+      ++i;
+      continue;
+    }
+    if ((c & 0xE0) == 0xC0) {
+      len = 2;
+      point = c & 0x1F;
+    } else if ((c & 0xF0) == 0xE0) {
+      len = 3;
+      point = c & 0x0F;
+    } else if ((c & 0xF8) == 0xF0) {
+      len = 4;
+      point = c & 0x07;
+    } else {
+      return false;  // a continuation byte first, or 0xF8-0xFF
+    }
+    if (i + len > text.size()) return false;
+    for (std::size_t k = 1; k < len; ++k) {
+      const auto b = static_cast<unsigned char>(text[i + k]);
+      if ((b & 0xC0) != 0x80) return false;
+      point = (point << 6) | (b & 0x3F);
+    }
+    const std::uint32_t shortest[] = {0, 0, 0x80, 0x800, 0x10000};
+    if (point < shortest[len] || (point >= 0xD800 && point <= 0xDFFF) || point > 0x10FFFF) return false;
+    i += len;
+  }
+  return true;
+}
+
+// Issue 42: a file named "t\xff.yaml" reached nlohmann's JSON writer, which refused it after the
+// run (type_error 316). is_utf8 decides what a JSON output can hold: checked against the decoder
+// above on random bytes biased to UTF-8's ranges.
+TEST(IsUtf8, AgreesWithADecoderByCodePointsOnRandomBytes) {
+  EXPECT_TRUE(is_utf8(""));
+  EXPECT_TRUE(is_utf8("a\nb\x01 X\u22125 \u00b0 \U0010FFFF"));
+  for (const char* bad : {"\xff", "\xe2\x88", "\xc0\xaf", "\xed\xa0\x80", "\xf4\x90\x80\x80", "t\xff.yaml"}) {
+    EXPECT_FALSE(is_utf8(bad)) << printable(bad);
+    EXPECT_FALSE(utf8_by_code_points(bad)) << printable(bad);
+  }
+  const int cases = test::property_cases(20000);
+  int valid = 0;
+  for (int c = 0; c < cases; ++c) {
+    const std::uint64_t seed = 0x07f8c0de + static_cast<std::uint64_t>(c);
+    std::mt19937_64 rng = test::make_rng(seed);
+    std::string bytes(1 + rng() % 6, '\0');
+    for (char& b : bytes) {
+      // ASCII, a continuation byte, or a lead byte (with its edge values: C0/C1, E0, ED, F0, F4, F5)
+      switch (rng() % 4) {
+        case 0: b = static_cast<char>(rng() % 0x80); break;
+        case 1: b = static_cast<char>(0x80 + rng() % 0x40); break;
+        default: b = static_cast<char>(0xC0 + rng() % 0x40); break;
+      }
+    }
+    const bool expected = utf8_by_code_points(bytes);
+    valid += expected ? 1 : 0;
+    ASSERT_EQ(is_utf8(bytes), expected) << printable(bytes) << " " << test::seed_text(seed);
+  }
+  // the draw reaches both answers
+  EXPECT_GT(valid, cases / 50);
+  EXPECT_LT(valid, cases - cases / 50);
+}
+
 TEST(Printable, InputErrorMessagesAreEscapedButFieldAndFileKeptAsGiven) {
   const InputError e("bin\x01.yaml", 3, 7, "na\x02me", "unknown key '\x1b[31m'");
   EXPECT_EQ(std::string(e.what()), "bin\\x01.yaml:3:7: 'na\\x02me': unknown key '\\x1b[31m'");
   EXPECT_EQ(e.detail(), "unknown key '\\x1b[31m'");
   EXPECT_EQ(e.field(), "na\x02me");
   EXPECT_EQ(e.file(), "bin\x01.yaml");
+}
+
+// Issue 42: a library's exception raised by bad input ("number overflow parsing '1e400'",
+// "filesystem error: Too many levels of symbolic links") becomes a positioned InputError; an
+// InputError, running out of memory and a stop request pass as they are.
+TEST(InputErrorBoundary, ALibrarysExceptionBecomesBadInputAtItsPlace) {
+  const SourceRef where{"run/summary.json", 0, 0};
+  const auto through = [&](const auto& raise) {
+    try {
+      try {
+        raise();
+      } catch (...) {
+        rethrow_as_input_error(where, "variants", "not a run summary: ");
+      }
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    } catch (const std::bad_alloc&) {
+      return std::string("bad_alloc");
+    } catch (int signal) {
+      return "signal " + std::to_string(signal);
+    }
+    return std::string("nothing");
+  };
+  EXPECT_EQ(through([] { throw std::out_of_range("number overflow parsing '1e400'\n"); }),
+            "run/summary.json: 'variants': not a run summary: number overflow parsing '1e400'\\n");
+  EXPECT_EQ(through([] { throw InputError("a.yaml", 2, 3, "key", "as it was"); }), "a.yaml:2:3: 'key': as it was");
+  EXPECT_EQ(through([] { throw std::bad_alloc(); }), "bad_alloc");
+  EXPECT_EQ(through([] { throw 15; }), "signal 15");
 }
 
 }  // namespace

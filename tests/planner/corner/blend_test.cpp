@@ -249,6 +249,42 @@ TEST(Blend, PropertyEveryExactStopAtAKinkStops) {
   }
 }
 
+// Issue 42: a clothoid or biclothoid of parameter or start distance 1e-200 mm blended into rows
+// of NaN. Any size a program may hold (0, or kMinTransitionSize and up, here down to the bound)
+// gives a finite path at every sample; below the bound validate refuses it at the move.
+TEST(Blend, PropertyTinyTransitionsAreFiniteOrRefused) {
+  const Method methods[] = {Method::kArc, Method::kBezier, Method::kClothoid, Method::kBiclothoid};
+  const int cases = test::property_cases(200);
+  for (int i = 0; i < cases; ++i) {
+    const auto seed = static_cast<std::uint64_t>(9420000 + i);
+    auto rng = test::make_rng(seed);
+    const double angle = std::uniform_real_distribution<double>(0.05, 3.0)(rng);
+    // log-uniform from the bound to 10 mm
+    const double size = kMinTransitionSize * std::pow(1e7, std::uniform_real_distribution<double>(0, 1)(rng));
+    const Method method = methods[static_cast<std::size_t>(i) % 4];
+    const bool by_start = method == Method::kBiclothoid && i % 8 == 3;
+    Program program;
+    program.moves = {line_move({0, 0, 0}, {0.1, 0, 0}, method, by_start ? 0 : size),
+                     line_move({0.1, 0, 0}, {0.1 + 0.1 * std::cos(angle), 0.1 * std::sin(angle), 0})};
+    if (by_start) program.moves[0].transition.start_distance = size;
+    const Path path = blend(program);
+    for (int k = 0; k <= 2000; ++k) {
+      const double s = path.length() * k / 2000;
+      ASSERT_TRUE(path.point(s).allFinite()) << test::seed_text(seed) << " size " << size << " s " << s;
+      ASSERT_TRUE(path.tangent(s).allFinite()) << test::seed_text(seed) << " size " << size << " s " << s;
+    }
+    // a hundredth of the bound is refused, naming the field
+    Program tiny = program;
+    (by_start ? tiny.moves[0].transition.start_distance : tiny.moves[0].transition.parameter) = kMinTransitionSize / 100;
+    try {
+      (void)blend(tiny);
+      FAIL() << test::seed_text(seed) << ": a transition below the bound was blended";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.field(), by_start ? "transition.start_distance" : "transition.parameter") << test::seed_text(seed);
+    }
+  }
+}
+
 // The pieces of corner 0's transition in a blended two-move program.
 std::vector<Segment> transition_of(const Path& path) {
   std::vector<Segment> transition;

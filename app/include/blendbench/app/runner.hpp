@@ -32,6 +32,9 @@ inline constexpr double kMaxVideoFrames = 36000;
 
 struct RunRequest {
   std::filesystem::path out_dir;      // created if missing; files in it are replaced atomically
+  // where out_dir is published when the run ends (a staging folder renamed, report/run_folder.hpp),
+  // for the paths the summary names; empty: out_dir itself
+  std::filesystem::path published_dir;
   bool video = true;                  // render video.mp4 per variant (needs BLENDBENCH_RENDER)
   bool compare = false;               // render compare.mp4: every variant side by side (needs BLENDBENCH_RENDER)
   bool plots = true;                  // run the matplotlib script after the summary is written
@@ -71,6 +74,12 @@ RunResult run_pipeline(const RunInputs& inputs, const RunRequest& request);
 
 // run_pipeline(resolve_run(scenario), request): every variant of the scenario as written.
 RunResult run_scenario(const Scenario& scenario, const RunRequest& request);
+
+// Loads and checks the scenario's robot as run_scenario does before its first variant (the URDF,
+// the MJCF and every file it names or the model built from the URDF, robot.model, the servo rate
+// against the model's timestep, the start pose, the servo's tuning), without running anything:
+// `validate` opens the files `run` opens. Throws InputError.
+void check_robot(const Scenario& scenario);
 
 // Whether this build can render videos.
 bool video_supported();

@@ -1,23 +1,13 @@
 #pragma once
 // Reading inputs from files (the planner's G-code reader takes text): every input file is read
-// whole, after checks that bound the work before it is done.
+// whole by core/input_file.hpp, after checks that bound the work before it is done.
 
-#include <cstdint>
 #include <string>
 
+#include "blendbench/core/input_file.hpp"  // read_input_file, kMaxInputBytes: every input file is read through it
 #include "blendbench/io/gcode.hpp"
 
 namespace blendbench {
-
-// The largest input file (scenario or G-code) read, in bytes: 64 MiB, twenty times a scenario of
-// 10^5 moves (about 3 MB). Larger files are refused before a byte is read.
-inline constexpr std::uintmax_t kMaxInputBytes = std::uintmax_t{64} << 20;
-
-// The whole content of the input file `path`; `what` names it in messages ("scenario file",
-// "G-code file"). Throws InputError(path, 0, 0, "", message) when the file does not exist or
-// cannot be opened, is not a regular file (a folder, a FIFO, a device such as /dev/zero: none is
-// opened for reading, so a FIFO never blocks), is larger than `max_bytes`, or a read fails.
-std::string read_input_file(const std::string& path, const std::string& what, std::uintmax_t max_bytes = kMaxInputBytes);
 
 // Reads and parses a G-code file (read_input_file). Unless options.find_subroutine is set, a
 // call of a subroutine the program does not define reads <name>.ngc from the program's folder,

@@ -34,9 +34,14 @@ struct KeyStep {
   std::size_t index = 0;  // kIndex
 };
 
+// The most steps a key path may have: a scenario file nests at most 64 levels (the scenario
+// loader's limit), so no longer path names one of its values.
+constexpr std::size_t kMaxKeyPathSteps = 64;
+
 // Parses a key path ("variants[*].transition.parameter"). Throws InputError located at `where`
 // naming `field` when the path is empty or malformed (an empty key, an unclosed bracket, an index
-// that is neither digits nor '*', a path that starts with an index).
+// that is neither digits nor '*', a path that starts with an index), or longer than
+// kMaxKeyPathSteps.
 std::vector<KeyStep> parse_key_path(const std::string& path, const SourceRef& where, const std::string& field);
 
 // One axis: a key path and the values it takes, in order.
@@ -90,7 +95,9 @@ struct SweepSpec {
 };
 
 // Reads a sweep file from text: `file` names it in errors, `base_dir` resolves `scenario`
-// (then the data root, as the scenario loader resolves its files). Throws InputError.
+// (then the data root, as the scenario loader resolves its files). The text must first pass the
+// scenario loader's YAML rules (one document, no key twice, no control character, UTF-8). Throws
+// InputError, also for what a library refuses.
 SweepSpec parse_sweep(const std::string& text, const std::string& file, const std::string& base_dir);
 
 // The same from a file.

@@ -50,14 +50,21 @@ struct CheckReport {
   [[nodiscard]] bool passed() const { return regressions.empty(); }
 };
 
-// Compares a run's summary.json content with a baseline under the tolerances. Throws InputError
+// Checks that a run's summary.json content has what a check reads: an object whose `scenario`
+// (when present) is a name and whose `variants` is a list of objects, each with a `name` and, when
+// present, a `status` that are strings. Throws InputError naming `file` and the field otherwise
+// (a summary of another program, an array, a FIFO's garbage: never a library's message).
+void validate_run_summary(const nlohmann::json& summary, const std::string& file);
+
+// Compares a run's summary.json content with a baseline under the tolerances. `summary` must have
+// passed validate_run_summary. Throws InputError
 // naming `baseline_file` when the baseline is malformed or is the baseline of another scenario
 // (the message says which baseline to check against and how to create it).
 CheckReport check_run(const nlohmann::json& summary, const nlohmann::json& baseline,
                       const std::vector<MetricTolerance>& tolerances, const std::string& baseline_file);
 
-// A baseline from a run's summary: the scenario, and per variant its status and the value of
-// every gated metric it has.
+// A baseline from a run's summary (validated by validate_run_summary): the scenario, and per
+// variant its status and the value of every gated metric it has.
 nlohmann::json make_baseline(const nlohmann::json& summary, const std::vector<MetricTolerance>& tolerances);
 
 // The rows whose value moved at all (differs from the baseline), as a fixed-width text table

@@ -130,7 +130,7 @@ struct LimitCheck {
 };
 
 // Whether the run's data is clean tracking data: torque saturation per joint (ticks and share
-// of the run's ticks), and the model's joint velocity and acceleration limits checked on the
+// of the servo ticks the drive ran, at most 1), and the model's joint velocity and acceleration limits checked on the
 // reference and on the actual link motion (accelerations of the actual motion by differences of
 // the link velocity on the servo grid).
 struct Health {

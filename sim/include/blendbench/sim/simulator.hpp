@@ -65,8 +65,10 @@ class Simulator {
   // with a site named "tcp", or when its timestep is too long for its stiffest mode
   // (kMaxOmegaDt; the message names the longest timestep that would do).
   explicit Simulator(const std::string& mjcf_path, const ModelChanges& changes = {});
-  // The same from MJCF text (tests); errors carry the file name "<string>".
-  static Simulator from_xml_string(const std::string& xml, const ModelChanges& changes = {});
+  // The same from MJCF text (tests, the model built from a URDF), which may name no other file;
+  // errors carry the file name `source`.
+  static Simulator from_xml_string(const std::string& xml, const ModelChanges& changes = {},
+                                   const std::string& source = "<string>");
 
   [[nodiscard]] const mjModel& model() const { return *model_; }
   [[nodiscard]] bool elastic() const { return gear_dof_[0] >= 0; }

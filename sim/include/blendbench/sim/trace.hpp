@@ -71,6 +71,9 @@ struct Trace {
   std::string warning;
   // servo ticks at which joint i's torque demand exceeded its limit and was clamped
   std::array<long, 6> saturated_ticks{};
+  // servo ticks the drive ran (the servo rate is a multiple of the setpoint rate, so there are
+  // more of them than samples): what a share of saturated ticks is a share of
+  long servo_ticks = 0;
 };
 
 }  // namespace blendbench

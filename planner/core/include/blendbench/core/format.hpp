@@ -29,4 +29,8 @@ std::string lengths_note(std::string_view head, double first, std::string_view l
 // "\xff"; a backslash stays itself). Printable ASCII and well-formed UTF-8 (e.g. U+2212) are kept.
 std::string printable(std::string_view text);
 
+// Whether `text` is well-formed UTF-8 (RFC 3629; ASCII control characters included): what a JSON
+// output can hold. A file name that is not (a byte 0xff) is refused where it enters.
+bool is_utf8(std::string_view text);
+
 }  // namespace blendbench

@@ -40,4 +40,12 @@ struct SourceRef {
 // Throws InputError located at `where`.
 [[noreturn]] void fail_at(const SourceRef& where, const std::string& field, const std::string& message);
 
+// The one way an exception a library raised while reading or checking input (std::filesystem,
+// nlohmann::json, yaml-cpp, urdfdom, a std::length_error of a size the input asked for) becomes
+// bad input: called in a catch block at an input's entry point, it throws InputError located at
+// `where`, naming `field`, with `context` and the library's message made printable. An InputError
+// passes unchanged, and so do what is not the input's fault: std::bad_alloc, Interrupted (not a
+// std::exception) and anything else that is not a std::exception.
+[[noreturn]] void rethrow_as_input_error(const SourceRef& where, const std::string& field, const std::string& context);
+
 }  // namespace blendbench

@@ -119,11 +119,17 @@ bool oriented(const Program& program);
 // the move past it where it is written.
 inline constexpr std::size_t kMaxMoves = 1'000'000;
 
+// The smallest transition (parameter or start distance) other than none: 1 nm. Below it the
+// rounding of a corner's coordinates (1e-16 of a path of about 1 m) swamps the curve, as the
+// Bezier blend's own kMinLength says; the clothoid and biclothoid fits squared their size into
+// an underflow at about 1e-200 mm and wrote rows of NaN (issue 42).
+inline constexpr double kMinTransitionSize = 1e-9;  // m
+
 // Checks what the blender assumes: at least one move and at most kMaxMoves; finite coordinates; arcs of positive
 // radius and sweep; no zero-length move; consecutive moves joined (end of move k equals start
 // of move k+1 within 1e-9 of the program size); positive finite limits; finite non-negative
-// transition values, a start distance only on a biclothoid and not with a parameter, a
-// tolerance not with a parameter or a start distance; unit
+// transition values, each 0 or at least kMinTransitionSize, a start distance only on a
+// biclothoid and not with a parameter, a tolerance not with a parameter or a start distance; unit
 // quaternions (to 1e-9) and angular limits > 0 (infinity: none); the smoothing spec (smoothing.hpp). Throws
 // InputError located at the move (at move k+1 for a gap), naming it and the field; a move's own
 // geometry is reported before its join to the previous move.
