@@ -46,10 +46,16 @@ Inertia inertia_of(const urdf::Inertial& in, const Eigen::Isometry3d& frame) {
   return {in.mass, at.translation(), at.linear() * local * at.linear().transpose()};
 }
 
-// A uniform solid rod of mass m from 0 to `end` (radius kRodRadius).
+// A uniform solid rod of mass m (radius kRodRadius) centred halfway from 0 to `end`, along it,
+// at least kMinLinkLength long. A shorter rod would break MuJoCo's check of the principal
+// moments (A + B >= C, within its tolerance): 2 I_across - I_axial = m l^2 / 6, which is zero for
+// a link of zero length (joint_6 to tool0 of ABB's IRB 120: the wrist centre and the flange
+// coincide), so the rod keeps a length: then A + B - C >= m kMinLinkLength^2 / 6, half of C again
+// for kRodRadius = 0.04 m. A link without direction (coincident frames) lies along its z axis.
 Inertia rod(double m, const Vec3& end) {
-  const double l = end.norm();
-  const Vec3 u = l > 1e-9 ? Vec3(end / l) : Vec3::UnitZ();
+  const double distance = end.norm();
+  const Vec3 u = distance > 1e-9 ? Vec3(end / distance) : Vec3::UnitZ();
+  const double l = std::max(distance, kMinLinkLength);
   const double axial = m * kRodRadius * kRodRadius / 2;
   const double across = m * (3 * kRodRadius * kRodRadius + l * l) / 12;
   return {m, end / 2, Mat3(across * Mat3::Identity() + (axial - across) * u * u.transpose())};

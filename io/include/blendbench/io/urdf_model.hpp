@@ -10,8 +10,11 @@
 // are refused unless an estimate is asked for (total_mass > 0). The estimate, stated in notes:
 //   mass      total_mass shared over the moving links without <inertial> in proportion to their
 //             length (the distance to the next joint or to the tip, at least kMinLinkLength);
-//   inertia   each such link a uniform solid rod of radius kRodRadius from its joint to the
-//             next one: I_axis = m r^2 / 2, I_across = m (3 r^2 + l^2) / 12 about its centre;
+//   inertia   each such link a uniform solid rod of radius kRodRadius centred halfway from its
+//             joint to the next one, along them, of length l = that distance but at least
+//             kMinLinkLength (zero-length links and coincident frames, as ROS-Industrial wrists
+//             have them, keep a valid inertia; without direction it lies along the link's z):
+//             I_axis = m r^2 / 2, I_across = m (3 r^2 + l^2) / 12 about its centre;
 //   effort    for a joint with effort <= 0: kEffortMargin times a bound of the gravity torque
 //             the outboard links exert in any configuration (g times the sum over them of mass
 //             times the length of the chain of offsets from the joint to their centre, which no
