@@ -78,6 +78,13 @@ TEST(UrdfModel, ReproducesTheUrdfsKinematicsMassesAndTorqueLimits) {
     ASSERT_LT(error.tail<3>().norm(), kPoseTol) << test::seed_text(seed) << " case " << n;
   }
   mj_deleteData(d);
+  // each joint's rotor inertia is the link inertia it moves at the URDF's zero pose, as MuJoCo's
+  // own mass matrix gives it (an independent computation: composite rigid bodies)
+  for (int i = 0; i < 6; ++i) {
+    const double link = sim.link_inertia(JointVector::Zero())[i];
+    EXPECT_GT(sim.motor_inertia()[i], 0) << i;
+    EXPECT_NEAR(sim.motor_inertia()[i], link, 1e-9 * link) << i;
+  }
   // what was left out is said
   ASSERT_FALSE(built.notes.empty());
   EXPECT_NE(built.notes.front().find("capsules"), std::string::npos) << built.notes.front();

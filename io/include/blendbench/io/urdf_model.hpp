@@ -1,7 +1,9 @@
 #pragma once
 // A MuJoCo model (MJCF text) built from a URDF alone, for arms that come without one: the chain
 // from base_link to tip_link as bodies with the URDF's frames, axes, limits, masses and
-// inertias, rigid joints with the URDF's <dynamics> damping and friction, a direct-torque motor
+// inertias, rigid joints with the URDF's <dynamics> damping and friction and a rotor inertia
+// (MuJoCo's armature, which a URDF never states) equal to the link inertia each joint moves at
+// the URDF's zero pose (inertia-matched drives), a direct-torque motor
 // per joint at the URDF's effort limit, site "tcp" at the chain's end, a floor, a light and a
 // camera that frames the arm. The links are drawn as capsules between the joints (URDF meshes,
 // often package:// paths, are not read).
