@@ -27,8 +27,8 @@ constexpr double kPi = std::numbers::pi;
 
 // What the header of models/ur5e_like.xml states at keyframe "ready" (Hz): each joint alone
 // (its motor held, every other joint rigid) and the first mode of the whole arm (motors held).
-constexpr std::array<double, 6> kStatedPerJoint = {28.7, 23.4, 41.5, 90.0, 170.0, 681.0};
-constexpr double kStatedArmFirst = 21.2;
+constexpr std::array<double, 6> kStatedPerJoint = {27.2, 22.1, 37.9, 71.6, 149.0, 680.0};
+constexpr double kStatedArmFirst = 20.1;
 // The gear damping ratio of each joint's own mode, and the friction on the motor hinges.
 constexpr double kStatedDampingRatio = 0.05;
 constexpr std::array<double, 6> kStatedViscous = {2.0, 2.0, 2.0, 0.5, 0.5, 0.5};   // N m s/rad
@@ -364,13 +364,19 @@ TEST(ElasticModel, TunedServoStepResponsePerJoint) {
     const Trace trace = sim.run(reference, servo, options);
     ASSERT_FALSE(trace.diverged) << trace.warning;
     EXPECT_EQ(trace.saturated_ticks[static_cast<std::size_t>(j)], 0) << "a linear step";
+    // the 10 % and 90 % crossings interpolated linearly between the trace's samples (one sample,
+    // 2 ms, is about one unit of 1 / omega_v: the first sample past each level was too coarse)
     double t10 = -1, t90 = -1, peak = 0;
     const double base = trace.samples.front().q_measured[j];
+    double t_before = 0, y_before = 0;
     for (const TraceSample& s : trace.samples) {
       const double y = (s.q_measured[j] - base) / kStep;
-      if (t10 < 0 && y >= 0.1) t10 = s.t;
-      if (t90 < 0 && y >= 0.9) t90 = s.t;
+      const auto crossing = [&](double level) { return t_before + (s.t - t_before) * (level - y_before) / (y - y_before); };
+      if (t10 < 0 && y >= 0.1) t10 = crossing(0.1);
+      if (t90 < 0 && y >= 0.9) t90 = crossing(0.9);
       peak = std::max(peak, y);
+      t_before = s.t;
+      y_before = y;
     }
     const double rise = (t90 - t10) * tuned.velocity_bandwidth[j];
     EXPECT_GE(rise, kRiseMin) << "joint " << j + 1 << ": rise time " << t90 - t10 << " s";
