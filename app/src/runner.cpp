@@ -506,7 +506,9 @@ VariantSummary run_variant(const Scenario& sc, const Robot& robot, const RunRequ
 // The robot of a scenario as run_scenario runs it, checked as it checks it before the first
 // variant: kinematics, dynamics (against robot.model), servo rate against the model's timestep,
 // the start pose, the servo. A library's exception while the robot files are read is bad input
-// of the scenario's robot (rethrow_as_input_error).
+// of the scenario's robot (rethrow_as_input_error). `changes` perturb the dynamics model as it is
+// loaded (sim/simulator.hpp ModelChanges: the perturbed models of a sensitivity study); none by
+// default.
 struct LoadedRobot {
   Robot robot;
   std::vector<std::string> notes;  // what was estimated or replaced (a URDF alone)
@@ -514,7 +516,7 @@ struct LoadedRobot {
   ArmModel arm_model = ArmModel::kElastic;
 };
 
-LoadedRobot load_robot_files(const Scenario& scenario, const Variant& first_variant) {
+LoadedRobot load_robot_files(const Scenario& scenario, const Variant& first_variant, const ModelChanges& changes) {
   LoadedRobot loaded;
   Robot& robot = loaded.robot;
   loaded.arm_model = scenario.robot.model;
@@ -534,12 +536,12 @@ LoadedRobot load_robot_files(const Scenario& scenario, const Variant& first_vari
     robot.chain = std::move(built.chain);
     loaded.notes = std::move(built.notes);
     robot.sim = std::make_unique<Simulator>(
-        Simulator::from_xml_string(built.mjcf, {}, scenario.robot.urdf + " (the MuJoCo model built from it)"));
+        Simulator::from_xml_string(built.mjcf, changes, scenario.robot.urdf + " (the MuJoCo model built from it)"));
     loaded.built_mjcf = std::move(built.mjcf);
     loaded.arm_model = ArmModel::kRigid;
   } else {
     robot.chain = load_urdf_chain(scenario.robot.urdf, scenario.robot.base_link, scenario.robot.tip_link);
-    robot.sim = std::make_unique<Simulator>(scenario.robot.mjcf);
+    robot.sim = std::make_unique<Simulator>(scenario.robot.mjcf, changes);
     const bool want_elastic = scenario.robot.model == ArmModel::kElastic;
     if (robot.sim->elastic() != want_elastic) {
       fail_at(scenario, scenario.robot.model_where, "robot.model",
@@ -571,9 +573,9 @@ LoadedRobot load_robot_files(const Scenario& scenario, const Variant& first_vari
   return loaded;
 }
 
-LoadedRobot load_robot(const Scenario& scenario, const Variant& first_variant) {
+LoadedRobot load_robot(const Scenario& scenario, const Variant& first_variant, const ModelChanges& changes = {}) {
   try {
-    return load_robot_files(scenario, first_variant);
+    return load_robot_files(scenario, first_variant, changes);
   } catch (...) {
     rethrow_as_input_error(scenario.robot.urdf_where.line > 0 ? scenario.robot.urdf_where : SourceRef{scenario.file, 0, 0},
                            "robot", "cannot load the robot: ");

@@ -300,6 +300,22 @@ Simulator::Simulator(mjModel* model, const std::string& source, const ModelChang
     fail("mjcf", "timestep must be 0 (the model's) or in [" + format_value(kMinTimestep) + ", " + format_value(kMaxTimestep) + "] s");
   }
   if (changes.timestep > 0) m.opt.timestep = changes.timestep;
+  if (!(changes.inertia_scale > 0) || !std::isfinite(changes.inertia_scale)) fail("mjcf", "inertia scale must be positive");
+  if (!(changes.friction_scale >= 0) || !std::isfinite(changes.friction_scale)) fail("mjcf", "friction scale must be >= 0");
+  if (changes.extra_delay_ticks < 0) fail("mjcf", "extra measurement delay must be >= 0 ticks");
+  changes_ = changes;
+  // the links' masses and inertias (every body that moves: not welded to the world), then what
+  // MuJoCo derives from them at compile time
+  if (changes.inertia_scale != 1) {
+    for (int b = 1; b < m.nbody; ++b) {
+      if (m.body_weldid[b] == 0) continue;
+      m.body_mass[b] *= changes.inertia_scale;
+      for (int k = 0; k < 3; ++k) m.body_inertia[3 * b + k] *= changes.inertia_scale;
+    }
+    mjData* constants = mj_makeData(&m);
+    mj_setConst(&m, constants);
+    mj_deleteData(constants);
+  }
 
   // per arm joint: addresses, the gear hinge after the motor hinge (elastic), limits
   int elastic_joints = 0;
@@ -319,6 +335,8 @@ Simulator::Simulator(mjModel* model, const std::string& source, const ModelChang
       force = std::min({force, std::abs(m.actuator_forcerange[2 * a]), std::abs(m.actuator_forcerange[2 * a + 1])});
     limits_.torque[ii] = std::abs(gear) * force;
     if (m.jnt_stiffness[j] != 0) fail("joint", "motor joint " + object_name(m, mjOBJ_JOINT, j) + " must have no stiffness");
+    m.dof_damping[motor_dof_[i]] *= changes.friction_scale;
+    m.dof_frictionloss[motor_dof_[i]] *= changes.friction_scale;
     motor_inertia_[ii] = m.dof_armature[motor_dof_[i]];
     viscous_[ii] = m.dof_damping[motor_dof_[i]];
     coulomb_[ii] = m.dof_frictionloss[motor_dof_[i]];
@@ -333,7 +351,7 @@ Simulator::Simulator(mjModel* model, const std::string& source, const ModelChang
         fail("joint", "gear joint " + object_name(m, mjOBJ_JOINT, g) + " (on the axis of motor joint " +
                           object_name(m, mjOBJ_JOINT, j) + ") needs a positive stiffness");
       m.jnt_stiffness[g] *= changes.stiffness_scale;
-      m.dof_damping[m.jnt_dofadr[g]] *= std::sqrt(changes.stiffness_scale);
+      m.dof_damping[m.jnt_dofadr[g]] *= std::sqrt(changes.stiffness_scale * changes.inertia_scale);
       gear_qpos_[i] = m.jnt_qposadr[g];
       gear_dof_[i] = m.jnt_dofadr[g];
       stiffness_[ii] = m.jnt_stiffness[g];
@@ -685,7 +703,7 @@ Trace Simulator::run(const JointTrajectory& reference, const ServoConfig& servo,
 
   // the drive's state: encoder history (true motor angles of the last ticks), speed estimate,
   // integrators; the setpoints it interpolates (enough to reach back over the delay)
-  const auto delay = static_cast<std::size_t>(servo.measurement_delay_ticks);
+  const auto delay = static_cast<std::size_t>(servo.measurement_delay_ticks + changes_.extra_delay_ticks);
   std::vector<JointVector> history(delay + 1);
   JointVector motor0;
   for (std::size_t i = 0; i < 6; ++i) motor0[static_cast<Eigen::Index>(i)] = d->qpos[motor_qpos_[i]];

@@ -25,11 +25,27 @@
 
 namespace blendbench {
 
-// Changes to a model after it is compiled (tests and studies): the gears' stiffness scaled (the
-// gear damping scaled by its square root, keeping the damping ratio), and another timestep.
+// Changes to a model after it is compiled, before anything is derived from it (tests, and the
+// perturbed models of a sensitivity study, issue 46): the arm the simulator then holds is the
+// changed one, and everything the drive takes from the model (the tuning of tune_servo, the
+// inverse-dynamics and friction feed-forward, gravity compensation) follows it, as a drive
+// identified on that arm would; only the extra measurement delay is hidden from the drive.
+//   stiffness_scale  the gears' stiffness (elastic models), the gear damping by its square root
+//                    (the damping ratio kept);
+//   inertia_scale    every moving link's mass and inertia tensor (the same mass distribution,
+//                    heavier or lighter; gravity's torques scale with it), the gear damping by
+//                    its square root (the damping ratio kept); not the rotor inertia (armature);
+//   friction_scale   the motor hinges' viscous (damping) and Coulomb (frictionloss) friction;
+//   extra_delay_ticks  servo ticks added to the measurement delay of every servo this simulator
+//                    runs (run() adds them to ServoConfig::measurement_delay_ticks): the encoder's
+//                    path slower than the drive was tuned for;
+//   timestep         another physics timestep (0 keeps the model's).
 struct ModelChanges {
   double stiffness_scale = 1;  // > 0
   double timestep = 0;         // s; 0 keeps the model's
+  double inertia_scale = 1;    // > 0
+  double friction_scale = 1;   // >= 0
+  int extra_delay_ticks = 0;   // >= 0
 };
 
 // Natural frequencies of the arm at one configuration (Hz), from the mass matrix and the gear
@@ -79,6 +95,8 @@ class Simulator {
   // when forcelimited); +inf when neither is limited.
   [[nodiscard]] const JointLimits& limits() const { return limits_; }
   [[nodiscard]] JointVector torque_limits() const { return limits_.torque; }
+  // The changes the model was loaded with.
+  [[nodiscard]] const ModelChanges& changes() const { return changes_; }
   // Gear stiffness per joint (N*m/rad; +inf on a rigid arm).
   [[nodiscard]] JointVector stiffness() const { return stiffness_; }
   // Reflected rotor inertia per joint (the motor hinge's armature, kg*m^2).
@@ -120,6 +138,7 @@ class Simulator {
   JointVector viscous_;  // motor-side viscous friction (N*m*s/rad)
   JointVector coulomb_;  // motor-side Coulomb friction (N*m)
   int tcp_site_ = -1;
+  ModelChanges changes_;
 };
 
 // The servo of `tuning` with gains derived from the model at link angles q (ServoTuning states
