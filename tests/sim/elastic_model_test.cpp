@@ -267,7 +267,7 @@ TEST(ElasticModel, PerturbationsChangeWhatTheySay) {
   EXPECT_EQ(same, 0.0);
   EXPECT_GT(differ, 1e-7);
   // out of range: named
-  for (const ModelChanges& bad : {ModelChanges{1, 0, 0, 1, 0}, ModelChanges{1, 0, 1, -1, 0}, ModelChanges{1, 0, 1, 1, -1}}) {
+  for (const ModelChanges& bad : {ModelChanges{.inertia_scale = 0}, ModelChanges{.friction_scale = -1}, ModelChanges{.extra_delay_ticks = -1}}) {
     test::expect_input_error([&] { (void)Simulator(elastic_model(), bad); }, {.field = "mjcf"});
   }
 }
@@ -377,11 +377,11 @@ TEST(ElasticModel, FrictionHasTheStatedViscousAndCoulombTerms) {
 TEST(ElasticModel, TimestepResolvesTheStiffestMode) {
   const Simulator sim(elastic_model());
   EXPECT_DOUBLE_EQ(sim.timestep(), 1.0 / 8000);
-  const InputError e = test::expect_input_error([] { (void)Simulator(elastic_model(), ModelChanges{1.0, 1.2 / 8000}); },
+  const InputError e = test::expect_input_error([] { (void)Simulator(elastic_model(), ModelChanges{.stiffness_scale = 1.0, .timestep = 1.2 / 8000}); },
                                                 {.field = "mjcf", .message = "too long for the model's stiffest mode"});
   EXPECT_NE(e.detail().find("use at most 0.00013"), std::string::npos) << e.what();
   // the rigid arm has no such mode
-  EXPECT_NO_THROW((void)Simulator(rigid_model(), ModelChanges{1.0, 1e-3}));
+  EXPECT_NO_THROW((void)Simulator(rigid_model(), ModelChanges{.stiffness_scale = 1.0, .timestep = 1e-3}));
 }
 
 // As the gears stiffen the elastic arm's motion approaches the rigid arm's under the same servo
@@ -414,7 +414,7 @@ TEST(ElasticModel, StiffGearsAgreeWithTheRigidModel) {
     text << in.rdbuf();
     std::string xml = text.str();
     for (const std::string f : {"frictionloss=\"3.0\"", "frictionloss=\"0.6\""}) xml.replace(xml.find(f), f.size(), "");
-    return Simulator::from_xml_string(xml, ModelChanges{scale, dt});
+    return Simulator::from_xml_string(xml, ModelChanges{.stiffness_scale = scale, .timestep = dt});
   };
   ServoTuning tuning;
   tuning.rate_hz = 8000;
