@@ -525,7 +525,39 @@ LoadedRobot load_robot_files(const Scenario& scenario, const Variant& first_vari
             "estimate_inertia applies only to a URDF run without an MJCF; " + scenario.robot.mjcf +
                 " states the dynamics");
   }
-  if (scenario.robot.mjcf_from_urdf) {
+  if (scenario.robot.urdf.empty()) {
+    // an MJCF of the user's own: the chain from its bodies and joints to tip_site or tip_body,
+    // its own actuators replaced by direct-torque motors (the servo drives the joints)
+    ModelChanges own = changes;
+    own.tcp_site = scenario.robot.tip_site;
+    own.tcp_body = scenario.robot.tip_body;
+    own.own_actuators_to_motors = true;
+    robot.sim = std::make_unique<Simulator>(scenario.robot.mjcf, own);
+    robot.chain = robot.sim->kinematic_chain();
+    for (const JointSpec& j : robot.chain.joints) {
+      if (!std::isfinite(j.velocity_limit)) {
+        fail_at(scenario, scenario.robot.urdf_where, "robot.mjcf",
+                scenario.robot.mjcf + " states no joint velocity limits (MJCF has none of its own): add <custom><numeric "
+                                      "name=\"velocity_limits\" data=\"six values in rad/s\"/></custom>");
+      }
+    }
+    const bool elastic = robot.sim->elastic();
+    if (scenario.robot.model_where.line > 0 && elastic != (scenario.robot.model == ArmModel::kElastic)) {
+      fail_at(scenario, scenario.robot.model_where, "robot.model",
+              std::string("robot.model is ") + (elastic ? "rigid" : "elastic") + " but " + scenario.robot.mjcf + " has " +
+                  (elastic ? "elastic" : "rigid") + " joints");
+    }
+    loaded.arm_model = elastic ? ArmModel::kElastic : ArmModel::kRigid;
+    const std::string tip = scenario.robot.tip_site.empty() ? "body '" + scenario.robot.tip_body + "'"
+                                                            : "site '" + scenario.robot.tip_site + "'";
+    loaded.notes.push_back("the kinematic chain read from the MJCF: its bodies and joints from the world to " + tip);
+    if (!robot.sim->replaced_actuators().empty()) {
+      std::string names;
+      for (const std::string& n : robot.sim->replaced_actuators()) names += (names.empty() ? "'" : ", '") + n + "'";
+      loaded.notes.push_back("the MJCF's own actuators " + names +
+                             " replaced by direct-torque motors at their force range (BlendBench's servo drives the joints)");
+    }
+  } else if (scenario.robot.mjcf_from_urdf) {
     // a URDF alone: its dynamics built from it (rigid joints: a URDF states no gear stiffness)
     if (scenario.robot.model == ArmModel::kElastic && scenario.robot.model_where.line > 0) {
       fail_at(scenario, scenario.robot.model_where, "robot.model",
@@ -626,9 +658,9 @@ RunResult run_scenario(const Scenario& scenario, const RunRequest& request) {
     // compiled it from memory: a message names the URDF, never a staging folder)
     write_file_atomic(request.out_dir / "robot_from_urdf.xml", loaded.built_mjcf);
     mjcf = ((request.published_dir.empty() ? request.out_dir : request.published_dir) / "robot_from_urdf.xml").string();
-    if (request.progress) {
-      for (const std::string& note : robot_notes) request.progress("robot: " + note);
-    }
+  }
+  if (request.progress) {
+    for (const std::string& note : robot_notes) request.progress("robot: " + note);
   }
   const ArmModel arm_model = loaded.arm_model;
   const Program first = program_for(scenario, *selected.front());

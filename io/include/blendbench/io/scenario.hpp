@@ -25,6 +25,8 @@ struct RobotSettings {
   std::string mjcf;  // absolute path of the MuJoCo model (the model's file unless `mjcf` is given)
   std::string base_link;  // empty: the URDF's root link
   std::string tip_link;   // empty: the leaf reached through the most movable joints
+  // an MJCF of the user's own (urdf empty): the chain ends at this site or body of it
+  std::string tip_site, tip_body;
   Eigen::Matrix3d tool_rotation = Eigen::Matrix3d::Identity();  // fixed TCP orientation, base frame
   JointVector q_seed = JointVector::Zero();  // rad, IK seed at the start
   Eigen::Isometry3d tool = Eigen::Isometry3d::Identity();  // the TCP in the flange frame (m, rad)
