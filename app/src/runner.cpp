@@ -508,7 +508,9 @@ VariantSummary run_variant(const RunInputs& sc, const Robot& robot, const RunReq
 // The robot of a run as run_pipeline runs it, checked as it checks it before the first
 // variant: kinematics, dynamics (against robot.model), servo rate against the model's timestep,
 // the start pose, the servo. A library's exception while the robot files are read is bad input
-// of the scenario's robot (rethrow_as_input_error).
+// of the scenario's robot (rethrow_as_input_error). `changes` perturb the dynamics model as it is
+// loaded (sim/simulator.hpp ModelChanges: the perturbed models of a sensitivity study); none by
+// default.
 struct LoadedRobot {
   Robot robot;
   std::vector<std::string> notes;  // what was estimated or replaced (a URDF alone)
@@ -516,7 +518,7 @@ struct LoadedRobot {
   ArmModel arm_model = ArmModel::kElastic;
 };
 
-LoadedRobot load_robot_files(const RunInputs& scenario) {
+LoadedRobot load_robot_files(const RunInputs& scenario, const ModelChanges& changes) {
   LoadedRobot loaded;
   Robot& robot = loaded.robot;
   loaded.arm_model = scenario.robot.model;
@@ -525,7 +527,39 @@ LoadedRobot load_robot_files(const RunInputs& scenario) {
             "estimate_inertia applies only to a URDF run without an MJCF; " + scenario.robot.mjcf +
                 " states the dynamics");
   }
-  if (scenario.robot.mjcf_from_urdf) {
+  if (scenario.robot.urdf.empty()) {
+    // an MJCF of the user's own: the chain from its bodies and joints to tip_site or tip_body,
+    // its own actuators replaced by direct-torque motors (the servo drives the joints)
+    ModelChanges own = changes;
+    own.tcp_site = scenario.robot.tip_site;
+    own.tcp_body = scenario.robot.tip_body;
+    own.own_actuators_to_motors = true;
+    robot.sim = std::make_unique<Simulator>(scenario.robot.mjcf, own);
+    robot.chain = robot.sim->kinematic_chain();
+    for (const JointSpec& j : robot.chain.joints) {
+      if (!std::isfinite(j.velocity_limit)) {
+        fail_at(scenario, scenario.robot.urdf_where, "robot.mjcf",
+                scenario.robot.mjcf + " states no joint velocity limits (MJCF has none of its own): add <custom><numeric "
+                                      "name=\"velocity_limits\" data=\"six values in rad/s\"/></custom>");
+      }
+    }
+    const bool elastic = robot.sim->elastic();
+    if (scenario.robot.model_where.line > 0 && elastic != (scenario.robot.model == ArmModel::kElastic)) {
+      fail_at(scenario, scenario.robot.model_where, "robot.model",
+              std::string("robot.model is ") + (elastic ? "rigid" : "elastic") + " but " + scenario.robot.mjcf + " has " +
+                  (elastic ? "elastic" : "rigid") + " joints");
+    }
+    loaded.arm_model = elastic ? ArmModel::kElastic : ArmModel::kRigid;
+    const std::string tip = scenario.robot.tip_site.empty() ? "body '" + scenario.robot.tip_body + "'"
+                                                            : "site '" + scenario.robot.tip_site + "'";
+    loaded.notes.push_back("the kinematic chain read from the MJCF: its bodies and joints from the world to " + tip);
+    if (!robot.sim->replaced_actuators().empty()) {
+      std::string names;
+      for (const std::string& n : robot.sim->replaced_actuators()) names += (names.empty() ? "'" : ", '") + n + "'";
+      loaded.notes.push_back("the MJCF's own actuators " + names +
+                             " replaced by direct-torque motors at their force range (BlendBench's servo drives the joints)");
+    }
+  } else if (scenario.robot.mjcf_from_urdf) {
     // a URDF alone: its dynamics built from it (rigid joints: a URDF states no gear stiffness)
     if (scenario.robot.model == ArmModel::kElastic && scenario.robot.model_where.line > 0) {
       fail_at(scenario, scenario.robot.model_where, "robot.model",
@@ -536,12 +570,12 @@ LoadedRobot load_robot_files(const RunInputs& scenario) {
     robot.chain = std::move(built.chain);
     loaded.notes = std::move(built.notes);
     robot.sim = std::make_unique<Simulator>(
-        Simulator::from_xml_string(built.mjcf, {}, scenario.robot.urdf + " (the MuJoCo model built from it)"));
+        Simulator::from_xml_string(built.mjcf, changes, scenario.robot.urdf + " (the MuJoCo model built from it)"));
     loaded.built_mjcf = std::move(built.mjcf);
     loaded.arm_model = ArmModel::kRigid;
   } else {
     robot.chain = load_urdf_chain(scenario.robot.urdf, scenario.robot.base_link, scenario.robot.tip_link);
-    robot.sim = std::make_unique<Simulator>(scenario.robot.mjcf);
+    robot.sim = std::make_unique<Simulator>(scenario.robot.mjcf, changes);
     const bool want_elastic = scenario.robot.model == ArmModel::kElastic;
     if (robot.sim->elastic() != want_elastic) {
       fail_at(scenario, scenario.robot.model_where, "robot.model",
@@ -573,9 +607,9 @@ LoadedRobot load_robot_files(const RunInputs& scenario) {
   return loaded;
 }
 
-LoadedRobot load_robot(const RunInputs& scenario) {
+LoadedRobot load_robot(const RunInputs& scenario, const ModelChanges& changes = {}) {
   try {
-    return load_robot_files(scenario);
+    return load_robot_files(scenario, changes);
   } catch (...) {
     rethrow_as_input_error(scenario.robot.urdf_where.line > 0 ? scenario.robot.urdf_where : SourceRef{scenario.file, 0, 0},
                            "robot", "cannot load the robot: ");
@@ -627,9 +661,9 @@ RunResult run_pipeline(const RunInputs& scenario, const RunRequest& request) {
     // compiled it from memory: a message names the URDF, never a staging folder)
     write_file_atomic(request.out_dir / "robot_from_urdf.xml", loaded.built_mjcf);
     mjcf = ((request.published_dir.empty() ? request.out_dir : request.published_dir) / "robot_from_urdf.xml").string();
-    if (request.progress) {
-      for (const std::string& note : robot_notes) request.progress("robot: " + note);
-    }
+  }
+  if (request.progress) {
+    for (const std::string& note : robot_notes) request.progress("robot: " + note);
   }
   const ArmModel arm_model = loaded.arm_model;
   const Program& first = scenario.variants.front().program;

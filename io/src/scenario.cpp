@@ -384,19 +384,38 @@ void read_robot(const Reader& r, const Field& root, Scenario& sc) {
   sc.robot.model = r.choice(model) == "rigid" ? ArmModel::kRigid : ArmModel::kElastic;
   const Field mjcf = r.child(robot, "mjcf");
   const Field urdf = r.child(robot, "urdf");
-  sc.robot.urdf = r.existing_file(r.value(robot, "urdf"));
+  // an MJCF of the user's own: its chain ends at tip_site or tip_body, no URDF
+  const Field tip_site = r.child(robot, "tip_site"), tip_body = r.child(robot, "tip_body");
+  if (tip_site.node.defined() || tip_body.node.defined()) {
+    const Field& tip = tip_site.node.defined() ? tip_site : tip_body;
+    if (tip_site.node.defined() && tip_body.node.defined()) r.fail(tip_body, "give tip_site or tip_body, not both");
+    if (!mjcf.node.defined()) r.fail(tip, "tip_site and tip_body name the end of an MJCF of your own: give robot.mjcf");
+    if (urdf.node.defined()) {
+      r.fail(urdf, "with tip_site or tip_body the chain is read from robot.mjcf; give the URDF (and its tip_link) or the "
+                   "MJCF's tip, not both");
+    }
+    sc.robot.tip_site = tip_site.node.defined() ? r.text(tip_site) : "";
+    sc.robot.tip_body = tip_body.node.defined() ? r.text(tip_body) : "";
+    if (sc.robot.tip_site.empty() && sc.robot.tip_body.empty()) r.fail(tip, "must name a site or body of the MJCF");
+    sc.robot.mjcf = r.existing_file(mjcf);
+  } else {
+    sc.robot.urdf = r.existing_file(r.value(robot, "urdf"));
+  }
   // without an MJCF: the URDF's own MJCF beside it (model_file), else dynamics built from the URDF
-  if (mjcf.node.defined()) {
+  if (sc.robot.urdf.empty()) {
+    // an MJCF of the user's own: read above
+  } else if (mjcf.node.defined()) {
     sc.robot.mjcf = r.existing_file(mjcf);
   } else if (const std::string beside = model_file(sc.robot.urdf, sc.robot.model); is_regular_file_here(beside)) {
     sc.robot.mjcf = beside;
   } else {
     sc.robot.mjcf_from_urdf = true;
   }
-  // where the model was chosen, for later errors: `model`, else `mjcf`, else nowhere
+  // where the model was chosen, for later errors: `model`, else `mjcf` (beside a URDF: an MJCF of
+  // the user's own is what it is unless `model` says otherwise), else nowhere
   if (const Field given = r.child(robot, "model"); given.node.defined()) {
     sc.robot.model_where = r.where(given);
-  } else if (mjcf.node.defined()) {
+  } else if (mjcf.node.defined() && !sc.robot.urdf.empty()) {
     sc.robot.model_where = r.where(mjcf);
   }
   sc.robot.base_link = r.text(r.value(robot, "base_link"));

@@ -69,10 +69,52 @@ JointSpec to_joint_spec(const std::string& path, const urdf::Joint& joint, const
   return spec;
 }
 
-// The links without children at or below `link`, in the file's order.
-void collect_leaves(const urdf::Link& link, std::vector<std::string>& out) {
-  if (link.child_links.empty()) out.push_back(link.name);
-  for (const urdf::LinkSharedPtr& child : link.child_links) collect_leaves(*child, out);
+// A leaf (a link without children) at or below the chain's base, with how many movable joints
+// lead to it from the base and the last link one of them moves (the body it is fixed to).
+struct Leaf {
+  std::string name;
+  int movable = 0;
+  std::string body;
+};
+
+// The leaves at or below `link`, in the file's order; `movable` and `body` are the link's own.
+void collect_leaves(const urdf::Link& link, int movable, const std::string& body, std::vector<Leaf>& out) {
+  if (link.child_links.empty()) out.push_back({link.name, movable, body});
+  for (const urdf::LinkSharedPtr& child : link.child_links) {
+    const bool moves = child->parent_joint && child->parent_joint->type != urdf::Joint::FIXED;
+    collect_leaves(*child, movable + (moves ? 1 : 0), moves ? child->name : body, out);
+  }
+}
+
+// The chain's end when the scenario names none: the leaf reached through the most movable
+// joints. ROS-Industrial descriptions hang frame links on fixed joints beside the chain (`base`
+// on base_link, `flange` and `tool0` on the last link): fewer movable joints lead to them, so
+// they are not candidates. Leaves that tie and are all fixed to one body are frames of it: the
+// one named `tool0` (REP 199, the tool-mounting frame of ROS-Industrial arms) is the end, else
+// the tie is an error naming them, as is a tie between branches that move apart (two fingers).
+std::string default_tip(const urdf::Link& base, const std::string& path) {
+  std::vector<Leaf> leaves;
+  collect_leaves(base, 0, base.name, leaves);
+  int most = 0;
+  for (const Leaf& leaf : leaves) most = std::max(most, leaf.movable);
+  std::vector<const Leaf*> candidates;
+  for (const Leaf& leaf : leaves) {
+    if (leaf.movable == most) candidates.push_back(&leaf);
+  }
+  if (candidates.size() == 1) return candidates.front()->name;
+  const bool one_body = std::all_of(candidates.begin(), candidates.end(),
+                                    [&](const Leaf* leaf) { return leaf->body == candidates.front()->body; });
+  if (one_body) {
+    for (const Leaf* leaf : candidates) {
+      if (leaf->name == "tool0") return leaf->name;
+    }
+  }
+  std::string list;
+  for (const Leaf* leaf : candidates) list += (list.empty() ? "'" : ", '") + leaf->name + "'";
+  throw InputError(path, 0, 0, "tip_link",
+                   "the URDF branches below '" + base.name + "' into " + std::to_string(candidates.size()) +
+                       " ends reached through " + std::to_string(most) + " movable joints each (" + list +
+                       "): name the chain's end with robot.tip_link");
 }
 
 }  // namespace
@@ -110,20 +152,8 @@ ChainPath find_chain(const urdf::ModelInterface& model, const std::string& path,
   out.base = base.empty() ? model.getRoot()->name : base;
   const urdf::LinkConstSharedPtr base_link = model.getLink(out.base);
   if (!base_link) throw InputError(path, 0, 0, "base_link", "no link named '" + out.base + "'");
-  // the tip: the given link, else the one leaf below the base
-  out.tip = tip;
-  if (out.tip.empty()) {
-    std::vector<std::string> leaves;
-    collect_leaves(*base_link, leaves);
-    if (leaves.size() != 1) {
-      std::string list;
-      for (const std::string& leaf : leaves) list += (list.empty() ? "'" : ", '") + leaf + "'";
-      throw InputError(path, 0, 0, "tip_link",
-                       "the URDF branches below '" + out.base + "' into " + std::to_string(leaves.size()) + " ends (" +
-                           list + "): name the chain's end with robot.tip_link");
-    }
-    out.tip = leaves.front();
-  }
+  // the tip: the given link, else the leaf reached through the most movable joints
+  out.tip = tip.empty() ? default_tip(*base_link, path) : tip;
   if (!model.getLink(out.tip)) throw InputError(path, 0, 0, "tip_link", "no link named '" + out.tip + "'");
 
   // the joints from the tip up to the base, then in base-to-tip order

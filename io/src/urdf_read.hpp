@@ -17,9 +17,10 @@ namespace blendbench::urdf_read {
 urdf::ModelInterfaceSharedPtr parse(const std::string& path);
 
 // The chain's end links and its joints from base to tip. An empty base is the URDF's root link;
-// an empty tip is the one leaf (a link without children) below the base. Throws InputError
-// naming the field ("base_link", "tip_link") for a missing link, a tip not below the base, or
-// several leaves and no tip (listing them).
+// an empty tip is the leaf (a link without children) below the base reached through the most
+// movable joints (among frame links fixed to one body that tie, `tool0`). Throws InputError
+// naming the field ("base_link", "tip_link") for a missing link, a tip not below the base, or no
+// tip and several leaves that tie (listing them).
 struct ChainPath {
   std::string base, tip;
   std::vector<urdf::JointConstSharedPtr> joints;

@@ -273,6 +273,34 @@ Simulator::Simulator(mjModel* model, const std::string& source, const ModelChang
   // the model's own values, before anything is computed from them
   check_model_values(m, fail);
 
+  // an MJCF of the user's own: its actuators made direct-torque motors, their force range kept
+  source_ = source;
+  if (changes.own_actuators_to_motors) {
+    for (int a = 0; a < m.nu; ++a) {
+      const std::string name = "actuator " + object_name(m, mjOBJ_ACTUATOR, a);
+      const bool motor = m.actuator_dyntype[a] == mjDYN_NONE && m.actuator_gaintype[a] == mjGAIN_FIXED &&
+                         m.actuator_biastype[a] == mjBIAS_NONE;
+      if (motor) continue;
+      if (m.actuator_dyntype[a] != mjDYN_NONE) {
+        fail("actuator", name + " has activation dynamics: BlendBench's servo drives the joints with torque; give it a "
+                                "<motor> (or a <general> without dynamics and a forcerange) instead");
+      }
+      if (!m.actuator_forcelimited[a]) {
+        fail("actuator", name + " has no forcerange: BlendBench replaces it with a direct-torque motor and needs the "
+                                "joint's torque limit; give the actuator forcerange=\"-T T\"");
+      }
+      m.actuator_gaintype[a] = mjGAIN_FIXED;
+      m.actuator_biastype[a] = mjBIAS_NONE;
+      for (int k = 0; k < mjNGAIN; ++k) m.actuator_gainprm[mjNGAIN * a + k] = k == 0 ? 1 : 0;
+      for (int k = 0; k < mjNBIAS; ++k) m.actuator_biasprm[mjNBIAS * a + k] = 0;
+      m.actuator_ctrllimited[a] = 1;
+      m.actuator_ctrlrange[2 * a] = m.actuator_forcerange[2 * a];
+      m.actuator_ctrlrange[2 * a + 1] = m.actuator_forcerange[2 * a + 1];
+      const char* plain = mj_id2name(&m, mjOBJ_ACTUATOR, a);
+      replaced_actuators_.push_back(plain != nullptr ? std::string(plain) : std::to_string(a));
+    }
+  }
+
   // six actuators, each a direct-torque motor on its own hinge joint
   if (m.nu != 6) fail("actuator", "expected 6 actuators (one per arm joint), found " + std::to_string(m.nu));
   std::array<std::pair<int, int>, 6> joint_actuator{};  // (joint id, actuator id)
@@ -300,6 +328,22 @@ Simulator::Simulator(mjModel* model, const std::string& source, const ModelChang
     fail("mjcf", "timestep must be 0 (the model's) or in [" + format_value(kMinTimestep) + ", " + format_value(kMaxTimestep) + "] s");
   }
   if (changes.timestep > 0) m.opt.timestep = changes.timestep;
+  if (!(changes.inertia_scale > 0) || !std::isfinite(changes.inertia_scale)) fail("mjcf", "inertia scale must be positive");
+  if (!(changes.friction_scale >= 0) || !std::isfinite(changes.friction_scale)) fail("mjcf", "friction scale must be >= 0");
+  if (changes.extra_delay_ticks < 0) fail("mjcf", "extra measurement delay must be >= 0 ticks");
+  changes_ = changes;
+  // the links' masses and inertias (every body that moves: not welded to the world), then what
+  // MuJoCo derives from them at compile time
+  if (changes.inertia_scale != 1) {
+    for (int b = 1; b < m.nbody; ++b) {
+      if (m.body_weldid[b] == 0) continue;
+      m.body_mass[b] *= changes.inertia_scale;
+      for (int k = 0; k < 3; ++k) m.body_inertia[3 * b + k] *= changes.inertia_scale;
+    }
+    mjData* constants = mj_makeData(&m);
+    mj_setConst(&m, constants);
+    mj_deleteData(constants);
+  }
 
   // per arm joint: addresses, the gear hinge after the motor hinge (elastic), limits
   int elastic_joints = 0;
@@ -319,6 +363,8 @@ Simulator::Simulator(mjModel* model, const std::string& source, const ModelChang
       force = std::min({force, std::abs(m.actuator_forcerange[2 * a]), std::abs(m.actuator_forcerange[2 * a + 1])});
     limits_.torque[ii] = std::abs(gear) * force;
     if (m.jnt_stiffness[j] != 0) fail("joint", "motor joint " + object_name(m, mjOBJ_JOINT, j) + " must have no stiffness");
+    m.dof_damping[motor_dof_[i]] *= changes.friction_scale;
+    m.dof_frictionloss[motor_dof_[i]] *= changes.friction_scale;
     motor_inertia_[ii] = m.dof_armature[motor_dof_[i]];
     viscous_[ii] = m.dof_damping[motor_dof_[i]];
     coulomb_[ii] = m.dof_frictionloss[motor_dof_[i]];
@@ -333,7 +379,7 @@ Simulator::Simulator(mjModel* model, const std::string& source, const ModelChang
         fail("joint", "gear joint " + object_name(m, mjOBJ_JOINT, g) + " (on the axis of motor joint " +
                           object_name(m, mjOBJ_JOINT, j) + ") needs a positive stiffness");
       m.jnt_stiffness[g] *= changes.stiffness_scale;
-      m.dof_damping[m.jnt_dofadr[g]] *= std::sqrt(changes.stiffness_scale);
+      m.dof_damping[m.jnt_dofadr[g]] *= std::sqrt(changes.stiffness_scale * changes.inertia_scale);
       gear_qpos_[i] = m.jnt_qposadr[g];
       gear_dof_[i] = m.jnt_dofadr[g];
       stiffness_[ii] = m.jnt_stiffness[g];
@@ -347,8 +393,15 @@ Simulator::Simulator(mjModel* model, const std::string& source, const ModelChang
   limits_.acceleration = custom_limits(m, "acceleration_limits", fail);
 
   // the tool centre point
-  tcp_site_ = mj_name2id(&m, mjOBJ_SITE, "tcp");
-  if (tcp_site_ < 0) fail("site", "the model has no site named 'tcp'");
+  if (!changes.tcp_site.empty() && !changes.tcp_body.empty()) fail("site", "name the TCP by a site or by a body, not both");
+  if (!changes.tcp_body.empty()) {
+    tcp_body_ = mj_name2id(&m, mjOBJ_BODY, changes.tcp_body.c_str());
+    if (tcp_body_ <= 0) fail("body", "the model has no moving body named '" + changes.tcp_body + "'");
+  } else {
+    const std::string site = changes.tcp_site.empty() ? "tcp" : changes.tcp_site;
+    tcp_site_ = mj_name2id(&m, mjOBJ_SITE, site.c_str());
+    if (tcp_site_ < 0) fail("site", "the model has no site named '" + site + "'");
+  }
   model_ = std::shared_ptr<const mjModel>(owned.release(), [](const mjModel* p) { mj_deleteModel(const_cast<mjModel*>(p)); });
 
   // the timestep must resolve the stiffest mode (motors free, at the model's qpos0)
@@ -417,10 +470,15 @@ class LinkModel {
 };
 
 // The pose of `tool` (given in the frame of site `site`) in d.
-Eigen::Isometry3d tool_pose(const mjData& d, int site, const Eigen::Isometry3d& tool) {
+Eigen::Isometry3d tool_pose(const mjData& d, int site, int body, const Eigen::Isometry3d& tool) {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.linear() = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(d.site_xmat + 9 * site);
-  pose.translation() = Eigen::Map<const Vec3>(d.site_xpos + 3 * site);
+  if (site >= 0) {
+    pose.linear() = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(d.site_xmat + 9 * site);
+    pose.translation() = Eigen::Map<const Vec3>(d.site_xpos + 3 * site);
+  } else {
+    pose.linear() = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(d.xmat + 9 * body);
+    pose.translation() = Eigen::Map<const Vec3>(d.xpos + 3 * body);
+  }
   return pose * tool;
 }
 
@@ -489,6 +547,58 @@ NaturalFrequencies Simulator::natural_frequencies(const JointVector& q) const {
     out.arm_shapes[static_cast<std::size_t>(i)] = shape / shape[largest];
   }
   return out;
+}
+
+KinematicChain Simulator::kinematic_chain() const {
+  const mjModel& m = *model_;
+  const auto fail = [&](const std::string& message) { throw InputError(source_, 0, 0, "joint", message); };
+  // the TCP's body and its pose in that body
+  const int tip = tcp_site_ >= 0 ? m.site_bodyid[tcp_site_] : tcp_body_;
+  Eigen::Isometry3d tip_in_body = Eigen::Isometry3d::Identity();
+  if (tcp_site_ >= 0) {
+    const double* q = m.site_quat + 4 * tcp_site_;
+    tip_in_body.linear() = Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
+    tip_in_body.translation() = Eigen::Map<const Vec3>(m.site_pos + 3 * tcp_site_);
+  }
+  std::vector<int> path;  // world's child ... tip
+  for (int b = tip; b > 0; b = m.body_parentid[b]) path.push_back(b);
+  std::reverse(path.begin(), path.end());
+  KinematicChain chain;
+  Eigen::Isometry3d pending = Eigen::Isometry3d::Identity();  // from the last joint frame
+  for (const int b : path) {
+    Eigen::Isometry3d body = Eigen::Isometry3d::Identity();
+    const double* q = m.body_quat + 4 * b;
+    body.linear() = Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
+    body.translation() = Eigen::Map<const Vec3>(m.body_pos + 3 * b);
+    pending = pending * body;
+    for (int j = m.body_jntadr[b]; j >= 0 && j < m.body_jntadr[b] + m.body_jntnum[b]; ++j) {
+      const auto motor = std::find(motor_qpos_.begin(), motor_qpos_.end(), m.jnt_qposadr[j]);
+      const auto gear = std::find(gear_qpos_.begin(), gear_qpos_.end(), m.jnt_qposadr[j]);
+      if (gear != gear_qpos_.end() && m.jnt_qposadr[j] >= 0 && *gear >= 0) continue;  // at zero deflection
+      if (motor == motor_qpos_.end()) {
+        fail("joint " + object_name(m, mjOBJ_JOINT, j) + " lies between the base and the TCP but no actuator drives it");
+      }
+      const auto i = static_cast<Eigen::Index>(motor - motor_qpos_.begin());
+      if (static_cast<std::size_t>(i) != chain.joints.size()) fail("the driven joints are not in order from the base to the TCP");
+      const Vec3 anchor = Eigen::Map<const Vec3>(m.jnt_pos + 3 * j);
+      JointSpec spec;
+      const char* plain = mj_id2name(&m, mjOBJ_JOINT, j);
+      spec.name = plain != nullptr ? std::string(plain) : std::to_string(j);
+      spec.origin = pending * Eigen::Translation3d(anchor);
+      spec.axis = Eigen::Map<const Vec3>(m.jnt_axis + 3 * j).normalized();
+      spec.lower = m.jnt_limited[j] ? m.jnt_range[2 * j] : -std::numeric_limits<double>::infinity();
+      spec.upper = m.jnt_limited[j] ? m.jnt_range[2 * j + 1] : std::numeric_limits<double>::infinity();
+      spec.velocity_limit = limits_.velocity[i];
+      spec.effort_limit = limits_.torque[i];
+      chain.joints.push_back(spec);
+      pending = Eigen::Translation3d(-anchor) * Eigen::Isometry3d::Identity();
+    }
+  }
+  if (chain.joints.size() != 6) {
+    fail("only " + std::to_string(chain.joints.size()) + " of the six driven joints lie between the base and the TCP");
+  }
+  chain.tcp = pending * tip_in_body;
+  return chain;
 }
 
 ServoConfig tune_servo(const Simulator& sim, const JointVector& q, const ServoTuning& tuning) {
@@ -664,7 +774,7 @@ Trace Simulator::run(const JointTrajectory& reference, const ServoConfig& servo,
                                     coulomb_[i] * std::tanh(p.qd[i] / kCoulombSmoothing);
       }
     }
-    const Eigen::Isometry3d tcp = tool_pose(ref_links.data(), tcp_site_, options.tool);
+    const Eigen::Isometry3d tcp = tool_pose(ref_links.data(), tcp_site_, tcp_body_, options.tool);
     p.tcp = tcp.translation();
     p.rotation = mujoco_quaternion(tcp.linear());
     return p;
@@ -685,7 +795,7 @@ Trace Simulator::run(const JointTrajectory& reference, const ServoConfig& servo,
 
   // the drive's state: encoder history (true motor angles of the last ticks), speed estimate,
   // integrators; the setpoints it interpolates (enough to reach back over the delay)
-  const auto delay = static_cast<std::size_t>(servo.measurement_delay_ticks);
+  const auto delay = static_cast<std::size_t>(servo.measurement_delay_ticks + changes_.extra_delay_ticks);
   std::vector<JointVector> history(delay + 1);
   JointVector motor0;
   for (std::size_t i = 0; i < 6; ++i) motor0[static_cast<Eigen::Index>(i)] = d->qpos[motor_qpos_[i]];
@@ -804,7 +914,7 @@ Trace Simulator::run(const JointTrajectory& reference, const ServoConfig& servo,
         sample.q = link;
         sample.qd = link_speed;
         sample.tau = tau;
-        const Eigen::Isometry3d tcp = tool_pose(*d, tcp_site_, options.tool);
+        const Eigen::Isometry3d tcp = tool_pose(*d, tcp_site_, tcp_body_, options.tool);
         sample.tcp = tcp.translation();
         sample.tcp_cmd = current.tcp;
         sample.rotation = mujoco_quaternion(tcp.linear());

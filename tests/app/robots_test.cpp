@@ -14,7 +14,9 @@
 #include "blendbench/io/scenario.hpp"
 #include "blendbench/io/urdf_chain.hpp"
 #include "blendbench/robot/kinematics.hpp"
+#include "support/files.hpp"
 #include "support/input_error.hpp"
+#include "support/scratch.hpp"
 #include "support/property.hpp"
 
 namespace blendbench {
@@ -156,6 +158,40 @@ TEST_F(Robots, AUrdfAloneRuns) {
   elastic.robot.model_where.line = 13;
   test::expect_input_error([&] { (void)run(elastic, {"exact_stop"}); },
                            {.line = 13, .field = "robot.model", .message = "elastic joints need gear stiffnesses"});
+}
+
+TEST_F(Robots, AnMjcfOfTheUsersOwnRuns) {
+  // tests/data/menagerie_style/scenario.yaml: robot.mjcf with tip_site and no URDF, the arm in
+  // MuJoCo Menagerie's style (position servos, a mesh, no site "tcp"); the chain comes from the
+  // MJCF, its servos become motors, both said in the notes
+  const RunResult r = run(load_scenario(test::source_path("tests/data/menagerie_style/scenario.yaml")), {"exact"});
+  EXPECT_TRUE(r.all_ok);
+  EXPECT_EQ(r.summary.robot.urdf, "");
+  EXPECT_EQ(r.summary.robot.model, ArmModel::kRigid);
+  ASSERT_EQ(r.summary.robot.notes.size(), 2u);
+  EXPECT_NE(r.summary.robot.notes[0].find("read from the MJCF"), std::string::npos) << r.summary.robot.notes[0];
+  EXPECT_NE(r.summary.robot.notes[1].find("'shoulder_pan', 'shoulder_lift', 'elbow', 'wrist_1', 'wrist_2', 'wrist_3' replaced"),
+            std::string::npos)
+      << r.summary.robot.notes[1];
+  ASSERT_EQ(r.summary.variants.size(), 1u);
+  ASSERT_TRUE(r.summary.variants[0].metrics.has_value());
+  EXPECT_LT(r.summary.variants[0].metrics->tracking_error_max, kTrackingBound);
+  // the keys are checked where they are given
+  static const test::ScratchDir dir("robots_own_mjcf");
+  const std::string text = test::read_file(test::source_path("tests/data/menagerie_style/scenario.yaml"));
+  const auto variant = [&](const std::string& from, const std::string& to) {
+    std::string t = text;
+    t.replace(t.find(from), from.size(), to);
+    (void)dir.write("arm.xml", test::read_file(test::source_path("tests/data/menagerie_style/arm.xml")));
+    (void)dir.write("base_shell.obj", test::read_file(test::source_path("tests/data/menagerie_style/base_shell.obj")));
+    return dir.write("scenario.yaml", t);
+  };
+  const std::string with_urdf = variant("  tip_site: attachment_site", "  tip_site: attachment_site\n  urdf: arm.xml");
+  test::expect_input_error([&] { (void)load_scenario(with_urdf); }, {.field = "robot.urdf", .message = "not both"});
+  const std::string no_mjcf = variant("  mjcf: arm.xml\n", "");
+  test::expect_input_error([&] { (void)load_scenario(no_mjcf); }, {.field = "robot.tip_site", .message = "give robot.mjcf"});
+  const std::string no_site = variant("tip_site: attachment_site", "tip_site: flange");
+  test::expect_input_error([&] { (void)run(load_scenario(no_site), {"exact"}); }, {.message = "no site named 'flange'"});
 }
 
 TEST_F(Robots, ToolFrameCarriesTheTcp) {

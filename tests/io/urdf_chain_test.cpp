@@ -9,6 +9,7 @@
 #include <numbers>
 #include <string>
 
+#include "support/files.hpp"
 #include "support/input_error.hpp"
 #include "support/property.hpp"
 #include "support/scratch.hpp"
@@ -141,15 +142,63 @@ TEST(UrdfChain, FindsTheChainFromTheRootToTheOneLeafByDefault) {
   const KinematicChain kr6 = load_urdf_chain(test::source_path("models/kr6_like.urdf"));
   EXPECT_EQ(kr6.joints.back().name, "joint_a6");
   EXPECT_TRUE(kr6.tcp.translation().isApprox(Vec3(0.02, 0, 0), kExact));
-  // a second branch (a camera fixed to l2) leaves two ends: an error listing both, unless
-  // tip_link names one
+  // a second branch (a camera fixed to l2) ends after 2 movable joints, the chain after 6: the
+  // camera is no candidate
   std::string text = arm_urdf();
   text.replace(text.rfind("</robot>"), 8, R"(<link name="camera"/>
   <joint name="camera_mount" type="fixed"><parent link="l2"/><child link="camera"/></joint>
 </robot>)");
   const std::string branched = write_file("branched", text);
-  expect_input_error(branched, "tip_link", "branches below 'base_link' into 2 ends ('tcp', 'camera')", "base_link", "");
-  EXPECT_EQ(load_urdf_chain(branched, "", "tcp").joints.size(), 6u);
+  EXPECT_TRUE(load_urdf_chain(branched, "base_link").tcp.translation().isApprox(Vec3(0, 0, 0.15), kExact));
+  test::expect_input_error([&] { (void)load_urdf_chain(branched, "", "camera"); },
+                           {.file = branched, .field = "tip_link", .message = "has 2 movable joints"}, branched);
+}
+
+TEST(UrdfChain, ATrueTieIsAnErrorNamingTheCandidates) {
+  // two fingers on revolute joints of l6: two ends through 7 movable joints each, moving apart
+  std::string text = arm_urdf();
+  text.replace(text.rfind("</robot>"), 8, R"(<link name="finger_a"/><link name="finger_b"/>
+  <joint name="fa" type="revolute"><parent link="l6"/><child link="finger_a"/><axis xyz="1 0 0"/>
+    <limit lower="0" upper="1" velocity="1" effort="1"/></joint>
+  <joint name="fb" type="revolute"><parent link="l6"/><child link="finger_b"/><axis xyz="1 0 0"/>
+    <limit lower="0" upper="1" velocity="1" effort="1"/></joint>
+</robot>)");
+  const std::string fingers = write_file("fingers", text);
+  expect_input_error(fingers, "tip_link",
+                     "branches below 'base_link' into 2 ends reached through 7 movable joints each ('finger_a', 'finger_b')",
+                     "base_link", "");
+  EXPECT_EQ(load_urdf_chain(fingers, "base_link", "tcp").joints.size(), 6u);
+  // two frames fixed to the last link side by side, neither named tool0: a tie as well
+  text = arm_urdf();
+  text.replace(text.rfind("</robot>"), 8, R"(<link name="camera"/>
+  <joint name="camera_mount" type="fixed"><parent link="l6"/><child link="camera"/></joint>
+</robot>)");
+  expect_input_error(write_file("frames", text), "tip_link", "into 2 ends reached through 6 movable joints each ('camera', 'tcp')",
+                     "base_link", "");
+}
+
+TEST(UrdfChain, AnyRosIndustrialStyleUrdfFindsTool0) {
+  // tests/data/ros_industrial_style.urdf: a `base` frame link beside the chain, `flange` and
+  // `tool0` fixed to link_6 side by side: tool0 is the end, flange and base are passed over.
+  // (Its effort="0" is refused here, where the efforts are the motors' limits, naming the
+  // estimate: tests/io/urdf_model_test.cpp runs it with one; here its efforts are made 10 N*m.)
+  const std::string original = test::source_path("tests/data/ros_industrial_style.urdf");
+  expect_input_error(original, "joint_1", "effort limit must be positive, got 0 N*m (a kinematics-only URDF: robot.estimate_inertia", "", "");
+  std::string text = test::read_file(original);
+  for (std::size_t at; (at = text.find("effort=\"0\"")) != std::string::npos;) text.replace(at, 10, "effort=\"10\"");
+  const std::string path = write_file("ros_industrial_style", text);
+  const KinematicChain chain = load_urdf_chain(path, "", "");
+  ASSERT_EQ(chain.joints.size(), 6u);
+  EXPECT_EQ(chain.joints.front().name, "joint_1");
+  EXPECT_EQ(chain.joints.back().name, "joint_6");
+  // tool0's frame: at joint_6's origin, turned 90 degrees about y (z along the flange's normal x)
+  EXPECT_LT(chain.tcp.translation().norm(), kExact);
+  EXPECT_TRUE(chain.tcp.linear().col(2).isApprox(Vec3(1, 0, 0), 1e-12));
+  // the same chain as when tool0 is named
+  const KinematicChain named = load_urdf_chain(path, "base_link", "tool0");
+  EXPECT_TRUE(named.tcp.isApprox(chain.tcp, kExact));
+  // naming the flange gives the flange
+  EXPECT_TRUE(load_urdf_chain(path, "", "flange").tcp.linear().isApprox(Mat3::Identity(), kExact));
 }
 
 TEST(UrdfChain, RejectsUnreadableAndInvalidFiles) {

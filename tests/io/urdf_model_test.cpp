@@ -8,9 +8,12 @@
 #include <gtest/gtest.h>
 #include <mujoco/mujoco.h>
 
+#include <cmath>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
+#include "blendbench/core/format.hpp"
 #include "blendbench/io/urdf_chain.hpp"
 #include "blendbench/sim/simulator.hpp"
 #include "support/input_error.hpp"
@@ -75,6 +78,13 @@ TEST(UrdfModel, ReproducesTheUrdfsKinematicsMassesAndTorqueLimits) {
     ASSERT_LT(error.tail<3>().norm(), kPoseTol) << test::seed_text(seed) << " case " << n;
   }
   mj_deleteData(d);
+  // each joint's rotor inertia is the link inertia it moves at the URDF's zero pose, as MuJoCo's
+  // own mass matrix gives it (an independent computation: composite rigid bodies)
+  for (int i = 0; i < 6; ++i) {
+    const double link = sim.link_inertia(JointVector::Zero())[i];
+    EXPECT_GT(sim.motor_inertia()[i], 0) << i;
+    EXPECT_NEAR(sim.motor_inertia()[i], link, 1e-9 * link) << i;
+  }
   // what was left out is said
   ASSERT_FALSE(built.notes.empty());
   EXPECT_NE(built.notes.front().find("capsules"), std::string::npos) << built.notes.front();
@@ -129,6 +139,103 @@ TEST(UrdfModel, TheEstimateIsStatedAndItsTorquesHoldTheArmAnywhere) {
   EXPECT_NE(notes.find("estimated masses and inertias (robot.estimate_inertia, 29 kg"), std::string::npos) << notes;
   EXPECT_NE(notes.find("estimated torque limits"), std::string::npos) << notes;
   EXPECT_NE(notes.find("7 visual meshes replaced by simple shapes (7 of them missing"), std::string::npos) << notes;
+}
+
+// The smallest of A + B - C over the permutations of a body's principal moments, over their sum:
+// MuJoCo refuses a body below 0 (within its tolerance). An estimated rod of length l (at least
+// kMinLinkLength, radius r = kRodRadius) keeps min(r^2 / 2, l^2 / 6) / (r^2 + l^2 / 6): 0.207 at
+// l = kMinLinkLength, falling as a long rod thins (0.013 at 0.6 m, 0.0048 at 1 m); a rod of
+// zero length, as estimated before, had 0 (and MuJoCo refused it by rounding).
+double triangle_margin(const mjModel& m, int body) {
+  const double* d = m.body_inertia + 3 * body;
+  double worst = std::numeric_limits<double>::infinity();
+  for (int c = 0; c < 3; ++c) worst = std::min(worst, (d[(c + 1) % 3] + d[(c + 2) % 3] - d[c]) / (d[0] + d[1] + d[2]));
+  return worst;
+}
+
+TEST(UrdfModel, ARosIndustrialStyleUrdfRunsWithOnlyAMassEstimate) {
+  // tests/data/ros_industrial_style.urdf: `base` beside the chain, flange and tool0 side by side
+  // on link_6, no <inertial>, effort 0, package:// meshes, zero-length links (link_4: joint_5 at
+  // joint_4; link_6: tool0 at joint_6) and coincident frames (joint_1 at base_link). Before: the
+  // tip was refused as ambiguous ('base', 'flange', 'tool0'), and naming tool0, MuJoCo refused
+  // joint_6_body's estimate (A + B >= C: a rod of zero length).
+  const std::string urdf = test::source_path("tests/data/ros_industrial_style.urdf");
+  const UrdfModel built = model_from_urdf(urdf, "", "", 25);
+  EXPECT_EQ(built.chain.joints.back().name, "joint_6");
+  const Simulator sim = Simulator::from_xml_string(built.mjcf);
+  const mjModel& m = sim.model();
+  EXPECT_NEAR(moving_mass(m), 25, 1e-9);
+  // every body a valid inertia with margin (its links are at most 0.37 m long: at least 0.02);
+  // the zero-length ones the margin of a rod of kMinLinkLength
+  for (int b = 1; b < m.nbody; ++b) EXPECT_GT(triangle_margin(m, b), 0.02) << mj_id2name(&m, mjOBJ_BODY, b);
+  // the zero-length links get the mass share of kMinLinkLength, centred at their joint
+  const int link4 = mj_name2id(&m, mjOBJ_BODY, "joint_4_body");
+  const int link6 = mj_name2id(&m, mjOBJ_BODY, "joint_6_body");
+  ASSERT_GE(link4, 0);
+  ASSERT_GE(link6, 0);
+  EXPECT_NEAR(m.body_mass[link4], m.body_mass[link6], 1e-12);
+  EXPECT_GT(triangle_margin(m, link4), 0.2);
+  EXPECT_GT(triangle_margin(m, link6), 0.2);
+  EXPECT_LT(Eigen::Map<const Vec3>(m.body_ipos + 3 * link6).norm(), 1e-12);
+  // the model holds still under its estimated torque limits, and gravity at the stretched pose
+  // takes no more than 1 / kEffortMargin of them
+  const JointVector gravity = sim.gravity_torque(JointVector::Zero());
+  for (int i = 0; i < 6; ++i) EXPECT_LE(std::abs(gravity[i]), sim.torque_limits()[i] / kEffortMargin + 1e-12) << i;
+  // the meshes are listed as replaced (7 visual meshes, none of them here)
+  std::string notes;
+  for (const std::string& note : built.notes) notes += note + "\n";
+  EXPECT_NE(notes.find("7 visual meshes replaced by simple shapes (7 of them missing here, e.g. 'package://style_support/"),
+            std::string::npos)
+      << notes;
+  EXPECT_NE(notes.find("estimated masses and inertias (robot.estimate_inertia, 25 kg"), std::string::npos) << notes;
+}
+
+TEST(UrdfModel, EveryEstimatedBodyIsValidWhateverItsLength) {
+  // random kinematics-only arms whose offsets are zero, tiny (1e-9 .. 1e-3 m) or ordinary, in
+  // random directions and with random frame rotations: MuJoCo compiles every estimate, each body
+  // keeps a clear triangle margin, and the masses add up
+  const std::uint64_t seed = 79;
+  auto rng = test::make_rng(seed);
+  const char* axes[] = {"1 0 0", "0 1 0", "0 0 1"};
+  for (int n = 0; n < test::property_cases(60); ++n) {
+    std::string text = "<robot name='random'><link name='base_link'/>";
+    for (int i = 1; i <= 6; ++i) text += "<link name='l" + std::to_string(i) + "'/>";
+    text += "<link name='tool0'/><link name='flange'/><link name='base'/>";
+    const auto offset = [&] {
+      const double kind = test::uniform(rng, 0, 3);
+      const double length = kind < 1 ? 0 : kind < 2 ? test::log_uniform(rng, 1e-9, 1e-3) : test::uniform(rng, 0.01, 0.6);
+      Vec3 dir(test::uniform(rng, -1, 1), test::uniform(rng, -1, 1), test::uniform(rng, -1, 1));
+      if (dir.norm() < 1e-3) dir = Vec3::UnitX();
+      const Vec3 v = length * dir.normalized();
+      return format_value(v.x(), 17) + " " + format_value(v.y(), 17) + " " + format_value(v.z(), 17);
+    };
+    const auto rpy = [&] {
+      return format_value(test::uniform(rng, -3, 3), 17) + " " + format_value(test::uniform(rng, -1.5, 1.5), 17) + " " +
+             format_value(test::uniform(rng, -3, 3), 17);
+    };
+    std::string parent = "base_link";
+    for (int i = 1; i <= 6; ++i) {
+      const std::string child = "l" + std::to_string(i);
+      text += "<joint name='j" + std::to_string(i) + "' type='revolute'><parent link='" + parent + "'/><child link='" + child +
+              "'/><origin xyz='" + offset() + "' rpy='" + rpy() + "'/><axis xyz='" +
+              axes[static_cast<int>(test::uniform(rng, 0, 2.999))] +
+              "'/><limit effort='0' lower='-2' upper='2' velocity='3'/></joint>";
+      parent = child;
+    }
+    text += "<joint name='t' type='fixed'><parent link='l6'/><child link='tool0'/><origin xyz='" + offset() + "'/></joint>";
+    text += "<joint name='f' type='fixed'><parent link='l6'/><child link='flange'/></joint>";
+    text += "<joint name='b' type='fixed'><parent link='base_link'/><child link='base'/></joint></robot>";
+    const std::string urdf = write_file("random", text);
+    const double mass = test::uniform(rng, 1, 500);
+    const UrdfModel built = model_from_urdf(urdf, "", "", mass);
+    const Simulator sim = Simulator::from_xml_string(built.mjcf);
+    const mjModel& m = sim.model();
+    ASSERT_NEAR(moving_mass(m), mass, 1e-9 * mass) << test::seed_text(seed) << " case " << n;
+    for (int b = 1; b < m.nbody; ++b) {
+      ASSERT_GT(triangle_margin(m, b), 0.004) << test::seed_text(seed) << " case " << n << " body " << b << "\n" << text;
+      ASSERT_TRUE(std::isfinite(m.body_inertia[3 * b]) && m.body_inertia[3 * b] > 0) << test::seed_text(seed) << " case " << n;
+    }
+  }
 }
 
 TEST(UrdfModel, NamesFromTheUrdfAreTextNeverMarkup) {

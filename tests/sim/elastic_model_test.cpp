@@ -27,8 +27,8 @@ constexpr double kPi = std::numbers::pi;
 
 // What the header of models/ur5e_like.xml states at keyframe "ready" (Hz): each joint alone
 // (its motor held, every other joint rigid) and the first mode of the whole arm (motors held).
-constexpr std::array<double, 6> kStatedPerJoint = {28.7, 23.4, 41.5, 90.0, 170.0, 681.0};
-constexpr double kStatedArmFirst = 21.2;
+constexpr std::array<double, 6> kStatedPerJoint = {27.2, 22.1, 37.9, 71.6, 149.0, 680.0};
+constexpr double kStatedArmFirst = 20.1;
 // The gear damping ratio of each joint's own mode, and the friction on the motor hinges.
 constexpr double kStatedDampingRatio = 0.05;
 constexpr std::array<double, 6> kStatedViscous = {2.0, 2.0, 2.0, 0.5, 0.5, 0.5};   // N m s/rad
@@ -80,13 +80,13 @@ class FreeVibration {
     char error[1000] = "";
     m_.reset(mj_loadXML(model.c_str(), nullptr, error, sizeof error));
     if (!m_) throw std::runtime_error(error);
-    m_->opt.gravity[2] = 0;
-    for (int dof = 0; dof < m_->nv; ++dof) {
-      if (std::find(free.begin(), free.end(), dof) == free.end()) m_->dof_armature[dof] = 1e9;
-    }
-    d_.reset(mj_makeData(m_.get()));
-    for (int i = 0; i < 6; ++i) d_->qpos[2 * i] = q[i];  // motor hinge 2i, gear hinge 2i + 1
-    for (std::size_t k = 0; k < free.size(); ++k) d_->qpos[free[k]] = deflection[k];
+    start(q, free, deflection);
+  }
+  // The same on a copy of a simulator's model (with its ModelChanges applied).
+  FreeVibration(const Simulator& sim, const JointVector& q, const std::vector<int>& free,
+                const std::vector<double>& deflection) {
+    m_.reset(mj_copyModel(nullptr, &sim.model()));
+    start(q, free, deflection);
   }
 
   // Samples of qpos[dof] over `duration` s.
@@ -102,6 +102,16 @@ class FreeVibration {
   [[nodiscard]] double dt() const { return m_->opt.timestep; }
 
  private:
+  void start(const JointVector& q, const std::vector<int>& free, const std::vector<double>& deflection) {
+    m_->opt.gravity[2] = 0;
+    for (int dof = 0; dof < m_->nv; ++dof) {
+      if (std::find(free.begin(), free.end(), dof) == free.end()) m_->dof_armature[dof] = 1e9;
+    }
+    d_.reset(mj_makeData(m_.get()));
+    for (int i = 0; i < 6; ++i) d_->qpos[2 * i] = q[i];  // motor hinge 2i, gear hinge 2i + 1
+    for (std::size_t k = 0; k < free.size(); ++k) d_->qpos[free[k]] = deflection[k];
+  }
+
   std::unique_ptr<mjModel, ModelDeleter> m_;
   std::unique_ptr<mjData, DataDeleter> d_;
 };
@@ -173,6 +183,93 @@ TEST(ElasticModel, ArmVibratesAtTheStatedFirstNaturalFrequency) {
   const std::vector<double> x = experiment.record(3, 0.5);  // the shoulder lift's gear: the mode's largest entry
   const double measured = crossing_frequency(x, experiment.dt());
   EXPECT_NEAR(measured, kStatedArmFirst, kFrequencyTolerance * kStatedArmFirst) << "measured " << measured << " Hz";
+}
+
+// The perturbations of a sensitivity study (ModelChanges, issue 46) change what they say and
+// nothing else: half the gear stiffness lowers every natural frequency by sqrt(0.5), measured by
+// free vibration as well as computed; 1.2 times the link inertia lowers them by 1 / sqrt(1.2) and
+// raises gravity's torques 1.2 times; both keep the gears' damping ratio; the friction scale
+// scales the motor hinges' friction; an extra tick of measurement delay is the same run as a
+// servo with one more tick.
+TEST(ElasticModel, PerturbationsChangeWhatTheySay) {
+  const Simulator nominal(elastic_model());
+  ModelChanges soft;
+  soft.stiffness_scale = 0.5;
+  ModelChanges heavy;
+  heavy.inertia_scale = 1.2;
+  ModelChanges slippery;
+  slippery.friction_scale = 0.5;
+  const Simulator soft_sim(elastic_model(), soft), heavy_sim(elastic_model(), heavy), slippery_sim(elastic_model(), slippery);
+  const NaturalFrequencies f0 = nominal.natural_frequencies(ready());
+  const NaturalFrequencies fs = soft_sim.natural_frequencies(ready());
+  const NaturalFrequencies fh = heavy_sim.natural_frequencies(ready());
+  for (int i = 0; i < 6; ++i) {
+    EXPECT_NEAR(fs.per_joint[i], std::sqrt(0.5) * f0.per_joint[i], 1e-9 * f0.per_joint[i]) << i;
+    EXPECT_NEAR(fs.arm[i], std::sqrt(0.5) * f0.arm[i], 1e-9 * f0.arm[i]) << i;
+    EXPECT_NEAR(fh.per_joint[i], f0.per_joint[i] / std::sqrt(1.2), 1e-9 * f0.per_joint[i]) << i;
+    EXPECT_NEAR(fh.arm[i], f0.arm[i] / std::sqrt(1.2), 1e-9 * f0.arm[i]) << i;
+  }
+  // measured: the whole arm released along its first mode, nominal and soft
+  const auto first_mode = [&](const Simulator& sim, const NaturalFrequencies& f) {
+    std::vector<int> gears;
+    std::vector<double> deflection;
+    for (int i = 0; i < 6; ++i) {
+      gears.push_back(2 * i + 1);
+      deflection.push_back(1e-4 * f.arm_shapes[0][i]);
+    }
+    FreeVibration experiment(sim, ready(), gears, deflection);
+    return crossing_frequency(experiment.record(3, 0.6), experiment.dt());
+  };
+  const double measured_nominal = first_mode(nominal, f0), measured_soft = first_mode(soft_sim, fs);
+  EXPECT_NEAR(measured_soft / measured_nominal, std::sqrt(0.5), 0.03 * std::sqrt(0.5))
+      << measured_soft << " Hz against " << measured_nominal << " Hz";
+  // gravity scales with the links' masses; the rotor inertia does not
+  const JointVector g0 = nominal.gravity_torque(ready()), gh = heavy_sim.gravity_torque(ready());
+  for (int i = 0; i < 6; ++i) EXPECT_NEAR(gh[i], 1.2 * g0[i], 1e-9 + 1e-9 * std::abs(g0[i])) << i;
+  EXPECT_EQ(heavy_sim.motor_inertia(), nominal.motor_inertia());
+  // the gears' damping ratio kept: damping d = 2 zeta sqrt(K I) scales by sqrt(K and I's scale);
+  // the motor hinges' friction scaled by friction_scale alone
+  const mjModel& m0 = nominal.model();
+  for (int i = 0; i < 6; ++i) {
+    const int motor = 2 * i, gear = 2 * i + 1;
+    EXPECT_NEAR(soft_sim.model().dof_damping[gear], std::sqrt(0.5) * m0.dof_damping[gear], 1e-12) << i;
+    EXPECT_NEAR(heavy_sim.model().dof_damping[gear], std::sqrt(1.2) * m0.dof_damping[gear], 1e-12) << i;
+    EXPECT_EQ(soft_sim.model().dof_damping[motor], m0.dof_damping[motor]) << i;
+    EXPECT_EQ(slippery_sim.model().dof_damping[motor], 0.5 * m0.dof_damping[motor]) << i;
+    EXPECT_EQ(slippery_sim.model().dof_frictionloss[motor], 0.5 * m0.dof_frictionloss[motor]) << i;
+    EXPECT_EQ(slippery_sim.model().dof_damping[gear], m0.dof_damping[gear]) << i;
+  }
+  // one more tick of measurement delay: the same run as the nominal arm under a servo whose
+  // encoder is one tick older, and not the nominal run
+  ModelChanges late;
+  late.extra_delay_ticks = 1;
+  const Simulator late_sim(elastic_model(), late);
+  JointTrajectory reference;
+  reference.dt = 0.002;
+  for (int k = 0; k <= 50; ++k) {
+    JointVector q = ready();
+    q[1] += 0.01 * (1 - std::cos(2 * kPi * 5 * k * reference.dt));
+    reference.q.push_back(q);
+  }
+  RunOptions options;
+  options.settle_time = 0.1;
+  const ServoConfig servo = tune_servo(nominal, ready());
+  ServoConfig older = servo;
+  older.measurement_delay_ticks += 1;
+  const Trace a = late_sim.run(reference, servo, options), b = nominal.run(reference, older, options),
+              c = nominal.run(reference, servo, options);
+  ASSERT_EQ(a.samples.size(), b.samples.size());
+  double same = 0, differ = 0;
+  for (std::size_t k = 0; k < a.samples.size(); ++k) {
+    same = std::max(same, (a.samples[k].tcp - b.samples[k].tcp).norm());
+    differ = std::max(differ, (a.samples[k].tcp - c.samples[k].tcp).norm());
+  }
+  EXPECT_EQ(same, 0.0);
+  EXPECT_GT(differ, 1e-7);
+  // out of range: named
+  for (const ModelChanges& bad : {ModelChanges{.inertia_scale = 0}, ModelChanges{.friction_scale = -1}, ModelChanges{.extra_delay_ticks = -1}}) {
+    test::expect_input_error([&] { (void)Simulator(elastic_model(), bad); }, {.field = "mjcf"});
+  }
 }
 
 // The second arm, models/kr6_like.xml (offset shoulder, spherical wrist, gears sized per joint):
@@ -280,11 +377,11 @@ TEST(ElasticModel, FrictionHasTheStatedViscousAndCoulombTerms) {
 TEST(ElasticModel, TimestepResolvesTheStiffestMode) {
   const Simulator sim(elastic_model());
   EXPECT_DOUBLE_EQ(sim.timestep(), 1.0 / 8000);
-  const InputError e = test::expect_input_error([] { (void)Simulator(elastic_model(), ModelChanges{1.0, 1.2 / 8000}); },
+  const InputError e = test::expect_input_error([] { (void)Simulator(elastic_model(), ModelChanges{.stiffness_scale = 1.0, .timestep = 1.2 / 8000}); },
                                                 {.field = "mjcf", .message = "too long for the model's stiffest mode"});
   EXPECT_NE(e.detail().find("use at most 0.00013"), std::string::npos) << e.what();
   // the rigid arm has no such mode
-  EXPECT_NO_THROW((void)Simulator(rigid_model(), ModelChanges{1.0, 1e-3}));
+  EXPECT_NO_THROW((void)Simulator(rigid_model(), ModelChanges{.stiffness_scale = 1.0, .timestep = 1e-3}));
 }
 
 // As the gears stiffen the elastic arm's motion approaches the rigid arm's under the same servo
@@ -317,7 +414,7 @@ TEST(ElasticModel, StiffGearsAgreeWithTheRigidModel) {
     text << in.rdbuf();
     std::string xml = text.str();
     for (const std::string f : {"frictionloss=\"3.0\"", "frictionloss=\"0.6\""}) xml.replace(xml.find(f), f.size(), "");
-    return Simulator::from_xml_string(xml, ModelChanges{scale, dt});
+    return Simulator::from_xml_string(xml, ModelChanges{.stiffness_scale = scale, .timestep = dt});
   };
   ServoTuning tuning;
   tuning.rate_hz = 8000;
@@ -364,13 +461,19 @@ TEST(ElasticModel, TunedServoStepResponsePerJoint) {
     const Trace trace = sim.run(reference, servo, options);
     ASSERT_FALSE(trace.diverged) << trace.warning;
     EXPECT_EQ(trace.saturated_ticks[static_cast<std::size_t>(j)], 0) << "a linear step";
+    // the 10 % and 90 % crossings interpolated linearly between the trace's samples (one sample,
+    // 2 ms, is about one unit of 1 / omega_v: the first sample past each level was too coarse)
     double t10 = -1, t90 = -1, peak = 0;
     const double base = trace.samples.front().q_measured[j];
+    double t_before = 0, y_before = 0;
     for (const TraceSample& s : trace.samples) {
       const double y = (s.q_measured[j] - base) / kStep;
-      if (t10 < 0 && y >= 0.1) t10 = s.t;
-      if (t90 < 0 && y >= 0.9) t90 = s.t;
+      const auto crossing = [&](double level) { return t_before + (s.t - t_before) * (level - y_before) / (y - y_before); };
+      if (t10 < 0 && y >= 0.1) t10 = crossing(0.1);
+      if (t90 < 0 && y >= 0.9) t90 = crossing(0.9);
       peak = std::max(peak, y);
+      t_before = s.t;
+      y_before = y;
     }
     const double rise = (t90 - t10) * tuned.velocity_bandwidth[j];
     EXPECT_GE(rise, kRiseMin) << "joint " << j + 1 << ": rise time " << t90 - t10 << " s";

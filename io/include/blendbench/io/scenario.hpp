@@ -24,7 +24,9 @@ struct RobotSettings {
   std::string urdf;  // absolute path of the kinematic model
   std::string mjcf;  // absolute path of the MuJoCo model (the model's file unless `mjcf` is given)
   std::string base_link;  // empty: the URDF's root link
-  std::string tip_link;   // empty: the URDF's one leaf below the base
+  std::string tip_link;   // empty: the leaf reached through the most movable joints
+  // an MJCF of the user's own (urdf empty): the chain ends at this site or body of it
+  std::string tip_site, tip_body;
   Eigen::Matrix3d tool_rotation = Eigen::Matrix3d::Identity();  // fixed TCP orientation, base frame
   JointVector q_seed = JointVector::Zero();  // rad, IK seed at the start
   Eigen::Isometry3d tool = Eigen::Isometry3d::Identity();  // the TCP in the flange frame (m, rad)

@@ -20,16 +20,45 @@
 #include <vector>
 
 #include "blendbench/robot/joint_trajectory.hpp"
+#include "blendbench/robot/kinematics.hpp"
 #include "blendbench/sim/servo.hpp"
 #include "blendbench/sim/trace.hpp"
 
 namespace blendbench {
 
-// Changes to a model after it is compiled (tests and studies): the gears' stiffness scaled (the
-// gear damping scaled by its square root, keeping the damping ratio), and another timestep.
+// Changes to a model after it is compiled, before anything is derived from it (tests, and the
+// perturbed models of a sensitivity study, issue 46): the arm the simulator then holds is the
+// changed one, and everything the drive takes from the model (the tuning of tune_servo, the
+// inverse-dynamics and friction feed-forward, gravity compensation) follows it, as a drive
+// identified on that arm would; only the extra measurement delay is hidden from the drive.
+//   stiffness_scale  the gears' stiffness (elastic models), the gear damping by its square root
+//                    (the damping ratio kept);
+//   inertia_scale    every moving link's mass and inertia tensor (the same mass distribution,
+//                    heavier or lighter; gravity's torques scale with it), the gear damping by
+//                    its square root (the damping ratio kept); not the rotor inertia (armature);
+//   friction_scale   the motor hinges' viscous (damping) and Coulomb (frictionloss) friction;
+//   extra_delay_ticks  servo ticks added to the measurement delay of every servo this simulator
+//                    runs (run() adds them to ServoConfig::measurement_delay_ticks): the encoder's
+//                    path slower than the drive was tuned for;
+//   timestep         another physics timestep (0 keeps the model's).
+// And, for an MJCF of the user's own (an arm in the style of MuJoCo Menagerie: its own actuators,
+// no site "tcp"), what adapts it:
+//   tcp_site / tcp_body  the tool centre point is this site, or this body's frame, instead of
+//                    site "tcp" (at most one of them);
+//   own_actuators_to_motors  each actuator that is not a direct-torque motor (a position servo
+//                    with gain and bias, as Menagerie's arms have) becomes one on the same joint
+//                    and gear, its force range kept as the torque limit (replaced_actuators()
+//                    names them); one without a force range, or with activation dynamics, is
+//                    refused naming it.
 struct ModelChanges {
   double stiffness_scale = 1;  // > 0
   double timestep = 0;         // s; 0 keeps the model's
+  double inertia_scale = 1;    // > 0
+  double friction_scale = 1;   // >= 0
+  int extra_delay_ticks = 0;   // >= 0
+  std::string tcp_site{};
+  std::string tcp_body{};
+  bool own_actuators_to_motors = false;
 };
 
 // Natural frequencies of the arm at one configuration (Hz), from the mass matrix and the gear
@@ -79,6 +108,18 @@ class Simulator {
   // when forcelimited); +inf when neither is limited.
   [[nodiscard]] const JointLimits& limits() const { return limits_; }
   [[nodiscard]] JointVector torque_limits() const { return limits_.torque; }
+  // The changes the model was loaded with.
+  [[nodiscard]] const ModelChanges& changes() const { return changes_; }
+  // The actuators own_actuators_to_motors turned into direct-torque motors (empty otherwise).
+  [[nodiscard]] const std::vector<std::string>& replaced_actuators() const { return replaced_actuators_; }
+  // The arm's kinematic chain as the model has it (for an MJCF without a URDF): the path of
+  // bodies from the world to the TCP's body, each motor hinge a JointSpec (origin: the hinge's
+  // frame at its anchor in the previous one's, axis in it, range, the model's velocity limit and
+  // the motor's torque limit), bodies without joints folded in, the gear hinges (elastic
+  // models: on the motor's axis) at zero deflection; tcp from the last hinge to the TCP. Throws
+  // InputError (field "joint") when another joint lies on that path or the six hinges are not
+  // all on it.
+  [[nodiscard]] KinematicChain kinematic_chain() const;
   // Gear stiffness per joint (N*m/rad; +inf on a rigid arm).
   [[nodiscard]] JointVector stiffness() const { return stiffness_; }
   // Reflected rotor inertia per joint (the motor hinge's armature, kg*m^2).
@@ -119,7 +160,11 @@ class Simulator {
   JointVector motor_inertia_;
   JointVector viscous_;  // motor-side viscous friction (N*m*s/rad)
   JointVector coulomb_;  // motor-side Coulomb friction (N*m)
-  int tcp_site_ = -1;
+  int tcp_site_ = -1;  // the TCP: this site, or (when -1) body tcp_body_
+  int tcp_body_ = -1;
+  ModelChanges changes_;
+  std::vector<std::string> replaced_actuators_;
+  std::string source_;
 };
 
 // The servo of `tuning` with gains derived from the model at link angles q (ServoTuning states
