@@ -64,11 +64,27 @@ int interrupted_run(bb::RunFolder& folder, const bb::RunResult& result) {
   return kExitSignalBase + result.interrupted_by;
 }
 
-// --limits and --max-samples, shared by `run` and `plan`.
+// --limits, --timing and --max-samples, shared by `run`, `plan` and (--timing) `sweep`.
 struct TimingFlags {
   std::string limits;  // empty: the scenario's (cartesian by default)
+  std::string timing;  // empty: the scenario's, or the variant's (optimal by default)
   std::optional<double> max_samples;
 };
+
+// --timing: the velocity planner, or none to keep the scenario's.
+std::optional<bb::TimingOptions::Algorithm> timing_flag(const TimingFlags& flags) {
+  if (flags.timing.empty()) return std::nullopt;
+  const auto algorithm = bb::algorithm_from_string(flags.timing);
+  if (!algorithm) throw bb::InputError("", 0, 0, "--timing", "must be 'optimal' or 'seed004', got '" + flags.timing + "'");
+  return algorithm;
+}
+
+// Adds --timing to a command (a help text shared by every command that times a path).
+void add_timing_flag(CLI::App* cmd, TimingFlags& flags) {
+  cmd->add_option("--timing", flags.timing,
+                  "Velocity planner: optimal (the minimum-time traversal under every limit, the default) or seed004 "
+                  "(seed 004's S-curves, for comparison and the paper reproductions); replaces the scenario's `timing`");
+}
 
 std::optional<bb::LimitsMode> limits_flag(const TimingFlags& flags) {
   if (flags.limits.empty()) return std::nullopt;
@@ -100,6 +116,7 @@ int cmd_run(std::string scenario_path, std::string out_dir, bool no_video, bool 
   request.plots = !no_plots;
   request.variants = variants;
   request.limits = limits_flag(timing_flags);
+  request.timing = timing_flag(timing_flags);
   request.max_samples = max_samples_flag(timing_flags);
   request.progress = [](const std::string& line) { std::cout << line << std::endl; };
   std::cout << "blendbench: scenario '" << scenario.name << "' (" << scenario_path << ") -> " << out_dir << std::endl;
@@ -255,6 +272,7 @@ int cmd_path(const std::string& input, const ProgramFlags& flags, const std::str
 int cmd_plan(const std::string& input, const ProgramFlags& flags, const TimingFlags& timing_flags, const std::string& csv,
              const std::string& summary) {
   const std::optional<bb::LimitsMode> limits = limits_flag(timing_flags);
+  const std::optional<bb::TimingOptions::Algorithm> algorithm = timing_flag(timing_flags);
   const std::optional<double> max_samples = max_samples_flag(timing_flags);
   bb::check_output_files({{"--csv", csv}, {"--summary", summary}});
   const LoadedProgram loaded = load_program(input, flags);
@@ -266,6 +284,7 @@ int cmd_plan(const std::string& input, const ProgramFlags& flags, const TimingFl
     if (*limits == bb::LimitsMode::kPath) options.axis_limits.reset();
   }
   if (max_samples) options.max_samples = *max_samples;
+  if (algorithm) options.algorithm = *algorithm;
   const bb::Timing timing = bb::plan_timing(path, options);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!timing.outcome.ok()) {
@@ -274,7 +293,6 @@ int cmd_plan(const std::string& input, const ProgramFlags& flags, const TimingFl
   }
   nlohmann::json j = bb::plan_summary_json(path, timing, loaded.program);
   j["ignored"] = loaded.ignored;
-  j["planning_wall_time_s"] = wall;
   bb::throw_if_stop_requested();
   bb::write_file_atomic(csv, bb::timed_csv(path, timing));
   bb::write_file_atomic(summary, j.dump(2) + "\n");
@@ -401,6 +419,7 @@ int main(int argc, char** argv) {
     cmd->add_option("--max-samples", timing_flags.max_samples,
                     "Refuse a plan of more servo samples than this (plan: default 1e7; run: a variant's plan and "
                     "settle time together, default 5e5)");
+    add_timing_flag(cmd, timing_flags);
   };
   add_timing_flags(run);
 
@@ -436,7 +455,7 @@ int main(int argc, char** argv) {
   add_program_flags(plan);
   plan->add_option("--csv", csv, "Output CSV: t,s,x,y,z,v,a,j,kappa (s, mm, mm/s, mm/s^2, mm/s^3, 1/mm)")->required();
   plan->add_option("--summary", summary,
-                   "Output JSON: cycle_time_s, path_length_mm, limits, bound_cycle_time_s, planned_to_bound_ratio, corners, pieces")
+                   "Output JSON: cycle_time_s, path_length_mm, limits, timing, bound_cycle_time_s, planned_to_bound_ratio, iterations, corners, pieces")
       ->required();
   add_timing_flags(plan);
 
@@ -481,6 +500,7 @@ int main(int argc, char** argv) {
   sweep->add_option("--shard", sweep_args.shard, "Run shard I of K (I/K, from 0), as a Slurm task does");
   sweep->add_option("--collect", sweep_args.collect, "Merge a sweep folder's results into sweep.csv, best.csv, pareto.png");
   sweep->add_option("--run-point", sweep_args.run_point, "")->group("");  // the child that runs one point
+  add_timing_flag(sweep, timing_flags);
 
   try {
     app.parse(argc, argv);
@@ -498,6 +518,7 @@ int main(int argc, char** argv) {
     if (*reproduce) return bb::reproduce(paper, papers_out, !no_paper_plots, std::cout);
     if (*sweep) {
       sweep_args.plots = !sweep_no_plots;
+      if (const auto algorithm = timing_flag(timing_flags)) sweep_args.timing = std::string(bb::algorithm_name(*algorithm));
       return bb::sweep_command(sweep_args, std::cout);
     }
   } catch (const bb::Interrupted& stop) {

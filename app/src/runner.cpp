@@ -306,6 +306,7 @@ class VariantRun {
       topt.limits = *request_.limits;
       if (topt.limits == LimitsMode::kPath) topt.axis_limits.reset();
     }
+    if (request_.timing) topt.algorithm = *request_.timing;
     // the work is bounded before it is done (runner.hpp): the plan gets what the settle time leaves
     topt.max_samples = plan_budget(sc_, robot_.servo.setpoint_rate_hz, request_.max_samples.value_or(kMaxRunSamples));
     const Timing timing = plan_timing(path, topt);
@@ -324,6 +325,7 @@ class VariantRun {
     plan.moves_merged = path.moves_merged;
     plan.merge_tolerance = path.merge_tolerance;
     plan.corner_steps = timing.corner_steps;
+    plan.planner = planner_figures(timing);
     if (!timing.outcome.ok()) return failed(std::move(out), VariantStatus::kPlanningFailed, "planning failed: " + timing.outcome.message);
     if (request_.video || request_.compare) check_video_frames(sc_, timing.cycle_time + sc_.simulation.settle_time);
     say("planned " + format_fixed(path.length() / kMm, 1) + " mm in " + format_fixed(timing.cycle_time, 3) + " s (" +

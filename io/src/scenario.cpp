@@ -440,8 +440,9 @@ void read_video(const Reader& r, const Field& root, Scenario& sc) {
   }
 }
 
-// `limits` and `axis_limits`.
+// `limits`, `axis_limits` and `timing`.
 void read_limits(const Reader& r, const Field& root, Scenario& sc) {
+  sc.timing = *algorithm_from_string(r.choice(r.value(root, "timing")));
   sc.limits = *limits_mode_from_string(r.choice(r.value(root, "limits")));
   const Field axes = r.child(root, "axis_limits");
   if (!axes.node.defined()) return;
@@ -476,6 +477,7 @@ void read_variants(const Reader& r, const Field& root, Scenario& sc) {
     if (const Field t = r.child(f, "transition"); t.node.defined()) v.transition = read_transition(r, t);
     if (const Field b = r.child(f, "buffer"); b.node.defined()) v.buffer = read_buffer(r, b);
     v.baseline = *baseline_from_string(r.choice(r.value(f, "baseline")));
+    if (const Field t = r.child(f, "timing"); t.node.defined()) v.timing = *algorithm_from_string(r.choice(t));
     sc.variants.push_back(std::move(v));
   }
 }
@@ -560,6 +562,7 @@ TimingOptions timing_options(const Scenario& scenario, const Variant& variant) {
   options.limits = scenario.limits;
   options.axis_limits = scenario.axis_limits;
   options.baseline = variant.baseline;
+  options.algorithm = variant.timing.value_or(scenario.timing);
   return options;
 }
 

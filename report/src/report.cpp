@@ -175,6 +175,17 @@ void add_plan_figures(nlohmann::json& out, LimitsMode limits, int moves_merged, 
   out["planned_to_bound_ratio"] = finite_or_null(bound_cycle_time > 0 ? cycle_time / bound_cycle_time : 1.0);
 }
 
+PlannerFigures planner_figures(const Timing& timing) {
+  return {timing.algorithm, timing.iterations, timing.seed004_stretches, timing.planning_wall_time};
+}
+
+void add_planner_figures(nlohmann::json& out, const PlannerFigures& figures) {
+  out["timing"] = std::string(algorithm_name(figures.algorithm));
+  out["iterations"] = figures.iterations;
+  out["seed004_stretches"] = figures.seed004_stretches;
+  out["planning_wall_time_s"] = figures.wall_time;
+}
+
 nlohmann::json plan_summary_json(const Path& path, const Timing& timing, const Program& program) {
   nlohmann::json corners = corners_json(path, program);
   for (std::size_t k = 0; k < corners.size() && k < path.corners.size(); ++k) {
@@ -187,6 +198,7 @@ nlohmann::json plan_summary_json(const Path& path, const Timing& timing, const P
                         {"corners", corners},
                         {"pieces", pieces_json(path, timing)}};
   add_plan_figures(out, timing.limits, path.moves_merged, path.merge_tolerance, timing.cycle_time, timing.bound_cycle_time);
+  add_planner_figures(out, planner_figures(timing));
   return out;
 }
 

@@ -47,6 +47,7 @@ struct PlanFigures {
   double merge_tolerance = 0;                        // m
   std::vector<Timing::CornerStep> corner_steps;      // one per corner (Timing::corner_steps)
   bool oriented = false;                             // the program sets tool orientations
+  PlannerFigures planner;                            // the velocity planner and what it took
 };
 
 // Wall-clock figures of one variant (s) and the real-time factors of the simulation.

@@ -36,6 +36,7 @@ struct RunRequest {
   bool variant_files = true;          // per variant trace.csv, path.csv, program.csv, corners.json (a sweep keeps only summary.json)
   std::vector<std::string> variants;  // names to run; empty = all
   std::optional<LimitsMode> limits;   // replaces the scenario's limits mode (`--limits`)
+  std::optional<TimingOptions::Algorithm> timing;  // replaces the scenario's and variants' velocity planner (`--timing`)
   std::optional<double> max_samples;  // replaces kMaxRunSamples, plan and settle time (`--max-samples`)
   // receives one line of progress at a time (variant started, stage timings, warnings)
   std::function<void(const std::string&)> progress;

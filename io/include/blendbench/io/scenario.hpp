@@ -100,6 +100,8 @@ struct Variant {
   std::optional<Transition> transition;
   std::optional<BufferMode> buffer;
   TimingOptions::Baseline baseline = TimingOptions::Baseline::kNone;
+  // the velocity planner of this variant; none: the scenario's
+  std::optional<TimingOptions::Algorithm> timing;
   SourceRef where;
 };
 
@@ -119,6 +121,8 @@ struct Scenario {
   // (m/s^2, m/s^3 after conversion; cartesian only)
   LimitsMode limits = LimitsMode::kCartesian;
   std::optional<AxisLimits> axis_limits;
+  // `timing`: the velocity planner of every variant that sets none (timing.hpp; default optimal)
+  TimingOptions::Algorithm timing = TimingOptions::Algorithm::kSeed004;
   RobotSettings robot;
   ServoSettings servo;
   SimulationSettings simulation;
@@ -142,7 +146,8 @@ Scenario parse_scenario(const std::string& text, const std::string& file, const 
 Program program_for(const Scenario& scenario, const Variant& variant);
 
 // The velocity planner's options for a variant: the setpoint period (1 / servo.setpoint_rate_hz),
-// the scenario's limits mode and axis limits, the variant's baseline.
+// the scenario's limits mode and axis limits, the variant's baseline, the variant's planner (or
+// the scenario's).
 TimingOptions timing_options(const Scenario& scenario, const Variant& variant);
 
 // The variant named `name`; throws InputError (field "--variant") listing the names when absent.
