@@ -331,8 +331,8 @@ Timing plan_optimal(const Path& path, const TimingOptions& options) {
   // the node spacing in seed 004's time, stretched where seed 004 is much slower than the bound
   // (the optimum lies between them, and seed 004's slow stretches would get needlessly many nodes)
   const double slowness = std::clamp(start.cycle_time / std::max(timing.bound_cycle_time, 1e-300), 1.0, kMaxSpacingStretch);
-  const double tau = start.cycle_time / kMaxTimeNodes;
-  Grid grid = build_grid(path, options, prepared, start.spans, tau, slowness);
+  const double tau = start.cycle_time / kMaxTimeNodes / options.grid_refinement;
+  Grid grid = build_grid(path, options, prepared, start.spans, tau, slowness / options.grid_refinement);
   std::vector<double> b(grid.nodes.size(), 0.0);
   std::vector<double> a(grid.nodes.size(), 0.0);
   std::vector<double> lin(grid.nodes.size(), 0.0);  // the points the cells' shapes come from
@@ -495,7 +495,10 @@ Timing plan_optimal(const Path& path, const TimingOptions& options) {
     switched = switched || stretches[r].optimal;
     stretches[r] = seed_plan[r];
   }
-  if (switched) settle(stretches);
+  // (the samples and their check are the last plan settled: settle the chosen one again, which
+  // resamples it even where nothing was switched)
+  (void)switched;
+  settle(stretches);
   for (const Stretch& st : stretches) fallbacks += st.optimal ? 0 : 1;
 
   // 5. the reports

@@ -70,6 +70,9 @@ void validate(const Path& path, const TimingOptions& options) {
   if (!(options.max_samples >= 1) || !std::isfinite(options.max_samples)) {
     throw InputError("", 0, 0, "max_samples", "must be at least 1, got " + format_value(options.max_samples));
   }
+  if (!(options.grid_refinement >= 1) || !std::isfinite(options.grid_refinement)) {
+    throw InputError("", 0, 0, "grid_refinement", "must be at least 1, got " + format_value(options.grid_refinement));
+  }
   if (options.axis_limits) {
     if (options.limits != LimitsMode::kCartesian) {
       throw InputError("", 0, 0, "axis_limits", "per-axis limits need the cartesian limits mode (path mode bounds no vector)");

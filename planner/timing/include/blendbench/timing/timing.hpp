@@ -42,6 +42,9 @@ struct TimingOptions {
   // The largest number of samples (>= 1) a plan may have: plan_timing refuses a longer plan
   // before it samples it. 1e7 samples are 2.8 hours of motion at 1 ms and 400 MB of samples.
   double max_samples = 1e7;
+  // kOptimal: how many times denser than its own the grid in s is (>= 1; node spacing divided by
+  // it). The tests solve the same problem on a 4x finer grid as an independent reference.
+  double grid_refinement = 1;
 };
 
 // One servo tick: time (s), arc length (m), path velocity (m/s), tangential acceleration
