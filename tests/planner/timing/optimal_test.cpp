@@ -335,3 +335,28 @@ TEST(OptimalTiming, DISABLED_AFourTimesFinerGridAgreesOnTheKnownOpenPaths) {
 
 }  // namespace
 }  // namespace blendbench
+
+namespace blendbench {
+namespace {
+
+// A tool, not a check (run with --gtest_also_run_disabled_tests): the ratio of the optimal plan to
+// the same problem on a 4x finer grid for every shipped scenario's variant (docs/timing.md).
+TEST(OptimalTiming, DISABLED_PrintTheFinerGridRatioOfEveryShippedScenario) {
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(test::source_path("scenarios"))) {
+    if (entry.path().extension() != ".yaml") continue;
+    if (entry.path().parent_path().filename() == "sweeps") continue;
+    const Scenario sc = load_scenario(entry.path().string());
+    for (const Variant& v : sc.variants) {
+      const Path path = blend(program_for(sc, v));
+      TimingOptions options = timing_options(sc, v);
+      const Timing coarse = plan_with(path, options, Algorithm::kOptimal);
+      options.grid_refinement = 4;
+      const Timing fine = plan_with(path, options, Algorithm::kOptimal);
+      std::printf("| %s | %s | %.4f | %.4f | %.4f |\n", entry.path().filename().string().c_str(), v.name.c_str(),
+                  coarse.cycle_time, fine.cycle_time, coarse.cycle_time / fine.cycle_time);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace blendbench
