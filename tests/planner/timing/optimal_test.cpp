@@ -15,6 +15,7 @@
 #include "blendbench/corner/blend.hpp"
 #include "blendbench/io/scenario.hpp"
 #include "blendbench/timing/timing.hpp"
+#include "support/input_error.hpp"
 #include "support/profile_check.hpp"
 #include "support/property.hpp"
 #include "support/source_tree.hpp"
@@ -356,6 +357,32 @@ TEST(OptimalTiming, DISABLED_PrintTheFinerGridRatioOfEveryShippedScenario) {
                   coarse.cycle_time, fine.cycle_time, coarse.cycle_time / fine.cycle_time);
     }
   }
+}
+
+}  // namespace
+}  // namespace blendbench
+
+namespace blendbench {
+namespace {
+
+TEST(OptimalTiming, TheScenarioKeyChoosesThePlannerAndAVariantOverridesIt) {
+  const std::string head = "name: t\ndefaults: {velocity: 1, acceleration: 1, jerk: 1}\nprogram: {moves: [{line: [1, 0, 0]}]}\n";
+  const std::string variants = "variants: [{name: a}, {name: b, timing: seed004}, {name: c, timing: optimal}]\n";
+  const Scenario by_default = parse_scenario(head + variants, "t.yaml", ".");
+  const Scenario optimal = parse_scenario("timing: optimal\n" + head + variants, "t.yaml", ".");
+  const Scenario seed004 = parse_scenario("timing: seed004\n" + head + variants, "t.yaml", ".");
+  // the default (seed004 until the switch, docs/timing.md), and each variant's own over it
+  EXPECT_EQ(timing_options(by_default, by_default.variants[0]).algorithm, TimingOptions{}.algorithm);
+  EXPECT_EQ(timing_options(optimal, optimal.variants[0]).algorithm, Algorithm::kOptimal);
+  EXPECT_EQ(timing_options(optimal, optimal.variants[1]).algorithm, Algorithm::kSeed004);
+  EXPECT_EQ(timing_options(seed004, seed004.variants[0]).algorithm, Algorithm::kSeed004);
+  EXPECT_EQ(timing_options(seed004, seed004.variants[2]).algorithm, Algorithm::kOptimal);
+  // an unknown planner names the file, line and key
+  (void)test::expect_input_error([&] { (void)parse_scenario("timing: fastest\n" + head + variants, "t.yaml", "."); },
+                                 {.file = "t.yaml", .line = 1, .field = "timing", .message = "one of: optimal, seed004"});
+  // and the names round-trip
+  for (const Algorithm a : {Algorithm::kOptimal, Algorithm::kSeed004}) EXPECT_EQ(algorithm_from_string(algorithm_name(a)), a);
+  EXPECT_FALSE(algorithm_from_string("fastest"));
 }
 
 }  // namespace
