@@ -67,7 +67,7 @@ int interrupted_run(bb::RunFolder& folder, const bb::RunResult& result) {
 // --limits, --timing and --max-samples, shared by `run`, `plan` and (--timing) `sweep`.
 struct TimingFlags {
   std::string limits;  // empty: the scenario's (cartesian by default)
-  std::string timing;  // empty: the scenario's, or the variant's (optimal by default)
+  std::string timing;  // empty: the scenario's, or the variant's (seed004 by default)
   std::optional<double> max_samples;
 };
 
@@ -82,8 +82,8 @@ std::optional<bb::TimingOptions::Algorithm> timing_flag(const TimingFlags& flags
 // Adds --timing to a command (a help text shared by every command that times a path).
 void add_timing_flag(CLI::App* cmd, TimingFlags& flags) {
   cmd->add_option("--timing", flags.timing,
-                  "Velocity planner: optimal (the minimum-time traversal under every limit, the default) or seed004 "
-                  "(seed 004's S-curves, for comparison and the paper reproductions); replaces the scenario's `timing`");
+                  "Velocity planner: optimal (the minimum-time traversal under every limit; docs/timing.md) or seed004 "
+                  "(seed 004's S-curves, the default for now, and the paper reproductions); replaces the scenario's `timing`");
 }
 
 std::optional<bb::LimitsMode> limits_flag(const TimingFlags& flags) {
