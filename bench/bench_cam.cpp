@@ -68,6 +68,8 @@ void BM_CamPlan(benchmark::State& state) {
   const Program program = cam_program(static_cast<int>(state.range(0)));
   std::size_t samples = 0;
   double ratio = 0;
+  int newton_steps = 0;
+  int iterations = 0;
   for (auto _ : state) {
     const Path path = blend(program);
     TimingOptions options;
@@ -75,11 +77,15 @@ void BM_CamPlan(benchmark::State& state) {
     const Timing timing = plan_timing(path, options);
     samples = timing.samples.size();
     ratio = timing.cycle_time / timing.bound_cycle_time;
+    newton_steps = timing.newton_steps;
+    iterations = timing.iterations;
     benchmark::DoNotOptimize(timing.cycle_time);
   }
   per_segment(state);
   state.counters["samples"] = static_cast<double>(samples);
   state.counters["planned_to_bound"] = ratio;
+  state.counters["iterations"] = iterations;      // optimal: the convex subproblems solved
+  state.counters["newton_steps"] = newton_steps;  // optimal: the barrier method's Newton steps
 }
 
 BENCHMARK(BM_CamPath)->Arg(10000)->Arg(100000)->Unit(benchmark::kMillisecond);
