@@ -1,5 +1,6 @@
 // Planning time of plan_timing per path piece on long programs (10^4 and 10^5
-// segments: the cost must be linear in size). Run by hand: build/bench/bench_timing.
+// segments: the cost must be linear in size), under both velocity planners. Run by hand:
+// build/bench/bench_timing.
 
 #include <benchmark/benchmark.h>
 
@@ -65,7 +66,9 @@ void plan_meander(benchmark::State& state, double feed) {
   const Path path = meander(static_cast<int>(state.range(0)), feed);
   std::size_t samples = 0;
   for (auto _ : state) {
-    const Timing timing = plan_timing(path);
+    TimingOptions options;
+    options.algorithm = state.range(1) == 0 ? TimingOptions::Algorithm::kOptimal : TimingOptions::Algorithm::kSeed004;
+    const Timing timing = plan_timing(path, options);
     samples = timing.samples.size();
     benchmark::DoNotOptimize(timing.cycle_time);
   }
@@ -76,8 +79,9 @@ void plan_meander(benchmark::State& state, double feed) {
 }
 void BM_PlanTiming(benchmark::State& state) { plan_meander(state, 0.2); }
 void BM_PlanTimingCurveBound(benchmark::State& state) { plan_meander(state, 1.0); }
-BENCHMARK(BM_PlanTiming)->Arg(10000)->Arg(100000)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_PlanTimingCurveBound)->Arg(10000)->Arg(100000)->Unit(benchmark::kMillisecond);
+// the second argument: 0 the optimal planner, 1 seed 004's
+BENCHMARK(BM_PlanTiming)->ArgsProduct({{10000, 100000}, {0, 1}})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PlanTimingCurveBound)->ArgsProduct({{10000, 100000}, {0, 1}})->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace blendbench

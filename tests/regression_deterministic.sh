@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Runs are deterministic: one scenario run twice on this machine gives bit-identical metrics
-# (summary.json equal as text once the wall-clock "timings" blocks are removed; nlohmann writes
-# doubles with round-trip precision, so equal text is equal bits).
+# (summary.json equal as text once the wall-clock "timings" blocks and *_wall_time_s figures
+# are removed; nlohmann writes doubles with round-trip precision, so equal text is equal bits).
 #   tests/regression_deterministic.sh BLENDBENCH_BINARY SCENARIO OUT_DIR
 set -euo pipefail
 binary=$1
@@ -16,7 +16,7 @@ import json, sys
 
 def strip(v):
     if isinstance(v, dict):
-        return {k: strip(x) for k, x in v.items() if k != "timings"}
+        return {k: strip(x) for k, x in v.items() if k != "timings" and not k.endswith("wall_time_s")}
     if isinstance(v, list):
         return [strip(x) for x in v]
     return v

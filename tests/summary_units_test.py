@@ -22,7 +22,7 @@ UNIT_SUFFIXES = ["_nm_s_per_rad", "_nm_per_rad", "_mm_per_min", "_rad_s2", "_rad
                  "_j", "_kg", "_percent", "_ratio", "_share", "_ticks", "_per_turn", "_factor"]
 # counts and numbers without a unit, by name
 UNITLESS = {"index", "corner", "move", "pieces", "points", "points_added", "runs", "moves_merged", "source_line",
-            "line", "column", "iterations", "count", "rank", "point", "variants", "real_time_factor_with_video",
+            "line", "column", "iterations", "seed004_stretches", "count", "rank", "point", "variants", "real_time_factor_with_video",
             "path_share_below_90pct_speed", "blendbench_baseline", "version",
             # tolerances.json: a metric's bounds, the absolute one in the unit of the metric's key
             "absolute", "relative"}

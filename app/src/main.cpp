@@ -88,11 +88,27 @@ int interrupted_run(bb::RunFolder& folder, const bb::RunResult& result) {
   return kExitSignalBase + result.interrupted_by;
 }
 
-// --limits and --max-samples, shared by `run` and `plan`.
+// --limits, --timing and --max-samples, shared by `run`, `plan` and (--timing) `sweep`.
 struct TimingFlags {
   std::string limits;  // empty: the scenario's (cartesian by default)
+  std::string timing;  // empty: the scenario's, or the variant's (seed004 by default)
   std::optional<double> max_samples;
 };
+
+// --timing: the velocity planner, or none to keep the scenario's.
+std::optional<bb::TimingOptions::Algorithm> timing_flag(const TimingFlags& flags) {
+  if (flags.timing.empty()) return std::nullopt;
+  const auto algorithm = bb::algorithm_from_string(flags.timing);
+  if (!algorithm) throw bb::InputError("", 0, 0, "--timing", "must be 'optimal' or 'seed004', got '" + flags.timing + "'");
+  return algorithm;
+}
+
+// Adds --timing to a command (a help text shared by every command that times a path).
+void add_timing_flag(CLI::App* cmd, TimingFlags& flags) {
+  cmd->add_option("--timing", flags.timing,
+                  "Velocity planner: optimal (the minimum-time traversal under every limit; docs/timing.md) or seed004 "
+                  "(seed 004's S-curves, the default for now, and the paper reproductions); replaces the scenario's `timing`");
+}
 
 std::optional<bb::LimitsMode> limits_flag(const TimingFlags& flags) {
   if (flags.limits.empty()) return std::nullopt;
@@ -209,6 +225,7 @@ int cmd_run(std::string scenario_path, std::string out_dir, bool no_video, bool 
   selection.tolerance = tolerance_flag(tolerance_mm);  // refused before anything is loaded
   bb::check_smoothing_flags(smoothing);
   selection.limits = limits_flag(timing_flags);
+  selection.timing = timing_flag(timing_flags);
   selection.variants = variants;
   // no scenario given: the default one in the data root (data_root.hpp)
   if (scenario_path.empty()) scenario_path = bb::data_file("scenarios/default.yaml");
@@ -276,6 +293,10 @@ int cmd_compare(const CompareFlags& flags, const TimingFlags& timing_flags) {
   print_warnings(scenario);
   if (limits) scenario.limits = *limits;
   if (limits == bb::LimitsMode::kPath) scenario.axis_limits.reset();
+  if (const auto algorithm = timing_flag(timing_flags)) {
+    scenario.timing = *algorithm;
+    for (bb::Variant& v : scenario.variants) v.timing.reset();
+  }
   const bb::ComparePlan plan = bb::plan_compare(scenario, compare);
   const std::string out_dir = flags.out_dir.empty() ? "results/runs/" + plan.inputs.name : flags.out_dir;
   bb::RunFolder folder(out_dir);
@@ -463,6 +484,7 @@ int cmd_path(const std::string& input, const ProgramFlags& flags, const std::str
 int cmd_plan(const std::string& input, const ProgramFlags& flags, const TimingFlags& timing_flags, const std::string& csv,
              const std::string& summary) {
   const std::optional<bb::LimitsMode> limits = limits_flag(timing_flags);
+  const std::optional<bb::TimingOptions::Algorithm> algorithm = timing_flag(timing_flags);
   const std::optional<double> max_samples = max_samples_flag(timing_flags);
   bb::check_output_files({{"--csv", csv}, {"--summary", summary}});
   const LoadedProgram loaded = load_program(input, flags);
@@ -474,6 +496,7 @@ int cmd_plan(const std::string& input, const ProgramFlags& flags, const TimingFl
     if (*limits == bb::LimitsMode::kPath) options.axis_limits.reset();
   }
   if (max_samples) options.max_samples = *max_samples;
+  if (algorithm) options.algorithm = *algorithm;
   const bb::Timing timing = bb::plan_timing(path, options);
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (!timing.outcome.ok()) {
@@ -483,7 +506,6 @@ int cmd_plan(const std::string& input, const ProgramFlags& flags, const TimingFl
   nlohmann::json j = bb::plan_summary_json(path, timing, loaded.program);
   j["version"] = bb::version_string();
   j["ignored"] = loaded.ignored;
-  j["planning_wall_time_s"] = wall;
   bb::throw_if_stop_requested();
   const bb::OutputFilesLock lock({{"--csv", csv}, {"--summary", summary}});
   bb::write_files_atomic({{csv, bb::timed_csv(path, timing)}, {summary, j.dump(2) + "\n"}});
@@ -678,6 +700,7 @@ int main(int argc, char** argv) {
     cmd->add_option("--max-samples", timing_flags.max_samples,
                     "Refuse a plan of more servo samples than this (plan: default 1e7; run: a variant's plan and "
                     "settle time together, default 5e5)");
+    add_timing_flag(cmd, timing_flags);
   };
   add_timing_flags(run);
   bb::SmoothingFlags run_smoothing;
@@ -723,7 +746,7 @@ int main(int argc, char** argv) {
   add_program_flags(plan);
   plan->add_option("--csv", csv, "Output CSV: t,s,x,y,z,v,a,j,kappa (s, mm, mm/s, mm/s^2, mm/s^3, 1/mm)")->required();
   plan->add_option("--summary", summary,
-                   "Output JSON: cycle_time_s, path_length_mm, limits, bound_cycle_time_s, planned_to_bound_ratio, corners, pieces")
+                   "Output JSON: cycle_time_s, path_length_mm, limits, timing, bound_cycle_time_s, planned_to_bound_ratio, iterations, corners, pieces")
       ->required();
   add_timing_flags(plan);
 
@@ -794,6 +817,7 @@ int main(int argc, char** argv) {
   sweep->add_option("--shard", sweep_args.shard, "Run shard I of K (I/K, from 0), as a Slurm task does");
   sweep->add_option("--collect", sweep_args.collect, "Merge a sweep folder's results into sweep.csv, best.csv, pareto.png");
   sweep->add_option("--run-point", sweep_args.run_point, "")->group("");  // the child that runs one point
+  add_timing_flag(sweep, timing_flags);
 
   try {
     app.parse(argc, argv);
@@ -814,6 +838,7 @@ int main(int argc, char** argv) {
       if (*reproduce) return bb::reproduce(paper, papers_out, !no_paper_plots, std::cout);
       if (*sweep) {
         sweep_args.plots = !sweep_no_plots;
+        if (const auto algorithm = timing_flag(timing_flags)) sweep_args.timing = std::string(bb::algorithm_name(*algorithm));
         return bb::sweep_command(sweep_args, std::cout);
       }
     } catch (const bb::Interrupted& stop) {

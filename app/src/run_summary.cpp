@@ -177,6 +177,7 @@ nlohmann::json plan_json(const PlanFigures& p) {
                         {"pieces", p.pieces}};
   add_plan_figures(out, p.limits, p.moves_merged, p.merge_tolerance, p.planned_cycle_time, p.bound_cycle_time);
   out["smoothing"] = smoothing_json(p.smoothing);
+  add_planner_figures(out, p.planner);
   return out;
 }
 

@@ -328,6 +328,7 @@ class VariantRun {
     plan.merge_tolerance = path.merge_tolerance;
     plan.corner_steps = timing.corner_steps;
     plan.smoothing = path.smoothing;
+    plan.planner = planner_figures(timing);
     if (!timing.outcome.ok()) return failed(std::move(out), VariantStatus::kPlanningFailed, "planning failed: " + timing.outcome.message);
     if (request_.video || request_.compare) check_video_frames(sc_, timing.cycle_time + sc_.simulation.settle_time);
     say("planned " + format_fixed(path.length() / kMm, 1) + " mm in " + format_fixed(timing.cycle_time, 3) + " s (" +

@@ -230,6 +230,7 @@ int run_slurm(const SweepCommand& command, const SweepPlan& plan, const OutputDi
   options.time = command.time;
   options.cpus_per_task = command.jobs > 0 ? command.jobs : 1;
   options.resume = command.resume;
+  options.timing = command.timing;
   const std::string binary = fs::read_symlink("/proc/self/exe").string();
   const fs::path script = out_dir / "sweep.sbatch";
   dir.write("sweep.sbatch", sbatch_script(binary, fs::absolute(command.file).lexically_normal().string(), out_dir, tasks, options));
@@ -417,7 +418,8 @@ int sweep_command(const SweepCommand& command, std::ostream& out) {
     return collect(dir, command.plots, out);
   }
 
-  const SweepSpec spec = load_sweep(command.file);
+  SweepSpec spec = load_sweep(command.file);
+  spec.timing = command.timing;
   const fs::path out_dir = fs::absolute(command.out_dir.empty() ? "results/runs/sweeps/" + fs::path(command.file).stem().string()
                                                                 : command.out_dir)
                                .lexically_normal();

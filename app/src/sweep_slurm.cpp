@@ -68,7 +68,8 @@ std::string sbatch_script(const std::string& binary, const std::string& sweep_fi
   s += "set -eu\n";
   s += "exec " + shell_word(binary) + " sweep " + shell_word(sweep_file) + " --shard \"${SLURM_ARRAY_TASK_ID}/" + k +
        "\" --out " + shell_word(out_dir.string()) + " --jobs \"${SLURM_CPUS_PER_TASK:-" +
-       std::to_string(options.cpus_per_task) + "}\"" + (options.resume ? " --resume" : "") + "\n";
+       std::to_string(options.cpus_per_task) + "}\"" + (options.resume ? " --resume" : "") +
+       (options.timing.empty() ? "" : " --timing " + shell_word(options.timing)) + "\n";
   return s;
 }
 

@@ -23,6 +23,7 @@ VariantInputs resolve_variant(const Scenario& scenario, const Variant& variant, 
     // the axis limits are held on the TCP's vectors: the path mode has none
     if (*selection.limits == LimitsMode::kPath) out.timing.axis_limits.reset();
   }
+  if (selection.timing) out.timing.algorithm = *selection.timing;
   // what it is: its own transition, else the first move's method
   out.method = variant.transition ? variant.transition->method : out.program.moves.front().transition.method;
   out.parameter = variant.transition ? variant.transition->parameter : 0.0;

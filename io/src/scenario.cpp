@@ -544,8 +544,9 @@ void read_video(const Reader& r, const Field& root, Scenario& sc) {
   }
 }
 
-// `limits` and `axis_limits`.
+// `limits`, `axis_limits` and `timing`.
 void read_limits(const Reader& r, const Field& root, Scenario& sc) {
+  sc.timing = *algorithm_from_string(r.choice(r.value(root, "timing")));
   sc.limits = *limits_mode_from_string(r.choice(r.value(root, "limits")));
   const Field axes = r.child(root, "axis_limits");
   if (!axes.node.defined()) return;
@@ -581,6 +582,7 @@ void read_variants(const Reader& r, const Field& root, Scenario& sc) {
     if (const Field b = r.child(f, "buffer"); b.node.defined()) v.buffer = read_buffer(r, b);
     if (const Field s = r.child(f, "smoothing"); s.node.defined()) v.smoothing = read_smoothing(r, s, sc.program.smoothing);
     v.baseline = *baseline_from_string(r.choice(r.value(f, "baseline")));
+    if (const Field t = r.child(f, "timing"); t.node.defined()) v.timing = *algorithm_from_string(r.choice(t));
     sc.variants.push_back(std::move(v));
   }
 }
@@ -734,6 +736,7 @@ TimingOptions timing_options(const Scenario& scenario, const Variant& variant) {
   options.limits = scenario.limits;
   options.axis_limits = scenario.axis_limits;
   options.baseline = variant.baseline;
+  options.algorithm = variant.timing.value_or(scenario.timing);
   return options;
 }
 

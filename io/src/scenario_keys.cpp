@@ -35,6 +35,7 @@ constexpr std::array kKeys = {
     ScenarioKey{.map = "", .name = "video", .type = K::kMap, .opens = "video", .meaning = "the rendered video"},
     ScenarioKey{.map = "", .name = "limits", .type = K::kChoice, .fallback = "cartesian", .choices = "cartesian|path", .meaning = "what the limits bound: the TCP's speed, acceleration vector and jerk vector (cartesian), or the tangential values and the normal acceleration only, as seed 004 times a path (path; the paper reproductions)"},
     ScenarioKey{.map = "", .name = "axis_limits", .type = K::kMap, .opens = "axis_limits", .meaning = "limits per Cartesian axis of the program frame, as CNC users set them, on top of the vector limits (needs limits: cartesian)"},
+    ScenarioKey{.map = "", .name = "timing", .type = K::kChoice, .fallback = "seed004", .choices = "optimal|seed004", .meaning = "the velocity planner: the minimum-time traversal of the blended path under every limit (optimal; docs/timing.md), or seed 004's S-curves under the caps of its eq. 25-27 (seed004; the paper reproductions); a variant may override it"},
     ScenarioKey{.map = "", .name = "defaults", .type = K::kMap, .opens = "defaults", .required = true, .meaning = "the limits and buffer mode of every move that does not set its own"},
     ScenarioKey{.map = "", .name = "program", .type = K::kMap, .opens = "program", .required = true, .meaning = "the path: a list of moves, or a G-code file"},
     ScenarioKey{.map = "", .name = "variants", .type = K::kList, .opens = "variant", .required = true, .meaning = "the settings to compare, each run and reported (at least one)"},
@@ -158,6 +159,7 @@ constexpr std::array kKeys = {
     ScenarioKey{.map = "variant", .name = "buffer", .type = K::kChoice, .choices = kBufferModes, .meaning = "the buffer mode of every move that sets none"},
     ScenarioKey{.map = "variant", .name = "smoothing", .type = K::kMap, .opens = "smoothing", .meaning = "this variant's smoothing: each key it gives replaces the program's (program.smoothing)"},
     ScenarioKey{.map = "variant", .name = "baseline", .type = K::kChoice, .fallback = "none", .choices = "none|exact_stop|junction_slowdown", .meaning = "plan as a baseline: an exact stop, or a slow-down, at every junction"},
+    ScenarioKey{.map = "variant", .name = "timing", .type = K::kChoice, .choices = "optimal|seed004", .meaning = "the velocity planner of this variant (default: the scenario's timing)"},
 };
 // clang-format on
 

@@ -617,6 +617,7 @@ SweepPlan expand(const SweepSpec& spec, const SweepPointCheck& check_first) {
         }
       }
     }
+    if (!spec.timing.empty()) doc["timing"] = spec.timing;
     YAML::Emitter out;
     out << doc;
     point.scenario_text = std::string(out.c_str()) + "\n";

@@ -205,6 +205,17 @@ nlohmann::json smoothing_json(const SmoothingReport& report) {
           {"notes", report.notes}};
 }
 
+PlannerFigures planner_figures(const Timing& timing) {
+  return {timing.algorithm, timing.iterations, timing.seed004_stretches, timing.planning_wall_time};
+}
+
+void add_planner_figures(nlohmann::json& out, const PlannerFigures& figures) {
+  out["timing"] = std::string(algorithm_name(figures.algorithm));
+  out["iterations"] = figures.iterations;
+  out["seed004_stretches"] = figures.seed004_stretches;
+  out["planning_wall_time_s"] = figures.wall_time;
+}
+
 nlohmann::json plan_summary_json(const Path& path, const Timing& timing, const Program& program) {
   nlohmann::json corners = corners_json(path, program);
   for (std::size_t k = 0; k < corners.size() && k < path.corners.size(); ++k) {
@@ -218,6 +229,7 @@ nlohmann::json plan_summary_json(const Path& path, const Timing& timing, const P
                         {"pieces", pieces_json(path, timing)}};
   add_plan_figures(out, timing.limits, path.moves_merged, path.merge_tolerance, timing.cycle_time, timing.bound_cycle_time);
   out["smoothing"] = smoothing_json(path.smoothing);
+  add_planner_figures(out, planner_figures(timing));
   return out;
 }
 

@@ -140,7 +140,8 @@ Junction make_junction(const Path& path, std::size_t k_prev, std::size_t k_next,
   const double dt = options.dt;
   out.cap = kInf;
   if (kink) out.cap = std::min(j * dt * dt, a * dt) / (2.0 * std::sin(0.5 * out.theta));
-  if (out.dk > 0 && !next.curvature_step_allowed) out.cap = std::min(out.cap, std::sqrt(j * dt / out.dk));
+  double step_cap = kInf;
+  if (out.dk > 0 && !next.curvature_step_allowed) step_cap = std::sqrt(j * dt / out.dk);
   // a jump of the rotation rate: the angular velocity steps by v |d rho| in one period
   if (prev.orientation && next.orientation) {
     const Vec3 r0 = angular_rate_at(*prev.orientation, length(prev.segment));
@@ -152,6 +153,8 @@ Junction make_junction(const Path& path, std::size_t k_prev, std::size_t k_next,
       out.cap = std::min(out.cap, std::min(alpha * dt, eta * dt * dt) / jump);
     }
   }
+  out.cap_kink = out.cap;
+  out.cap = std::min(out.cap, step_cap);
   return out;
 }
 

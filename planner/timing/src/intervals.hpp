@@ -73,6 +73,9 @@ struct Junction {
   double cap = 0;
   double theta = 0;
   double dk = 0;
+  // The bound without the curvature-jump rule (the kink and rotation-rate rules alone; 0 at a
+  // stop): the optimal planner holds the vector jerk at a curvature step instead (optimal.cpp).
+  double cap_kink = 0;
 };
 
 // Every junction of the path in order (the first piece of non-zero length has none).

@@ -1,6 +1,7 @@
 #include "blendbench/timing/timing.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <tuple>
@@ -12,6 +13,8 @@
 #include "blendbench/timing/scurve.hpp"
 #include "blendbench/timing/time_optimal.hpp"
 #include "intervals.hpp"
+#include "optimal.hpp"
+#include "seed004.hpp"
 #include "spans.hpp"
 
 // The method (every limit held on the sampled profile), and where it is conservative:
@@ -58,12 +61,7 @@
 // The junction rules and hand-over zones are described in intervals.cpp.
 
 namespace blendbench {
-namespace {
-
-using namespace timing_detail;
-
-// A piece reaches its cap, or the feed, when within this share of it (timing.hpp).
-constexpr double kReachShare = 1e-3;
+namespace timing_detail {
 
 void validate(const Path& path, const TimingOptions& options) {
   if (!(options.dt > 0) || !std::isfinite(options.dt)) {
@@ -71,6 +69,9 @@ void validate(const Path& path, const TimingOptions& options) {
   }
   if (!(options.max_samples >= 1) || !std::isfinite(options.max_samples)) {
     throw InputError("", 0, 0, "max_samples", "must be at least 1, got " + format_value(options.max_samples));
+  }
+  if (!(options.grid_refinement >= 1) || !std::isfinite(options.grid_refinement)) {
+    throw InputError("", 0, 0, "grid_refinement", "must be at least 1, got " + format_value(options.grid_refinement));
   }
   if (options.axis_limits) {
     if (options.limits != LimitsMode::kCartesian) {
@@ -105,6 +106,15 @@ void validate(const Path& path, const TimingOptions& options) {
     }
   }
 }
+
+}  // namespace timing_detail
+
+using namespace timing_detail;
+
+namespace {
+
+// A piece reaches its cap, or the feed, when within this share of it (timing.hpp).
+constexpr double kReachShare = 1e-3;
 
 // Time (s) span sp spends at or above (1 - kReachShare) of the programmed velocity of the
 // piece under it.
@@ -231,9 +241,10 @@ std::vector<double> piece_times(const Path& path, const std::vector<Span>& spans
   return times;
 }
 
-// Refuses a plan of `cycle_time` (s) as too long for options.max_samples (timing.hpp): an
-// InputError at the move of `piece`, naming the limit its binding constraint makes the one to
-// raise.
+}  // namespace
+
+namespace timing_detail {
+
 [[noreturn]] void refuse_work(const PathPiece& piece, Binding binding, double cycle_time, const TimingOptions& options) {
   if (binding == Binding::kRotation && piece.orientation) {
     const std::string at = piece.move >= 0 ? " on move " + std::to_string(piece.move + 1) : " on corner " + std::to_string(piece.corner + 1);
@@ -259,6 +270,29 @@ std::vector<double> piece_times(const Path& path, const std::vector<Span>& spans
                        " ms; limit " + format_value(options.max_samples, 3) + " samples; raise `" + field + "` (" +
                        format_value(value * 1e3, 3) + unit + at + ")");
 }
+
+
+void refuse_slowest(const Path& path, std::vector<Interval>& intervals, const std::vector<Span>& spans,
+                    double cycle_time, const TimingOptions& options) {
+  for (const Span& sp : spans) {
+    walk_intervals(sp, intervals, [&](std::size_t k, double v, bool holds_peak) {
+      intervals[k].v_max = v;
+      intervals[k].holds_peak = holds_peak;
+      return true;
+    });
+  }
+  const std::vector<PieceTiming> reports = piece_reports(path, intervals, spans);
+  const std::vector<double> times = piece_times(path, spans);
+  std::size_t worst = 0;
+  for (std::size_t k = 0; k < times.size(); ++k) {
+    if (!(times[k] <= times[worst])) worst = k;
+  }
+  refuse_work(path.pieces()[worst], reports[worst].binding, cycle_time, options);
+}
+
+}  // namespace timing_detail
+
+namespace {
 
 // Refuses (refuse_work) a plan of more samples than options.max_samples, or of no finite
 // duration, before it is sampled: at the piece that takes the longest.
@@ -300,28 +334,71 @@ std::vector<Timing::CornerStep> corner_steps(const Path& path, const std::vector
   return out;
 }
 
-// Steps 1 and 2 of the method on a validated path: each piece's model with its budgets, the
-// junctions and the capped intervals (before merging), shared by the plan and the bound.
-struct Prepared {
-  std::vector<PieceModel> models;
-  std::vector<Junction> joints;
-  std::vector<Interval> intervals;
-  std::vector<double> knot_cap;
-};
+}  // namespace
+
+namespace timing_detail {
 
 Prepared prepare(const Path& path, const TimingOptions& options) {
   Prepared p;
   p.models = piece_models(path, options);
   p.joints = junctions(path, options, p.models);
   share_budgets(path, options, p.joints, p.models);
-  build_intervals(path, options, p.models, p.joints, all_zones(path, p.joints, p.models), p.intervals, p.knot_cap);
+  p.zones = all_zones(path, p.joints, p.models);
+  build_intervals(path, options, p.models, p.joints, p.zones, p.intervals, p.knot_cap);
   return p;
 }
 
-}  // namespace
+Seed004Spans seed004_spans(const Path& path, Prepared& prepared, const TimingOptions& options) {
+  Seed004Spans out;
+  std::vector<Interval>& intervals = prepared.intervals;
+  std::vector<double>& knot_cap = prepared.knot_cap;
+  merge_intervals(path, intervals, knot_cap);
+  if (intervals.empty()) return out;
+
+  // an interval whose cap rounds to zero (limits near the smallest doubles) is never crossed
+  for (const Interval& iv : intervals) {
+    if (!(iv.limits.velocity > 0)) refuse_work(path.pieces()[iv.piece], iv.terms.binding(), kInf, options);
+  }
+
+  // spans and knot velocities; each span's curve, or its fine alternative where that is faster
+  std::vector<Span> spans;
+  std::vector<double> w;
+  std::vector<double> cap;
+  plan_spans(intervals, knot_cap, options.carry_acceleration, spans, w, cap);
+  std::vector<Span>& chosen = out.spans;
+  chosen.reserve(spans.size());
+  for (std::size_t i = 0; i < spans.size(); ++i) {
+    Span sp = spans[i];
+    const Outcome outcome = shape(sp, w[i], w[i + 1], intervals);
+    if (!outcome.ok() && out.outcome.ok()) {
+      out.outcome = {outcome.status, "span at s = " + format_mm(sp.s0) + ": " + outcome.message};
+    }
+    if (sp.last - sp.first > 1) {
+      const std::vector<Span> fine = fine_alternative(spans[i], w[i], w[i + 1], intervals, cap);
+      double fine_time = 0;
+      for (const Span& one : fine) fine_time += one.curve.duration();
+      if (!fine.empty() && fine_time < sp.curve.duration()) {
+        chosen.insert(chosen.end(), fine.begin(), fine.end());
+        continue;
+      }
+    }
+    chosen.push_back(sp);
+  }
+
+  // chain them in time
+  double t = 0;
+  for (Span& sp : chosen) {
+    sp.t0 = t;
+    t += sp.curve.duration();
+  }
+  out.cycle_time = t;
+  return out;
+}
+
+}  // namespace timing_detail
 
 std::vector<HandoverZone> handover_zones(const Path& path, const TimingOptions& options) {
-  validate(path, options);
+  timing_detail::validate(path, options);
   std::vector<PieceModel> models = piece_models(path, options);
   const std::vector<Junction> joints = junctions(path, options, models);
   share_budgets(path, options, joints, models);
@@ -329,9 +406,20 @@ std::vector<HandoverZone> handover_zones(const Path& path, const TimingOptions& 
 }
 
 double time_optimal_bound(const Path& path, const TimingOptions& options) {
-  validate(path, options);
+  timing_detail::validate(path, options);
   const Prepared p = prepare(path, options);
   return timing_detail::time_optimal_bound(path, options, p.models, p.joints, p.intervals);
+}
+
+std::string_view algorithm_name(TimingOptions::Algorithm algorithm) {
+  return algorithm == TimingOptions::Algorithm::kSeed004 ? "seed004" : "optimal";
+}
+
+std::optional<TimingOptions::Algorithm> algorithm_from_string(std::string_view name) {
+  for (auto a : {TimingOptions::Algorithm::kOptimal, TimingOptions::Algorithm::kSeed004}) {
+    if (algorithm_name(a) == name) return a;
+  }
+  return std::nullopt;
 }
 
 std::string_view baseline_name(TimingOptions::Baseline baseline) {
@@ -365,61 +453,29 @@ std::string_view binding_name(Binding binding) {
   return "stop";
 }
 
-Timing plan_timing(const Path& path, const TimingOptions& options) {
-  validate(path, options);
+namespace timing_detail {
+
+Timing plan_seed004(const Path& path, const TimingOptions& options) {
   Timing timing;
   timing.dt = options.dt;
   timing.limits = options.limits;
+  timing.algorithm = TimingOptions::Algorithm::kSeed004;
   timing.corner_steps.resize(path.corners.size());
   Prepared prepared = prepare(path, options);
-  const std::vector<PieceModel>& models = prepared.models;
   const std::vector<Junction>& joints = prepared.joints;
-  std::vector<Interval>& intervals = prepared.intervals;
-  std::vector<double>& knot_cap = prepared.knot_cap;
-  timing.bound_cycle_time = timing_detail::time_optimal_bound(path, options, models, joints, intervals);
-  merge_intervals(path, intervals, knot_cap);
-  if (intervals.empty()) {
+  timing.bound_cycle_time = timing_detail::time_optimal_bound(path, options, prepared.models, joints, prepared.intervals);
+  Seed004Spans planned = seed004_spans(path, prepared, options);
+  const std::vector<Interval>& merged = prepared.intervals;
+  if (merged.empty()) {
     timing.samples.push_back({0, path.length(), 0, 0, 0});
     for (std::size_t k = 0; k < path.pieces().size(); ++k) timing.pieces.push_back({k, 0.0, Binding::kStop});
     return timing;
   }
-
-  // an interval whose cap rounds to zero (limits near the smallest doubles) is never crossed
-  for (const Interval& iv : intervals) {
-    if (!(iv.limits.velocity > 0)) refuse_work(path.pieces()[iv.piece], iv.terms.binding(), kInf, options);
-  }
-
-  // spans and knot velocities; each span's curve, or its fine alternative where that is faster
-  std::vector<Span> spans;
-  std::vector<double> w;
-  std::vector<double> cap;
-  plan_spans(intervals, knot_cap, options.carry_acceleration, spans, w, cap);
-  std::vector<Span> chosen;
-  chosen.reserve(spans.size());
-  for (std::size_t i = 0; i < spans.size(); ++i) {
-    Span sp = spans[i];
-    const Outcome outcome = shape(sp, w[i], w[i + 1], intervals);
-    if (!outcome.ok() && timing.outcome.ok()) {
-      timing.outcome = {outcome.status, "span at s = " + format_mm(sp.s0) + ": " + outcome.message};
-    }
-    if (sp.last - sp.first > 1) {
-      const std::vector<Span> fine = fine_alternative(spans[i], w[i], w[i + 1], intervals, cap);
-      double fine_time = 0;
-      for (const Span& one : fine) fine_time += one.curve.duration();
-      if (!fine.empty() && fine_time < sp.curve.duration()) {
-        chosen.insert(chosen.end(), fine.begin(), fine.end());
-        continue;
-      }
-    }
-    chosen.push_back(sp);
-  }
-
-  // chain them in time
-  double t = 0;
+  timing.outcome = planned.outcome;
+  std::vector<Interval>& intervals = prepared.intervals;
+  std::vector<Span>& chosen = planned.spans;
   double feed = 0;
   for (Span& sp : chosen) {
-    sp.t0 = t;
-    t += sp.curve.duration();
     walk_intervals(sp, intervals, [&](std::size_t k, double v, bool holds_peak) {
       intervals[k].v_max = v;
       intervals[k].holds_peak = holds_peak;
@@ -427,6 +483,7 @@ Timing plan_timing(const Path& path, const TimingOptions& options) {
     });
     feed += feed_time(sp, intervals, path);
   }
+  const double t = planned.cycle_time;
   timing.cycle_time = t;
   timing.feed_share = t > 0 ? feed / t : 0.0;
   timing.pieces = piece_reports(path, intervals, chosen);
@@ -436,5 +493,15 @@ Timing plan_timing(const Path& path, const TimingOptions& options) {
   return timing;
 }
 
-}  // namespace blendbench
+}  // namespace timing_detail
 
+Timing plan_timing(const Path& path, const TimingOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  timing_detail::validate(path, options);
+  Timing timing = options.algorithm == TimingOptions::Algorithm::kSeed004 ? timing_detail::plan_seed004(path, options)
+                                                                          : timing_detail::plan_optimal(path, options);
+  timing.planning_wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return timing;
+}
+
+}  // namespace blendbench

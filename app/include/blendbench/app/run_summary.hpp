@@ -49,6 +49,7 @@ struct PlanFigures {
   std::vector<Timing::CornerStep> corner_steps;      // one per corner (Timing::corner_steps)
   SmoothingReport smoothing;                         // what smoothing did (Path::smoothing)
   bool oriented = false;                             // the program sets tool orientations
+  PlannerFigures planner;                            // the velocity planner and what it took
 };
 
 // Wall-clock figures of one variant (s) and the real-time factors of the simulation.

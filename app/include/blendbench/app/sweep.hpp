@@ -44,6 +44,7 @@ struct SweepCommand {
   std::string shard;         // "I/K": run shard I (0-based) of K, as a Slurm task does
   std::string collect;       // DIR: merge the points' results into the tables
   std::string run_point;     // internal: run one point's folder (the child process)
+  std::string timing;        // `--timing`: set on every point's scenario ("optimal", "seed004"); empty: the scenario's
 };
 
 constexpr int kDefaultArraySize = 100;
@@ -72,6 +73,7 @@ struct SbatchOptions {
   std::string time;
   int cpus_per_task = 1;
   bool resume = false;
+  std::string timing;  // passed on as --timing (empty: not)
 };
 std::string sbatch_script(const std::string& binary, const std::string& sweep_file, const std::filesystem::path& out_dir,
                           std::size_t tasks, const SbatchOptions& options);

@@ -53,6 +53,7 @@ struct RunInputs {
 struct RunSelection {
   std::vector<std::string> variants;  // the names to run, in this order (`--variant`); empty: all
   std::optional<LimitsMode> limits;   // replaces the scenario's `limits` (`--limits`)
+  std::optional<TimingOptions::Algorithm> timing;  // replaces the scenario's and variants' velocity planner (`--timing`)
   // m, > 0: every move with a transition method gets this tolerance in place of its parameter
   // and start distance, in every variant (`--tolerance`; apply_tolerance)
   std::optional<double> tolerance;

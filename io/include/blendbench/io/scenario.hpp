@@ -104,6 +104,8 @@ struct Variant {
   // its `smoothing` keys applied to the program's (program.smoothing); none: the program's
   std::optional<Smoothing> smoothing;
   TimingOptions::Baseline baseline = TimingOptions::Baseline::kNone;
+  // the velocity planner of this variant; none: the scenario's
+  std::optional<TimingOptions::Algorithm> timing;
   SourceRef where;
 };
 
@@ -136,6 +138,8 @@ struct Scenario {
   // (m/s^2, m/s^3 after conversion; cartesian only)
   LimitsMode limits = LimitsMode::kCartesian;
   std::optional<AxisLimits> axis_limits;
+  // `timing`: the velocity planner of every variant that sets none (timing.hpp; default seed004 until the switch, docs/timing.md)
+  TimingOptions::Algorithm timing = TimingOptions::Algorithm::kSeed004;
   RobotSettings robot;
   ServoSettings servo;
   SimulationSettings simulation;
@@ -160,7 +164,8 @@ Scenario parse_scenario(const std::string& text, const std::string& file, const 
 Program program_for(const Scenario& scenario, const Variant& variant);
 
 // The velocity planner's options for a variant: the setpoint period (1 / servo.setpoint_rate_hz),
-// the scenario's limits mode and axis limits, the variant's baseline.
+// the scenario's limits mode and axis limits, the variant's baseline, the variant's planner (or
+// the scenario's).
 TimingOptions timing_options(const Scenario& scenario, const Variant& variant);
 
 // The variant named `name`; throws InputError (field "--variant") listing the names when absent.

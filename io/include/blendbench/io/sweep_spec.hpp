@@ -92,6 +92,9 @@ struct SweepSpec {
   std::string pareto_y = "metrics.contour_error_programmed_max_mm";  // minimised
   std::vector<MetricName> named_metrics;          // every metric name above, with its location
   SourceRef where;                                // the sweep file's first line
+  // the velocity planner set as the top-level `timing` of every point's scenario (the command's
+  // --timing: part of each point's text, so of its hash); empty: the scenario's own
+  std::string timing;
 };
 
 // Reads a sweep file from text: `file` names it in errors, `base_dir` resolves `scenario`

@@ -85,9 +85,22 @@ void add_plan_figures(nlohmann::json& out, LimitsMode limits, int moves_merged, 
 // notes (streams kept as lines, and why).
 nlohmann::json smoothing_json(const SmoothingReport& report);
 
+// Which velocity planner made a plan and what it took (Timing's figures).
+struct PlannerFigures {
+  TimingOptions::Algorithm algorithm = TimingOptions::Algorithm::kOptimal;
+  int iterations = 0;         // Timing::iterations
+  int seed004_stretches = 0;  // Timing::seed004_stretches
+  double wall_time = 0;       // s, Timing::planning_wall_time
+};
+PlannerFigures planner_figures(const Timing& timing);
+
+// Adds them to `out`: timing ("optimal" or "seed004"), iterations, seed004_stretches and
+// planning_wall_time_s (the velocity planner's own wall clock).
+void add_planner_figures(nlohmann::json& out, const PlannerFigures& figures);
+
 // The plan summary of the command-line contract: cycle_time_s, path_length_mm, feed_share,
-// servo_period_s, the figures of add_plan_figures, corners (corners_json with placements and
-// add_corner_step), pieces (pieces_json) and smoothing (smoothing_json).
+// servo_period_s, the figures of add_plan_figures and add_planner_figures, corners
+// (corners_json with placements and add_corner_step), pieces (pieces_json) and smoothing (smoothing_json).
 nlohmann::json plan_summary_json(const Path& path, const Timing& timing, const Program& program);
 
 }  // namespace blendbench

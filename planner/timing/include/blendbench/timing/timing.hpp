@@ -17,6 +17,12 @@ namespace blendbench {
 
 struct TimingOptions {
   double dt = 1e-3;  // s, output sample period (the servo period); > 0
+  // Which velocity planner times the path:
+  //   kOptimal: the minimum-time traversal from rest to rest under every limit below
+  //     (optimal.hpp: a sequential convex program on a grid in s, held on the sampled output);
+  //   kSeed004: seed 004's (Shahzadeh et al.) method, S-curves under the caps of eq. 25-27 with
+  //     lookahead (timing.cpp), kept for the paper reproductions and as a comparison.
+  enum class Algorithm { kOptimal, kSeed004 } algorithm = Algorithm::kSeed004;
   // The two "without transitions" baselines: kExactStop stops at every junction between
   // pieces; kJunctionSlowdown ignores exact stops that the blender set (except at Buffered
   // kinks) and slows down at every kink and curvature jump as a controller does.
@@ -36,6 +42,9 @@ struct TimingOptions {
   // The largest number of samples (>= 1) a plan may have: plan_timing refuses a longer plan
   // before it samples it. 1e7 samples are 2.8 hours of motion at 1 ms and 400 MB of samples.
   double max_samples = 1e7;
+  // kOptimal: how many times denser than its own the grid in s is (>= 1; node spacing divided by
+  // it). The tests solve the same problem on a 4x finer grid as an independent reference.
+  double grid_refinement = 1;
 };
 
 // One servo tick: time (s), arc length (m), path velocity (m/s), tangential acceleration
@@ -63,9 +72,11 @@ struct PieceTiming {
   Binding binding;
 };
 
-// The names of the baselines and bindings in scenarios and summaries ("none", "exact_stop",
-// "junction_slowdown"; "feed", "curvature", "sharpness", "length", "acceleration", "jerk",
-// "stop", "rotation"), and back (nullopt when unknown).
+// The names of the algorithms, baselines and bindings in scenarios and summaries ("optimal",
+// "seed004"; "none", "exact_stop", "junction_slowdown"; "feed", "curvature", "sharpness",
+// "length", "acceleration", "jerk", "stop", "rotation"), and back (nullopt when unknown).
+std::string_view algorithm_name(TimingOptions::Algorithm algorithm);
+std::optional<TimingOptions::Algorithm> algorithm_from_string(std::string_view name);
 std::string_view baseline_name(TimingOptions::Baseline baseline);
 std::optional<TimingOptions::Baseline> baseline_from_string(std::string_view name);
 std::string_view binding_name(Binding binding);
@@ -74,6 +85,15 @@ struct Timing {
   Outcome outcome;
   double dt = 0;
   LimitsMode limits = LimitsMode::kCartesian;  // the mode it was planned in
+  TimingOptions::Algorithm algorithm = TimingOptions::Algorithm::kOptimal;  // the planner that made it
+  // kOptimal: the convex subproblems solved (one per linearisation of the jerk limits, summed
+  // over the grid refinements); 0 for kSeed004, which iterates nothing of the kind.
+  int iterations = 0;
+  int newton_steps = 0;  // kOptimal: the Newton steps of the barrier method, in all
+  // kOptimal: the stretches between stops on which seed 004's motion was kept (the optimiser's
+  // was not found, or not faster); 0 when every stretch is optimised.
+  int seed004_stretches = 0;
+  double planning_wall_time = 0;  // s, wall clock of plan_timing itself
   double cycle_time = 0;  // s, planned duration from rest to rest
   // t = k*dt, k = 0..N with N = ceil(cycle_time/dt); the last sample is the end of the path at
   // rest (s = length, v = a = j = 0).
@@ -121,24 +141,33 @@ struct HandoverZone {
 // exact-stop baseline. Throws InputError as plan_timing does.
 std::vector<HandoverZone> handover_zones(const Path& path, const TimingOptions& options = {});
 
-// Plans the fastest profile the method below finds from rest at s = 0 to rest at the end of
-// the path. On the result, with v_lim(s) = min(feed(s), sqrt(a/kappa(s)),
-// cbrt(j/sqrt(c(s)^2 + kappa(s)^4))) (seed 004 eq. 25-27, a and j the piece's acceleration and
-// jerk limits; feed(s) the piece's velocity, or the junction velocity in a hand-over zone):
-// 0 <= v <= v_lim(s), |a_t| <= acceleration (speeding up) or deceleration (slowing down),
-// |j_t| <= jerk, kappa v^2 <= acceleration, and v = 0 at every stop_before. Where the pieces
-// carry an orientation, the tool's angular velocity rho v, acceleration and jerk hold the
-// pieces' angular limits too (intervals.cpp: (R1)-(R3)). With
-// options.limits = kCartesian (the default) the TCP's acceleration and jerk vectors hold the
-// limits as well (cartesian.hpp: |a| <= acceleration or deceleration, |j| <= jerk, and every
-// axis limit), also while the speed changes on a curve.
-// Kinks and curvature jumps that are not stops get the controller-style junction velocity
-// (2 v sin(theta/2) <= min(j dt^2, a dt); dk v^2 <= j dt, dropped where the piece after the
-// junction has curvature_step_allowed, its corner's report then stating the step's jerk in
-// corner_steps); a Buffered kink is a stop.
-// The method (intervals with a cap each; S-curves between knots of zero acceleration, each
-// spanning one interval or a run of them under their caps; backward and forward passes) and
-// where it is conservative are described in timing.cpp.
+// Plans the path speed from rest at s = 0 to rest at the end of the path with the planner of
+// options.algorithm; both hold, on every sample, v = 0 at every stop (stop_before, a Buffered
+// kink, every junction in the exact-stop baseline), v <= feed(s) (the piece's velocity, or the
+// junction velocity in a hand-over zone), and:
+//   kSeed004 (seed 004's method: intervals with a cap each, S-curves between knots of zero
+//     acceleration, backward and forward passes; timing.cpp says where it is conservative):
+//     v <= v_lim(s) = min(feed(s), sqrt(a/kappa(s)), cbrt(j/sqrt(c(s)^2 + kappa(s)^4))) (eq.
+//     25-27, a and j the piece's acceleration and jerk limits), |a_t| <= acceleration (speeding
+//     up) or deceleration (slowing down), |j_t| <= jerk, kappa v^2 <= acceleration; with
+//     options.limits = kCartesian the TCP's acceleration and jerk vectors hold the limits too
+//     (cartesian.hpp, and every axis limit), also while the speed changes on a curve. Kinks and
+//     curvature jumps that are not stops get the controller-style junction velocity
+//     (2 v sin(theta/2) <= min(j dt^2, a dt); dk v^2 <= j dt, dropped where the piece after the
+//     junction has curvature_step_allowed).
+//   kOptimal (optimal.cpp): the least time under the same limits without seed 004's caps: in
+//     kCartesian the TCP's acceleration vector within acceleration (a_t >= 0) or deceleration
+//     (a_t <= 0), its jerk vector within jerk, every axis limit; in kPath the tangential limits,
+//     kappa v^2 and eq. 25-27; the same kink rule; at a curvature step that is not allowed
+//     (kCartesian) the third differences of the sampled positions within the jerk limit: 3/4 of
+//     the step dk v^2 / dt plus the jerk on either side within jerk. Checked on the samples
+//     (analytically and by second and third differences of x, y, z, except across a kink or an
+//     allowed curvature step) and slowed down where they were exceeded; where its own motion is
+//     not found on a stretch between stops, or is slower, seed 004's is used there (slowed down as
+//     far as the same check asks; Timing::seed004_stretches counts them).
+// In both, where the pieces carry an orientation, the tool's angular velocity rho v,
+// acceleration and jerk hold the pieces' angular limits (intervals.cpp: (R1)-(R3)); an allowed
+// curvature step's jerk is reported in corner_steps.
 // Throws InputError for options.dt <= 0, max_samples < 1, an axis limit that is not positive
 // or given in kPath mode, a piece with a non-positive limit, and a plan of more than
 // max_samples samples (or of no finite duration): located at the move whose limits make it so

@@ -1,0 +1,519 @@
+#include "optimal.hpp"
+
+// The optimal planner (TimingOptions::kOptimal): the minimum-time traversal of the blended path
+// from rest to rest under every limit seed 004's planner holds, without its conservatism.
+//
+// 1. seed 004's plan (timing.cpp) is made first, unsampled: a feasible profile to start from,
+//    and the time scale of the grid.
+// 2. The grid (optimal_grid.hpp): a node at every junction, zone end and a few points of every
+//    curved piece, and one every tau of the starting profile's time; the path is cut at its
+//    stops into stretches from rest to rest.
+// 3. Each stretch is solved on its own (optimal_problem.hpp): the time is minimised over v^2 and
+//    the tangential acceleration at the nodes, the jerk limits linearised at the current profile
+//    and the linearisation repeated (sequential convex programming, every iterate feasible), each
+//    subproblem solved by a barrier method whose Newton systems are block tridiagonal.
+// 4. The solution is a continuous motion (optimal_profile.hpp: a linear in s between nodes,
+//    exact in time), sampled at the servo period and checked sample by sample against every
+//    limit, analytically and by finite differences of the sampled positions. Where a limit is
+//    exceeded by more than kRefineShare the cells around the sample are halved and the stretch
+//    solved again (from the last solution); what is left (between nodes the limits can be
+//    exceeded by a hair) is removed by running the whole motion uniformly slower by the smallest
+//    factor that makes every sampled ratio at most 1 (v -> gamma v, a -> gamma^2 a, j -> gamma^3 j:
+//    the same path and shape of profile, stretched in time).
+// 5. The reports of Timing (pieces, feed share, curvature steps) are read off the samples.
+// Where a stretch cannot be solved (no Newton progress, never seen in the property tests), the
+// plan falls back to seed 004's, with an outcome that says so.
+
+#include <algorithm>
+#include <cmath>
+#include <tuple>
+
+#include "blendbench/core/format.hpp"
+#include "blendbench/timing/profile_margins.hpp"
+#include "blendbench/timing/time_optimal.hpp"
+#include "cell_shape.hpp"
+#include "optimal_grid.hpp"
+#include "optimal_problem.hpp"
+#include "optimal_profile.hpp"
+#include "seed004.hpp"
+
+namespace blendbench::timing_detail {
+namespace {
+
+// Linearisations of the jerk limits per solve of a stretch, one per centring of the barrier
+// method (optimal_problem.hpp).
+constexpr int kMaxLinearisations = 24;
+// Rounds of halving the cells around samples that exceed a limit by more than kRefineShare.
+constexpr int kMaxRefinements = 4;
+constexpr double kRefineShare = 1e-3;
+// The share by which a tightened limit lies below the one the ratio asks for.
+constexpr double kTightenMargin = 1e-4;
+// Rounds of the uniform slow-down, and the share of margin it leaves below every limit.
+constexpr int kMaxSlowdowns = 8;
+// A stretch runs the optimiser's motion unless that is slower than seed 004's by more than this
+// share (the optimum on a finer grid cannot lose to a feasible plan; the grid's can, by its
+// resolution).
+constexpr double kSeedPreference = 0.0;
+constexpr double kSlowdownMargin = 1e-10;
+// The most the node spacing in seed 004's time is stretched where seed 004 is slower than the bound.
+constexpr double kMaxSpacingStretch = 4;
+// The most nodes the starting profile's time places (tau is raised to keep below it).
+constexpr double kMaxTimeNodes = 4e6;
+// A piece reaches a cap or the feed when within this share of it (timing.hpp, as seed 004's).
+constexpr double kReachShare = 1e-3;
+// Speeds below this share of the starting profile's largest are raised to it at inner nodes
+// (a barrier method needs v > 0 there).
+constexpr double kSmallestStartShare = 1e-9;
+
+// (v^2, a) of seed 004's chained spans at increasing arc lengths.
+class StartProfile {
+ public:
+  explicit StartProfile(const std::vector<Span>& spans) : spans_(spans) {}
+  std::pair<double, double> at(double s) {
+    while (i_ + 1 < spans_.size() && spans_[i_ + 1].s0 <= s) ++i_;
+    const Span& sp = spans_[i_];
+    const Scurve& c = sp.curve;
+    const ScurveState x = c.at(c.time_at_distance(std::clamp(s - sp.s0, 0.0, c.distance)));
+    return {x.v * x.v, x.a};
+  }
+
+ private:
+  const std::vector<Span>& spans_;
+  std::size_t i_ = 0;
+};
+
+// The node index of the cell that holds arc length s (the last cell for s at the end).
+std::size_t cell_at(const Grid& grid, double s) {
+  const auto it = std::upper_bound(grid.nodes.begin(), grid.nodes.end(), s,
+                                   [](double x, const GridNode& n) { return x < n.s; });
+  const auto i = static_cast<std::size_t>(std::max<std::ptrdiff_t>(0, (it - grid.nodes.begin()) - 1));
+  return std::min(i, grid.nodes.size() - 2);
+}
+
+// The values at the middle of cell i of the current solution (the cell's own motion,
+// cell_shape.hpp; on a rest cell a ~ s^(1/3), b ~ s^(4/3)).
+std::pair<double, double> middle_of(const Grid& grid, const std::vector<double>& b, const std::vector<double>& a,
+                                    const std::vector<double>& lin, const std::vector<double>& lin_a, std::size_t i) {
+  const double h = grid.nodes[i + 1].s - grid.nodes[i].s;
+  if (grid.nodes[i].rest && !grid.nodes[i + 1].rest) return {b[i + 1] * std::pow(0.5, 4.0 / 3.0), a[i + 1] * std::cbrt(0.5)};
+  if (grid.nodes[i + 1].rest && !grid.nodes[i].rest) return {b[i] * std::pow(0.5, 4.0 / 3.0), a[i] * std::cbrt(0.5)};
+  if (grid.nodes[i].rest) return {0.0, 0.0};
+  const CellShape shape(h, std::sqrt(lin[i]), std::sqrt(lin[i + 1]), lin_a[i]);
+  const double w = shape.at_position(0.5 * h);
+  return {shape.b(w, b[i], a[i], a[i + 1]), a[i] + (a[i + 1] - a[i]) * w};
+}
+
+// One stretch of the plan, from rest to rest: the optimiser's motion (its cells) or, where the
+// optimiser gave none or a slower one, seed 004's; either run slower by 1 / gamma (v -> gamma v,
+// a -> gamma^2 a, j -> gamma^3 j: the same path and profile, stretched in time) as far as its
+// sampled check asks.
+struct Stretch {
+  std::size_t first = 0, last = 0;  // its rest nodes
+  bool dirty = true;                // to be solved (again)
+  bool solved = false;              // the optimiser's result holds
+  bool optimal = false;             // the motion is the optimiser's (else seed 004's)
+  std::vector<CellMotion> cells;    // the optimiser's, times from 0
+  double seed_t0 = 0, seed_t1 = 0;  // s, seed 004's times at its rests
+  double gamma = 1;
+  double t0 = 0;  // s, its start in the plan
+  [[nodiscard]] double own_duration() const {
+    return optimal ? (cells.empty() ? 0.0 : cells.back().t0 + cells.back().duration) : seed_t1 - seed_t0;
+  }
+  [[nodiscard]] double duration() const { return own_duration() / gamma; }
+};
+
+// seed 004's state at its time t (s, v, a, j; global s).
+TimedSample seed_state(const std::vector<Span>& spans, std::size_t& cursor, double t) {
+  while (cursor + 1 < spans.size() && spans[cursor + 1].t0 <= t) ++cursor;
+  while (cursor > 0 && spans[cursor].t0 > t) --cursor;
+  const Span& sp = spans[cursor];
+  const ScurveState x = sp.curve.at(t - sp.t0);
+  return {t, std::clamp(sp.s0 + x.s, sp.s0, sp.s1), x.v, x.a, x.j};
+}
+
+// The plan's samples at t = k dt (the last at rest at the end): each stretch's motion, scaled.
+std::vector<TimedSample> sample_plan(const std::vector<Stretch>& stretches, const std::vector<Span>& seed,
+                                     double path_length, double dt) {
+  const double total = stretches.empty() ? 0.0 : stretches.back().t0 + stretches.back().duration();
+  const auto n = static_cast<std::size_t>(std::ceil(total / dt));
+  std::vector<TimedSample> samples;
+  samples.reserve(n + 1);
+  std::size_t r = 0;
+  std::size_t cell = 0;
+  std::size_t cursor = 0;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double t = static_cast<double>(k) * dt;
+    while (r + 1 < stretches.size() && t >= stretches[r + 1].t0) {
+      ++r;
+      cell = 0;
+    }
+    const Stretch& st = stretches[r];
+    const double g = st.gamma;
+    const double tau = std::min((t - st.t0) * g, st.own_duration());
+    TimedSample x;
+    if (st.optimal) {
+      while (cell + 1 < st.cells.size() && tau >= st.cells[cell + 1].t0) ++cell;
+      const CellMotion& m = st.cells[cell];
+      const CellState c = cell_state(m, tau - m.t0);
+      x = {t, std::clamp(m.s0 + c.x, m.s0, m.s0 + m.length), c.v, c.a, c.j};
+    } else {
+      x = seed_state(seed, cursor, st.seed_t0 + tau);
+    }
+    samples.push_back({t, x.s, x.v * g, x.a * g * g, x.j * g * g * g});
+  }
+  samples.push_back({static_cast<double>(n) * dt, path_length, 0.0, 0.0, 0.0});
+  return samples;
+}
+
+// Chains the stretches in time.
+void chain(std::vector<Stretch>& stretches) {
+  double t = 0;
+  for (Stretch& st : stretches) {
+    st.t0 = t;
+    t += st.duration();
+  }
+}
+
+// The samples of stretch r: [first, last] (indices into the samples at dt).
+std::pair<std::size_t, std::size_t> sample_range(const std::vector<Stretch>& stretches, std::size_t r, double dt,
+                                                 std::size_t count) {
+  const Stretch& st = stretches[r];
+  const auto k0 = static_cast<std::size_t>(std::floor(st.t0 / dt));
+  const auto k1 = static_cast<std::size_t>(std::ceil((st.t0 + st.duration()) / dt));
+  return {std::min(k0, count - 1), std::min(k1, count - 1)};
+}
+
+// Tightens the limits held at node i by the ratios found near it (velocity, acceleration and
+// jerk kinds, > 1 where exceeded): b_max by the velocity's square, the sides' acceleration and
+// jerk limits (and the cell's middle after the node) by theirs.
+void tighten(Grid& grid, std::size_t i, double velocity, double acceleration, double jerk) {
+  GridNode& node = grid.nodes[i];
+  if (node.rest) return;
+  const double fv = velocity > 1 ? 1 / (velocity * velocity) * (1 - kTightenMargin) : 1.0;
+  const double fa = acceleration > 1 ? 1 / acceleration * (1 - kTightenMargin) : 1.0;
+  const double fj = jerk > 1 ? 1 / jerk * (1 - kTightenMargin) : 1.0;
+  node.b_max *= fv;
+  node.middle_b_max *= fv;
+  for (const std::uint32_t side : {node.left, node.right, node.middle}) {
+    if (side == GridNode::kNoMiddle) continue;
+    grid.sides[side].tighten_acceleration *= fa;
+    grid.sides[side].tighten_jerk *= fj;
+  }
+  if (node.right != node.left) {
+    // (a shared side is tightened once)
+  }
+}
+
+// The pieces' reports (timing.hpp), read off the samples.
+std::vector<PieceTiming> piece_reports(const Path& path, const Prepared& prepared, const std::vector<TimedSample>& x,
+                                       const ProfileCheck& check) {
+  const auto& pieces = path.pieces();
+  std::vector<PieceTiming> out(pieces.size());
+  std::size_t k = 0;  // the first sample at or after the piece's start
+  for (std::size_t p = 0; p < pieces.size(); ++p) {
+    out[p] = {p, 0.0, Binding::kStop};
+    const double s0 = path.offset(p);
+    const double s1 = path.offset(p + 1);
+    const double len = s1 - s0;
+    if (!(len > 0)) continue;
+    while (k < x.size() && x[k].s < s0) ++k;
+    std::size_t end = k;
+    double v_peak = 0;
+    std::size_t at = x.size();
+    while (end < x.size() && x[end].s <= s1) {
+      if (x[end].v > v_peak) {
+        v_peak = x[end].v;
+        at = end;
+      }
+      ++end;
+    }
+    PieceTiming& r = out[p];
+    if (at == x.size()) {
+      // no sample on the piece (shorter than a period's travel): the speed around it
+      const double around = std::max(k > 0 ? x[k - 1].v : 0.0, k < x.size() ? x[k].v : 0.0);
+      r.v_peak = around;
+      r.binding = around > 0 ? Binding::kLength : Binding::kStop;
+      continue;
+    }
+    r.v_peak = v_peak;
+    if (!(v_peak > 0)) continue;
+    const double local = std::clamp(x[at].s - s0, 0.0, len);
+    const double feed = feed_at(path, prepared.zones, p, local);
+    // at the feed, or with a limit active at the peak (where a_t is about 0): the rotation, the
+    // normal acceleration (curvature), the jerk (sharpness)
+    if (v_peak >= (1 - kReachShare) * feed) {
+      r.binding = Binding::kFeed;
+    } else if (check.rotation_ratio[at] >= 1 - kReachShare) {
+      r.binding = Binding::kRotation;
+    } else if (check.acceleration_ratio[at] >= 1 - kReachShare) {
+      r.binding = Binding::kCurvature;
+    } else if (check.jerk_ratio[at] >= 1 - kReachShare) {
+      r.binding = Binding::kSharpness;
+    } else if (v_peak > x[k].v * (1 + kReachShare) && v_peak > x[end - 1].v * (1 + kReachShare)) {
+      // a local maximum on the piece, below every limit: too short to go faster
+      r.binding = Binding::kLength;
+    } else {
+      bool acceleration = false;
+      for (std::size_t q = k; q < end && !acceleration; ++q) acceleration = check.acceleration_ratio[q] >= 1 - kReachShare;
+      r.binding = acceleration ? Binding::kAcceleration : Binding::kJerk;
+    }
+  }
+  return out;
+}
+
+// Share of time at the programmed feed (within kReachShare), from the samples.
+double feed_share(const Path& path, const Prepared& prepared, const std::vector<TimedSample>& x, double cycle_time) {
+  if (!(cycle_time > 0) || x.size() < 2) return 0;
+  std::size_t count = 0;
+  for (std::size_t k = 0; k + 1 < x.size(); ++k) {
+    const Path::Location at = path.locate(x[k].s);
+    if (x[k].v >= (1 - kReachShare) * feed_at(path, prepared.zones, at.piece, at.s)) ++count;
+  }
+  return std::min(1.0, static_cast<double>(count) * (x[1].t - x[0].t) / cycle_time);
+}
+
+// The curvature steps of every corner (Timing::corner_steps), with the speed at the junction
+// from the samples on either side of it (the slower).
+std::vector<Timing::CornerStep> corner_steps(const Path& path, const Prepared& prepared, const std::vector<TimedSample>& x,
+                                             double dt) {
+  std::vector<Timing::CornerStep> out(path.corners.size());
+  for (const Junction& jn : prepared.joints) {
+    if (!(jn.dk > 0)) continue;
+    const PathPiece& prev = path.pieces()[jn.prev];
+    const PathPiece& next = path.pieces()[jn.next];
+    const int index = next.corner >= 0 ? next.corner : prev.corner >= 0 ? prev.corner : next.move - 1;
+    const auto at = std::lower_bound(path.corners.begin(), path.corners.end(), index,
+                                     [](const CornerReport& r, int i) { return r.index < i; });
+    if (at == path.corners.end() || at->index != index) continue;
+    const double s = path.offset(jn.next);
+    const auto after = std::lower_bound(x.begin(), x.end(), s, [](const TimedSample& q, double v) { return q.s < v; });
+    const auto before = after == x.begin() ? after : std::prev(after);
+    const double v = std::min(before->v, after == x.end() ? before->v : after->v);
+    Timing::CornerStep& step = out[static_cast<std::size_t>(at - path.corners.begin())];
+    const double jerk = jn.dk * v * v / dt;
+    if (jerk >= step.jerk) step = {jn.dk, v, jerk};
+  }
+  return out;
+}
+
+// Refuses a plan longer than options.max_samples at the piece it spends longest on.
+void check_work(const Path& path, const Prepared& prepared, const std::vector<Span>& seed, double cycle_time,
+                const TimingOptions& options) {
+  if (cycle_time / options.dt <= options.max_samples - 1) return;
+  std::vector<Interval> intervals = prepared.intervals;
+  refuse_slowest(path, intervals, seed, cycle_time, options);
+}
+
+}  // namespace
+
+Timing plan_optimal(const Path& path, const TimingOptions& options) {
+  Timing timing;
+  timing.dt = options.dt;
+  timing.limits = options.limits;
+  timing.algorithm = TimingOptions::Algorithm::kOptimal;
+  timing.corner_steps.resize(path.corners.size());
+  Prepared prepared = prepare(path, options);
+  timing.bound_cycle_time = time_optimal_bound(path, options, prepared.models, prepared.joints, prepared.intervals);
+
+  // 1. seed 004's plan, unsampled and with no limit on its length (the optimum can be shorter)
+  TimingOptions start_options = options;
+  start_options.max_samples = kInf;
+  const Seed004Spans start = seed004_spans(path, prepared, start_options);
+  if (start.spans.empty()) {
+    timing.samples.push_back({0, path.length(), 0, 0, 0});
+    for (std::size_t k = 0; k < path.pieces().size(); ++k) timing.pieces.push_back({k, 0.0, Binding::kStop});
+    return timing;
+  }
+  // no plan is faster than the bound: refuse before any work when even that is too long
+  check_work(path, prepared, start.spans, timing.bound_cycle_time, options);
+
+  // 2. the grid and the starting values at its nodes
+  // the node spacing in seed 004's time, stretched where seed 004 is much slower than the bound
+  // (the optimum lies between them, and seed 004's slow stretches would get needlessly many nodes)
+  const double slowness = std::clamp(start.cycle_time / std::max(timing.bound_cycle_time, 1e-300), 1.0, kMaxSpacingStretch);
+  const double tau = start.cycle_time / kMaxTimeNodes / options.grid_refinement;
+  Grid grid = build_grid(path, options, prepared, start.spans, tau, slowness / options.grid_refinement);
+  std::vector<double> b(grid.nodes.size(), 0.0);
+  std::vector<double> a(grid.nodes.size(), 0.0);
+  std::vector<double> lin(grid.nodes.size(), 0.0);  // the points the cells' shapes come from
+  std::vector<double> lin_a(grid.nodes.size(), 0.0);
+  {
+    StartProfile profile(start.spans);
+    double b_top = 0;
+    for (std::size_t i = 0; i < grid.nodes.size(); ++i) {
+      if (grid.nodes[i].rest) continue;
+      std::tie(b[i], a[i]) = profile.at(grid.nodes[i].s);
+      b_top = std::max(b_top, b[i]);
+    }
+    for (std::size_t i = 0; i < grid.nodes.size(); ++i) {
+      if (!grid.nodes[i].rest) b[i] = std::max(b[i], kSmallestStartShare * b_top);
+    }
+  }
+  // the stretches, with seed 004's times at their rests
+  std::vector<Stretch> stretches;
+  {
+    std::size_t cursor = 0;
+    const auto seed_time = [&](double s) {
+      while (cursor + 1 < start.spans.size() && start.spans[cursor + 1].s0 <= s) ++cursor;
+      const Span& sp = start.spans[cursor];
+      return sp.t0 + sp.curve.time_at_distance(std::clamp(s - sp.s0, 0.0, sp.length()));
+    };
+    for (std::size_t r = 0; r + 1 < grid.rests.size(); ++r) {
+      Stretch st;
+      st.first = grid.rests[r];
+      st.last = grid.rests[r + 1];
+      st.seed_t0 = r == 0 ? 0.0 : seed_time(grid.nodes[st.first].s);
+      st.seed_t1 = r + 2 == grid.rests.size() ? start.cycle_time : seed_time(grid.nodes[st.last].s);
+      stretches.push_back(st);
+    }
+  }
+
+  // 3.-4. solve, sample, check; refine where a limit is exceeded
+  ProfileCheck check;
+  int fallbacks = 0;
+  for (int round = 0;; ++round) {
+    int linearisations = 0;
+    for (Stretch& st : stretches) {
+      if (!st.dirty) continue;
+      st.dirty = false;
+      st.gamma = 1;
+      st.solved = false;
+      st.optimal = false;
+      const std::size_t first = st.first;
+      const std::size_t last = st.last;
+      if (!(grid.nodes[last].s > grid.nodes[first].s)) continue;
+      const auto from = b.begin() + static_cast<std::ptrdiff_t>(first);
+      const auto to = b.begin() + static_cast<std::ptrdiff_t>(last) + 1;
+      const std::vector<double> b0(from, to);
+      const std::vector<double> a0(a.begin() + static_cast<std::ptrdiff_t>(first), a.begin() + static_cast<std::ptrdiff_t>(last) + 1);
+      const StretchResult res = solve_stretch(grid, first, last, b0, a0, kMaxLinearisations);
+      linearisations = std::max(linearisations, res.linearisations);
+      timing.newton_steps += res.newton_steps;
+      if (!res.converged) continue;
+      std::copy(res.b.begin(), res.b.end(), b.begin() + static_cast<std::ptrdiff_t>(first));
+      std::copy(res.a.begin(), res.a.end(), a.begin() + static_cast<std::ptrdiff_t>(first));
+      std::copy(res.b_lin.begin(), res.b_lin.end(), lin.begin() + static_cast<std::ptrdiff_t>(first));
+      std::copy(res.a_lin.begin(), res.a_lin.end(), lin_a.begin() + static_cast<std::ptrdiff_t>(first));
+      st.solved = make_motion(grid, first, last, b, a, lin, lin_a, st.cells);
+      // the optimiser's motion where it is at least as fast as seed 004's
+      st.optimal = st.solved && st.own_duration() <= (st.seed_t1 - st.seed_t0) * (1 + kSeedPreference);
+    }
+    timing.iterations += linearisations;
+    chain(stretches);
+    timing.samples = sample_plan(stretches, start.spans, path.length(), options.dt);
+    check = check_samples(path, options, prepared, timing.samples);
+    if (round == kMaxRefinements) break;
+    // where a sample of a solved stretch (or a difference stencil) exceeds a limit: the limits
+    // held at the nodes of the cells around it are tightened by the ratio found (the motion
+    // between nodes exceeds what the nodes hold by a share that changes little when the stretch
+    // is solved again), and in the first round the cells are halved as well
+    std::vector<std::size_t> split;
+    for (std::size_t r = 0; r < stretches.size(); ++r) {
+      Stretch& st = stretches[r];
+      if (!st.optimal) continue;
+      const auto [k0, k1] = sample_range(stretches, r, options.dt, timing.samples.size());
+      for (std::size_t k = k0; k <= k1; ++k) {
+        if (!(check.worst[k] > 1 + kRefineShare)) continue;
+        for (std::size_t q = k == 0 ? 0 : k - 1; q <= std::min(k + 2, timing.samples.size() - 1); ++q) {
+          const std::size_t c = cell_at(grid, timing.samples[q].s);
+          if (c < st.first || c >= st.last) continue;
+          st.dirty = true;
+          for (const std::size_t i : {c, c + 1}) {
+            tighten(grid, i, check.velocity_ratio[k], check.acceleration_any[k], check.jerk_any[k]);
+          }
+          if (round == 0 && !grid.nodes[c].keep) split.push_back(c);
+        }
+      }
+    }
+    std::sort(split.begin(), split.end());
+    split.erase(std::unique(split.begin(), split.end()), split.end());
+    bool dirty = false;
+    for (const Stretch& st : stretches) dirty = dirty || st.dirty;
+    if (!dirty) break;
+    std::vector<double> nb, na, nl, nla;
+    for (std::size_t i = 0, next = 0; i < b.size(); ++i) {
+      nb.push_back(b[i]);
+      na.push_back(a[i]);
+      nl.push_back(lin[i]);
+      nla.push_back(lin_a[i]);
+      if (next < split.size() && split[next] == i) {
+        ++next;
+        const auto [bm, am] = middle_of(grid, b, a, lin, lin_a, i);
+        nb.push_back(bm);
+        na.push_back(am);
+        nl.push_back(bm);
+        nla.push_back(am);
+      }
+    }
+    split_cells(grid, path, options, prepared, split, [](std::size_t) {});
+    b.swap(nb);
+    a.swap(na);
+    lin.swap(nl);
+    lin_a.swap(nla);
+    // the stretches' rest nodes moved with the inserted ones
+    for (std::size_t r = 0; r < stretches.size(); ++r) {
+      stretches[r].first = grid.rests[r];
+      stretches[r].last = grid.rests[r + 1];
+    }
+  }
+
+  // the last hair: each stretch uniformly slower until every sampled ratio on it is at most 1
+  // (settle); seed 004's motion settled the same way where it is the faster of the two (where the
+  // optimiser found none, or where seed 004's, slowed until it holds the limits, still wins)
+  const auto settle = [&](std::vector<Stretch>& plan) {
+    chain(plan);
+    timing.samples = sample_plan(plan, start.spans, path.length(), options.dt);
+    check = check_samples(path, options, prepared, timing.samples);
+    for (int round = 0; round < kMaxSlowdowns; ++round) {
+      bool changed = false;
+      for (std::size_t r = 0; r < plan.size(); ++r) {
+        const auto [k0, k1] = sample_range(plan, r, options.dt, timing.samples.size());
+        const double g = check.scale(k0, k1);
+        if (g < 1) {
+          // twice the share the samples ask for: the samples land elsewhere on the slower motion
+          // and may catch more of a bump between them
+          plan[r].gamma *= (1 - 2 * (1 - g)) * (1 - kSlowdownMargin);
+          changed = true;
+        }
+      }
+      if (!changed) break;
+      chain(plan);
+      timing.samples = sample_plan(plan, start.spans, path.length(), options.dt);
+      check = check_samples(path, options, prepared, timing.samples);
+    }
+  };
+  settle(stretches);
+  std::vector<Stretch> seed_plan = stretches;
+  for (Stretch& st : seed_plan) {
+    st.optimal = false;
+    st.gamma = 1;
+  }
+  settle(seed_plan);
+  bool switched = false;
+  for (std::size_t r = 0; r < stretches.size(); ++r) {
+    if (stretches[r].optimal && stretches[r].duration() <= seed_plan[r].duration() * (1 + kSeedPreference)) continue;
+    switched = switched || stretches[r].optimal;
+    stretches[r] = seed_plan[r];
+  }
+  // (the samples and their check are the last plan settled: settle the chosen one again, which
+  // resamples it even where nothing was switched)
+  (void)switched;
+  settle(stretches);
+  for (const Stretch& st : stretches) fallbacks += st.optimal ? 0 : 1;
+
+  // 5. the reports
+  timing.cycle_time = stretches.back().t0 + stretches.back().duration();
+  check_work(path, prepared, start.spans, timing.cycle_time, options);
+  timing.pieces = piece_reports(path, prepared, timing.samples, check);
+  timing.feed_share = feed_share(path, prepared, timing.samples, timing.cycle_time);
+  timing.corner_steps = corner_steps(path, prepared, timing.samples, options.dt);
+  timing.seed004_stretches = fallbacks;
+  if (check.scale() < 1) {
+    timing.outcome = {Status::kNotConverged, "optimal timing: a limit is exceeded on the sampled plan by " +
+                                                 format_value((1 / check.scale() - 1) * 100, 3) + " % after " +
+                                                 std::to_string(kMaxSlowdowns) + " slow-downs"};
+  }
+  return timing;
+}
+
+}  // namespace blendbench::timing_detail
