@@ -91,7 +91,7 @@ int interrupted_run(bb::RunFolder& folder, const bb::RunResult& result) {
 // --limits, --timing and --max-samples, shared by `run`, `plan` and (--timing) `sweep`.
 struct TimingFlags {
   std::string limits;  // empty: the scenario's (cartesian by default)
-  std::string timing;  // empty: the scenario's, or the variant's (seed004 by default)
+  std::string timing;  // empty: the scenario's, or the variant's (optimal by default)
   std::optional<double> max_samples;
 };
 
@@ -107,7 +107,7 @@ std::optional<bb::TimingOptions::Algorithm> timing_flag(const TimingFlags& flags
 void add_timing_flag(CLI::App* cmd, TimingFlags& flags) {
   cmd->add_option("--timing", flags.timing,
                   "Velocity planner: optimal (the minimum-time traversal under every limit; docs/timing.md) or seed004 "
-                  "(seed 004's S-curves, the default for now, and the paper reproductions); replaces the scenario's `timing`");
+                  "(seed 004's S-curves, kept for the paper reproductions and for comparison); replaces the scenario's `timing`");
 }
 
 std::optional<bb::LimitsMode> limits_flag(const TimingFlags& flags) {
@@ -422,6 +422,7 @@ LoadedProgram load_program(const std::string& input, const ProgramFlags& flags) 
     bb::GcodeResult parsed = bb::load_gcode_file(input, options);
     out.program = std::move(parsed.program);
     out.ignored = std::move(parsed.ignored);
+    out.timing.algorithm = bb::TimingOptions::Algorithm::kOptimal;  // the scenario format's default
   } else {
     const bb::Scenario scenario = bb::load_scenario(input);
     print_warnings(scenario);

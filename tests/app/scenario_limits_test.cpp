@@ -40,7 +40,13 @@ TEST(ScenarioLimits, EveryScenarioVariantAndBaselineHoldsEveryLimit) {
           const Timing timing = plan_timing(path, options);
           const std::string where = entry.path().filename().string() + " / " + v.name + " / baseline " +
                                     std::to_string(static_cast<int>(b)) + " / " + std::string(to_string(mode));
-          (void)test::expect_valid(path, timing, where, options);
+          // the tangential model's limits (seed 004's eq. 25-27, |a_t|, |j_t|) are what path mode
+          // holds; in cartesian mode the vectors are held (below), and the optimal planner uses the
+          // room they leave: j_t may exceed j where the normal part cancels it, and v the path-mode
+          // caps of eq. 25-27
+          if (mode == LimitsMode::kPath || options.algorithm == TimingOptions::Algorithm::kSeed004) {
+            (void)test::expect_valid(path, timing, where, options);
+          }
           EXPECT_GE(timing.cycle_time, timing.bound_cycle_time) << where;
           if (mode == LimitsMode::kCartesian) {
             const test::CartesianMargins m = test::expect_cartesian_valid(path, timing, options.axis_limits, where);

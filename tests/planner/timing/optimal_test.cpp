@@ -382,8 +382,8 @@ TEST(OptimalTiming, TheScenarioKeyChoosesThePlannerAndAVariantOverridesIt) {
   const Scenario by_default = parse_scenario(head + variants, "t.yaml", ".");
   const Scenario optimal = parse_scenario("timing: optimal\n" + head + variants, "t.yaml", ".");
   const Scenario seed004 = parse_scenario("timing: seed004\n" + head + variants, "t.yaml", ".");
-  // the default (seed004 until the switch, docs/timing.md), and each variant's own over it
-  EXPECT_EQ(timing_options(by_default, by_default.variants[0]).algorithm, TimingOptions{}.algorithm);
+  // the default (optimal; docs/timing.md), and each variant's own over it
+  EXPECT_EQ(timing_options(by_default, by_default.variants[0]).algorithm, Algorithm::kOptimal);
   EXPECT_EQ(timing_options(optimal, optimal.variants[0]).algorithm, Algorithm::kOptimal);
   EXPECT_EQ(timing_options(optimal, optimal.variants[1]).algorithm, Algorithm::kSeed004);
   EXPECT_EQ(timing_options(seed004, seed004.variants[0]).algorithm, Algorithm::kSeed004);

@@ -138,8 +138,8 @@ struct Scenario {
   // (m/s^2, m/s^3 after conversion; cartesian only)
   LimitsMode limits = LimitsMode::kCartesian;
   std::optional<AxisLimits> axis_limits;
-  // `timing`: the velocity planner of every variant that sets none (timing.hpp; default seed004 until the switch, docs/timing.md)
-  TimingOptions::Algorithm timing = TimingOptions::Algorithm::kSeed004;
+  // `timing`: the velocity planner of every variant that sets none (timing.hpp; default optimal; seed004 for the paper reproductions, docs/timing.md)
+  TimingOptions::Algorithm timing = TimingOptions::Algorithm::kOptimal;
   RobotSettings robot;
   ServoSettings servo;
   SimulationSettings simulation;
