@@ -5,7 +5,7 @@
 # scans every .hpp and .cpp under the stage folders of <root> (planner/<stage>/, io/, sim/,
 # render/, report/, papers/, app/; tests/, bench/ and examples/ are not stages) and fails, naming
 # file, line and include, when a file
-#   - includes "blendbench/<stage>/..." of a stage its folder may not depend on (README, Layout:
+#   - includes "blendbench/<stage>/..." of a stage its folder may not depend on (docs/development.md, Layout:
 #     dependencies point one way, from the planner's core out to app), or of no known stage;
 #   - includes a framework's header outside the folders allowed to use it: MuJoCo in sim and
 #     render, libyaml (yaml.h), yaml-cpp and urdfdom (urdf_*, console_bridge) in io, GL (OSMesa) in render,

@@ -1,4 +1,4 @@
-// blendbench: the command-line program (the contract: README, "What a run produces" and "Other commands").
+// blendbench: the command-line program (the contract: docs/output.md and docs/commands.md).
 // Exit codes: 0 ok, 1 a check failed or a variant did not complete, 2 bad input (or an --out
 // folder in use by another run), 128 + signal when stopped by SIGINT (130) or SIGTERM (143).
 
