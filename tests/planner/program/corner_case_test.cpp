@@ -47,10 +47,10 @@ TEST(CornerCase, EveryValueHasAUniqueNameThatReadsBack) {
   EXPECT_EQ(to_string(Fallback::kNone), "");
 }
 
-// The README's methods table ("special cases reported") against the enums.
-TEST(CornerCase, ReadmeTableNamesExactlyTheCasesTheCodeReports) {
-  std::ifstream in(test::source_path("README.md"));
-  ASSERT_TRUE(in) << "README.md";
+// The methods table of docs/methods.md ("special cases reported") against the enums.
+TEST(CornerCase, MethodsTableNamesExactlyTheCasesTheCodeReports) {
+  std::ifstream in(test::source_path("docs/methods.md"));
+  ASSERT_TRUE(in) << "docs/methods.md";
   std::stringstream text;
   text << in.rdbuf();
   std::set<std::string> documented;
@@ -74,7 +74,7 @@ TEST(CornerCase, ReadmeTableNamesExactlyTheCasesTheCodeReports) {
       documented.insert((*it)[1]);
     }
   }
-  ASSERT_FALSE(documented.empty()) << "the README's methods table was not found";
+  ASSERT_FALSE(documented.empty()) << "the methods table of docs/methods.md was not found";
   std::set<std::string> known_fallbacks;
   for (int i = 1; i < kFallbacks; ++i) known_fallbacks.insert(std::string(to_string(static_cast<Fallback>(i))));
   for (const std::string& name : documented) {
