@@ -37,9 +37,10 @@ struct PlanarArc {
   double sweep = 0;
 };
 
-// The arc from p, leaving along the unit tangent t, to q; nullopt when q lies on the tangent
-// line (no finite circle; not met between points of a spiral).
-std::optional<PlanarArc> arc_leaving(const Vec2& p, const Vec2& t, const Vec2& q) {
+// The circle through q tangent to the unit tangent t at p, as the arc from `from` to `to` (p and
+// q in one order or the other) turning the way t turns; nullopt when q lies on the tangent line
+// (no finite circle; not met between points of a spiral).
+std::optional<PlanarArc> arc_tangent_at(const Vec2& p, const Vec2& t, const Vec2& q, const Vec2& from, const Vec2& to) {
   const Vec2 n = left_of(t);
   const Vec2 pq = q - p;
   const double denom = 2 * n.dot(pq);
@@ -47,30 +48,19 @@ std::optional<PlanarArc> arc_leaving(const Vec2& p, const Vec2& t, const Vec2& q
   PlanarArc a;
   a.rho = pq.squaredNorm() / denom;
   a.center = p + a.rho * n;
-  a.start = p;
-  const double turn = std::atan2(cross2(p - a.center, q - a.center), (p - a.center).dot(q - a.center));
+  a.start = from;
+  const double turn = std::atan2(cross2(from - a.center, to - a.center), (from - a.center).dot(to - a.center));
   double sweep = a.rho > 0 ? turn : -turn;
   if (sweep <= 0) sweep += kTwoPi;
   a.sweep = sweep;
   return a;
 }
 
+// The arc from p, leaving along the unit tangent t, to q.
+std::optional<PlanarArc> arc_leaving(const Vec2& p, const Vec2& t, const Vec2& q) { return arc_tangent_at(p, t, q, p, q); }
+
 // The arc from q to p that arrives at p along the unit tangent t.
-std::optional<PlanarArc> arc_arriving(const Vec2& q, const Vec2& p, const Vec2& t) {
-  const Vec2 n = left_of(t);
-  const Vec2 pq = q - p;
-  const double denom = 2 * n.dot(pq);
-  if (!(std::abs(denom) > 1e-12 * pq.norm())) return std::nullopt;
-  PlanarArc a;
-  a.rho = pq.squaredNorm() / denom;
-  a.center = p + a.rho * n;
-  a.start = q;
-  const double turn = std::atan2(cross2(q - a.center, p - a.center), (q - a.center).dot(p - a.center));
-  double sweep = a.rho > 0 ? turn : -turn;
-  if (sweep <= 0) sweep += kTwoPi;
-  a.sweep = sweep;
-  return a;
-}
+std::optional<PlanarArc> arc_arriving(const Vec2& q, const Vec2& p, const Vec2& t) { return arc_tangent_at(p, t, q, q, p); }
 
 // The biarc from (p0, t0) to (p1, t1), unit tangents: the two tangent arcs through the joint
 // at the middle of the control points p0 + d t0, p1 - d t1, d the root of
