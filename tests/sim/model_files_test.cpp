@@ -130,6 +130,14 @@ TEST(ModelFiles, ObjFacesMayIndexOnlyWhatTheFileHas) {
     test::expect_input_error([&] { check_obj(tetrahedron(c.extra), "tet.obj"); },
                              {.file = "tet.obj", .line = c.line, .message = c.message}, c.extra);
   }
+  // points without faces: MuJoCo 2.2.2 takes their convex hull and crashed on fewer than four
+  // (fuzz_mjcf, AddressSanitizer); four or more are a mesh
+  EXPECT_NO_THROW(check_obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n", "points.obj"));
+  for (const std::string& points : {std::string("v 0 0 0\n"), std::string("v 1\nv 1 0 0\nv 0 1 0\n")}) {
+    test::expect_input_error([&] { check_obj(points, "points.obj"); },
+                             {.file = "points.obj", .message = "and no faces: a mesh given by its points alone needs at least 4"},
+                             points);
+  }
   // through a model: refused at the <mesh> naming the file
   const test::ScratchDir dir("model_files_obj");
   (void)dir.write("bad.obj", tetrahedron("f 1 2 400000000\n"));
