@@ -11,6 +11,7 @@
 
 #include "support/input_error.hpp"
 #include "support/property.hpp"
+#include "support/shipped_scenarios.hpp"
 #include "support/scratch.hpp"
 
 namespace blendbench {
@@ -433,13 +434,11 @@ variants: [{name: v}]
 
 TEST(Scenario, EveryShippedScenarioLoadsAndBlends) {
   int count = 0;
-  for (const auto& entry : std::filesystem::recursive_directory_iterator(test::source_path("scenarios"))) {
-    if (entry.path().extension() != ".yaml") continue;
-    if (entry.path().parent_path().filename() == "sweeps") continue;  // sweep files (sweep_test runs them)
+  for (const std::filesystem::path& file : test::shipped_scenarios()) {
     ++count;
-    SCOPED_TRACE(entry.path().string());
+    SCOPED_TRACE(file.string());
     try {
-      const Scenario sc = load_scenario(entry.path().string());
+      const Scenario sc = load_scenario(file.string());
       for (const Variant& v : sc.variants) {
         const Path path = blend(program_for(sc, v));
         EXPECT_GT(path.length(), 0.0) << v.name;

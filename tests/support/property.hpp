@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -46,6 +47,20 @@ inline std::uint64_t seed_offset() {
     std::abort();
   }
   return value;
+}
+
+// Whether a test that walks a fixed list (every shipped scenario's variants, a set of reference
+// paths) checks its `index`-th item: every item in a normal run; when BLENDBENCH_PROPERTY_SCALE is
+// a factor below 1 (the sanitizer build sets 0.25), every k-th, k = round(1 / scale), starting at
+// the seed offset modulo k, so that runs with BLENDBENCH_PROPERTY_SEED = 0 .. k-1 cover the whole
+// list between them. The Release build checks every item every run.
+inline bool property_sample(std::size_t index) {
+  const char* env = std::getenv("BLENDBENCH_PROPERTY_SCALE");
+  if (env == nullptr) return true;
+  const double scale = std::atof(env);
+  if (!(scale > 0) || scale >= 1) return true;
+  const auto stride = static_cast<std::uint64_t>(std::max(1L, std::lround(1 / scale)));
+  return (index + seed_offset()) % stride == 0;
 }
 
 // A generator seeded per case (the test's seed plus the offset above); `seed_text(seed)` goes into

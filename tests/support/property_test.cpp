@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace blendbench::test {
 namespace {
@@ -84,6 +85,30 @@ TEST(PropertyEnvironment, TheCaseCountFollowsTheCountOrTheScale) {
     const ScopedEnv scale("BLENDBENCH_PROPERTY_SCALE", "20");
     EXPECT_EQ(property_cases(300), 17);  // the count wins over the scale
   }
+}
+
+TEST(PropertyEnvironment, AScaleBelowOneSamplesAFixedListAndTheSeedsCoverItBetweenThem) {
+  const ScopedEnv unset("BLENDBENCH_PROPERTY_SEED", nullptr);
+  {
+    const ScopedEnv none("BLENDBENCH_PROPERTY_SCALE", nullptr);
+    for (std::size_t i = 0; i < 9; ++i) EXPECT_TRUE(property_sample(i)) << i;
+  }
+  const ScopedEnv quarter("BLENDBENCH_PROPERTY_SCALE", "0.25");
+  std::vector<int> checked(16, 0);
+  for (const char* seed : {"0", "1", "2", "3"}) {
+    const ScopedEnv offset("BLENDBENCH_PROPERTY_SEED", seed);
+    int taken = 0;
+    for (std::size_t i = 0; i < checked.size(); ++i) {
+      if (property_sample(i)) {
+        ++checked[i];
+        ++taken;
+      }
+    }
+    EXPECT_EQ(taken, 4) << "BLENDBENCH_PROPERTY_SEED=" << seed;
+  }
+  for (std::size_t i = 0; i < checked.size(); ++i) EXPECT_EQ(checked[i], 1) << i;
+  const ScopedEnv more("BLENDBENCH_PROPERTY_SCALE", "3");
+  EXPECT_TRUE(property_sample(1));
 }
 
 }  // namespace
