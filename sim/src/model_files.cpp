@@ -229,18 +229,24 @@ void check_obj(const std::string& text, const std::string& file) {
   std::size_t at = 0;
   while (at < text.size()) {
     ++line_number;
-    const std::size_t end = std::min(text.find('\n', at), text.size());
+    // a line ends at \n, \r\n or a lone \r, as tinyobjloader reads the file
+    const std::size_t end = std::min(text.find_first_of("\r\n", at), text.size());
     std::string_view line(text.data() + at, end - at);
     at = end + 1;
-    // the line's words
+    if (end < text.size() && text[end] == '\r' && at < text.size() && text[at] == '\n') ++at;
+    // the line's words, between spaces and tabs
     std::vector<std::string_view> words;
     for (std::size_t i = 0; i < line.size();) {
-      while (i < line.size() && (line[i] == ' ' || line[i] == '\t' || line[i] == '\r')) ++i;
+      while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
       const std::size_t start = i;
-      while (i < line.size() && line[i] != ' ' && line[i] != '\t' && line[i] != '\r') ++i;
+      while (i < line.size() && line[i] != ' ' && line[i] != '\t') ++i;
       if (i > start) words.push_back(line.substr(start, i - start));
     }
     if (words.empty()) continue;
+    // a keyword counts only followed by a space or a tab: tinyobjloader reads a line "v" alone
+    // as nothing (counting it made four such lines pass as four points: fuzz_mjcf, AddressSanitizer)
+    const bool separated = words[0].data() + words[0].size() < line.data() + line.size();
+    if (!separated) continue;
     if (words[0] == "v") ++count[0];
     if (words[0] == "vt") ++count[1];
     if (words[0] == "vn") ++count[2];
@@ -296,6 +302,15 @@ void check_obj(const std::string& text, const std::string& file) {
                          (count[0] == 1 ? " vertex" : " vertices") +
                          " and no faces: a mesh given by its points alone needs at least 4 (MuJoCo builds their convex "
                          "hull)");
+  }
+  // and then copies a texture coordinate and a normal for every vertex once the file has any:
+  // fewer than the vertices read past their array (fuzz_mjcf, AddressSanitizer)
+  for (std::size_t k = 1; k < 3 && faces == 0; ++k) {
+    if (count[k] > 0 && count[k] < count[0]) {
+      throw InputError(file, 0, 0, "",
+                       "has " + std::to_string(count[0]) + " vertices and " + std::to_string(count[k]) + " " + kinds[k] +
+                           "s but no faces: without faces every vertex needs its own " + kinds[k] + " (or none)");
+    }
   }
   if (count[2] > 0 && corner_without_normal_line != 0) {
     throw InputError(file, corner_without_normal_line, 0, "",

@@ -133,7 +133,19 @@ TEST(ModelFiles, ObjFacesMayIndexOnlyWhatTheFileHas) {
   // points without faces: MuJoCo 2.2.2 takes their convex hull and crashed on fewer than four
   // (fuzz_mjcf, AddressSanitizer); four or more are a mesh
   EXPECT_NO_THROW(check_obj("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n", "points.obj"));
-  for (const std::string& points : {std::string("v 0 0 0\n"), std::string("v 1\nv 1 0 0\nv 0 1 0\n")}) {
+  // without faces, MuJoCo copies a texture coordinate and a normal per vertex once there are any
+  const std::string cloud = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 1 1 1\n";
+  EXPECT_NO_THROW(check_obj(cloud + "vn 0 0 1\nvn 0 0 1\nvn 0 0 1\nvn 0 0 1\nvn 0 0 1\n", "points.obj"));
+  test::expect_input_error([&] { check_obj(cloud + "vt 0 0\n", "points.obj"); },
+                           {.file = "points.obj", .message = "has 5 vertices and 1 texture coordinates but no faces"});
+  test::expect_input_error([&] { check_obj(cloud + "vn 0 0 1\n", "points.obj"); },
+                           {.file = "points.obj", .message = "every vertex needs its own normal (or none)"});
+  // a lone \r ends a line as \n does; a "v" without a space after it is no vertex
+  EXPECT_NO_THROW(check_obj("v 0 0 0\rv 1 0 0\rv 0 1 0\rv 0 0 1\r", "points.obj"));
+  test::expect_input_error([&] { check_obj(tetrahedron("f 1 2 3\rf 1 2 9\n"), "tet.obj"); },
+                           {.file = "tet.obj", .line = 12, .message = "a face uses vertex 9, but the file has 4"});
+  for (const std::string& points : {std::string("v 0 0 0\n"), std::string("v 1\nv 1 0 0\nv 0 1 0\n"),
+                                    std::string("v\nv\nv \nv"), std::string("v 0 0 0 v 1 0 0 v 0 1 0 v 0 0 1\n")}) {
     test::expect_input_error([&] { check_obj(points, "points.obj"); },
                              {.file = "points.obj", .message = "and no faces: a mesh given by its points alone needs at least 4"},
                              points);
