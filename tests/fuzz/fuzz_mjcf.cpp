@@ -27,7 +27,10 @@ namespace {
 // it was being built runs.
 const std::string& input_dir() {
   static const std::string* const path = [] {
-    auto* pattern = new std::string("/tmp/blendbench-fuzz-mjcf-XXXXXX");
+    // under TMPDIR when set: run_fuzzers.sh points it into its scratch folder, which it removes
+    // even when a finding ends the process before this atexit handler runs
+    const char* tmp = std::getenv("TMPDIR");
+    auto* pattern = new std::string(std::string(tmp != nullptr && *tmp != '\0' ? tmp : "/tmp") + "/blendbench-fuzz-mjcf-XXXXXX");
     if (::mkdtemp(pattern->data()) == nullptr) std::abort();
     std::atexit([] {
       std::error_code ec;

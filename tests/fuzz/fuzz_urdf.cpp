@@ -27,7 +27,10 @@ namespace {
 // was being built runs.
 const std::string& input_file() {
   static const std::string* const path = [] {
-    auto* pattern = new std::string("/tmp/blendbench-fuzz-urdf-XXXXXX");
+    // under TMPDIR when set: run_fuzzers.sh points it into its scratch folder, which it removes
+    // even when a finding ends the process before this atexit handler runs
+    const char* tmp = std::getenv("TMPDIR");
+    auto* pattern = new std::string(std::string(tmp != nullptr && *tmp != '\0' ? tmp : "/tmp") + "/blendbench-fuzz-urdf-XXXXXX");
     const int fd = ::mkstemp(pattern->data());
     if (fd < 0) std::abort();
     ::close(fd);

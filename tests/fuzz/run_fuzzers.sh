@@ -13,6 +13,9 @@ root=$(cd "$here/../.." && pwd)
 scratch=$(mktemp -d "${TMPDIR:-/tmp}/blendbench-fuzz.XXXXXX")
 trap 'rm -rf "$scratch"' EXIT
 export BLENDBENCH_DATA_DIR="$root"
+# the harnesses' own input folders go under the scratch folder, so none survives a finding
+mkdir -p "$scratch/tmp"
+export TMPDIR="$scratch/tmp"
 # system libraries' own findings only (tests/sanitizers/README.md)
 export LSAN_OPTIONS="suppressions=$root/tests/sanitizers/lsan.supp:print_suppressions=0"
 export UBSAN_OPTIONS="suppressions=$root/tests/sanitizers/ubsan.supp:print_stacktrace=1:halt_on_error=1"
