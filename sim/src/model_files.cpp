@@ -251,7 +251,8 @@ void check_obj(const std::string& text, const std::string& file) {
     if (words[0] == "vt") ++count[1];
     if (words[0] == "vn") ++count[2];
     if (words[0] != "f") continue;
-    ++faces;
+    // tinyobjloader keeps a face of three corners or more, and drops the others
+    if (words.size() >= 4) ++faces;
     for (std::size_t w = 1; w < words.size(); ++w) {
       // v, v/vt, v//vn or v/vt/vn
       std::string_view corner = words[w];

@@ -145,7 +145,8 @@ TEST(ModelFiles, ObjFacesMayIndexOnlyWhatTheFileHas) {
   test::expect_input_error([&] { check_obj(tetrahedron("f 1 2 3\rf 1 2 9\n"), "tet.obj"); },
                            {.file = "tet.obj", .line = 12, .message = "a face uses vertex 9, but the file has 4"});
   for (const std::string& points : {std::string("v 0 0 0\n"), std::string("v 1\nv 1 0 0\nv 0 1 0\n"),
-                                    std::string("v\nv\nv \nv"), std::string("v 0 0 0 v 1 0 0 v 0 1 0 v 0 0 1\n")}) {
+                                    std::string("v\nv\nv \nv"), std::string("v \nf \no "),
+                                    std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n"), std::string("v 0 0 0 v 1 0 0 v 0 1 0 v 0 0 1\n")}) {
     test::expect_input_error([&] { check_obj(points, "points.obj"); },
                              {.file = "points.obj", .message = "and no faces: a mesh given by its points alone needs at least 4"},
                              points);
