@@ -666,7 +666,10 @@ SensitivityRun rerun(const RunInputs& sc, const Robot& robot, const Replay& repl
 // The sensitivity study (RunRequest::sensitivity, docs/sensitivity.md): every variant of
 // `summary` that ran cleanly (its `replays` entry set) re-run on each of the scenario's perturbed
 // models, request.jobs simulations at a time on threads (a Simulator runs each reference on data
-// of its own, so one model may run several at once), progress on stderr; then the conclusions.
+// of its own, so one model may run several at once; the sweep's pool runs child processes, each
+// loading its own scenario, where these share the plans and models loaded once; a few lines of
+// std::thread over an atomic counter need no pool library), progress on stderr; then the
+// conclusions.
 // A stop request ends it with interrupted_by set.
 Sensitivity run_sensitivity(const RunInputs& sc, const RunRequest& request, const RunSummary& summary, ArmModel arm_model,
                             const std::vector<std::optional<Replay>>& replays, int& interrupted_by) {

@@ -8,6 +8,8 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <csignal>
+
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -174,6 +176,31 @@ TEST_F(SensitivityRun, TheBlockAgreesWithItsRunsAndThePlainRun) {
   const std::string report = read_text(dir_ / "sens" / "report.html");
   EXPECT_NE(report.find("Sensitivity to the arm model"), std::string::npos);
   EXPECT_NE(report.find(s.at("conclusions")[0].at("statement").get<std::string>()), std::string::npos);
+}
+
+// A stop request while the perturbed models run ends the run as any other: exit 130, the
+// finished nominal variants kept in --out (docs/output.md) with a summary that has neither a
+// sensitivity block nor a ranking, no staging folder or lock left beside it.
+TEST_F(SensitivityRun, SigintDuringThePerturbedRunsKeepsOnlyTheNominalVariants) {
+  // the default seven models: 21 simulations, time enough for the signal to land among them
+  std::string text = kScenario;
+  const std::string line = "sensitivity: {stiffness_scale: [0.5], inertia_scale: [], friction_scale: [], extra_delay_ticks: [1]}\n";
+  text.erase(text.find(line), line.size());
+  const fs::path file = write("sens.yaml", text);
+  const fs::path out = dir_ / "out";
+  blendbench::test::Child child(blendbench::test::blendbench_binary(),
+                                {"run", file.string(), "--sensitivity", "--no-video", "--no-plots", "--out", out.string()});
+  ASSERT_TRUE(child.wait_for_line("sensitivity: 3 variants on 7 perturbed models")) << child.output();
+  child.signal(SIGINT);
+  EXPECT_EQ(child.wait_within(60), 130) << child.output();
+  EXPECT_NE(child.output().find("interrupted by SIGINT: kept 3 finished variant(s)"), std::string::npos) << child.output();
+  const json summary = read_json(out / "summary.json");
+  EXPECT_FALSE(summary.contains("sensitivity"));
+  EXPECT_FALSE(summary.contains("ranking"));
+  std::vector<std::string> left;
+  for (const fs::directory_entry& e : fs::directory_iterator(dir_)) left.push_back(e.path().filename().string());
+  std::sort(left.begin(), left.end());
+  EXPECT_EQ(left, (std::vector<std::string>{"out", "sens.yaml"}));
 }
 
 TEST_F(SensitivityRun, BadInputIsRefusedWithFileLineAndKey) {
