@@ -178,6 +178,27 @@ TEST_F(SensitivityRun, TheBlockAgreesWithItsRunsAndThePlainRun) {
   EXPECT_NE(report.find(s.at("conclusions")[0].at("statement").get<std::string>()), std::string::npos);
 }
 
+// `compare --sensitivity`: the variants compare builds (here the two baselines and the arc at
+// the tolerance) get the block, and the ranking its spread.
+TEST_F(SensitivityRun, CompareRunsTheStudyOnItsVariants) {
+  const fs::path file = write("sens.yaml", kScenario);
+  const Result r = run({"compare", file.string(), "--methods", "arc", "--tolerance", "1", "--sensitivity", "--no-video",
+                        "--no-plots", "--out", (dir_ / "cmp").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const json summary = read_json(dir_ / "cmp" / "summary.json");
+  ASSERT_TRUE(summary.contains("sensitivity")) << r.output;
+  const json& s = summary.at("sensitivity");
+  std::vector<std::string> names;
+  for (const json& v : s.at("variants")) names.push_back(v.at("variant"));
+  std::vector<std::string> ran;
+  for (const json& v : summary.at("variants"))
+    if (v.at("status") == "ok") ran.push_back(v.at("name"));
+  EXPECT_EQ(names, ran);
+  EXPECT_EQ(names.size(), 3u);
+  EXPECT_EQ(s.at("conclusions").size(), 3u * 5u);  // three pairs, five metrics (every run settled)
+  EXPECT_TRUE(summary.at("ranking").at("resolution").at("model_spread").get<bool>());
+}
+
 // A stop request while the perturbed models run ends the run as any other: exit 130, the
 // finished nominal variants kept in --out (docs/output.md) with a summary that has neither a
 // sensitivity block nor a ranking, no staging folder or lock left beside it.
