@@ -2,15 +2,15 @@
 #include "blendbench/app/runner.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cassert>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <memory>
-#include <numbers>
-#include <atomic>
 #include <mutex>
+#include <numbers>
 #include <optional>
 #include <thread>
 
@@ -18,8 +18,6 @@
 #include "blendbench/core/interrupt.hpp"
 #include "blendbench/corner/blend.hpp"
 #include "blendbench/app/unit_text.hpp"
-#include "progress_bar.hpp"
-#include "sweep_pool.hpp"
 #include "blendbench/app/version.hpp"
 #include "blendbench/io/urdf_chain.hpp"
 #include "blendbench/io/urdf_model.hpp"
@@ -31,6 +29,8 @@
 #include "blendbench/sim/execution.hpp"
 #include "blendbench/sim/workspace.hpp"
 #include "blendbench/timing/timing.hpp"
+#include "progress_bar.hpp"
+#include "sweep_pool.hpp"
 #ifdef BLENDBENCH_HAS_RENDER
 #include "run_video.hpp"
 #endif
