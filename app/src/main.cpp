@@ -217,13 +217,30 @@ int finish_run(bb::RunFolder& folder, const bb::RunResult& result, const std::st
   return result.all_ok ? kExitOk : kExitCheckFailed;
 }
 
+// `--sensitivity` and `--jobs` of `run` and `compare` (runner.hpp, RunRequest::sensitivity).
+struct SensitivityFlags {
+  bool on = false;
+  std::optional<int> jobs;  // simulations at a time; unset: every core
+};
+
+// Sets the request's sensitivity study from the flags, refusing a --jobs that cannot apply.
+void apply_sensitivity_flags(const SensitivityFlags& flags, bb::RunRequest& request) {
+  if (flags.jobs && !flags.on) throw bb::InputError("", 0, 0, "--jobs", "runs the perturbed models of --sensitivity: add --sensitivity");
+  if (flags.jobs && *flags.jobs < 1) throw bb::InputError("", 0, 0, "--jobs", "must be at least 1 (default: every core)");
+  request.sensitivity = flags.on;
+  request.jobs = flags.jobs.value_or(0);
+}
+
 int cmd_run(std::string scenario_path, std::string out_dir, bool no_video, bool no_plots, bool compare,
             const std::vector<std::string>& variants, const TimingFlags& timing_flags,
-            const std::optional<double>& tolerance_mm, const bb::SmoothingFlags& smoothing) {
+            const std::optional<double>& tolerance_mm, const bb::SmoothingFlags& smoothing,
+            const SensitivityFlags& sensitivity) {
   const auto start = std::chrono::steady_clock::now();
   bb::RunSelection selection;
   selection.tolerance = tolerance_flag(tolerance_mm);  // refused before anything is loaded
   bb::check_smoothing_flags(smoothing);
+  bb::RunRequest request;
+  apply_sensitivity_flags(sensitivity, request);
   selection.limits = limits_flag(timing_flags);
   selection.timing = timing_flag(timing_flags);
   selection.variants = variants;
@@ -236,7 +253,6 @@ int cmd_run(std::string scenario_path, std::string out_dir, bool no_video, bool 
   if (out_dir.empty()) out_dir = "results/runs/" + scenario.name;
   // the run goes to a staging folder beside --out, locked, and replaces it as a whole at the end
   bb::RunFolder folder(out_dir);
-  bb::RunRequest request;
   request.out_dir = folder.staging();
   request.published_dir = folder.target();
   request.video = !no_video;
@@ -271,6 +287,7 @@ struct CompareFlags {
   std::optional<double> max_vibration_um;
   std::string robot;
   bb::SmoothingFlags smoothing;  // --smoothing, --smoothing-tolerance
+  SensitivityFlags sensitivity;  // --sensitivity, --jobs
 };
 
 // `compare INPUT`: both baselines and every method at each tolerance (compare.hpp), ranked.
@@ -286,6 +303,8 @@ int cmd_compare(const CompareFlags& flags, const TimingFlags& timing_flags) {
   const std::optional<bb::LimitsMode> limits = limits_flag(timing_flags);
   const std::optional<double> max_samples = max_samples_flag(timing_flags);
   bb::check_smoothing_flags(flags.smoothing);
+  bb::RunRequest request;
+  apply_sensitivity_flags(flags.sensitivity, request);
   std::optional<bb::RobotSettings> robot;
   if (!flags.robot.empty()) robot = bb::named_robot(flags.robot, "--robot");
 
@@ -300,7 +319,6 @@ int cmd_compare(const CompareFlags& flags, const TimingFlags& timing_flags) {
   const bb::ComparePlan plan = bb::plan_compare(scenario, compare);
   const std::string out_dir = flags.out_dir.empty() ? "results/runs/" + plan.inputs.name : flags.out_dir;
   bb::RunFolder folder(out_dir);
-  bb::RunRequest request;
   request.out_dir = folder.staging();
   request.published_dir = folder.target();
   request.video = !flags.no_video;
@@ -706,6 +724,15 @@ int main(int argc, char** argv) {
   add_timing_flags(run);
   bb::SmoothingFlags run_smoothing;
   bb::add_smoothing_flags(run, run_smoothing);
+  SensitivityFlags run_sensitivity;
+  const auto add_sensitivity_flags = [](CLI::App* cmd, SensitivityFlags& flags) {
+    cmd->add_flag("--sensitivity", flags.on,
+                  "Also re-run every clean variant on perturbed arm models (the scenario's `sensitivity`, default: gear "
+                  "stiffness x0.5/x1.5, inertias x0.8/x1.2, friction x0.5/x1.5, +1 tick of delay) and say which "
+                  "conclusions hold in all of them (summary.json `sensitivity`; docs/sensitivity.md)");
+    cmd->add_option("--jobs", flags.jobs, "With --sensitivity: simulations at a time (default: every core)");
+  };
+  add_sensitivity_flags(run, run_sensitivity);
 
   // shared by `path` and `plan`
   std::string input;
@@ -770,6 +797,7 @@ int main(int argc, char** argv) {
                           "within this (um, peak to peak)");
   compare_cmd->add_option("--robot", compare_flags.robot, "The arm: a URDF file, or a shipped one (ur5e_like, kr6_like)");
   bb::add_smoothing_flags(compare_cmd, compare_flags.smoothing);
+  add_sensitivity_flags(compare_cmd, compare_flags.sensitivity);
   add_timing_flags(compare_cmd);
 
   std::string run_dir;
@@ -830,7 +858,8 @@ int main(int argc, char** argv) {
   const int code = [&]() -> int {
     try {
       refuse_unusable_values(app);
-      if (*run) return cmd_run(scenario_path, out_dir, no_video, no_plots, compare, variants, timing_flags, run_tolerance_mm, run_smoothing);
+      if (*run) return cmd_run(scenario_path, out_dir, no_video, no_plots, compare, variants, timing_flags, run_tolerance_mm, run_smoothing,
+                                 run_sensitivity);
       if (*compare_cmd) return cmd_compare(compare_flags, timing_flags);
       if (*path) return cmd_path(input, flags, csv, report, ds_mm);
       if (*plan) return cmd_plan(input, flags, timing_flags, csv, summary);

@@ -430,6 +430,7 @@ void to_json(nlohmann::json& out, const RunSummary& s) {
          {"setpoint_rate_hz", s.servo.setpoint_rate_hz},
          {"notes", s.notes},
          {"variants", s.variants}};
+  if (s.sensitivity) out["sensitivity"] = sensitivity_json(*s.sensitivity);
   if (s.ranking) {
     out["ranking"] = ranking_json(*s.ranking);
     out["recommendation"] = {{"variant", s.ranking->recommendation.variant ? nlohmann::json(*s.ranking->recommendation.variant)

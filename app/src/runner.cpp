@@ -2,14 +2,17 @@
 #include "blendbench/app/runner.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cassert>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <numbers>
 #include <optional>
+#include <thread>
 
 #include "blendbench/core/format.hpp"
 #include "blendbench/core/interrupt.hpp"
@@ -26,6 +29,8 @@
 #include "blendbench/sim/execution.hpp"
 #include "blendbench/sim/workspace.hpp"
 #include "blendbench/timing/timing.hpp"
+#include "progress_bar.hpp"
+#include "sweep_pool.hpp"
 #ifdef BLENDBENCH_HAS_RENDER
 #include "run_video.hpp"
 #endif
@@ -290,11 +295,42 @@ VariantSummary identity(const VariantInputs& variant) {
   return out;
 }
 
+// What a sensitivity run re-runs of a variant (RunRequest::sensitivity): the plan and the joint
+// reference of its nominal run, which do not depend on the arm's dynamics.
+struct Replay {
+  Program program;  // as run (the command line's smoothing applied)
+  Path path;
+  Timing timing;
+  JointTrajectory joints;
+};
+
+// The execution options of every variant of the scenario on `robot` (its servo and start
+// pose), without frames.
+ExecutionOptions execution_options(const RunInputs& sc, const Robot& robot) {
+  ExecutionOptions options;
+  options.tool_rotation = sc.robot.tool_rotation;
+  options.q0 = robot.q0;
+  options.mapping.allow_branch_change = sc.robot.allow_branch_change;
+  options.run.tool = sc.robot.tool;
+  options.servo = robot.servo;
+  options.run.settle_time = sc.simulation.settle_time;
+  options.metrics.settle_tolerance = sc.simulation.settle_tolerance;
+  options.metrics.settle_speed_tolerance = sc.simulation.settle_speed_tolerance;
+  options.metrics.settle_window = sc.simulation.settle_window;
+  options.metrics.vibration_window = sc.simulation.vibration_window;
+  options.metrics.vibration_highpass = sc.simulation.vibration_highpass;
+  options.metrics.jerk_lowpass = sc.simulation.jerk_lowpass;
+  return options;
+}
+
 class VariantRun {
  public:
-  // `videos` is null when no video is made.
-  VariantRun(const RunInputs& sc, const Robot& robot, const RunRequest& request, const VariantInputs& variant, Videos* videos)
-      : sc_(sc), robot_(robot), request_(request), variant_(variant), dir_(request.out_dir / variant.name), videos_(videos) {}
+  // `videos` is null when no video is made; `replay`, when not null, receives the plan and the
+  // joint reference of a variant that ran cleanly.
+  VariantRun(const RunInputs& sc, const Robot& robot, const RunRequest& request, const VariantInputs& variant, Videos* videos,
+             std::optional<Replay>* replay)
+      : sc_(sc), robot_(robot), request_(request), variant_(variant), dir_(request.out_dir / variant.name), videos_(videos),
+        replay_(replay) {}
 
   VariantSummary run() {
     Program program = variant_.program;
@@ -335,19 +371,7 @@ class VariantRun {
         format_fixed(out.timings.planning * 1e3, 1) + " ms)");
 
     // execute: IK, the simulation (rendering frames on the way), metrics and health
-    ExecutionOptions options;
-    options.tool_rotation = sc_.robot.tool_rotation;
-    options.q0 = robot_.q0;
-    options.mapping.allow_branch_change = sc_.robot.allow_branch_change;
-    options.run.tool = sc_.robot.tool;
-    options.servo = robot_.servo;
-    options.run.settle_time = sc_.simulation.settle_time;
-    options.metrics.settle_tolerance = sc_.simulation.settle_tolerance;
-    options.metrics.settle_speed_tolerance = sc_.simulation.settle_speed_tolerance;
-    options.metrics.settle_window = sc_.simulation.settle_window;
-    options.metrics.vibration_window = sc_.simulation.vibration_window;
-    options.metrics.vibration_highpass = sc_.simulation.vibration_highpass;
-    options.metrics.jerk_lowpass = sc_.simulation.jerk_lowpass;
+    ExecutionOptions options = execution_options(sc_, robot_);
 #ifdef BLENDBENCH_HAS_RENDER
     // the arm's pose at the video's rate, for rendering after the run
     if (videos_ != nullptr) {
@@ -428,6 +452,7 @@ class VariantRun {
         ", contour error (planned path) max " + format_fixed(m.contour_error_planned_max / kMm * 1e3, 1) + um +
         ", residual vibration " + format_fixed(m.vibration_final.peak_to_peak / kMm * 1e3, 1) + um);
     if (out.status != VariantStatus::kOk) say(std::string(to_string(out.status)) + ": " + out.message);
+    if (replay_ != nullptr && out.status == VariantStatus::kOk) replay_->emplace(Replay{program, path, timing, run.joints.joints});
     return out;
   }
 
@@ -467,6 +492,7 @@ class VariantRun {
   const VariantInputs& variant_;
   std::filesystem::path dir_;
   Videos* videos_;
+  std::optional<Replay>* replay_;
 };
 
 // The summary entry of a variant that did not finish: what identifies it, and its status.
@@ -482,14 +508,14 @@ VariantSummary unfinished(const VariantInputs& variant, VariantStatus status, st
 // the same Ctrl-C) marks it interrupted and removes its unfinished folder. InputError (a
 // variant's bad parameter is bad input of the scenario) propagates.
 VariantSummary run_variant(const RunInputs& sc, const Robot& robot, const RunRequest& request, const VariantInputs& variant,
-                           Videos* videos, int& interrupted_by) {
+                           Videos* videos, std::optional<Replay>* replay, int& interrupted_by) {
   const std::filesystem::path dir = request.out_dir / variant.name;
   const auto discard = [&] {
     std::error_code ec;
     std::filesystem::remove_all(dir, ec);
   };
   try {
-    return VariantRun(sc, robot, request, variant, videos).run();
+    return VariantRun(sc, robot, request, variant, videos, replay).run();
   } catch (const Interrupted& stop) {
     interrupted_by = stop.signal;
   } catch (const InputError&) {
@@ -617,6 +643,134 @@ LoadedRobot load_robot(const RunInputs& scenario, const ModelChanges& changes = 
   }
 }
 
+// One variant's run on one perturbed model: its nominal plan and joint reference on `robot`
+// (servo re-tuned on that arm by load_robot), with its status and, when clean, its figures.
+SensitivityRun rerun(const RunInputs& sc, const Robot& robot, const Replay& replay) {
+  SensitivityRun out;
+  const Execution run = execute_mapped(*robot.sim, replay.program, replay.path, replay.timing, replay.joints,
+                                       execution_options(sc, robot));
+  if (run.trace.diverged) {
+    out.status = std::string(to_string(VariantStatus::kDiverged));
+    out.message = "the simulation diverged: " + run.trace.warning;
+    return out;
+  }
+  const Metrics& m = run.metrics.value();
+  const Health& h = run.health.value();
+  const VariantStatus status = status_of(m, h);
+  out.status = std::string(to_string(status));
+  out.message = status_message(m, h);
+  if (status == VariantStatus::kOk) out.figures = headline_figures(m);
+  return out;
+}
+
+// The sensitivity study (RunRequest::sensitivity, docs/sensitivity.md): every variant of
+// `summary` that ran cleanly (its `replays` entry set) re-run on each of the scenario's perturbed
+// models, request.jobs simulations at a time on threads (a Simulator runs each reference on data
+// of its own, so one model may run several at once; the sweep's pool runs child processes, each
+// loading its own scenario, where these share the plans and models loaded once; a few lines of
+// std::thread over an atomic counter need no pool library), progress on stderr; then the
+// conclusions.
+// A stop request ends it with interrupted_by set.
+Sensitivity run_sensitivity(const RunInputs& sc, const RunRequest& request, const RunSummary& summary, ArmModel arm_model,
+                            const std::vector<std::optional<Replay>>& replays, int& interrupted_by) {
+  const auto start = Clock::now();
+  Sensitivity study;
+  // a rigid arm has no gear stiffness: those models would be the nominal one
+  for (const Perturbation& p : sc.sensitivity.perturbations) {
+    if (arm_model == ArmModel::kRigid && p.stiffness_scale != 1) {
+      study.notes.push_back("'" + p.name + "' left out: the arm is rigid (no gear stiffness to change)");
+      continue;
+    }
+    study.perturbations.push_back(p);
+  }
+  std::vector<const Replay*> replay_of;
+  for (std::size_t i = 0; i < summary.variants.size(); ++i) {
+    const VariantSummary& v = summary.variants[i];
+    if (v.status != VariantStatus::kOk || !v.metrics || !replays[i]) {
+      study.skipped.push_back(v.name + ": " + std::string(to_string(v.status)) + " on the nominal model");
+      continue;
+    }
+    SensitivityVariant sv;
+    sv.name = v.name;
+    sv.nominal.figures = headline_figures(*v.metrics);
+    sv.perturbed.resize(study.perturbations.size());
+    study.variants.push_back(std::move(sv));
+    replay_of.push_back(&*replays[i]);
+  }
+  // the perturbed models, loaded and checked as the nominal one
+  std::vector<LoadedRobot> models;
+  for (const Perturbation& p : study.perturbations) {
+    ModelChanges changes;
+    changes.stiffness_scale = p.stiffness_scale;
+    changes.inertia_scale = p.inertia_scale;
+    changes.friction_scale = p.friction_scale;
+    changes.extra_delay_ticks = p.extra_delay_ticks;
+    // a stiffer or lighter arm may need a shorter physics step than the nominal one
+    changes.fit_timestep = true;
+    models.push_back(load_robot(sc, changes));
+    const double dt = models.back().robot.sim->timestep();
+    if (dt != summary.robot.timestep) {
+      study.notes.push_back("'" + p.name + "' ran at a physics timestep of " + format_value(dt * 1e6, 4) + " us (the nominal " +
+                            format_value(summary.robot.timestep * 1e6, 4) + " us divided by " +
+                            format_value(std::round(summary.robot.timestep / dt)) +
+                            ": its highest mode is faster than the nominal step resolves)");
+    }
+  }
+  const std::size_t total = models.size() * study.variants.size();
+  const int cores = request.jobs > 0 ? request.jobs : sweep_detail::available_cores();
+  study.jobs = static_cast<int>(std::clamp<std::size_t>(static_cast<std::size_t>(cores), 1, std::max<std::size_t>(total, 1)));
+  if (request.progress) {
+    request.progress("sensitivity: " + std::to_string(study.variants.size()) + " variants on " + std::to_string(models.size()) +
+                     " perturbed models, " + std::to_string(total) + " simulations, " + std::to_string(study.jobs) +
+                     " at a time");
+  }
+  // the runs: task t is variant t % variants on model t / variants
+  std::atomic<std::size_t> next{0};
+  std::atomic<int> stopped{0};
+  std::mutex lock;  // guards `done` and the bar
+  std::size_t done = 0;
+  const ProgressBar bar;
+  const auto work = [&] {
+    for (std::size_t t = next++; t < total && stopped == 0; t = next++) {
+      const std::size_t model = t / study.variants.size(), variant = t % study.variants.size();
+      SensitivityRun& out = study.variants[variant].perturbed[model];
+      try {
+        out = rerun(sc, models[model].robot, *replay_of[variant]);
+      } catch (const Interrupted& stop) {
+        stopped = stop.signal;
+        return;
+      } catch (const std::exception& e) {
+        out.status = std::string(to_string(VariantStatus::kFailed));
+        out.message = e.what();
+      }
+      const std::lock_guard<std::mutex> guard(lock);
+      ++done;
+      if (out.status != "ok") {
+        bar.say("sensitivity: " + study.variants[variant].name + " on '" + study.perturbations[model].name + "': " + out.status +
+                (out.message.empty() ? std::string() : ": " + out.message));
+      }
+      bar.draw(done, total, "sensitivity");
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int k = 1; k < study.jobs; ++k) threads.emplace_back(work);
+  work();
+  for (std::thread& th : threads) th.join();
+  if (stopped != 0 || stop_signal() != 0) {
+    interrupted_by = stopped != 0 ? stopped.load() : stop_signal();
+    bar.finish();
+    return study;
+  }
+  study.conclusions = conclude(study.perturbations, study.variants);
+  study.wall_time = seconds_since(start);
+  std::size_t all = 0;
+  for (const Conclusion& c : study.conclusions) all += c.holds_in == OrderHolds::kAll ? 1 : 0;
+  bar.finish("sensitivity: " + std::to_string(total) + " simulations in " + format_fixed(study.wall_time, 1) + " s; " +
+             std::to_string(all) + " of " + std::to_string(study.conclusions.size()) +
+             " conclusions hold in every perturbed model");
+  return study;
+}
+
 }  // namespace
 
 bool video_supported() {
@@ -699,6 +853,8 @@ RunResult run_pipeline(const RunInputs& scenario, const RunRequest& request) {
 #ifdef BLENDBENCH_HAS_RENDER
   if (with_videos != nullptr) videos.settings = film_settings(scenario, first);
 #endif
+  // the plans and joint references a sensitivity study re-runs, one per variant
+  std::vector<std::optional<Replay>> replays(scenario.variants.size());
   std::size_t index = 0;
   for (const VariantInputs& variant : scenario.variants) {
     ++index;
@@ -712,13 +868,25 @@ RunResult run_pipeline(const RunInputs& scenario, const RunRequest& request) {
       request.progress(std::string("[") + std::to_string(index) + "/" + std::to_string(scenario.variants.size()) + "] " +
                        variant.name);
     }
-    summary.variants.push_back(run_variant(scenario, robot, request, variant, with_videos, result.interrupted_by));
+    summary.variants.push_back(run_variant(scenario, robot, request, variant, with_videos,
+                                           request.sensitivity ? &replays[index - 1] : nullptr, result.interrupted_by));
     result.all_ok = result.all_ok && summary.variants.back().status == VariantStatus::kOk;
   }
+  if (result.interrupted_by == 0 && request.sensitivity) {
+    summary.sensitivity = run_sensitivity(scenario, request, summary, arm_model, replays, result.interrupted_by);
+    if (result.interrupted_by != 0) summary.sensitivity.reset();
+  }
+  replays.clear();
   if (result.interrupted_by != 0) result.all_ok = false;
   compare_with_exact_stop(summary);
-  // the answer: the variants by cycle time per tolerance, and the recommendation
-  if (result.interrupted_by == 0) summary.ranking = rank_run(summary, request.constraints, request.spread);
+  // the answer: the variants by cycle time per tolerance, and the recommendation; the ties
+  // decided by the sensitivity study's cycle-time conclusions when it ran
+  if (result.interrupted_by == 0) {
+    const OrderSpread spread = request.spread ? request.spread
+                               : summary.sensitivity ? order_spread(*summary.sensitivity)
+                                                     : OrderSpread{};
+    summary.ranking = rank_run(summary, request.constraints, spread);
+  }
 #ifdef BLENDBENCH_HAS_RENDER
   // every variant side by side (the corners are the programmed ones: the same in every variant)
   if (request.compare && result.interrupted_by == 0) {

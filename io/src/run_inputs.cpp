@@ -53,6 +53,7 @@ RunInputs resolve_run(const Scenario& scenario, const RunSelection& selection) {
   out.servo = scenario.servo;
   out.simulation = scenario.simulation;
   out.video = scenario.video;
+  out.sensitivity = scenario.sensitivity;
   out.variants.reserve(selected.size());
   for (const Variant* v : selected) {
     // variant names become folders under the output folder: never a path that leaves it

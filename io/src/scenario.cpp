@@ -501,6 +501,54 @@ void read_simulation(const Reader& r, const Field& root, Scenario& sc) {
   }
 }
 
+// `sensitivity`: the perturbed models, one per value of each key (absent keys take the table's
+// defaults, so an absent map gives default_perturbations()). A value that is the nominal model's
+// (a factor of 1) or repeats one of its list would run a model twice and is refused.
+void read_sensitivity(const Reader& r, const Field& root, Scenario& sc) {
+  const Field map = r.child(root, "sensitivity");
+  if (map.node.defined()) r.check_keys(map);
+  sc.sensitivity.where = map.node.defined() ? r.where(map) : SourceRef{};
+  std::vector<Perturbation>& out = sc.sensitivity.perturbations;
+  for (const char* key : {"stiffness_scale", "inertia_scale", "friction_scale", "extra_delay_ticks"}) {
+    const Field list = r.value(map, key);
+    const std::vector<double> values = r.numbers(list);
+    const bool ticks = std::string_view(key) == "extra_delay_ticks";
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      Field element = list;
+      element.node = list.node[i];
+      element.parent = &list;
+      element.name = "";
+      element.index = i;
+      const double v = values[i];
+      if (ticks && v != std::round(v)) r.fail(element, "a number of servo ticks must be whole, got " + element.node.scalar());
+      if (!ticks && v == 1) r.fail(element, "a factor of 1 is the nominal model, which every sensitivity run includes");
+      if (std::find(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(i), v) != values.begin() + static_cast<std::ptrdiff_t>(i)) {
+        r.fail(element, "repeats an earlier value of the list: each value is one model, run once");
+      }
+      Perturbation p;
+      if (ticks) {
+        p.extra_delay_ticks = static_cast<int>(v);
+        p.name = "delay +" + format_value(v) + (v == 1 ? " tick" : " ticks");
+      } else {
+        const std::string_view k(key);
+        const std::string factor = " x" + format_value(v);
+        if (k == "stiffness_scale") {
+          p.stiffness_scale = v;
+          p.name = "stiffness" + factor;
+        } else if (k == "inertia_scale") {
+          p.inertia_scale = v;
+          p.name = "inertia" + factor;
+        } else {
+          p.friction_scale = v;
+          p.name = "friction" + factor;
+        }
+      }
+      out.push_back(std::move(p));
+    }
+  }
+  if (out.empty()) r.fail(map, "every list is empty: a sensitivity run needs at least one perturbed model");
+}
+
 // `video`: size, rate and camera; each camera mode takes its own keys of the `camera` map.
 void read_video(const Reader& r, const Field& root, Scenario& sc) {
   const Field video = r.child(root, "video");
@@ -613,6 +661,12 @@ std::string model_file(const std::string& urdf, ArmModel model) {
   return (path.parent_path() / stem).string();
 }
 
+std::vector<Perturbation> default_perturbations() {
+  return {{"stiffness x0.5", 0.5, 1, 1, 0}, {"stiffness x1.5", 1.5, 1, 1, 0}, {"inertia x0.8", 1, 0.8, 1, 0},
+          {"inertia x1.2", 1, 1.2, 1, 0},   {"friction x0.5", 1, 1, 0.5, 0},   {"friction x1.5", 1, 1, 1.5, 0},
+          {"delay +1 tick", 1, 1, 1, 1}};
+}
+
 Scenario parse_scenario(const std::string& text, const std::string& file, const std::string& base_dir) {
   const Document doc(text, file);
   Reader r(doc, file, base_dir);
@@ -638,6 +692,7 @@ Scenario parse_scenario(const std::string& text, const std::string& file, const 
   read_robot(r, root, sc);
   read_servo(r, root, sc);
   read_simulation(r, root, sc);
+  read_sensitivity(r, root, sc);
   read_video(r, root, sc);
   read_limits(r, root, sc);
   read_program(r, root, sc);
@@ -674,6 +729,7 @@ Scenario gcode_scenario(const std::string& path, const std::optional<RobotSettin
   if (robot) sc.robot = *robot;
   read_servo(r, root, sc);
   read_simulation(r, root, sc);
+  read_sensitivity(r, root, sc);
   read_video(r, root, sc);
   read_limits(r, root, sc);
   sc.program.start_orientation = Quat(sc.robot.tool_rotation).normalized();

@@ -32,6 +32,7 @@ constexpr std::array kKeys = {
     ScenarioKey{.map = "", .name = "robot", .type = K::kMap, .opens = "robot", .meaning = "the arm's models, tool and start configuration"},
     ScenarioKey{.map = "", .name = "servo", .type = K::kMap, .opens = "servo", .meaning = "the joint drives (the gains are tuned from the model at the start pose)"},
     ScenarioKey{.map = "", .name = "simulation", .type = K::kMap, .opens = "simulation", .meaning = "when the run counts as settled, and how vibration and jerk are measured"},
+    ScenarioKey{.map = "", .name = "sensitivity", .type = K::kMap, .opens = "sensitivity", .meaning = "the perturbed arm models that `run --sensitivity` and `compare --sensitivity` re-run every variant on, one parameter at a time, to tell whether each conclusion survives the model's uncertainty (docs/sensitivity.md); each key a list of values, one model each, `[]` for none"},
     ScenarioKey{.map = "", .name = "video", .type = K::kMap, .opens = "video", .meaning = "the rendered video"},
     ScenarioKey{.map = "", .name = "limits", .type = K::kChoice, .fallback = "cartesian", .choices = "cartesian|path", .meaning = "what the limits bound: the TCP's speed, acceleration vector and jerk vector (cartesian), or the tangential values and the normal acceleration only, as seed 004 times a path (path; the paper reproductions)"},
     ScenarioKey{.map = "", .name = "axis_limits", .type = K::kMap, .opens = "axis_limits", .meaning = "limits per Cartesian axis of the program frame, as CNC users set them, on top of the vector limits (needs limits: cartesian)"},
@@ -92,6 +93,10 @@ constexpr std::array kKeys = {
     ScenarioKey{.map = "camera", .name = "position", .type = K::kNumbers, .count = 3, .unit = kLength, .meaning = "fixed, required: the camera's position in the base frame"},
     ScenarioKey{.map = "camera", .name = "look_at", .type = K::kNumbers, .count = 3, .unit = kLength, .meaning = "fixed, required: the point the camera looks at, in the base frame (not its position)"},
     ScenarioKey{.map = "camera", .name = "distance", .type = K::kNumber, .unit = kLength, .range = kPositive, .meaning = "tcp: how far the camera stays from the TCP (default: 350 mm)"},
+    ScenarioKey{.map = "sensitivity", .name = "stiffness_scale", .type = K::kNumbers, .fallback = "[0.5, 1.5]", .range = {0, 10, true, false}, .meaning = "factors on the gears' stiffness (the catalogue value is the bare gear's, an upper bound of a real joint's); not 1"},
+    ScenarioKey{.map = "sensitivity", .name = "inertia_scale", .type = K::kNumbers, .fallback = "[0.8, 1.2]", .range = {0, 10, true, false}, .meaning = "factors on every moving link's mass and inertia (UR's published values +-20 %); not 1"},
+    ScenarioKey{.map = "sensitivity", .name = "friction_scale", .type = K::kNumbers, .fallback = "[0.5, 1.5]", .range = {0, 10}, .meaning = "factors on the joints' viscous and Coulomb friction (poorly known); not 1"},
+    ScenarioKey{.map = "sensitivity", .name = "extra_delay_ticks", .type = K::kNumbers, .fallback = "[1]", .range = {1, 100}, .meaning = "servo ticks added to the measurement delay, whole numbers"},
     ScenarioKey{.map = "camera", .name = "fovy_deg", .type = K::kNumber, .unit = kDegrees, .range = {5, 120}, .meaning = "fixed, tcp: the vertical field of view (default: 45 deg; the part camera chooses its own to meet fill)"},
 
     ScenarioKey{.map = "defaults", .name = "velocity", .type = K::kNumber, .unit = kVelocity, .required = true, .range = kPositive, .meaning = "the programmed path speed"},
@@ -244,7 +249,7 @@ std::string type_text(const ScenarioKey& k) {
     case K::kBool: return "true or false";
     case K::kInteger: return "integer";
     case K::kNumber: return "number";
-    case K::kNumbers: return std::to_string(k.count) + " numbers";
+    case K::kNumbers: return k.count > 0 ? std::to_string(k.count) + " numbers" : "list of numbers";
   }
   return "";
 }

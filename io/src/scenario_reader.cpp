@@ -191,10 +191,15 @@ std::string Reader::choice(const Field& f) const {
 }
 
 std::vector<double> Reader::numbers(const Field& f) const {
-  const auto n = static_cast<std::size_t>(f.key->count);
+  // count 0: a list of any length
+  const bool any_length = f.key->count == 0;
+  const std::size_t n = any_length && f.node.is_sequence() ? f.node.size() : static_cast<std::size_t>(f.key->count);
   if (!f.node.is_sequence() || f.node.size() != n) {
-    fail(f, "expected a list of " + std::to_string(n) + " numbers, got " +
+    fail(f, "expected a list of " + (any_length ? std::string() : std::to_string(n) + " ") + "numbers, got " +
                 (f.node.is_sequence() ? "a list of " + std::to_string(f.node.size()) : what_is(f.node)));
+  }
+  if (n > kMaxListNumbers) {
+    fail(f, "expected at most " + std::to_string(kMaxListNumbers) + " numbers, got a list of " + std::to_string(n));
   }
   std::vector<double> out(n);
   for (std::size_t i = 0; i < n; ++i) {

@@ -592,6 +592,52 @@ def answer_html(summary):
     return parts
 
 
+SENSITIVITY_METRICS = {
+    "cycle_time_s": "cycle time (settled)",
+    "contour_error_programmed_max_mm": "contour error, program",
+    "contour_error_planned_max_mm": "contour error, plan",
+    "residual_vibration_corner_max_mm": "vibration after corners",
+    "residual_vibration_final_mm": "vibration after the stop",
+}
+# Beyond this many conclusions (a compare of many variants) the table keeps the cycle-time ones
+# and those that do not hold in every model; summary.json has them all.
+SENSITIVITY_MAX_ROWS = 60
+
+
+def sensitivity_html(summary):
+    """Next to the answer: what the sensitivity runs say of each conclusion of the nominal run
+    (summary.json `sensitivity`, docs/sensitivity.md): the statement and in how many of the
+    perturbed models its order holds."""
+    sens = summary.get("sensitivity")
+    if not sens:
+        return []
+    names = ", ".join(p["name"] for p in sens["perturbations"])
+    parts = ["<h2>Sensitivity to the arm model</h2>",
+             f"<p><small>Every clean variant re-run on {sens['models']} perturbed models, one parameter at a time "
+             f"({html.escape(names)}); the plan and joint reference are the nominal run's. <i>holds in</i>: in how "
+             "many perturbed models the nominal order holds (all, some, none); the range of the difference spans "
+             f"the nominal and the perturbed models. {len(sens['conclusions'])} conclusions; "
+             f"{sens['wall_time_s']:.1f} s on {sens['jobs']} threads.</small></p>"]
+    for note in sens.get("notes", []) + [f"not re-run: {s}" for s in sens.get("skipped", [])]:
+        parts.append(f"<p><small>Note: {html.escape(note)}.</small></p>")
+    rows = sens["conclusions"]
+    if len(rows) > SENSITIVITY_MAX_ROWS:
+        kept = [c for c in rows if c["metric"] == "cycle_time_s" or c["holds_in"] != "all"]
+        parts.append(f"<p><small>Shown: the cycle-time conclusions and those that do not hold in every model "
+                     f"({len(kept)} of {len(rows)}; summary.json lists all).</small></p>")
+        rows = kept
+    cells = []
+    for c in rows:
+        cls = "" if c["holds_in"] == "all" else " class='tie'"
+        fails = ", ".join(c["fails_in"]) or "—"
+        cells.append(f"<tr{cls}><td>{html.escape(SENSITIVITY_METRICS.get(c['metric'], c['metric']))}</td>"
+                     f"<td>{html.escape(c['statement'])}</td><td>{c['holds_in']} ({c['holds']}/{c['models']})</td>"
+                     f"<td>{html.escape(fails)}</td></tr>")
+    parts.append("<table class='sensitivity'><tr><th>metric</th><th>conclusion</th><th>holds in</th>"
+                 "<th>not in</th></tr>" + "".join(cells) + "</table>")
+    return parts
+
+
 def corners_html(summary, frame):
     """Every corner as corners.json numbers it (C<index>), the program line it comes from, its point
     in program coordinates, and per variant the deviation it was given (mm; a tolerance not reached
@@ -665,7 +711,8 @@ def report_html(run_dir, summary, variants, frame=None):
            f"Residual vibration: tracking error high-passed at {sim['vibration_highpass_hz']:g} Hz, peak-to-peak in "
            f"{sim['vibration_window_s']:g} s windows.</p>")
     unreached, reached = tolerance_notes(summary)
-    parts = [f"<h1>BlendBench run: {html.escape(summary['scenario'])}</h1>", *unreached, *answer_html(summary)]
+    parts = [f"<h1>BlendBench run: {html.escape(summary['scenario'])}</h1>", *unreached, *answer_html(summary),
+             *sensitivity_html(summary)]
     if reached:
         parts.append("<p><small>Tolerances reached:</small></p><ul style='font-size:smaller'>" + "".join(reached) + "</ul>")
     parts += [f"<p>{html.escape(summary.get('description', ''))}</p>", arm, "<h2>Comparison</h2>", reading, table,

@@ -52,10 +52,19 @@ Execution execute(const Simulator& sim, const IkSolver& ik, const Program& progr
   out.ik_seconds = seconds_since(start);
   if (!out.joints.outcome.ok()) return out;
   out.singularities = scan_singularities(ik, out.joints.joints.q, timing.dt);
+  Execution ran = execute_mapped(sim, program, path, timing, out.joints.joints, options);
+  ran.joints = std::move(out.joints);
+  ran.singularities = std::move(out.singularities);
+  ran.ik_seconds = out.ik_seconds;
+  return ran;
+}
 
+Execution execute_mapped(const Simulator& sim, const Program& program, const Path& path, const Timing& timing,
+                         const JointTrajectory& joints, const ExecutionOptions& options) {
+  Execution out;
   // the run
-  start = Clock::now();
-  out.trace = sim.run(out.joints.joints, options.servo, options.run);
+  const auto start = Clock::now();
+  out.trace = sim.run(joints, options.servo, options.run);
   out.simulation_seconds = seconds_since(start);
   out.corners = corner_timings(corner_placements(path, program), timing);
   if (out.trace.diverged) return out;
@@ -71,7 +80,7 @@ Execution execute(const Simulator& sim, const IkSolver& ik, const Program& progr
     metrics.reference_s.push_back(timing.samples.empty() ? 0.0 : timing.samples[std::min(k, timing.samples.size() - 1)].s);
   }
   out.metrics = compute_metrics(out.trace, program, path, metrics);
-  out.health = check_health(out.trace, out.joints.joints, sim.limits());
+  out.health = check_health(out.trace, joints, sim.limits());
   return out;
 }
 

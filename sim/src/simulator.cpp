@@ -402,29 +402,32 @@ Simulator::Simulator(mjModel* model, const std::string& source, const ModelChang
     tcp_site_ = mj_name2id(&m, mjOBJ_SITE, site.c_str());
     if (tcp_site_ < 0) fail("site", "the model has no site named '" + site + "'");
   }
-  model_ = std::shared_ptr<const mjModel>(owned.release(), [](const mjModel* p) { mj_deleteModel(const_cast<mjModel*>(p)); });
-
-  // the timestep must resolve the stiffest mode (motors free, at the model's qpos0)
+  // the timestep must resolve the stiffest mode (motors free, at the model's qpos0); with
+  // fit_timestep it is divided by the smallest whole number that does
   if (elastic()) {
-    const DataPtr d = make_data(*model_);
-    mj_forward(model_.get(), d.get());
-    const int nv = model_->nv;
+    const DataPtr d = make_data(m);
+    mj_forward(&m, d.get());
+    const int nv = m.nv;
     Eigen::MatrixXd mass(nv, nv);
     std::vector<double> dense(static_cast<std::size_t>(nv * nv));
-    mj_fullM(model_.get(), dense.data(), d->qM);
+    mj_fullM(&m, dense.data(), d->qM);
     for (int r = 0; r < nv; ++r)
       for (int c = 0; c < nv; ++c) mass(r, c) = dense[static_cast<std::size_t>(r * nv + c)];
     Eigen::MatrixXd k = Eigen::MatrixXd::Zero(nv, nv);
     for (std::size_t i = 0; i < 6; ++i) k(gear_dof_[i], gear_dof_[i]) = stiffness_[static_cast<Eigen::Index>(i)];
     const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> modes(k, mass, Eigen::EigenvaluesOnly);
     const double omega_max = std::sqrt(std::max(0.0, modes.eigenvalues().maxCoeff()));
-    if (omega_max * timestep() > kMaxOmegaDt) {
-      fail("mjcf", "the timestep " + format_value(timestep()) + " s is too long for the model's stiffest mode (" +
+    if (changes.fit_timestep && omega_max * m.opt.timestep > kMaxOmegaDt) {
+      m.opt.timestep /= std::ceil(omega_max * m.opt.timestep / kMaxOmegaDt);
+    }
+    if (omega_max * m.opt.timestep > kMaxOmegaDt) {
+      fail("mjcf", "the timestep " + format_value(m.opt.timestep) + " s is too long for the model's stiffest mode (" +
                        format_value(omega_max / (2 * std::numbers::pi)) + " Hz): omega dt = " +
-                       format_value(omega_max * timestep()) + " > " + format_value(kMaxOmegaDt) + "; use at most " +
+                       format_value(omega_max * m.opt.timestep) + " > " + format_value(kMaxOmegaDt) + "; use at most " +
                        format_value(kMaxOmegaDt / omega_max) + " s");
     }
   }
+  model_ = std::shared_ptr<const mjModel>(owned.release(), [](const mjModel* p) { mj_deleteModel(const_cast<mjModel*>(p)); });
 }
 
 namespace {

@@ -70,6 +70,7 @@ Yaml base() {
             {"robot", M({{"tool", M({})}, {"estimate_inertia", M({{"total_mass_kg", S("20")}})}})},
             {"servo", M({})},
             {"simulation", M({})},
+            {"sensitivity", M({})},
             {"video", M({{"camera", M({})}})},
             {"axis_limits", M({{"a", S("[1000, 1000, 1000]")}, {"j", S("[10000, 10000, 10000]")}})},
             {"defaults", M({{"velocity", S("100")}, {"acceleration", S("1000")}, {"jerk", S("10000")}})},
@@ -151,7 +152,10 @@ std::string signature(const Scenario& sc) {
   const SimulationSettings& sim = sc.simulation;
   out << sim.settle_tolerance << ' ' << sim.settle_speed_tolerance << ' ' << sim.settle_window << ' ' << sim.settle_time
       << ' ' << sim.vibration_window << ' ' << sim.vibration_highpass << ' ' << sim.jerk_lowpass << '|';
-  out << sc.video.fps << ' ' << sc.video.width << ' ' << sc.video.height << '|';
+  for (const Perturbation& p : sc.sensitivity.perturbations) {
+    out << p.name << ' ' << p.stiffness_scale << ' ' << p.inertia_scale << ' ' << p.friction_scale << ' ' << p.extra_delay_ticks << ';';
+  }
+  out << '|' << sc.video.fps << ' ' << sc.video.width << ' ' << sc.video.height << '|';
   const VideoCamera& c = sc.video.camera;
   out << static_cast<int>(c.mode) << ' ' << c.fill << ' ' << c.azimuth_deg.value_or(-1e9) << ' ' << c.elevation_deg.value_or(-1e9)
       << ' ' << c.position.transpose() << ' ' << c.look_at.transpose() << ' ' << c.distance << ' ' << c.fovy_deg << '|';
@@ -222,8 +226,15 @@ std::vector<std::pair<Yaml, std::string>> wrong_values(const ScenarioKey& k) {
         for (int i = 1; i < k.count; ++i) items.push_back(S(format_value(fine)));
         out.emplace_back(L(items), m);
       }
-      out.emplace_back(S("7"), "expected a list of " + std::to_string(k.count) + " numbers, got '7'");
-      out.emplace_back(L({S("1")}), "expected a list of " + std::to_string(k.count) + " numbers, got a list of 1");
+      if (k.count > 0) {
+        out.emplace_back(S("7"), "expected a list of " + std::to_string(k.count) + " numbers, got '7'");
+        out.emplace_back(L({S("1")}), "expected a list of " + std::to_string(k.count) + " numbers, got a list of 1");
+      } else {
+        // a list of any length, up to kMaxListNumbers
+        out.emplace_back(S("7"), "expected a list of numbers, got '7'");
+        out.emplace_back(L(std::vector<Yaml>(kMaxListNumbers + 1, S(format_value(fine)))),
+                         "expected at most " + std::to_string(kMaxListNumbers) + " numbers");
+      }
       break;
     }
     case KeyType::kChoice: out.emplace_back(S("no_such_value"), "unknown value 'no_such_value'"); break;
@@ -242,7 +253,8 @@ TEST(ScenarioKeys, EveryKeyRefusesValuesOfTheWrongTypeOrRangeByName) {
     for (const std::string& path : scenario_map_path_list(k.map)) {
       for (const auto& [value, words] : wrong_values(k)) {
         std::string field = field_of(path, std::string(k.name));
-        if (k.type == KeyType::kNumbers && value.kind == Yaml::Kind::kList && value.list.size() == static_cast<std::size_t>(k.count)) {
+        const std::size_t items = k.count > 0 ? static_cast<std::size_t>(k.count) : 1;  // a wrong first element
+        if (k.type == KeyType::kNumbers && value.kind == Yaml::Kind::kList && value.list.size() == items) {
           field += "[0]";
         }
         const Yaml y = with_key(base_for(path), path, std::string(k.name), value);
@@ -346,7 +358,7 @@ TEST(ScenarioKeys, TheTableIsConsistent) {
     EXPECT_FALSE(scenario_map_path_list(k.map).empty()) << "unreachable map of " << id;
     EXPECT_EQ(k.type == KeyType::kMap || k.type == KeyType::kList, !k.opens.empty()) << id;
     EXPECT_EQ(k.type == KeyType::kChoice, !k.choices.empty()) << id;
-    EXPECT_EQ(k.type == KeyType::kNumbers, k.count > 0) << id;
+    EXPECT_TRUE(k.type == KeyType::kNumbers || k.count == 0) << id;  // count 0: a list of any length
     EXPECT_FALSE(k.required && !k.fallback.empty()) << "a required key with a default: " << id;
     if (k.unit.length_power != 0) {
       for (const double bound : {k.range.lo, k.range.hi}) EXPECT_TRUE(bound == 0 || std::isinf(bound)) << id;

@@ -115,6 +115,53 @@ TEST(Scenario, VariantTransitionAppliesOnlyWhereTheMoveSetsNone) {
   EXPECT_THROW((void)find_variant(sc, "nope"), InputError);
 }
 
+// `sensitivity`: the default models without the key, one model per listed value with it, and a
+// positioned refusal of every value that cannot be a perturbed model.
+TEST(Scenario, SensitivityKeyListsThePerturbedModels) {
+  const Scenario defaults = parse(kValid);
+  std::vector<std::string> names;
+  for (const Perturbation& p : defaults.sensitivity.perturbations) names.push_back(p.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"stiffness x0.5", "stiffness x1.5", "inertia x0.8", "inertia x1.2", "friction x0.5",
+                                             "friction x1.5", "delay +1 tick"}));
+  EXPECT_EQ(defaults.sensitivity.where.line, 0);
+  // the defaults are the table's: one model per value, each changing one parameter
+  const std::vector<Perturbation> table = default_perturbations();
+  ASSERT_EQ(table.size(), names.size());
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    const Perturbation& a = defaults.sensitivity.perturbations[k];
+    const Perturbation& b = table[k];
+    EXPECT_EQ(a.name, b.name);
+    EXPECT_EQ(a.stiffness_scale, b.stiffness_scale);
+    EXPECT_EQ(a.inertia_scale, b.inertia_scale);
+    EXPECT_EQ(a.friction_scale, b.friction_scale);
+    EXPECT_EQ(a.extra_delay_ticks, b.extra_delay_ticks);
+    const int changed = (a.stiffness_scale != 1) + (a.inertia_scale != 1) + (a.friction_scale != 1) + (a.extra_delay_ticks != 0);
+    EXPECT_EQ(changed, 1) << a.name;
+  }
+
+  const Scenario own = parse(replaced(kValid, "units: mm", "units: mm\nsensitivity: {stiffness_scale: [0.3], inertia_scale: [], extra_delay_ticks: [2, 3]}"));
+  ASSERT_EQ(own.sensitivity.perturbations.size(), 5u);  // 1 stiffness, the 2 default frictions, 2 delays
+  EXPECT_EQ(own.sensitivity.perturbations[0].name, "stiffness x0.3");
+  EXPECT_EQ(own.sensitivity.perturbations[0].stiffness_scale, 0.3);
+  EXPECT_EQ(own.sensitivity.perturbations[1].name, "friction x0.5");
+  EXPECT_EQ(own.sensitivity.perturbations[3].name, "delay +2 ticks");
+  EXPECT_EQ(own.sensitivity.perturbations[4].extra_delay_ticks, 3);
+  EXPECT_EQ(own.sensitivity.where.line, 3);
+
+  const auto with = [](const std::string& map) { return replaced(kValid, "units: mm", "units: mm\nsensitivity: " + map); };
+  expect_error(with("{stiffness_scale: [-0.5, 1.5]}"), 3, "sensitivity.stiffness_scale[0]", "");
+  expect_error(with("{inertia_scale: [0.8, 0]}"), 3, "sensitivity.inertia_scale[1]", "");
+  expect_error(with("{friction_scale: [0.5, 1]}"), 3, "sensitivity.friction_scale[1]", "nominal model");
+  expect_error(with("{friction_scale: [0.5, 0.5]}"), 3, "sensitivity.friction_scale[1]", "repeats");
+  expect_error(with("{extra_delay_ticks: [1.5]}"), 3, "sensitivity.extra_delay_ticks[0]", "whole");
+  expect_error(with("{extra_delay_ticks: [0]}"), 3, "sensitivity.extra_delay_ticks[0]", "");
+  expect_error(with("{stifness_scale: [0.5]}"), 3, "sensitivity.stifness_scale", "stiffness_scale");
+  expect_error(with("{gravity_scale: [0.5]}"), 3, "sensitivity.gravity_scale", "unknown key");
+  expect_error(with("{stiffness_scale: 0.5}"), 3, "sensitivity.stiffness_scale", "expected a list of numbers");
+  expect_error(with("{stiffness_scale: [], inertia_scale: [], friction_scale: [], extra_delay_ticks: []}"), 3, "sensitivity",
+               "at least one perturbed model");
+}
+
 TEST(Scenario, BadInputNamesFileLineAndField) {
   expect_error(replaced(kValid, "units: mm", "units: mm\nspeed: 3"), 3, "speed", "unknown key 'speed'");
   expect_error(replaced(kValid, "velocity: 100", "velocity: fast"), 4, "defaults.velocity", "expected a number");

@@ -191,6 +191,37 @@ TEST(ElasticModel, ArmVibratesAtTheStatedFirstNaturalFrequency) {
 // raises gravity's torques 1.2 times; both keep the gears' damping ratio; the friction scale
 // scales the motor hinges' friction; an extra tick of measurement delay is the same run as a
 // servo with one more tick.
+// fit_timestep: a stiffer arm whose highest mode the model's step cannot resolve runs at the
+// step divided by the smallest whole number that can (the refusal without it decides "can"); a
+// model the step resolves keeps it.
+TEST(ElasticModel, FitTimestepDividesTheStepByTheSmallestWholeNumberThatResolves) {
+  const Simulator nominal(elastic_model());
+  const double dt = nominal.timestep();
+  for (const double scale : {1.2, 1.5, 4.0}) {
+    ModelChanges fit;
+    fit.stiffness_scale = scale;
+    fit.fit_timestep = true;
+    const Simulator fitted(elastic_model(), fit);
+    const double n = dt / fitted.timestep();
+    ASSERT_NEAR(n, std::round(n), 1e-9) << scale;
+    // the same step given explicitly loads; one division fewer is refused
+    ModelChanges explicit_step;
+    explicit_step.stiffness_scale = scale;
+    if (std::round(n) > 1) {
+      explicit_step.timestep = dt / (std::round(n) - 1);
+      EXPECT_THROW(Simulator(elastic_model(), explicit_step), InputError) << scale;
+    }
+    explicit_step.timestep = dt / std::round(n);
+    EXPECT_NO_THROW(Simulator(elastic_model(), explicit_step)) << scale;
+    // the perturbation itself is kept
+    EXPECT_NEAR(fitted.stiffness()[0], scale * nominal.stiffness()[0], 1e-9 * nominal.stiffness()[0]) << scale;
+  }
+  // x1.5 needs it: the nominal step is refused
+  ModelChanges stiff;
+  stiff.stiffness_scale = 1.5;
+  EXPECT_THROW(Simulator(elastic_model(), stiff), InputError);
+}
+
 TEST(ElasticModel, PerturbationsChangeWhatTheySay) {
   const Simulator nominal(elastic_model());
   ModelChanges soft;

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "blendbench/app/ranking.hpp"
+#include "blendbench/app/sensitivity.hpp"
 #include "blendbench/io/scenario.hpp"
 #include "blendbench/program/path.hpp"
 #include "blendbench/report/report.hpp"
@@ -141,6 +142,9 @@ struct RunSummary {
   // the answer (ranking.hpp): summary.json's `ranking` and `recommendation`; none when the run
   // was interrupted
   std::optional<Ranking> ranking;
+  // the perturbed models' runs and what they say of the nominal conclusions (`--sensitivity`,
+  // sensitivity.hpp): summary.json's `sensitivity`; none without the flag or when interrupted
+  std::optional<Sensitivity> sensitivity;
 };
 
 // The comparison block of every variant that has a cycle time against the first exact-stop

@@ -48,6 +48,12 @@ struct RunRequest {
   // what runs on perturbed arm models say about the order of two variants' cycle times (the
   // sensitivity runs): the ties are decided by it where it answers (ranking.hpp); empty: none
   OrderSpread spread;
+  // `--sensitivity`: after the nominal runs, every variant that ran cleanly re-run on the
+  // scenario's perturbed models (RunInputs::sensitivity), `jobs` simulations at a time (0: the
+  // cores this process may use); summary.json gets `sensitivity`, and unless `spread` is given,
+  // the ranking's ties follow its cycle-time conclusions (sensitivity.hpp, order_spread)
+  bool sensitivity = false;
+  int jobs = 0;
   // receives one line of progress at a time (variant started, stage timings, warnings)
   std::function<void(const std::string&)> progress;
 };

@@ -43,6 +43,7 @@ struct RunInputs {
   ServoSettings servo;
   SimulationSettings simulation;
   VideoSettings video;
+  SensitivitySettings sensitivity;  // the perturbed models of `--sensitivity`
   std::vector<VariantInputs> variants;  // at least one
   // what the driver that built the variants says about them (compare: what it left out and why),
   // written into summary.json's `notes`

@@ -95,6 +95,29 @@ struct VideoSettings {
   SourceRef fps_where;  // where fps was given (or its map), for the runner's work bound
 };
 
+// One perturbed arm model of a sensitivity study (`sensitivity`, docs/sensitivity.md): the
+// nominal model with one of its parameters changed (sim/simulator.hpp, ModelChanges, states what
+// each one scales), so that the runs tell whether a conclusion survives the model's uncertainty.
+struct Perturbation {
+  std::string name;            // what it changes, e.g. "stiffness x0.5", "delay +1 tick"
+  double stiffness_scale = 1;  // > 0: the gears' stiffness
+  double inertia_scale = 1;    // > 0: every link's mass and inertia
+  double friction_scale = 1;   // >= 0: the joints' viscous and Coulomb friction
+  int extra_delay_ticks = 0;   // >= 0: servo ticks added to the measurement delay
+};
+
+// The perturbed models of `run --sensitivity` and `compare --sensitivity`, one parameter at a
+// time; default_perturbations() unless the scenario's `sensitivity` map sets them.
+struct SensitivitySettings {
+  std::vector<Perturbation> perturbations;
+  SourceRef where;  // the scenario's `sensitivity` map (line 0: the defaults)
+};
+
+// The model's stated uncertainty (docs/sensitivity.md states why each range): gear stiffness
+// x0.5 and x1.5, link inertias x0.8 and x1.2, friction x0.5 and x1.5, one more tick of
+// measurement delay; seven models.
+std::vector<Perturbation> default_perturbations();
+
 // One variant: the transition applied to every move that does not set its own, an optional
 // buffer mode for all moves, an optional smoothing, and an optional velocity-planning baseline.
 struct Variant {
@@ -144,6 +167,7 @@ struct Scenario {
   ServoSettings servo;
   SimulationSettings simulation;
   VideoSettings video;
+  SensitivitySettings sensitivity;  // the perturbed models of a sensitivity run
   std::vector<LoadWarning> warnings;  // plausibility (plausibility.hpp), in the order found
 };
 

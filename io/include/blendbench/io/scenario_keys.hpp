@@ -5,6 +5,7 @@
 // two cannot drift. Adding a key is one line in scenario_keys.cpp plus the code in scenario.cpp
 // that uses its value.
 
+#include <cstddef>
 #include <limits>
 #include <span>
 #include <string>
@@ -22,7 +23,7 @@ enum class KeyType {
   kBool,     // true or false
   kInteger,  // a whole number written without a decimal point
   kNumber,   // a finite number
-  kNumbers,  // a list of `count` finite numbers
+  kNumbers,  // a list of `count` finite numbers (count 0: of any length, up to kMaxListNumbers)
 };
 
 // A unit as the file writes it. `length_power` is the power of the file's length unit (`units`:
@@ -65,11 +66,14 @@ inline constexpr KeyRange kAnyFinite{};
 inline constexpr KeyRange kPositive{0, kInfinity, true, false};
 inline constexpr KeyRange kNonNegative{0, kInfinity, false, false};
 
+// The longest list of numbers a key of any length (count 0) takes.
+inline constexpr std::size_t kMaxListNumbers = 100;
+
 struct ScenarioKey {
   std::string_view map = "";   // the table map the key belongs to ("" is the top level)
   std::string_view name = "";  // the key as written
   KeyType type = KeyType::kText;
-  int count = 0;              // kNumbers: how many
+  int count = 0;              // kNumbers: how many (0: a list of any length up to kMaxListNumbers)
   std::string_view opens = "";     // kMap, kList: the table map of its keys / of each item's keys
   KeyUnit unit = key_units::kNoUnit;
   bool required = false;      // must be given (keys required only in some cases say so in `meaning`)

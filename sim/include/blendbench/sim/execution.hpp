@@ -49,4 +49,11 @@ struct Execution {
 Execution execute(const Simulator& sim, const IkSolver& ik, const Program& program, const Path& path,
                   const Timing& timing, const ExecutionOptions& options);
 
+// The same for a joint reference already mapped (`joints`, outcome ok: the `joints` of an
+// earlier execute of the same timing), run on another `sim`: the plan and the IK do not depend
+// on the arm's dynamics, so the perturbed models of a sensitivity run reuse them. The result's
+// `joints` and `singularities` are left empty and ik_seconds 0. Throws as execute does.
+Execution execute_mapped(const Simulator& sim, const Program& program, const Path& path, const Timing& timing,
+                         const JointTrajectory& joints, const ExecutionOptions& options);
+
 }  // namespace blendbench

@@ -40,7 +40,11 @@ namespace blendbench {
 //   extra_delay_ticks  servo ticks added to the measurement delay of every servo this simulator
 //                    runs (run() adds them to ServoConfig::measurement_delay_ticks): the encoder's
 //                    path slower than the drive was tuned for;
-//   timestep         another physics timestep (0 keeps the model's).
+//   timestep         another physics timestep (0 keeps the model's);
+//   fit_timestep     when the (changed) model's stiffest mode is too fast for the timestep
+//                    (kMaxOmegaDt), the timestep divided by the smallest whole number that
+//                    resolves it, instead of the refusal (a stiffer or lighter perturbed arm; the
+//                    servo's period stays a whole number of steps).
 // And, for an MJCF of the user's own (an arm in the style of MuJoCo Menagerie: its own actuators,
 // no site "tcp"), what adapts it:
 //   tcp_site / tcp_body  the tool centre point is this site, or this body's frame, instead of
@@ -56,6 +60,7 @@ struct ModelChanges {
   double inertia_scale = 1;    // > 0
   double friction_scale = 1;   // >= 0
   int extra_delay_ticks = 0;   // >= 0
+  bool fit_timestep = false;   // the timestep divided by the smallest whole number that resolves the stiffest mode
   std::string tcp_site{};
   std::string tcp_body{};
   bool own_actuators_to_motors = false;
