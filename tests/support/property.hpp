@@ -51,15 +51,17 @@ inline std::uint64_t seed_offset() {
 
 // Whether a test that walks a fixed list (every shipped scenario's variants, a set of reference
 // paths) checks its `index`-th item: every item in a normal run; when BLENDBENCH_PROPERTY_SCALE is
-// a factor below 1 (the sanitizer build sets 0.25), every k-th, k = round(1 / scale), starting at
-// the seed offset modulo k, so that runs with BLENDBENCH_PROPERTY_SEED = 0 .. k-1 cover the whole
-// list between them. The Release build checks every item every run.
-inline bool property_sample(std::size_t index) {
+// a factor below 1 (the sanitizer build sets 0.25), every k-th, k = round(cost / scale), starting
+// at the seed offset modulo k, so that runs with BLENDBENCH_PROPERTY_SEED = 0 .. k-1 cover the
+// whole list between them. `cost` (>= 1) is how many ordinary items one of this list costs: the
+// optimal planner's walks pass more, and check a proportionally smaller share there. The Release
+// build checks every item every run.
+inline bool property_sample(std::size_t index, int cost = 1) {
   const char* env = std::getenv("BLENDBENCH_PROPERTY_SCALE");
   if (env == nullptr) return true;
   const double scale = std::atof(env);
   if (!(scale > 0) || scale >= 1) return true;
-  const auto stride = static_cast<std::uint64_t>(std::max(1L, std::lround(1 / scale)));
+  const auto stride = static_cast<std::uint64_t>(std::max(1L, std::lround(std::max(cost, 1) / scale)));
   return (index + seed_offset()) % stride == 0;
 }
 

@@ -107,8 +107,13 @@ TEST(PropertyEnvironment, AScaleBelowOneSamplesAFixedListAndTheSeedsCoverItBetwe
     EXPECT_EQ(taken, 4) << "BLENDBENCH_PROPERTY_SEED=" << seed;
   }
   for (std::size_t i = 0; i < checked.size(); ++i) EXPECT_EQ(checked[i], 1) << i;
+  // a list whose items cost four ordinary ones: every 16th
+  int costly = 0;
+  for (std::size_t i = 0; i < 64; ++i) costly += property_sample(i, 4) ? 1 : 0;
+  EXPECT_EQ(costly, 4);
   const ScopedEnv more("BLENDBENCH_PROPERTY_SCALE", "3");
   EXPECT_TRUE(property_sample(1));
+  EXPECT_TRUE(property_sample(1, 4));
 }
 
 }  // namespace
