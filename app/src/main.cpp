@@ -159,11 +159,12 @@ void print_answer(const bb::RunSummary& summary) {
       std::cout << " " << v.rank << ". " << v.name << " " << bb::format_fixed(v.cycle_time, 3) << " s"
                 << (v.tie ? " =" : v.margin ? " <" : "");
     }
-    for (const bb::UnrankedVariant& u : group.unranked) std::cout << " (" << u.name << ": " << u.reason << ")";
+    for (const bb::UnrankedVariant& u : group.unranked) std::cout << " (" << u.name << ": " << bb::terminal_text(u.reason) << ")";
     std::cout << std::endl;
   }
   const bb::Recommendation& r = summary.ranking->recommendation;
-  std::cout << "recommendation: " << (r.variant ? *r.variant + ", " : std::string("none: ")) << r.reason << std::endl;
+  std::cout << "recommendation: " << (r.variant ? *r.variant + ", " : std::string("none: ")) << bb::terminal_text(r.reason)
+            << std::endl;
 }
 
 // The common end of `run` and `compare`: the run folder committed, one line per variant, the
