@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
+#include <sstream>
 #include <string>
 
 #include "support/property.hpp"
@@ -345,6 +347,38 @@ TEST(OffscreenRenderer, PanelLegendAndLabelDrawReadableTextAndTheLegendColours) 
     EXPECT_GE(bar.v0, box.top);
     EXPECT_LE(bar.v1, box.top + box.height);
   }
+}
+
+// The methods' colours in the videos are those of the report's plots: plotio.method_colour (which
+// reads render/method_colours.json at run time) and method_colour (compiled from it) agree for
+// every listed method and for names not listed (the fallback pick), and no two listed methods share
+// a colour.
+TEST(MethodColour, TheVideosUseTheReportsColourOfEveryMethod) {
+  const std::vector<std::string> methods = {"none", "arc", "bezier", "clothoid", "biclothoid", "spline", "x", "", "optimal_g3"};
+  std::string list;
+  for (const std::string& m : methods) list += "'" + m + "',";
+  const std::string command = "/usr/bin/python3 -c \"import sys; sys.path.insert(0, '" + test::source_path("report/scripts") +
+                              "'); import plotio; print(' '.join(plotio.method_colour(m) for m in [" + list + "]))\"";
+  FILE* pipe = ::popen(command.c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  char buffer[512] = {};
+  const std::size_t n = std::fread(buffer, 1, sizeof buffer - 1, pipe);
+  ASSERT_EQ(::pclose(pipe), 0) << command;
+  std::istringstream python(std::string(buffer, n));
+  std::vector<std::string> distinct;
+  for (std::size_t i = 0; i < methods.size(); ++i) {
+    std::string expected;
+    ASSERT_TRUE(python >> expected) << "plotio printed too few colours";
+    const Rgba c = method_colour(methods[i]);
+    EXPECT_EQ(c.a, 1.0f);
+    char hex[8];
+    std::snprintf(hex, sizeof hex, "#%02x%02x%02x", static_cast<int>(std::lround(c.r * 255)), static_cast<int>(std::lround(c.g * 255)),
+                  static_cast<int>(std::lround(c.b * 255)));
+    EXPECT_EQ(std::string(hex), expected) << "method '" << methods[i] << "'";
+    if (i < 5) distinct.push_back(hex);
+  }
+  std::sort(distinct.begin(), distinct.end());
+  EXPECT_EQ(std::unique(distinct.begin(), distinct.end()), distinct.end()) << "two methods share a colour";
 }
 
 TEST(OffscreenRenderer, ModelWithoutFloorGetsOne) {

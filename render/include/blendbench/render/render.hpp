@@ -14,6 +14,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "blendbench/render/camera.hpp"
@@ -30,6 +31,12 @@ struct Rgba {
 inline constexpr Rgba kProgrammedColour{0.0f, 0.45f, 0.70f, 1};  // blue: the programmed path
 inline constexpr Rgba kPlannedColour{0.90f, 0.62f, 0.0f, 1};     // orange: the planned (blended) path
 inline constexpr Rgba kTrailColour{0.0f, 0.62f, 0.45f, 1};       // bluish green: the actual TCP so far
+// A method's colour (the method named as summary.json names it: none, arc, bezier, clothoid,
+// biclothoid), the same as in the report and its plots: render/method_colours.json is the one
+// table (compiled in by render/CMakeLists.txt, read by report/scripts/plotio.py); a method it
+// does not list takes one of its "others", picked by the sum of the name's character codes.
+Rgba method_colour(std::string_view method);
+
 // The tool on the flange (SceneStyle::tool), drawn lit like the arm, so its pixels are shades of:
 inline constexpr Rgba kToolColour{0.95f, 0.90f, 0.25f, 1};      // yellow: the tool's body, flange to TCP
 inline constexpr Rgba kToolAxisColour{0.80f, 0.60f, 0.70f, 1};  // reddish purple: the tool's z axis at the TCP
