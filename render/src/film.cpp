@@ -12,7 +12,8 @@
 namespace blendbench {
 namespace {
 
-constexpr double kUm = 1e-6;  // m; the overlay writes micrometres "um" (the font is ASCII)
+constexpr double kUm = 1e-6;  // m; the overlays write the servo's errors in micrometres (docs/units.md)
+constexpr const char* kUmText = " \u00b5m";  // render draws the micro sign (OffscreenRenderer::draw_text)
 // Lines at a view 480 pixels tall (scaled with the view's height): drawn in this order, each
 // narrower than the one before, so that where they coincide all three show.
 constexpr double kReferenceHeight = 480;
@@ -233,7 +234,7 @@ const std::vector<std::uint8_t>& VariantVideo::frame(int k) {
                         {{"time", fixed(t, 2) + " s"},
                          {"variant", r.film.name},
                          {"path speed", fixed(value_at(r.film.speed, i) / kMm, 1) + " mm/s"},
-                         {"tracking error", fixed(value_at(r.film.tracking_error, i) / kUm, 1) + " um"}});
+                         {"tracking error", fixed(value_at(r.film.tracking_error, i) / kUm, 1) + kUmText}});
   r.renderer.draw_legend(all, Corner::kBottomLeft, legend(r.settings));
   if (const std::string done = done_text(r.film, t); !done.empty()) {
     bottom_label(r.renderer, {all.width / 3, 0, all.width - all.width / 3, all.height}, done,
@@ -403,7 +404,7 @@ struct CompareVideo::Impl {
       renderer.draw_panel(cell, Corner::kTopLeft,
                           {{"variant", film.name},
                            {"path speed", fixed(value_at(film.speed, s) / kMm, 1) + " mm/s"},
-                           {"tracking error", fixed(value_at(film.tracking_error, s) / kUm, 1) + " um"}});
+                           {"tracking error", fixed(value_at(film.tracking_error, s) / kUm, 1) + kUmText}});
       if (std::string done = done_text(film, t); !done.empty()) {
         if (film.done_time) done += " (" + ordinal(ranks[static_cast<std::size_t>(i)]) + ")";
         bottom_label(renderer, cell, done, film.done_time ? kDoneColour : kNotSettledColour);

@@ -133,14 +133,21 @@ class OffscreenRenderer {
   // Fills `where` with a colour (blended by its alpha).
   void fill(const PixelRect& where, const Rgba& colour);
   // A two-column panel of rows (labels grey, values white) on a translucent dark box, in the
-  // given corner of `where`.
-  void draw_panel(const PixelRect& where, Corner corner, const std::vector<TextRow>& rows);
+  // given corner of `where`. Returns the box drawn (panel_box).
+  PixelRect draw_panel(const PixelRect& where, Corner corner, const std::vector<TextRow>& rows);
+  // The box draw_panel would draw.
+  [[nodiscard]] PixelRect panel_box(const PixelRect& where, Corner corner, const std::vector<TextRow>& rows) const;
   // A legend: one row per entry, a short bar of its colour and its text, on a translucent dark
-  // box in the given corner of `where`. Returns the box drawn.
+  // box in the given corner of `where`. Returns the box drawn (legend_box).
   PixelRect draw_legend(const PixelRect& where, Corner corner, const std::vector<LegendEntry>& entries);
+  // The box draw_legend would draw.
+  [[nodiscard]] PixelRect legend_box(const PixelRect& where, Corner corner, const std::vector<LegendEntry>& entries) const;
   // A filled rectangle with the text centred in it.
   void draw_label(const PixelRect& rect, const std::string& text, const Rgba& background, const Rgba& text_colour);
-  // Text with its top-left corner at (x, y) pixels.
+  // Text (UTF-8) with its top-left corner at (x, y) pixels. MuJoCo's bitmap fonts hold printable
+  // ASCII only: the micro sign (U+00B5, and the Greek mu U+03BC), which the overlays need for
+  // "µm", is composed from the font's own strokes (its "u" with the descender of its "p"); any
+  // other character beyond ASCII is drawn as "?".
   void draw_text(int x, int y, const std::string& text, const Rgba& colour);
   // Pixel width of `text` and the height of a line of text in this renderer's font.
   [[nodiscard]] int text_width(const std::string& text) const;
