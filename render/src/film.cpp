@@ -21,7 +21,8 @@ constexpr double kProgrammedWidth = 8, kPlannedWidth = 5, kTrailWidth = 2;  // p
 constexpr double kTcpRadius = 5;                                                 // pixels
 // Small views keep lines this much of their reference width, to stay visible.
 constexpr double kMinLineScale = 0.7;
-constexpr Rgba kTcpColour{0.85f, 0.1f, 0.1f, 1};
+// The TCP: a white disc (with render's dark rim), unlike any method's colour.
+constexpr Rgba kTcpColour{1, 1, 1, 1};
 // Polylines are simplified to this share of a pixel at the view's target.
 constexpr double kSimplifyPixels = 0.25;
 // The comparison: a held end after the last variant is done, the largest frame, the zoom's half
@@ -39,13 +40,33 @@ constexpr Rgba kFailedColour{0.45f, 0.1f, 0.1f, 1};
 constexpr Rgba kWhite{1, 1, 1, 1};
 constexpr int kPad = 6;  // pixels
 
-// The legend: the three lines, and the tool where one is drawn.
-std::vector<LegendEntry> legend(const FilmSettings& s) {
-  std::vector<LegendEntry> entries = {
-      {kProgrammedColour, "programmed path"}, {kPlannedColour, "planned path"}, {kTrailColour, "actual TCP trail"}};
+// The legend of one variant: the three lines (the planned one in its method's colour), and the
+// tool where one is drawn.
+std::vector<LegendEntry> legend(const FilmSettings& s, const VariantFilm& film) {
+  std::vector<LegendEntry> entries = {{kProgrammedColour, "programmed path"},
+                                      {method_colour(film.method), film.method.empty() ? "planned path" : "planned path (" + film.method + ")"},
+                                      {kTrailColour, "actual TCP trail"}};
   if (s.tool) {
     entries.push_back({kToolColour, "tool"});
     entries.push_back({kToolAxisColour, "tool z axis"});
+  }
+  return entries;
+}
+
+// The legend of a comparison: the programmed path, each method's colour once (in the order the
+// variants come), the actual trail; `brief` with shorter words for a narrow header.
+std::vector<LegendEntry> compare_legend(const FilmSettings& s, const std::vector<VariantFilm>& films, bool brief) {
+  std::vector<LegendEntry> entries = {{kProgrammedColour, brief ? "programmed" : "programmed path"}};
+  std::vector<std::string> methods;
+  for (const VariantFilm& f : films) {
+    if (std::find(methods.begin(), methods.end(), f.method) != methods.end()) continue;
+    methods.push_back(f.method);
+    entries.push_back({method_colour(f.method), f.method.empty() ? "planned" : f.method});
+  }
+  entries.push_back({kTrailColour, brief ? "actual" : "actual TCP trail"});
+  if (s.tool) {
+    entries.push_back({kToolColour, "tool"});
+    entries.push_back({kToolAxisColour, brief ? "tool z" : "tool z axis"});
   }
   return entries;
 }
@@ -138,7 +159,7 @@ void draw_view(OffscreenRenderer& renderer, const PixelRect& rect, const CameraP
   const double scale = std::max(kMinLineScale, rect.height / kReferenceHeight);
   std::array<Polyline, 3> polylines{};
   polylines[0] = {lines.programmed, std::nullopt, kProgrammedColour, std::max(1.0, kProgrammedWidth * scale)};
-  polylines[1] = {lines.planned, std::nullopt, kPlannedColour, std::max(1.0, kPlannedWidth * scale)};
+  polylines[1] = {lines.planned, std::nullopt, method_colour(film.method), std::max(1.0, kPlannedWidth * scale)};
   std::array<Marker, 1> tcp{};
   std::size_t markers = 0;
   if (!film.tcp.empty()) {
@@ -235,7 +256,7 @@ const std::vector<std::uint8_t>& VariantVideo::frame(int k) {
                          {"variant", r.film.name},
                          {"path speed", fixed(value_at(r.film.speed, i) / kMm, 1) + " mm/s"},
                          {"tracking error", fixed(value_at(r.film.tracking_error, i) / kUm, 1) + kUmText}});
-  r.renderer.draw_legend(all, Corner::kBottomLeft, legend(r.settings));
+  r.renderer.draw_legend(all, Corner::kBottomLeft, legend(r.settings, r.film));
   if (const std::string done = done_text(r.film, t); !done.empty()) {
     bottom_label(r.renderer, {all.width / 3, 0, all.width - all.width / 3, all.height}, done,
                  r.film.done_time ? kDoneColour : kNotSettledColour);
@@ -367,7 +388,15 @@ struct CompareVideo::Impl {
     renderer.draw_text(kPad, kPad / 2, title, kWhite);
     int x = kPad;
     const int y = kPad / 2 + line + kPad / 2;
-    for (const LegendEntry& e : legend(settings)) {
+    // the legend in one row: in full words where they fit, else shorter
+    const auto row_width = [&](const std::vector<LegendEntry>& entries) {
+      int w = kPad;
+      for (const LegendEntry& e : entries) w += 2 * line + 2 * kPad + renderer.text_width(e.text) + 2 * kPad;
+      return w;
+    };
+    std::vector<LegendEntry> entries = compare_legend(settings, films, false);
+    if (row_width(entries) > layout.width) entries = compare_legend(settings, films, true);
+    for (const LegendEntry& e : entries) {
       const int bar = 2 * line, thickness = std::max(3, line / 4);
       renderer.fill({x, y + (line - thickness) / 2, bar, thickness}, e.colour);
       renderer.draw_text(x + bar + kPad, y, e.text, kWhite);

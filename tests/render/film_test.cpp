@@ -51,9 +51,11 @@ std::vector<Vec3> rectangle(const Vec3& centre, const Vec3& u, const Vec3& v, do
 std::vector<Vec3> floor_part() { return rectangle(Vec3(0.46, 0, 0.2), Vec3::UnitX(), Vec3::UnitY(), 0.12, 0.36); }
 
 // A film of the arm standing at "ready" while its TCP runs once round `path` in `duration` s.
-VariantFilm film_along(const std::string& name, const std::vector<Vec3>& path, double duration, std::optional<double> done) {
+VariantFilm film_along(const std::string& name, const std::vector<Vec3>& path, double duration, std::optional<double> done,
+                       const std::string& method = "arc") {
   VariantFilm f;
   f.name = name;
+  f.method = method;
   f.planned = path;
   f.pose_rate_hz = 30.0 * CompareVideo::kSlowMotion;
   const int poses = static_cast<int>(duration * f.pose_rate_hz) + 1;
@@ -159,7 +161,7 @@ TEST(VariantVideo, AFrameHasTheLegendTheOverlayAndLaterTheDoneLabel) {
 
   // the legend, bottom left: a bar of each colour (the path lies in the middle 60 %, above it)
   const PixelRect legend{0, 395, 200, 85};
-  for (const Rgba& c : {kProgrammedColour, kPlannedColour, kTrailColour}) EXPECT_GT(find(first, 640, c, legend).count, 40);
+  for (const Rgba& c : {kProgrammedColour, method_colour("arc"), kTrailColour}) EXPECT_GT(find(first, 640, c, legend).count, 40);
   // the overlay, top left: white text on a dark box, and it changes with the time shown
   const PixelRect panel{0, 0, 220, 105};
   const auto white = [](int r, int g, int b) { return r > 200 && g > 200 && b > 200; };
@@ -244,7 +246,7 @@ TEST(CompareLayout, CellsCoverTheVariantsFitFullHdAndKeepTheirAspect) {
 // Two films with one corner each; the second's contour error there is larger.
 std::vector<VariantFilm> two_films_with_a_corner() {
   const std::vector<Vec3> path = floor_part();
-  std::vector<VariantFilm> films = {film_along("exact", path, 2, 1.8), film_along("blend", path, 1.6, 1.3)};
+  std::vector<VariantFilm> films = {film_along("exact", path, 2, 1.8, "none"), film_along("blend", path, 1.6, 1.3, "bezier")};
   films[0].corners = {{2, 0.50, 0.60}};
   films[1].corners = {{2, 0.40, 0.45}};
   films[1].contour_error[static_cast<std::size_t>(0.42 / 2e-3)] = 1.5e-3;
@@ -294,6 +296,14 @@ TEST(CompareVideo, GridHoldsEveryVariantThenZoomsOnTheWorstCorner) {
   EXPECT_LT(count(frame, l.width, bottom(0), label_green), 20);
   EXPECT_GT(count(frame, l.width, bottom(1), label_green), 500);
   EXPECT_GT(count(frame, l.width, l.cell(2), [](int r, int g, int b) { return r > 90 && r < 130 && g < 40 && b < 40; }), 1000);
+  // each cell's planned path in its method's colour (bezier's green only in the bezier cell: the
+  // exact stop's grey also shades the arm); both colours in the header's legend
+  for (int i = 0; i < 2; ++i) {
+    const Rgba colour = method_colour(films[static_cast<std::size_t>(i)].method);
+    EXPECT_GT(find(frame, l.width, colour, l.cell(i)).count, 50) << i;
+    EXPECT_GT(find(frame, l.width, colour, {0, 0, l.width, l.header}).count, 20) << i;
+  }
+  EXPECT_EQ(find(frame, l.width, method_colour("bezier"), l.cell(0)).count, 0);
   // the zoom: the path's corner, magnified: it lies in the middle of the cell and its edges run
   // from there out of the cell (in the overview the whole part spans 60 % of the cell), in both
   // cells with motion
@@ -301,7 +311,7 @@ TEST(CompareVideo, GridHoldsEveryVariantThenZoomsOnTheWorstCorner) {
   for (int i = 0; i < 2; ++i) {
     const PixelRect cell = l.cell(i);
     Box all;
-    for (const Rgba& c : {kProgrammedColour, kPlannedColour, kTrailColour}) {
+    for (const Rgba& c : {kProgrammedColour, method_colour(films[static_cast<std::size_t>(i)].method), kTrailColour}) {
       const Box b = find(zoom, l.width, c, cell);
       all.count += b.count;
       all.u0 = std::min(all.u0, b.u0);

@@ -36,6 +36,7 @@ namespace blendbench {
 // What one variant's videos need, recorded while it ran (world frame, SI units).
 struct VariantFilm {
   std::string name;
+  std::string method;          // as summary.json names it: the planned path's colour (method_colour)
   std::string failure;         // non-empty: the variant has no motion to show, and why
   std::vector<Vec3> planned;   // the planned (blended) path, densely sampled
   // the arm's pose from the simulation, pose k at t = k / pose_rate_hz from t = 0

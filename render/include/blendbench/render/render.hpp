@@ -26,11 +26,15 @@ struct Rgba {
   float r = 0, g = 0, b = 0, a = 1;
 };
 
-// The video's colours, from the Okabe-Ito palette (told apart with the common colour-vision
-// deficiencies); lines are drawn unlit, so their pixels carry exactly these colours.
-inline constexpr Rgba kProgrammedColour{0.0f, 0.45f, 0.70f, 1};  // blue: the programmed path
-inline constexpr Rgba kPlannedColour{0.90f, 0.62f, 0.0f, 1};     // orange: the planned (blended) path
-inline constexpr Rgba kTrailColour{0.0f, 0.62f, 0.45f, 1};       // bluish green: the actual TCP so far
+// The video's colours, as report.html's 3D view draws the same lines: the programmed path thick
+// and grey, the planned (blended) path in its method's colour (method_colour), the actual TCP thin
+// and dark. None of them is a method's colour, so the legend stays unambiguous, and none occurs in
+// the lit scene or its background (the grey is warm and the dark is purple, where the arm and floor
+// are neutral greys, white and light blue and an empty background is black), so a line's pixels
+// can be told from the scene's. Lines are drawn unlit, so their pixels carry exactly these colours.
+inline constexpr Rgba kProgrammedColour{0.6f, 0.56f, 0.5f, 1};  // warm grey
+inline constexpr Rgba kTrailColour{0.3f, 0.0f, 0.3f, 1};        // dark purple
+
 // A method's colour (the method named as summary.json names it: none, arc, bezier, clothoid,
 // biclothoid), the same as in the report and its plots: render/method_colours.json is the one
 // table (compiled in by render/CMakeLists.txt, read by report/scripts/plotio.py); a method it
