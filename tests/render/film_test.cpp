@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <string>
 
@@ -183,6 +184,57 @@ TEST(VariantVideo, AFrameHasTheLegendTheOverlayAndLaterTheDoneLabel) {
   const auto label_green = [](int r, int g, int b) { return g > r + 40 && g > b + 20 && g < 160; };
   EXPECT_LT(count(first, 640, bottom, label_green), 20);
   EXPECT_GT(count(video.frame(55), 640, bottom, label_green), 1000);
+}
+
+bool intersect(const PixelRect& a, const Box& b) {
+  return b.count > 0 && a.left <= b.u1 && b.u0 < a.left + a.width && a.top <= b.v1 && b.v0 < a.top + a.height;
+}
+
+// The overlays give way to the path: a fixed camera puts a part in the top left of the view,
+// where the panel used to be drawn; the panel and the legend go where the path is not. The path's
+// box is measured independently of the placement: its lines rendered alone through the frame's
+// camera, their pixels found by colour.
+TEST(VariantVideo, ThePanelAndTheLegendDoNotCoverThePath) {
+  const Vec3 centre(0.46, 0, 0.2);
+  const std::vector<Vec3> path = rectangle(centre, Vec3::UnitX(), Vec3::UnitY(), 0.3, 0.3);
+  const VariantFilm film = film_along("clothoid_0.1mm", path, 1, 0.8, "clothoid");
+  FilmSettings settings = settings_for(path, 640, 480);
+  // aimed below right of the part, so the part lands near pixel (130, 110)
+  const Vec3 eye(1.5, -1.0, 1.1);
+  const CameraPose straight = look_at(eye, centre, 45);
+  const double pixel = pixel_size(straight, (centre - eye).dot(straight.forward), 480);
+  settings.camera.mode = CameraSpec::Mode::kFixed;
+  settings.camera.position = eye;
+  settings.camera.look_at = centre + 190 * pixel * straight.right() - 210 * pixel * straight.up;
+  VariantVideo video(arm().sim.model(), film, settings);
+  for (const int k : {0, 15, 29}) {
+    const std::vector<std::uint8_t> frame = video.frame(k);
+    const OverlayBoxes boxes = video.overlays();
+    OffscreenRenderer alone(arm().sim.model(), 640, 480);
+    alone.pose(arm().ready);
+    const std::array<Polyline, 2> lines = {Polyline{path, std::nullopt, kProgrammedColour, 8},
+                                           Polyline{film.planned, std::nullopt, method_colour("clothoid"), 5}};
+    alone.draw_scene({0, 0, 640, 480}, video.camera(k), lines);
+    const std::vector<std::uint8_t> rgb = alone.read();
+    Box box = find(rgb, 640, kProgrammedColour, {0, 0, 640, 480});
+    const Box planned = find(rgb, 640, method_colour("clothoid"), {0, 0, 640, 480});
+    box = {box.count + planned.count, std::min(box.u0, planned.u0), std::max(box.u1, planned.u1), std::min(box.v0, planned.v0),
+           std::max(box.v1, planned.v1)};
+    ASSERT_GT(box.count, 500) << k;
+    // the test's premise: the path covers where the panel was drawn before (the top left)
+    ASSERT_TRUE(intersect({5, 5, boxes.panel.width, boxes.panel.height}, box)) << k << ": path box " << box.u0 << ".." << box.u1
+                                                                                 << " x " << box.v0 << ".." << box.v1;
+    EXPECT_FALSE(intersect(boxes.panel, box)) << k << ": panel at " << boxes.panel.left << "," << boxes.panel.top;
+    EXPECT_FALSE(intersect(boxes.legend, box)) << k << ": legend at " << boxes.legend.left << "," << boxes.legend.top;
+    // both drawn, in different places, inside the frame
+    EXPECT_GT(boxes.panel.width * boxes.panel.height, 0);
+    EXPECT_GT(boxes.legend.width * boxes.legend.height, 0);
+    EXPECT_TRUE(boxes.panel.left >= boxes.legend.left + boxes.legend.width || boxes.legend.left >= boxes.panel.left + boxes.panel.width ||
+                boxes.panel.top >= boxes.legend.top + boxes.legend.height || boxes.legend.top >= boxes.panel.top + boxes.panel.height);
+    // the method's colour is in the frame: the path, and the legend's bar
+    EXPECT_GT(find(frame, 640, method_colour("clothoid"), {0, 0, 640, 480}).count, 300) << k;
+    EXPECT_GT(find(frame, 640, method_colour("clothoid"), boxes.legend).count, 20) << k;
+  }
 }
 
 TEST(VariantVideo, FixedAndTcpCamerasLookWhereTheyAreTold) {
