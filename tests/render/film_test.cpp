@@ -190,6 +190,13 @@ bool intersect(const PixelRect& a, const Box& b) {
   return b.count > 0 && a.left <= b.u1 && b.u0 < a.left + a.width && a.top <= b.v1 && b.v0 < a.top + a.height;
 }
 
+// Pixels of a line under an overlay's box: the box is black at render's alpha 0.55 over the
+// frame, so a line it covers shows as 0.45 of the line's colour.
+int hidden(const std::vector<std::uint8_t>& rgb, int width, const PixelRect& box, const Rgba& colour) {
+  constexpr float kBehindPanel = 0.45f;
+  return find(rgb, width, {colour.r * kBehindPanel, colour.g * kBehindPanel, colour.b * kBehindPanel, 1}, box).count;
+}
+
 // The overlays give way to the path: a fixed camera puts a part in the top left of the view,
 // where the panel used to be drawn; the panel and the legend go where the path is not. The path's
 // box is measured independently of the placement: its lines rendered alone through the frame's
@@ -225,6 +232,13 @@ TEST(VariantVideo, ThePanelAndTheLegendDoNotCoverThePath) {
     ASSERT_TRUE(intersect({5, 5, boxes.panel.width, boxes.panel.height}, box)) << k << ": path box " << box.u0 << ".." << box.u1
                                                                                  << " x " << box.v0 << ".." << box.v1;
     EXPECT_FALSE(intersect(boxes.panel, box)) << k << ": panel at " << boxes.panel.left << "," << boxes.panel.top;
+    // in the frame itself: no line darkened under either box, and the lines in the clear where
+    // the panel used to be
+    for (const Rgba& c : {kProgrammedColour, method_colour("clothoid")}) {
+      EXPECT_EQ(hidden(frame, 640, boxes.panel, c), 0) << k;
+      EXPECT_EQ(hidden(frame, 640, boxes.legend, c), 0) << k;
+    }
+    EXPECT_GT(find(frame, 640, method_colour("clothoid"), {5, 5, boxes.panel.width, boxes.panel.height}).count, 20) << k;
     EXPECT_FALSE(intersect(boxes.legend, box)) << k << ": legend at " << boxes.legend.left << "," << boxes.legend.top;
     // both drawn, in different places, inside the frame
     EXPECT_GT(boxes.panel.width * boxes.panel.height, 0);
@@ -356,10 +370,22 @@ TEST(CompareVideo, GridHoldsEveryVariantThenZoomsOnTheWorstCorner) {
     EXPECT_GT(find(frame, l.width, colour, {0, 0, l.width, l.header}).count, 20) << i;
   }
   EXPECT_EQ(find(frame, l.width, method_colour("bezier"), l.cell(0)).count, 0);
+  // no cell's panel over its lines (the exact stop's grey is left out: the arm's shading takes it
+  // too), here and in the zoom below
+  const auto expect_panels_clear = [&](const std::vector<std::uint8_t>& rgb, const std::string& when) {
+    for (int i = 0; i < 2; ++i) {
+      const PixelRect panel = video.overlays(i).panel;
+      EXPECT_GT(panel.width * panel.height, 0) << when << " " << i;
+      EXPECT_EQ(hidden(rgb, l.width, panel, kProgrammedColour), 0) << when << " " << i;
+      EXPECT_EQ(hidden(rgb, l.width, panel, method_colour("bezier")), 0) << when << " " << i;
+    }
+  };
+  expect_panels_clear(frame, "synchronised");
   // the zoom: the path's corner, magnified: it lies in the middle of the cell and its edges run
   // from there out of the cell (in the overview the whole part spans 60 % of the cell), in both
   // cells with motion
   const std::vector<std::uint8_t> zoom = video.frame(video.synchronised_frames() + 36);
+  expect_panels_clear(zoom, "zoom");
   for (int i = 0; i < 2; ++i) {
     const PixelRect cell = l.cell(i);
     Box all;
