@@ -767,8 +767,9 @@ int main(int argc, char** argv) {
   compare_cmd->add_option("--max-contour-error", compare_flags.max_contour_error_mm,
                           "Recommend only variants whose contour error against the programmed path stays within this (mm)");
   compare_cmd->add_option("--max-vibration", compare_flags.max_vibration_um,
-                          "Recommend only variants whose residual vibration (after the stop and after every corner) stays "
-                          "within this (um, peak to peak)");
+                          std::string("Recommend only variants whose residual vibration (after the stop and after every "
+                                      "corner) stays within this (") +
+                              bb::micrometre_text() + ", peak to peak)");
   compare_cmd->add_option("--robot", compare_flags.robot, "The arm: a URDF file, or a shipped one (ur5e_like, kr6_like)");
   bb::add_smoothing_flags(compare_cmd, compare_flags.smoothing);
   add_timing_flags(compare_cmd);
