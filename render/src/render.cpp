@@ -7,8 +7,8 @@
 #include <cmath>
 #include <cstring>
 #include <numbers>
-#include <string_view>
 #include <stdexcept>
+#include <string_view>
 #include <utility>
 
 #include "blendbench/sim/simulator.hpp"
