@@ -320,6 +320,36 @@ std::vector<VariantFilm> two_films_with_a_corner() {
   return films;
 }
 
+// The comparison's cells place their panels as the variant video does: a fixed camera puts the
+// part in the top left of every cell, where the panel used to be; no cell's panel darkens a line,
+// and the lines are in the clear where the panel was.
+TEST(CompareVideo, CellPanelsDoNotCoverThePath) {
+  const Vec3 centre(0.46, 0, 0.2);
+  const std::vector<Vec3> path = rectangle(centre, Vec3::UnitX(), Vec3::UnitY(), 0.3, 0.3);
+  const std::vector<VariantFilm> films = {film_along("arc_0.1mm", path, 1, 0.8, "arc"), film_along("bezier_0.1mm", path, 1, 0.9, "bezier")};
+  FilmSettings settings = settings_for(path, 320, 240);
+  const Vec3 eye(1.5, -1.0, 1.1);
+  const CameraPose straight = look_at(eye, centre, 45);
+  const double pixel = pixel_size(straight, (centre - eye).dot(straight.forward), 240);
+  settings.camera.mode = CameraSpec::Mode::kFixed;
+  settings.camera.position = eye;
+  settings.camera.look_at = centre + 80 * pixel * straight.right() - 70 * pixel * straight.up;
+  CompareVideo video(arm().sim.model(), films, settings);
+  const CompareLayout& l = video.layout();
+  for (const int k : {0, 20}) {
+    const std::vector<std::uint8_t> frame = video.frame(k);
+    for (int i = 0; i < 2; ++i) {
+      const Rgba colour = method_colour(films[static_cast<std::size_t>(i)].method);
+      const PixelRect cell = l.cell(i), panel = video.overlays(i).panel;
+      ASSERT_GT(panel.width * panel.height, 0);
+      EXPECT_GT(find(frame, l.width, colour, {cell.left + 5, cell.top + 5, panel.width, panel.height}).count, 20)
+          << k << " " << i << ": the premise, the path where the panel used to be";
+      EXPECT_EQ(hidden(frame, l.width, panel, colour), 0) << k << " " << i << ": panel at " << panel.left << "," << panel.top;
+      EXPECT_EQ(hidden(frame, l.width, panel, kProgrammedColour), 0) << k << " " << i;
+    }
+  }
+}
+
 TEST(CompareVideo, WorstCornerIsTheLargestContourErrorNearACorner) {
   const std::vector<VariantFilm> films = two_films_with_a_corner();
   const std::vector<CornerPlacement> corners = {{2, Vec3(0.52, 0.18, 0.2), 0.1, 0.09, 0.11}};
