@@ -1,6 +1,7 @@
 # What `cmake --install build --prefix P` adds beyond the libraries and headers (which
 # blendbench_library installs) and the program (app/CMakeLists.txt):
-#   P/share/blendbench/{models, scenarios, report/scripts, papers/scripts, results/baselines}
+#   P/share/blendbench/{models, scenarios, report/scripts, render/method_colours.json, papers/scripts,
+#   results/baselines}
 #     the data the program reads, laid out as in the source tree so that one relative name
 #     resolves against either (io/include/blendbench/io/data_root.hpp);
 #   P/lib/cmake/blendbench/  blendbenchConfig.cmake, its version file and the exported targets,
@@ -15,6 +16,7 @@ if(BLENDBENCH_SIM)
   install(DIRECTORY models scenarios DESTINATION ${_data_dir})
   install(DIRECTORY report/scripts/ DESTINATION ${_data_dir}/report/scripts
           FILES_MATCHING PATTERN "*.py" PATTERN "__pycache__" EXCLUDE)
+  install(FILES render/method_colours.json DESTINATION ${_data_dir}/render)
   install(DIRECTORY papers/scripts/ DESTINATION ${_data_dir}/papers/scripts
           FILES_MATCHING PATTERN "*.py" PATTERN "__pycache__" EXCLUDE)
   install(DIRECTORY results/baselines/ DESTINATION ${_data_dir}/results/baselines

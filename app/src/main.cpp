@@ -159,11 +159,12 @@ void print_answer(const bb::RunSummary& summary) {
       std::cout << " " << v.rank << ". " << v.name << " " << bb::format_fixed(v.cycle_time, 3) << " s"
                 << (v.tie ? " =" : v.margin ? " <" : "");
     }
-    for (const bb::UnrankedVariant& u : group.unranked) std::cout << " (" << u.name << ": " << u.reason << ")";
+    for (const bb::UnrankedVariant& u : group.unranked) std::cout << " (" << u.name << ": " << bb::terminal_text(u.reason) << ")";
     std::cout << std::endl;
   }
   const bb::Recommendation& r = summary.ranking->recommendation;
-  std::cout << "recommendation: " << (r.variant ? *r.variant + ", " : std::string("none: ")) << r.reason << std::endl;
+  std::cout << "recommendation: " << (r.variant ? *r.variant + ", " : std::string("none: ")) << bb::terminal_text(r.reason)
+            << std::endl;
 }
 
 // The common end of `run` and `compare`: the run folder committed, one line per variant, the
@@ -793,8 +794,9 @@ int main(int argc, char** argv) {
   compare_cmd->add_option("--max-contour-error", compare_flags.max_contour_error_mm,
                           "Recommend only variants whose contour error against the programmed path stays within this (mm)");
   compare_cmd->add_option("--max-vibration", compare_flags.max_vibration_um,
-                          "Recommend only variants whose residual vibration (after the stop and after every corner) stays "
-                          "within this (um, peak to peak)");
+                          std::string("Recommend only variants whose residual vibration (after the stop and after every "
+                                      "corner) stays within this (") +
+                              bb::micrometre_text() + ", peak to peak)");
   compare_cmd->add_option("--robot", compare_flags.robot, "The arm: a URDF file, or a shipped one (ur5e_like, kr6_like)");
   bb::add_smoothing_flags(compare_cmd, compare_flags.smoothing);
   add_sensitivity_flags(compare_cmd, compare_flags.sensitivity);

@@ -21,7 +21,9 @@ std::string fixed(double value, int decimals) {
 
 std::string seconds(double s) { return fixed(s, 3) + " s"; }
 std::string millimetres(double m) { return fixed(m * 1e3, 3) + " mm"; }
-std::string micrometres(double m) { return fixed(m * 1e6, 1) + " um"; }
+// the reason goes into summary.json and the report (UTF-8): micrometres as "µm" (docs/units.md); the
+// command line prints it through terminal_text
+std::string micrometres(double m) { return fixed(m * 1e6, 1) + " \xC2\xB5m"; }
 
 bool meets(const RankCandidate& c, const Constraints& k) {
   return (!k.max_contour_error || c.contour_error <= *k.max_contour_error) &&

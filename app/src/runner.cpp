@@ -481,6 +481,7 @@ class VariantRun {
     if (videos_->films.empty() || videos_->films.back().name != variant_.name) {
       videos_->films.emplace_back();
       videos_->films.back().name = variant_.name;
+      videos_->films.back().method = std::string(to_string(variant_.method));  // its colour in the videos
     }
     return videos_->films.back();
   }

@@ -19,4 +19,12 @@ bool utf8_locale() {
 
 const char* micrometre_text() { return utf8_locale() ? "\xC2\xB5m" : "um"; }
 
+std::string terminal_text(std::string text) {
+  const std::string micro = "\xC2\xB5m", shown = micrometre_text();
+  if (shown == micro) return text;
+  for (std::size_t at = text.find(micro); at != std::string::npos; at = text.find(micro, at + shown.size()))
+    text.replace(at, micro.size(), shown);
+  return text;
+}
+
 }  // namespace blendbench

@@ -4,6 +4,8 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <limits>
+#include <optional>
 #include <stdexcept>
 
 #include "blendbench/core/units.hpp"
@@ -12,7 +14,8 @@
 namespace blendbench {
 namespace {
 
-constexpr double kUm = 1e-6;  // m; the overlay writes micrometres "um" (the font is ASCII)
+constexpr double kUm = 1e-6;  // m; the overlays write the servo's errors in micrometres (docs/units.md)
+constexpr const char* kUmText = " \u00b5m";  // render draws the micro sign (OffscreenRenderer::draw_text)
 // Lines at a view 480 pixels tall (scaled with the view's height): drawn in this order, each
 // narrower than the one before, so that where they coincide all three show.
 constexpr double kReferenceHeight = 480;
@@ -20,7 +23,8 @@ constexpr double kProgrammedWidth = 8, kPlannedWidth = 5, kTrailWidth = 2;  // p
 constexpr double kTcpRadius = 5;                                                 // pixels
 // Small views keep lines this much of their reference width, to stay visible.
 constexpr double kMinLineScale = 0.7;
-constexpr Rgba kTcpColour{0.85f, 0.1f, 0.1f, 1};
+// The TCP: a white disc (with render's dark rim), unlike any method's colour.
+constexpr Rgba kTcpColour{1, 1, 1, 1};
 // Polylines are simplified to this share of a pixel at the view's target.
 constexpr double kSimplifyPixels = 0.25;
 // The comparison: a held end after the last variant is done, the largest frame, the zoom's half
@@ -38,13 +42,33 @@ constexpr Rgba kFailedColour{0.45f, 0.1f, 0.1f, 1};
 constexpr Rgba kWhite{1, 1, 1, 1};
 constexpr int kPad = 6;  // pixels
 
-// The legend: the three lines, and the tool where one is drawn.
-std::vector<LegendEntry> legend(const FilmSettings& s) {
-  std::vector<LegendEntry> entries = {
-      {kProgrammedColour, "programmed path"}, {kPlannedColour, "planned path"}, {kTrailColour, "actual TCP trail"}};
+// The legend of one variant: the three lines (the planned one in its method's colour), and the
+// tool where one is drawn.
+std::vector<LegendEntry> legend(const FilmSettings& s, const VariantFilm& film) {
+  std::vector<LegendEntry> entries = {{kProgrammedColour, "programmed path"},
+                                      {method_colour(film.method), film.method.empty() ? "planned path" : "planned path (" + film.method + ")"},
+                                      {kTrailColour, "actual TCP trail"}};
   if (s.tool) {
     entries.push_back({kToolColour, "tool"});
     entries.push_back({kToolAxisColour, "tool z axis"});
+  }
+  return entries;
+}
+
+// The legend of a comparison: the programmed path, each method's colour once (in the order the
+// variants come), the actual trail; `brief` with shorter words for a narrow header.
+std::vector<LegendEntry> compare_legend(const FilmSettings& s, const std::vector<VariantFilm>& films, bool brief) {
+  std::vector<LegendEntry> entries = {{kProgrammedColour, brief ? "programmed" : "programmed path"}};
+  std::vector<std::string> methods;
+  for (const VariantFilm& f : films) {
+    if (std::find(methods.begin(), methods.end(), f.method) != methods.end()) continue;
+    methods.push_back(f.method);
+    entries.push_back({method_colour(f.method), f.method.empty() ? "planned" : f.method});
+  }
+  entries.push_back({kTrailColour, brief ? "actual" : "actual TCP trail"});
+  if (s.tool) {
+    entries.push_back({kToolColour, "tool"});
+    entries.push_back({kToolAxisColour, brief ? "tool z" : "tool z axis"});
   }
   return entries;
 }
@@ -137,7 +161,7 @@ void draw_view(OffscreenRenderer& renderer, const PixelRect& rect, const CameraP
   const double scale = std::max(kMinLineScale, rect.height / kReferenceHeight);
   std::array<Polyline, 3> polylines{};
   polylines[0] = {lines.programmed, std::nullopt, kProgrammedColour, std::max(1.0, kProgrammedWidth * scale)};
-  polylines[1] = {lines.planned, std::nullopt, kPlannedColour, std::max(1.0, kPlannedWidth * scale)};
+  polylines[1] = {lines.planned, std::nullopt, method_colour(film.method), std::max(1.0, kPlannedWidth * scale)};
   std::array<Marker, 1> tcp{};
   std::size_t markers = 0;
   if (!film.tcp.empty()) {
@@ -158,6 +182,79 @@ void bottom_label(OffscreenRenderer& renderer, const PixelRect& rect, const std:
   const int w = std::min(rect.width - 2 * kPad, renderer.text_width(text) + 4 * kPad);
   const int h = renderer.text_height() + 2 * kPad;
   renderer.draw_label({rect.left + (rect.width - w) / 2, rect.top + rect.height - h - kPad, w, h}, text, colour, kWhite);
+}
+
+// Where the overlays go: the corner of a view whose box covers the least of the projected path
+// (the programmed and planned lines), so the panel and the legend do not hide what the video is
+// about. Each box is tested inflated by the programmed line's half width; where every corner
+// covers some of the path (a path filling the whole view), the one covering the least length.
+struct PixelSegment {
+  double u0 = 0, v0 = 0, u1 = 0, v1 = 0;  // frame pixels
+};
+
+// The segments of `lines` in the frame's pixels, seen through `camera` in `rect` (a segment with
+// an end behind the eye is left out).
+std::vector<PixelSegment> projected(const CameraPose& camera, const PixelRect& rect, std::initializer_list<std::span<const Vec3>> lines) {
+  std::vector<PixelSegment> out;
+  for (const std::span<const Vec3> line : lines) {
+    for (std::size_t i = 1; i < line.size(); ++i) {
+      const Projection a = project(camera, line[i - 1], rect.width, rect.height);
+      const Projection b = project(camera, line[i], rect.width, rect.height);
+      if (!(a.depth > 0) || !(b.depth > 0)) continue;
+      out.push_back({a.u + rect.left, a.v + rect.top, b.u + rect.left, b.v + rect.top});
+    }
+  }
+  return out;
+}
+
+// The length (pixels) of the segments inside `box` grown by `margin` on every side: each segment
+// clipped to the box (Liang and Barsky's parametric clipping).
+double covered(const std::vector<PixelSegment>& segments, const PixelRect& box, double margin) {
+  const double x0 = box.left - margin, x1 = box.left + box.width + margin;
+  const double y0 = box.top - margin, y1 = box.top + box.height + margin;
+  double length = 0;
+  for (const PixelSegment& s : segments) {
+    const double du = s.u1 - s.u0, dv = s.v1 - s.v0;
+    double t0 = 0, t1 = 1;
+    bool outside = false;
+    for (const auto& [p, q] : {std::pair{-du, s.u0 - x0}, std::pair{du, x1 - s.u0}, std::pair{-dv, s.v0 - y0}, std::pair{dv, y1 - s.v0}}) {
+      if (p == 0) {
+        outside = outside || q < 0;
+        continue;
+      }
+      const double t = q / p;
+      if (p < 0) t0 = std::max(t0, t);
+      else t1 = std::min(t1, t);
+    }
+    if (!outside && t1 > t0) length += (t1 - t0) * std::hypot(du, dv);
+  }
+  return length;
+}
+
+// The corner of `preference` (in that order) whose box covers the least path; `current` is kept
+// while it covers none (so a moving camera does not make the box jump about).
+template <class BoxOf>
+Corner clearest_corner(std::initializer_list<Corner> preference, const BoxOf& box_of, const std::vector<PixelSegment>& path,
+                       double margin, std::optional<Corner> current = std::nullopt) {
+  if (current && covered(path, box_of(*current), margin) == 0) return *current;
+  Corner best = *preference.begin();
+  double least = std::numeric_limits<double>::infinity();
+  for (const Corner c : preference) {
+    const double length = covered(path, box_of(c), margin);
+    if (length < least) {
+      least = length;
+      best = c;
+    }
+  }
+  return best;
+}
+
+bool is_top(Corner c) { return c == Corner::kTopLeft || c == Corner::kTopRight; }
+bool is_left(Corner c) { return c == Corner::kTopLeft || c == Corner::kBottomLeft; }
+
+// Half the programmed line's width in a view, and a pixel: how far a box keeps from the path.
+double line_margin(const PixelRect& rect) {
+  return 0.5 * std::max(1.0, kProgrammedWidth * std::max(kMinLineScale, rect.height / kReferenceHeight)) + 1;
 }
 
 // What a variant says once its motion is over (empty while it runs).
@@ -205,6 +302,8 @@ struct VariantVideo::Impl {
   OffscreenRenderer renderer;
   CameraPose base_camera;
   ViewLines lines;
+  std::optional<Corner> panel_corner, legend_corner;  // the last frame's
+  OverlayBoxes boxes;                                  // the last frame's
 };
 
 VariantVideo::VariantVideo(const mjModel& m, const VariantFilm& film, const FilmSettings& settings)
@@ -227,20 +326,44 @@ const std::vector<std::uint8_t>& VariantVideo::frame(int k) {
   const PixelRect all{0, 0, r.settings.width, r.settings.height};
   draw_view(r.renderer, all, camera(k), r.lines, r.film, t, r.nq, {.tool = r.settings.tool});
 
-  // the panel, the legend and, once the motion is over, how it ended
+  // the panel and the legend where they hide least of the path; once the motion is over, how it
+  // ended, along the bottom beside the legend
   const std::size_t i = sample_at(r.film, t);
-  r.renderer.draw_panel(all, Corner::kTopLeft,
-                        {{"time", fixed(t, 2) + " s"},
-                         {"variant", r.film.name},
-                         {"path speed", fixed(value_at(r.film.speed, i) / kMm, 1) + " mm/s"},
-                         {"tracking error", fixed(value_at(r.film.tracking_error, i) / kUm, 1) + " um"}});
-  r.renderer.draw_legend(all, Corner::kBottomLeft, legend(r.settings));
+  const std::vector<TextRow> rows = {{"time", fixed(t, 2) + " s"},
+                                     {"variant", r.film.name},
+                                     {"path speed", fixed(value_at(r.film.speed, i) / kMm, 1) + " mm/s"},
+                                     {"tracking error", fixed(value_at(r.film.tracking_error, i) / kUm, 1) + kUmText}};
+  const std::vector<LegendEntry> entries = legend(r.settings, r.film);
+  const std::vector<PixelSegment> path = projected(camera(k), all, {r.lines.programmed, r.lines.planned});
+  const double margin = line_margin(all);
+  const Corner panel = clearest_corner(
+      {Corner::kTopLeft, Corner::kTopRight, Corner::kBottomRight, Corner::kBottomLeft},
+      [&](Corner c) { return r.renderer.panel_box(all, c, rows); }, path, margin, r.panel_corner);
+  const auto others = [&](std::initializer_list<Corner> order) {
+    std::vector<Corner> out;
+    for (const Corner c : order)
+      if (c != panel) out.push_back(c);
+    return out;
+  };
+  const std::vector<Corner> legend_order = others({Corner::kBottomLeft, Corner::kBottomRight, Corner::kTopRight, Corner::kTopLeft});
+  const auto legend_box = [&](Corner c) { return r.renderer.legend_box(all, c, entries); };
+  const Corner legend_corner =
+      clearest_corner({legend_order[0], legend_order[1], legend_order[2]}, legend_box, path, margin,
+                      r.legend_corner != panel ? r.legend_corner : std::nullopt);
+  r.panel_corner = panel;
+  r.legend_corner = legend_corner;
+  r.boxes.panel = r.renderer.draw_panel(all, panel, rows);
+  r.boxes.legend = r.renderer.draw_legend(all, legend_corner, entries);
   if (const std::string done = done_text(r.film, t); !done.empty()) {
-    bottom_label(r.renderer, {all.width / 3, 0, all.width - all.width / 3, all.height}, done,
-                 r.film.done_time ? kDoneColour : kNotSettledColour);
+    const PixelRect beside = is_top(legend_corner)   ? all
+                             : is_left(legend_corner) ? PixelRect{all.width / 3, 0, all.width - all.width / 3, all.height}
+                                                      : PixelRect{0, 0, all.width - all.width / 3, all.height};
+    bottom_label(r.renderer, beside, done, r.film.done_time ? kDoneColour : kNotSettledColour);
   }
   return r.renderer.read();
 }
+
+const OverlayBoxes& VariantVideo::overlays() const { return impl_->boxes; }
 
 // ---------------------------------------------------------------------------------------------
 // the comparison
@@ -299,6 +422,8 @@ struct CompareVideo::Impl {
         layout(compare_layout(static_cast<int>(f.size()), s.width, s.height)),
         renderer(m, layout.width, layout.height, s.quality, font_scale_for(layout.cell_height)) {
     if (films.empty()) throw std::invalid_argument("a comparison needs at least one variant");
+    panel_corners.resize(films.size());
+    boxes.resize(films.size());
     const double aspect = static_cast<double>(layout.cell_width) / layout.cell_height;
     base_camera = static_camera(settings, aspect);
     const Vec3 target = settings.camera.mode == CameraSpec::Mode::kFixed ? settings.camera.look_at : centre_of(settings.programmed);
@@ -366,12 +491,33 @@ struct CompareVideo::Impl {
     renderer.draw_text(kPad, kPad / 2, title, kWhite);
     int x = kPad;
     const int y = kPad / 2 + line + kPad / 2;
-    for (const LegendEntry& e : legend(settings)) {
+    // the legend in one row: in full words where they fit, else shorter
+    const auto row_width = [&](const std::vector<LegendEntry>& entries) {
+      int w = kPad;
+      for (const LegendEntry& e : entries) w += 2 * line + 2 * kPad + renderer.text_width(e.text) + 2 * kPad;
+      return w;
+    };
+    std::vector<LegendEntry> entries = compare_legend(settings, films, false);
+    if (row_width(entries) > layout.width) entries = compare_legend(settings, films, true);
+    for (const LegendEntry& e : entries) {
       const int bar = 2 * line, thickness = std::max(3, line / 4);
       renderer.fill({x, y + (line - thickness) / 2, bar, thickness}, e.colour);
       renderer.draw_text(x + bar + kPad, y, e.text, kWhite);
       x += bar + 2 * kPad + renderer.text_width(e.text) + 2 * kPad;
     }
+  }
+
+  // A cell's panel, in the corner of the cell that hides least of its path (the top ones
+  // preferred: the bottom holds the "done" label).
+  void draw_cell_panel(int i, const CameraPose& camera, const ViewLines& cell_lines, const std::vector<TextRow>& rows) {
+    const PixelRect cell = layout.cell(i);
+    const auto u = static_cast<std::size_t>(i);
+    const Corner c = clearest_corner(
+        {Corner::kTopLeft, Corner::kTopRight, Corner::kBottomRight, Corner::kBottomLeft},
+        [&](Corner k) { return renderer.panel_box(cell, k, rows); }, projected(camera, cell, {cell_lines.programmed, cell_lines.planned}),
+        line_margin(cell), panel_corners[u]);
+    panel_corners[u] = c;
+    boxes[u].panel = renderer.draw_panel(cell, c, rows);
   }
 
   // A cell without motion: the variant's name and why.
@@ -398,12 +544,12 @@ struct CompareVideo::Impl {
         continue;
       }
       const std::size_t s = sample_at(film, t);
-      draw_view(renderer, cell, camera_at(settings, base_camera, film.tcp.empty() ? Vec3::Zero() : film.tcp[s]),
-                lines[static_cast<std::size_t>(i)], film, t, nq, {.tool = settings.tool});
-      renderer.draw_panel(cell, Corner::kTopLeft,
-                          {{"variant", film.name},
-                           {"path speed", fixed(value_at(film.speed, s) / kMm, 1) + " mm/s"},
-                           {"tracking error", fixed(value_at(film.tracking_error, s) / kUm, 1) + " um"}});
+      const CameraPose camera = camera_at(settings, base_camera, film.tcp.empty() ? Vec3::Zero() : film.tcp[s]);
+      draw_view(renderer, cell, camera, lines[static_cast<std::size_t>(i)], film, t, nq, {.tool = settings.tool});
+      draw_cell_panel(i, camera, lines[static_cast<std::size_t>(i)],
+                      {{"variant", film.name},
+                       {"path speed", fixed(value_at(film.speed, s) / kMm, 1) + " mm/s"},
+                       {"tracking error", fixed(value_at(film.tracking_error, s) / kUm, 1) + kUmText}});
       if (std::string done = done_text(film, t); !done.empty()) {
         if (film.done_time) done += " (" + ordinal(ranks[static_cast<std::size_t>(i)]) + ")";
         bottom_label(renderer, cell, done, film.done_time ? kDoneColour : kNotSettledColour);
@@ -441,11 +587,11 @@ struct CompareVideo::Impl {
       const double t = std::clamp(*passage[u] + tau, 0.0, end_time(film, nq));
       const std::size_t s = sample_at(film, t);
       draw_view(renderer, cell, zoom_camera, zoom_lines[u], film, t, nq, {.hide_arm = true});
-      renderer.draw_panel(cell, Corner::kTopLeft,
-                          {{"variant", film.name},
-                           {"time", fixed(t, 3) + " s"},
-                           {"contour error", fixed(value_at(film.contour_error, s) / kMm, 3) + " mm"},
-                           {"max at this corner", fixed(corner_error[u] / kMm, 3) + " mm"}});
+      draw_cell_panel(i, zoom_camera, zoom_lines[u],
+                      {{"variant", film.name},
+                       {"time", fixed(t, 3) + " s"},
+                       {"contour error", fixed(value_at(film.contour_error, s) / kMm, 3) + " mm"},
+                       {"max at this corner", fixed(corner_error[u] / kMm, 3) + " mm"}});
     }
     return renderer.read();
   }
@@ -462,6 +608,8 @@ struct CompareVideo::Impl {
   WorstCorner corner;
   std::vector<std::optional<double>> passage;  // per film: when it passes the worst corner
   std::vector<double> corner_error;            // per film: its largest contour error there
+  std::vector<std::optional<Corner>> panel_corners;  // per cell: where its panel was last
+  std::vector<OverlayBoxes> boxes;                   // per cell: the last frame's
   double zoom_half_window = 0;                 // s
 };
 
@@ -473,6 +621,7 @@ const CompareLayout& CompareVideo::layout() const { return impl_->layout; }
 int CompareVideo::frames() const { return impl_->sync_frames + impl_->zoom_frames; }
 int CompareVideo::synchronised_frames() const { return impl_->sync_frames; }
 const WorstCorner& CompareVideo::corner() const { return impl_->corner; }
+const OverlayBoxes& CompareVideo::overlays(int cell) const { return impl_->boxes.at(static_cast<std::size_t>(cell)); }
 
 const std::vector<std::uint8_t>& CompareVideo::frame(int k) {
   return k < impl_->sync_frames ? impl_->synchronised(k) : impl_->zoomed(k - impl_->sync_frames);

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <numbers>
 #include <stdexcept>
+#include <string_view>
 #include <utility>
 
 #include "blendbench/sim/simulator.hpp"
@@ -33,7 +34,15 @@ constexpr double kRimShare = 0.3;
 constexpr int kPad = 5;  // pixels
 constexpr double kBarLength = 1.8;
 constexpr Rgba kPanelColour{0, 0, 0, 0.55f};
+constexpr Rgba kPanelLabelColour{0.75f, 0.75f, 0.75f, 1};
 constexpr float kFloorRgba[4] = {0.35f, 0.37f, 0.4f, 1.0f};
+
+// A box of w x h pixels in a corner of `where`, kPad in from its edges.
+PixelRect in_corner(const PixelRect& where, Corner corner, int w, int h) {
+  const bool left = corner == Corner::kTopLeft || corner == Corner::kBottomLeft;
+  const bool top = corner == Corner::kTopLeft || corner == Corner::kTopRight;
+  return {left ? where.left + kPad : where.left + where.width - kPad - w, top ? where.top + kPad : where.top + where.height - kPad - h, w, h};
+}
 
 bool has_plane(const mjModel& m) {
   for (int g = 0; g < m.ngeom; ++g)
@@ -151,6 +160,65 @@ void remove_arm(const mjModel& m, mjvScene& scn) {
   scn.ngeom = kept;
 }
 
+// Text as MuJoCo's fonts can draw it: runs of ASCII, and micro signs between them (render.hpp,
+// draw_text). UTF-8 is decoded leniently: a character beyond ASCII other than the micro sign, or
+// a malformed sequence, becomes "?".
+struct TextPiece {
+  std::string ascii;   // drawn as it is (empty for a micro sign)
+  bool micro = false;  // a micro sign
+};
+
+std::vector<TextPiece> text_pieces(const std::string& text) {
+  std::vector<TextPiece> pieces;
+  const auto add = [&](char c) {
+    if (pieces.empty() || pieces.back().micro) pieces.emplace_back();
+    pieces.back().ascii += c;
+  };
+  for (std::size_t i = 0; i < text.size();) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    if (c < 0x80) {
+      add(static_cast<char>(c));
+      ++i;
+      continue;
+    }
+    // a multi-byte sequence: its lead byte says how long
+    const std::size_t length = c >= 0xF0 ? 4 : c >= 0xE0 ? 3 : c >= 0xC0 ? 2 : 1;
+    const std::string_view sequence(text.data() + i, std::min(length, text.size() - i));
+    if (sequence == "\xC2\xB5" || sequence == "\xCE\xBC") {
+      pieces.push_back({{}, true});
+    } else {
+      add('?');
+    }
+    i += sequence.size();
+    // continuation bytes of a malformed sequence are skipped with it
+    while (i < text.size() && (static_cast<unsigned char>(text[i]) & 0xC0) == 0x80) ++i;
+  }
+  return pieces;
+}
+
+// Where the font's "u" ends below: drawn once in white on black at a known raster row, the rows
+// from there to its lowest lit pixel (the font data is MuJoCo's own, so this is measured rather
+// than assumed). The frame is cleared after.
+int measure_u_bottom(const mjrContext& context, int width, int height) {
+  const int w = std::min(width, std::max(1, 2 * context.charWidth[static_cast<unsigned char>('u')]));
+  const int h = std::min(height, 3 * context.charHeight);
+  const int origin = std::min(height - 1, context.charHeight);  // the raster row
+  glViewport(0, 0, width, height);
+  glClearColor(0, 0, 0, 1);
+  glClear(GL_COLOR_BUFFER_BIT);
+  mjr_text(mjFONT_NORMAL, "u", &context, 0, static_cast<float>(origin) / static_cast<float>(height), 1, 1, 1);
+  std::vector<std::uint8_t> pixels(static_cast<std::size_t>(w) * static_cast<std::size_t>(h) * 4);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, pixels.data());
+  glClear(GL_COLOR_BUFFER_BIT);
+  for (int row = 0; row < h; ++row) {  // bottom-up
+    for (int x = 0; x < w; ++x) {
+      if (pixels[(static_cast<std::size_t>(row) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)) * 4] > 128) return row - origin;
+    }
+  }
+  return 0;  // no "u" drawn: the micro sign gets no descender
+}
+
 }  // namespace
 
 struct OffscreenRenderer::Impl {
@@ -167,6 +235,9 @@ struct OffscreenRenderer::Impl {
   std::vector<std::uint8_t> raw, rgb;  // bottom-up as read, top-down as returned
   bool draw_floor = false;
   int tcp_site = -1;  // the flange (site "tcp"), where the tool is drawn; -1: none
+  // Rows from the raster position mjr_text draws at up to the lowest row of the font's "u" (its
+  // baseline): below it, the micro sign takes the descender of "p" (draw_text).
+  int u_bottom = 0;
 
   bool try_make_current() {
     return OSMesaMakeCurrent(gl, gl_buffer.data(), GL_UNSIGNED_BYTE, width, height) != 0;
@@ -253,6 +324,7 @@ OffscreenRenderer::OffscreenRenderer(const mjModel& m, int width, int height, Re
   const std::size_t bytes = static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3;
   r.raw.resize(bytes);
   r.rgb.resize(bytes);
+  r.u_bottom = measure_u_bottom(r.context, width, height);
 }
 
 OffscreenRenderer::~OffscreenRenderer() = default;
@@ -315,37 +387,46 @@ void OffscreenRenderer::fill(const PixelRect& where, const Rgba& colour) {
   mjr_rectangle(impl_->gl_rect(where), colour.r, colour.g, colour.b, colour.a);
 }
 
-void OffscreenRenderer::draw_panel(const PixelRect& where, Corner corner, const std::vector<TextRow>& rows) {
-  Impl& r = *impl_;
-  r.make_current();
-  std::string labels, values;
+PixelRect OffscreenRenderer::panel_box(const PixelRect& where, Corner corner, const std::vector<TextRow>& rows) const {
+  int labels = 0, values = 0;
   for (const TextRow& row : rows) {
-    labels += (labels.empty() ? "" : "\n") + row.label;
-    values += (values.empty() ? "" : "\n") + row.value;
+    labels = std::max(labels, text_width(row.label));
+    values = std::max(values, text_width(row.value));
   }
-  const int grid = corner == Corner::kTopLeft      ? mjGRID_TOPLEFT
-                   : corner == Corner::kTopRight   ? mjGRID_TOPRIGHT
-                   : corner == Corner::kBottomLeft ? mjGRID_BOTTOMLEFT
-                                                   : mjGRID_BOTTOMRIGHT;
-  mjr_overlay(mjFONT_NORMAL, grid, r.gl_rect(where), labels.c_str(), values.c_str(), &r.context);
+  PixelRect box;
+  box.width = kPad + labels + 2 * kPad + values + kPad;
+  box.height = kPad + static_cast<int>(rows.size()) * (text_height() + kPad);
+  return in_corner(where, corner, box.width, box.height);
+}
+
+PixelRect OffscreenRenderer::draw_panel(const PixelRect& where, Corner corner, const std::vector<TextRow>& rows) {
+  const PixelRect box = panel_box(where, corner, rows);
+  fill(box, kPanelColour);
+  int labels = 0;
+  for (const TextRow& row : rows) labels = std::max(labels, text_width(row.label));
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const int y = box.top + kPad + static_cast<int>(i) * (text_height() + kPad);
+    draw_text(box.left + kPad, y, rows[i].label, kPanelLabelColour);
+    draw_text(box.left + 3 * kPad + labels, y, rows[i].value, {1, 1, 1, 1});
+  }
+  return box;
+}
+
+PixelRect OffscreenRenderer::legend_box(const PixelRect& where, Corner corner, const std::vector<LegendEntry>& entries) const {
+  const int line = text_height();
+  const int bar = static_cast<int>(kBarLength * line);
+  int text = 0;
+  for (const LegendEntry& e : entries) text = std::max(text, text_width(e.text));
+  return in_corner(where, corner, kPad + bar + kPad + text + 2 * kPad, kPad + static_cast<int>(entries.size()) * (line + kPad));
 }
 
 PixelRect OffscreenRenderer::draw_legend(const PixelRect& where, Corner corner, const std::vector<LegendEntry>& entries) {
   const int line = text_height();
   const int bar = static_cast<int>(kBarLength * line);
-  int text = 0;
-  for (const LegendEntry& e : entries) text = std::max(text, text_width(e.text));
-  const int row = line + kPad;
-  PixelRect box;
-  box.width = kPad + bar + kPad + text + 2 * kPad;
-  box.height = kPad + static_cast<int>(entries.size()) * row;
-  const bool left = corner == Corner::kTopLeft || corner == Corner::kBottomLeft;
-  const bool top = corner == Corner::kTopLeft || corner == Corner::kTopRight;
-  box.left = left ? where.left + kPad : where.left + where.width - kPad - box.width;
-  box.top = top ? where.top + kPad : where.top + where.height - kPad - box.height;
+  const PixelRect box = legend_box(where, corner, entries);
   fill(box, kPanelColour);
   for (std::size_t i = 0; i < entries.size(); ++i) {
-    const int y = box.top + kPad + static_cast<int>(i) * row;
+    const int y = box.top + kPad + static_cast<int>(i) * (line + kPad);
     // the bar as thick as the widest line drawn in the scene, centred on the text
     const int thickness = std::max(3, line / 4);
     fill({box.left + kPad, y + (line - thickness) / 2, bar, thickness}, entries[i].colour);
@@ -356,10 +437,8 @@ PixelRect OffscreenRenderer::draw_legend(const PixelRect& where, Corner corner, 
 
 void OffscreenRenderer::draw_label(const PixelRect& rect, const std::string& text, const Rgba& background,
                                    const Rgba& text_colour) {
-  Impl& r = *impl_;
-  r.make_current();
-  mjr_label(r.gl_rect(rect), mjFONT_NORMAL, text.c_str(), background.r, background.g, background.b, background.a,
-            text_colour.r, text_colour.g, text_colour.b, &r.context);
+  fill(rect, background);
+  draw_text(rect.left + (rect.width - text_width(text)) / 2, rect.top + (rect.height - text_height()) / 2, text, text_colour);
 }
 
 void OffscreenRenderer::draw_text(int x, int y, const std::string& text, const Rgba& colour) {
@@ -369,15 +448,36 @@ void OffscreenRenderer::draw_text(int x, int y, const std::string& text, const R
   glViewport(0, 0, r.width, r.height);
   const int descent = r.context.charHeight / 5;
   const double gl_y = r.height - y - r.context.charHeight + descent;
-  mjr_text(mjFONT_NORMAL, text.c_str(), &r.context, static_cast<float>(x) / static_cast<float>(r.width),
-           static_cast<float>(gl_y / r.height), colour.r, colour.g, colour.b);
+  const auto at = [&](const char* ascii, int left) {
+    mjr_text(mjFONT_NORMAL, ascii, &r.context, static_cast<float>(left) / static_cast<float>(r.width),
+             static_cast<float>(gl_y / r.height), colour.r, colour.g, colour.b);
+  };
+  int left = x;
+  for (const TextPiece& piece : text_pieces(text)) {
+    if (!piece.micro) {
+      at(piece.ascii.c_str(), left);
+      left += text_width(piece.ascii);
+      continue;
+    }
+    // the micro sign: "u", and "p" clipped to below the baseline (its stem's descender)
+    const int advance = r.context.charWidth[static_cast<unsigned char>('u')];
+    at("u", left);
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(left, 0, advance, static_cast<int>(std::floor(gl_y)) + r.u_bottom);
+    at("p", left);
+    glDisable(GL_SCISSOR_TEST);
+    left += advance;
+  }
 }
 
 int OffscreenRenderer::text_width(const std::string& text) const {
   int w = 0;
-  for (const char c : text) {
-    const auto i = static_cast<unsigned char>(c);
-    if (i < 127) w += impl_->context.charWidth[i];
+  for (const TextPiece& piece : text_pieces(text)) {
+    if (piece.micro) w += impl_->context.charWidth[static_cast<unsigned char>('u')];
+    for (const char c : piece.ascii) {
+      const auto i = static_cast<unsigned char>(c);
+      if (i < 127) w += impl_->context.charWidth[i];
+    }
   }
   return w;
 }

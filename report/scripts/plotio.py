@@ -5,6 +5,7 @@ interrupted script never leaves a half-written picture or page.
 """
 
 import csv
+import json
 import os
 
 import numpy as np
@@ -47,17 +48,18 @@ def write_text(path, text):
 
 
 # One colour and one marker per method, the same in every figure, the report's interactive plots
-# and the videos' labels (matplotlib's tab10 colours; the exact stop grey). Clothoid and
-# biclothoid get different markers as well as colours, so coinciding points stay apart.
-METHOD_COLOURS = {
-    "none": "#555555",
-    "arc": "#1f77b4",
-    "bezier": "#2ca02c",
-    "clothoid": "#ff7f0e",
-    "biclothoid": "#d62728",
-}
+# and the videos. The colours come from render/method_colours.json, the one table (the videos
+# compile it in); clothoid and biclothoid get different markers as well as colours, so coinciding
+# points stay apart.
+def _method_palette():
+    here = os.path.dirname(os.path.abspath(__file__))
+    with open(os.path.join(here, "..", "..", "render", "method_colours.json")) as f:
+        table = json.load(f)
+    return table["methods"], table["others"]
+
+
+METHOD_COLOURS, OTHER_COLOURS = _method_palette()
 METHOD_MARKERS = {"none": "o", "arc": "^", "bezier": "s", "clothoid": "D", "biclothoid": "v"}
-OTHER_COLOURS = ["#9467bd", "#8c564b", "#e377c2", "#17becf", "#bcbd22"]
 OTHER_MARKERS = ["P", "X", "<", ">", "h"]
 # variants of one method (several tolerances) share its colour and differ by dash
 DASHES = [[], [6, 3], [2, 2], [8, 2, 2, 2]]

@@ -91,6 +91,19 @@ class Cli : public ::testing::Test {
   fs::path dir_;
 };
 
+// The help states --max-vibration's unit as the command line writes micrometres: µm where the
+// locale is UTF-8, um elsewhere (docs/units.md).
+TEST_F(Cli, HelpWritesMicrometresAsTheLocaleAllows) {
+  const std::string binary = blendbench::test::blendbench_binary();
+  const Result utf8 = run_shell("LC_ALL=C.UTF-8 " + binary + " compare --help");
+  EXPECT_EQ(utf8.exit_code, 0) << utf8.output;
+  EXPECT_NE(utf8.output.find("(\xC2\xB5m, peak to peak)"), std::string::npos) << utf8.output;
+  const Result ascii = run_shell("LC_ALL=C " + binary + " compare --help");
+  EXPECT_EQ(ascii.exit_code, 0) << ascii.output;
+  EXPECT_NE(ascii.output.find("(um, peak to peak)"), std::string::npos) << ascii.output;
+  EXPECT_EQ(ascii.output.find("\xC2\xB5"), std::string::npos) << ascii.output;
+}
+
 TEST_F(Cli, BadScenarioExitsTwoNamingFileLineAndField) {
   struct Case {
     std::string from, to, expected;

@@ -3,10 +3,12 @@
 // the recommendation against a brute-force reading of the same figures.
 
 #include "blendbench/app/ranking.hpp"
+#include "blendbench/app/unit_text.hpp"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -190,6 +192,20 @@ TEST(Recommendation, TheFastestThatMeetsTheConstraints) {
   EXPECT_NE(r.recommendation.reason.find("none of the 4 clean variants meets the constraints"), std::string::npos)
       << r.recommendation.reason;
   EXPECT_NE(r.recommendation.reason.find("the closest is exact_stop"), std::string::npos) << r.recommendation.reason;
+  // micrometres as the unit convention writes them (the reason goes into summary.json, UTF-8);
+  // the command line shows "um" where the locale is not UTF-8
+  EXPECT_NE(r.recommendation.reason.find("residual vibration <= 20.0 \xC2\xB5m"), std::string::npos) << r.recommendation.reason;
+  EXPECT_EQ(r.recommendation.reason.find(" um"), std::string::npos) << r.recommendation.reason;
+  const char* saved = std::getenv("LC_ALL");
+  const std::string restore = saved != nullptr ? saved : "";
+  ::setenv("LC_ALL", "C", 1);
+  const std::string ascii = terminal_text(r.recommendation.reason);
+  EXPECT_NE(ascii.find("residual vibration <= 20.0 um"), std::string::npos) << ascii;
+  EXPECT_EQ(ascii.find("\xC2\xB5"), std::string::npos) << ascii;
+  ::setenv("LC_ALL", "C.UTF-8", 1);
+  EXPECT_EQ(terminal_text(r.recommendation.reason), r.recommendation.reason);
+  if (saved != nullptr) ::setenv("LC_ALL", restore.c_str(), 1);
+  else ::unsetenv("LC_ALL");
 }
 
 TEST(Recommendation, AmongTiesTheMostAccurate) {

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <string>
 
@@ -51,9 +52,11 @@ std::vector<Vec3> rectangle(const Vec3& centre, const Vec3& u, const Vec3& v, do
 std::vector<Vec3> floor_part() { return rectangle(Vec3(0.46, 0, 0.2), Vec3::UnitX(), Vec3::UnitY(), 0.12, 0.36); }
 
 // A film of the arm standing at "ready" while its TCP runs once round `path` in `duration` s.
-VariantFilm film_along(const std::string& name, const std::vector<Vec3>& path, double duration, std::optional<double> done) {
+VariantFilm film_along(const std::string& name, const std::vector<Vec3>& path, double duration, std::optional<double> done,
+                       const std::string& method = "arc") {
   VariantFilm f;
   f.name = name;
+  f.method = method;
   f.planned = path;
   f.pose_rate_hz = 30.0 * CompareVideo::kSlowMotion;
   const int poses = static_cast<int>(duration * f.pose_rate_hz) + 1;
@@ -159,7 +162,7 @@ TEST(VariantVideo, AFrameHasTheLegendTheOverlayAndLaterTheDoneLabel) {
 
   // the legend, bottom left: a bar of each colour (the path lies in the middle 60 %, above it)
   const PixelRect legend{0, 395, 200, 85};
-  for (const Rgba& c : {kProgrammedColour, kPlannedColour, kTrailColour}) EXPECT_GT(find(first, 640, c, legend).count, 40);
+  for (const Rgba& c : {kProgrammedColour, method_colour("arc"), kTrailColour}) EXPECT_GT(find(first, 640, c, legend).count, 40);
   // the overlay, top left: white text on a dark box, and it changes with the time shown
   const PixelRect panel{0, 0, 220, 105};
   const auto white = [](int r, int g, int b) { return r > 200 && g > 200 && b > 200; };
@@ -181,6 +184,71 @@ TEST(VariantVideo, AFrameHasTheLegendTheOverlayAndLaterTheDoneLabel) {
   const auto label_green = [](int r, int g, int b) { return g > r + 40 && g > b + 20 && g < 160; };
   EXPECT_LT(count(first, 640, bottom, label_green), 20);
   EXPECT_GT(count(video.frame(55), 640, bottom, label_green), 1000);
+}
+
+bool intersect(const PixelRect& a, const Box& b) {
+  return b.count > 0 && a.left <= b.u1 && b.u0 < a.left + a.width && a.top <= b.v1 && b.v0 < a.top + a.height;
+}
+
+// Pixels of a line under an overlay's box: the box is black at render's alpha 0.55 over the
+// frame, so a line it covers shows as 0.45 of the line's colour.
+int hidden(const std::vector<std::uint8_t>& rgb, int width, const PixelRect& box, const Rgba& colour) {
+  constexpr float kBehindPanel = 0.45f;
+  return find(rgb, width, {colour.r * kBehindPanel, colour.g * kBehindPanel, colour.b * kBehindPanel, 1}, box).count;
+}
+
+// The overlays give way to the path: a fixed camera puts a part in the top left of the view,
+// where the panel used to be drawn; the panel and the legend go where the path is not. The path's
+// box is measured independently of the placement: its lines rendered alone through the frame's
+// camera, their pixels found by colour.
+TEST(VariantVideo, ThePanelAndTheLegendDoNotCoverThePath) {
+  const Vec3 centre(0.46, 0, 0.2);
+  const std::vector<Vec3> path = rectangle(centre, Vec3::UnitX(), Vec3::UnitY(), 0.3, 0.3);
+  const VariantFilm film = film_along("clothoid_0.1mm", path, 1, 0.8, "clothoid");
+  FilmSettings settings = settings_for(path, 640, 480);
+  // aimed below right of the part, so the part lands near pixel (130, 110)
+  const Vec3 eye(1.5, -1.0, 1.1);
+  const CameraPose straight = look_at(eye, centre, 45);
+  const double pixel = pixel_size(straight, (centre - eye).dot(straight.forward), 480);
+  settings.camera.mode = CameraSpec::Mode::kFixed;
+  settings.camera.position = eye;
+  settings.camera.look_at = centre + 190 * pixel * straight.right() - 210 * pixel * straight.up;
+  VariantVideo video(arm().sim.model(), film, settings);
+  for (const int k : {0, 15, 29}) {
+    const std::vector<std::uint8_t> frame = video.frame(k);
+    const OverlayBoxes boxes = video.overlays();
+    OffscreenRenderer alone(arm().sim.model(), 640, 480);
+    alone.pose(arm().ready);
+    const std::array<Polyline, 2> lines = {Polyline{path, std::nullopt, kProgrammedColour, 8},
+                                           Polyline{film.planned, std::nullopt, method_colour("clothoid"), 5}};
+    alone.draw_scene({0, 0, 640, 480}, video.camera(k), lines);
+    const std::vector<std::uint8_t> rgb = alone.read();
+    Box box = find(rgb, 640, kProgrammedColour, {0, 0, 640, 480});
+    const Box planned = find(rgb, 640, method_colour("clothoid"), {0, 0, 640, 480});
+    box = {box.count + planned.count, std::min(box.u0, planned.u0), std::max(box.u1, planned.u1), std::min(box.v0, planned.v0),
+           std::max(box.v1, planned.v1)};
+    ASSERT_GT(box.count, 500) << k;
+    // the test's premise: the path covers where the panel was drawn before (the top left)
+    ASSERT_TRUE(intersect({5, 5, boxes.panel.width, boxes.panel.height}, box)) << k << ": path box " << box.u0 << ".." << box.u1
+                                                                                 << " x " << box.v0 << ".." << box.v1;
+    EXPECT_FALSE(intersect(boxes.panel, box)) << k << ": panel at " << boxes.panel.left << "," << boxes.panel.top;
+    // in the frame itself: no line darkened under either box, and the lines in the clear where
+    // the panel used to be
+    for (const Rgba& c : {kProgrammedColour, method_colour("clothoid")}) {
+      EXPECT_EQ(hidden(frame, 640, boxes.panel, c), 0) << k;
+      EXPECT_EQ(hidden(frame, 640, boxes.legend, c), 0) << k;
+    }
+    EXPECT_GT(find(frame, 640, method_colour("clothoid"), {5, 5, boxes.panel.width, boxes.panel.height}).count, 20) << k;
+    EXPECT_FALSE(intersect(boxes.legend, box)) << k << ": legend at " << boxes.legend.left << "," << boxes.legend.top;
+    // both drawn, in different places, inside the frame
+    EXPECT_GT(boxes.panel.width * boxes.panel.height, 0);
+    EXPECT_GT(boxes.legend.width * boxes.legend.height, 0);
+    EXPECT_TRUE(boxes.panel.left >= boxes.legend.left + boxes.legend.width || boxes.legend.left >= boxes.panel.left + boxes.panel.width ||
+                boxes.panel.top >= boxes.legend.top + boxes.legend.height || boxes.legend.top >= boxes.panel.top + boxes.panel.height);
+    // the method's colour is in the frame: the path, and the legend's bar
+    EXPECT_GT(find(frame, 640, method_colour("clothoid"), {0, 0, 640, 480}).count, 300) << k;
+    EXPECT_GT(find(frame, 640, method_colour("clothoid"), boxes.legend).count, 20) << k;
+  }
 }
 
 TEST(VariantVideo, FixedAndTcpCamerasLookWhereTheyAreTold) {
@@ -244,12 +312,42 @@ TEST(CompareLayout, CellsCoverTheVariantsFitFullHdAndKeepTheirAspect) {
 // Two films with one corner each; the second's contour error there is larger.
 std::vector<VariantFilm> two_films_with_a_corner() {
   const std::vector<Vec3> path = floor_part();
-  std::vector<VariantFilm> films = {film_along("exact", path, 2, 1.8), film_along("blend", path, 1.6, 1.3)};
+  std::vector<VariantFilm> films = {film_along("exact", path, 2, 1.8, "none"), film_along("blend", path, 1.6, 1.3, "bezier")};
   films[0].corners = {{2, 0.50, 0.60}};
   films[1].corners = {{2, 0.40, 0.45}};
   films[1].contour_error[static_cast<std::size_t>(0.42 / 2e-3)] = 1.5e-3;
   films[0].contour_error[static_cast<std::size_t>(1.0 / 2e-3)] = 5e-3;  // far from any corner: not counted
   return films;
+}
+
+// The comparison's cells place their panels as the variant video does: a fixed camera puts the
+// part in the top left of every cell, where the panel used to be; no cell's panel darkens a line,
+// and the lines are in the clear where the panel was.
+TEST(CompareVideo, CellPanelsDoNotCoverThePath) {
+  const Vec3 centre(0.46, 0, 0.2);
+  const std::vector<Vec3> path = rectangle(centre, Vec3::UnitX(), Vec3::UnitY(), 0.3, 0.3);
+  const std::vector<VariantFilm> films = {film_along("arc_0.1mm", path, 1, 0.8, "arc"), film_along("bezier_0.1mm", path, 1, 0.9, "bezier")};
+  FilmSettings settings = settings_for(path, 320, 240);
+  const Vec3 eye(1.5, -1.0, 1.1);
+  const CameraPose straight = look_at(eye, centre, 45);
+  const double pixel = pixel_size(straight, (centre - eye).dot(straight.forward), 240);
+  settings.camera.mode = CameraSpec::Mode::kFixed;
+  settings.camera.position = eye;
+  settings.camera.look_at = centre + 80 * pixel * straight.right() - 70 * pixel * straight.up;
+  CompareVideo video(arm().sim.model(), films, settings);
+  const CompareLayout& l = video.layout();
+  for (const int k : {0, 20}) {
+    const std::vector<std::uint8_t> frame = video.frame(k);
+    for (int i = 0; i < 2; ++i) {
+      const Rgba colour = method_colour(films[static_cast<std::size_t>(i)].method);
+      const PixelRect cell = l.cell(i), panel = video.overlays(i).panel;
+      ASSERT_GT(panel.width * panel.height, 0);
+      EXPECT_GT(find(frame, l.width, colour, {cell.left + 5, cell.top + 5, panel.width, panel.height}).count, 20)
+          << k << " " << i << ": the premise, the path where the panel used to be";
+      EXPECT_EQ(hidden(frame, l.width, panel, colour), 0) << k << " " << i << ": panel at " << panel.left << "," << panel.top;
+      EXPECT_EQ(hidden(frame, l.width, panel, kProgrammedColour), 0) << k << " " << i;
+    }
+  }
 }
 
 TEST(CompareVideo, WorstCornerIsTheLargestContourErrorNearACorner) {
@@ -294,14 +392,34 @@ TEST(CompareVideo, GridHoldsEveryVariantThenZoomsOnTheWorstCorner) {
   EXPECT_LT(count(frame, l.width, bottom(0), label_green), 20);
   EXPECT_GT(count(frame, l.width, bottom(1), label_green), 500);
   EXPECT_GT(count(frame, l.width, l.cell(2), [](int r, int g, int b) { return r > 90 && r < 130 && g < 40 && b < 40; }), 1000);
+  // each cell's planned path in its method's colour (bezier's green only in the bezier cell: the
+  // exact stop's grey also shades the arm); both colours in the header's legend
+  for (int i = 0; i < 2; ++i) {
+    const Rgba colour = method_colour(films[static_cast<std::size_t>(i)].method);
+    EXPECT_GT(find(frame, l.width, colour, l.cell(i)).count, 50) << i;
+    EXPECT_GT(find(frame, l.width, colour, {0, 0, l.width, l.header}).count, 20) << i;
+  }
+  EXPECT_EQ(find(frame, l.width, method_colour("bezier"), l.cell(0)).count, 0);
+  // no cell's panel over its lines (the exact stop's grey is left out: the arm's shading takes it
+  // too), here and in the zoom below
+  const auto expect_panels_clear = [&](const std::vector<std::uint8_t>& rgb, const std::string& when) {
+    for (int i = 0; i < 2; ++i) {
+      const PixelRect panel = video.overlays(i).panel;
+      EXPECT_GT(panel.width * panel.height, 0) << when << " " << i;
+      EXPECT_EQ(hidden(rgb, l.width, panel, kProgrammedColour), 0) << when << " " << i;
+      EXPECT_EQ(hidden(rgb, l.width, panel, method_colour("bezier")), 0) << when << " " << i;
+    }
+  };
+  expect_panels_clear(frame, "synchronised");
   // the zoom: the path's corner, magnified: it lies in the middle of the cell and its edges run
   // from there out of the cell (in the overview the whole part spans 60 % of the cell), in both
   // cells with motion
   const std::vector<std::uint8_t> zoom = video.frame(video.synchronised_frames() + 36);
+  expect_panels_clear(zoom, "zoom");
   for (int i = 0; i < 2; ++i) {
     const PixelRect cell = l.cell(i);
     Box all;
-    for (const Rgba& c : {kProgrammedColour, kPlannedColour, kTrailColour}) {
+    for (const Rgba& c : {kProgrammedColour, method_colour(films[static_cast<std::size_t>(i)].method), kTrailColour}) {
       const Box b = find(zoom, l.width, c, cell);
       all.count += b.count;
       all.u0 = std::min(all.u0, b.u0);

@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
+#include <sstream>
 #include <string>
 
 #include "support/property.hpp"
@@ -160,10 +162,10 @@ TEST(OffscreenRenderer, CoincidingLinesAllShowAndATipExtendsALine) {
   const std::vector<Vec3> segment = {Vec3(0.45, -0.35, 0.05), Vec3(0.45, 0.05, 0.05)};
   const std::vector<Vec3> start = {segment[0]};
   const std::array<Polyline, 3> lines = {Polyline{segment, std::nullopt, kProgrammedColour, 8},
-                                         Polyline{segment, std::nullopt, kPlannedColour, 5},
+                                         Polyline{segment, std::nullopt, method_colour("clothoid"), 5},
                                          Polyline{start, segment[1], kTrailColour, 2}};
   const std::vector<std::uint8_t> rgb = frame(r, arm.overview(), lines);
-  for (const Rgba& c : {kProgrammedColour, kPlannedColour, kTrailColour}) {
+  for (const Rgba& c : {kProgrammedColour, method_colour("clothoid"), kTrailColour}) {
     EXPECT_GT(coloured(rgb, kWidth, c).count, 50) << c.r << " " << c.g << " " << c.b;
   }
 }
@@ -290,8 +292,8 @@ TEST(OffscreenRenderer, PointsBehindTheEyeBreakALineInsteadOfWrappingAround) {
   const CameraPose c = arm.overview();
   // from a point in view to one behind the camera: nothing may be drawn for that segment
   const std::vector<Vec3> points = {Vec3(0.4, 0, 0.1), c.eye - 0.5 * c.forward};
-  const Polyline line{points, std::nullopt, kPlannedColour, 4};
-  EXPECT_EQ(coloured(frame(r, c, {&line, 1}), kWidth, kPlannedColour).count, 0);
+  const Polyline line{points, std::nullopt, method_colour("clothoid"), 4};
+  EXPECT_EQ(coloured(frame(r, c, {&line, 1}), kWidth, method_colour("clothoid")).count, 0);
 }
 
 TEST(OffscreenRenderer, ViewsSideBySideAreDrawnIntoTheirRectanglesAndReadOnce) {
@@ -320,9 +322,9 @@ TEST(OffscreenRenderer, PanelLegendAndLabelDrawReadableTextAndTheLegendColours) 
   OffscreenRenderer r(arm.sim.model(), 640, 480);
   r.pose(*arm.d);
   r.draw_scene({0, 0, 640, 480}, arm.overview(), {});
-  r.draw_panel({0, 0, 640, 480}, Corner::kTopLeft, {{"time", "1.23 s"}, {"tracking error", "41.0 um"}});
+  r.draw_panel({0, 0, 640, 480}, Corner::kTopLeft, {{"time", "1.23 s"}, {"tracking error", "41.0 \u00b5m"}});
   const PixelRect box = r.draw_legend({0, 0, 640, 480}, Corner::kBottomRight,
-                                      {{kProgrammedColour, "programmed path"}, {kPlannedColour, "planned path"}});
+                                      {{kProgrammedColour, "programmed path"}, {method_colour("clothoid"), "planned path"}});
   const std::vector<std::uint8_t> rgb = r.read();
   // the panel: white text on a dark box in the top left (the box darkens whatever is behind it)
   const auto in = [&](std::size_t i, int u0, int v0, int u1, int v1) {
@@ -337,7 +339,7 @@ TEST(OffscreenRenderer, PanelLegendAndLabelDrawReadableTextAndTheLegendColours) 
   // the legend: in the bottom right, its colour bars inside its box
   EXPECT_GT(box.left, 320);
   EXPECT_GT(box.top, 240);
-  for (const Rgba& c : {kProgrammedColour, kPlannedColour}) {
+  for (const Rgba& c : {kProgrammedColour, method_colour("clothoid")}) {
     const Found bar = coloured(rgb, 640, c);
     EXPECT_GT(bar.count, 20);
     EXPECT_GE(bar.u0, box.left);
@@ -345,6 +347,126 @@ TEST(OffscreenRenderer, PanelLegendAndLabelDrawReadableTextAndTheLegendColours) 
     EXPECT_GE(bar.v0, box.top);
     EXPECT_LE(bar.v1, box.top + box.height);
   }
+}
+
+// Text alone on a black frame: the pixels of `text` drawn white at (x, y).
+std::vector<std::uint8_t> text_frame(OffscreenRenderer& r, const std::string& text, int x, int y) {
+  r.fill({0, 0, r.width(), r.height()}, {0, 0, 0, 1});
+  r.draw_text(x, y, text, {1, 1, 1, 1});
+  return r.read();
+}
+
+bool lit(const std::vector<std::uint8_t>& rgb, int width, int u, int v) {
+  const auto i = static_cast<std::size_t>(v * width + u) * 3;
+  return rgb[i] > 128;
+}
+
+// MuJoCo's font has no micro sign; draw_text composes it from "u" and the descender of "p". The
+// glyph has every pixel of "u", more pixels below the baseline (the descender, where "p" has
+// its own), none above, and the advance of "u"; the rest of the text is unchanged. A character
+// the font cannot draw is a "?", never skipped.
+TEST(OffscreenRenderer, TheMicroSignIsDrawnAsAuWithADescender) {
+  const ArmState arm;
+  for (const int scale : {100, 150, 200}) {
+    OffscreenRenderer r(arm.sim.model(), 200, 60, {}, scale);
+    const int h = r.text_height();
+    EXPECT_EQ(r.text_width("41.0 \u00b5m"), r.text_width("41.0 um")) << scale;
+    EXPECT_EQ(r.text_width("\xCE\xBC"), r.text_width("u")) << scale << ": the Greek mu is the micro sign";
+    const std::vector<std::uint8_t> micro = text_frame(r, "4 \u00b5m", 10, 10);
+    const std::vector<std::uint8_t> u = text_frame(r, "4 um", 10, 10);
+    const std::vector<std::uint8_t> p = text_frame(r, "4 pm", 10, 10);
+    // the glyph's cell: from the end of "4 " for the width of "u"
+    const int left = 10 + r.text_width("4 "), right = left + r.text_width("u");
+    // the baseline: the lowest row of "u"
+    int baseline = 0;
+    for (int v = 0; v < 60; ++v)
+      for (int x = left; x < right; ++x)
+        if (lit(u, 200, x, v)) baseline = std::max(baseline, v);
+    int extra = 0, missing = 0, above = 0, outside = 0, descender = 0, p_descender = 0;
+    for (int v = 0; v < 60; ++v) {
+      for (int x = 0; x < 200; ++x) {
+        const bool m = lit(micro, 200, x, v), plain = lit(u, 200, x, v);
+        if (x < left || x >= right) {
+          outside += m != plain ? 1 : 0;
+          continue;
+        }
+        missing += plain && !m ? 1 : 0;
+        extra += m && !plain ? 1 : 0;
+        above += m && !plain && v <= baseline ? 1 : 0;
+        descender += m && v > baseline ? 1 : 0;
+        p_descender += lit(p, 200, x, v) && v > baseline ? 1 : 0;
+      }
+    }
+    EXPECT_EQ(missing, 0) << scale;
+    EXPECT_EQ(above, 0) << scale;
+    EXPECT_EQ(outside, 0) << scale;
+    EXPECT_GT(extra, h / 8) << scale << ": a descender of at least a few pixels";
+    EXPECT_EQ(descender, p_descender) << scale << ": the descender is the font's own (of p)";
+    // beyond ASCII, other than the micro sign: a question mark
+    const std::vector<std::uint8_t> question = text_frame(r, "a?b", 10, 10);
+    EXPECT_EQ(differing(text_frame(r, "a\xC3\xA9" "b", 10, 10), question, 200).count, 0) << scale;
+    EXPECT_EQ(differing(text_frame(r, "a\xE2\x82\xAC" "b", 10, 10), question, 200).count, 0) << scale;
+    EXPECT_EQ(differing(text_frame(r, "a\xB5" "b", 10, 10), question, 200).count, 0) << scale << ": a stray byte";
+  }
+}
+
+// The panel's box is where its text is: draw_panel returns panel_box's box, in the corner asked,
+// with every white pixel of its text inside, in each corner.
+TEST(OffscreenRenderer, ThePanelIsDrawnInTheBoxItReports) {
+  const ArmState arm;
+  OffscreenRenderer r(arm.sim.model(), 320, 240);
+  const std::vector<TextRow> rows = {{"time", "1.23 s"}, {"tracking error", "41.0 \u00b5m"}};
+  const PixelRect all{0, 0, 320, 240};
+  for (const Corner c : {Corner::kTopLeft, Corner::kTopRight, Corner::kBottomLeft, Corner::kBottomRight}) {
+    r.fill(all, {0, 0, 0, 1});
+    const PixelRect box = r.draw_panel(all, c, rows);
+    const PixelRect expected = r.panel_box(all, c, rows);
+    EXPECT_EQ(box.left, expected.left);
+    EXPECT_EQ(box.top, expected.top);
+    EXPECT_EQ(box.width, expected.width);
+    EXPECT_EQ(box.height, expected.height);
+    EXPECT_EQ(box.left + box.width / 2 < 160, c == Corner::kTopLeft || c == Corner::kBottomLeft);
+    EXPECT_EQ(box.top + box.height / 2 < 120, c == Corner::kTopLeft || c == Corner::kTopRight);
+    const std::vector<std::uint8_t> rgb = r.read();
+    const Found text = find_pixels(rgb, 320, [&](std::size_t i) { return rgb[i] > 200 && rgb[i + 1] > 200 && rgb[i + 2] > 200; });
+    EXPECT_GT(text.count, 60);
+    EXPECT_GE(text.u0, box.left);
+    EXPECT_LT(text.u1, box.left + box.width);
+    EXPECT_GE(text.v0, box.top);
+    EXPECT_LT(text.v1, box.top + box.height);
+  }
+}
+
+// The methods' colours in the videos are those of the report's plots: plotio.method_colour (which
+// reads render/method_colours.json at run time) and method_colour (compiled from it) agree for
+// every listed method and for names not listed (the fallback pick), and no two listed methods share
+// a colour.
+TEST(MethodColour, TheVideosUseTheReportsColourOfEveryMethod) {
+  const std::vector<std::string> methods = {"none", "arc", "bezier", "clothoid", "biclothoid", "spline", "x", "", "optimal_g3"};
+  std::string list;
+  for (const std::string& m : methods) list += "'" + m + "',";
+  const std::string command = "/usr/bin/python3 -c \"import sys; sys.path.insert(0, '" + test::source_path("report/scripts") +
+                              "'); import plotio; print(' '.join(plotio.method_colour(m) for m in [" + list + "]))\"";
+  FILE* pipe = ::popen(command.c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  char buffer[512] = {};
+  const std::size_t n = std::fread(buffer, 1, sizeof buffer - 1, pipe);
+  ASSERT_EQ(::pclose(pipe), 0) << command;
+  std::istringstream python(std::string(buffer, n));
+  std::vector<std::string> distinct;
+  for (std::size_t i = 0; i < methods.size(); ++i) {
+    std::string expected;
+    ASSERT_TRUE(python >> expected) << "plotio printed too few colours";
+    const Rgba c = method_colour(methods[i]);
+    EXPECT_EQ(c.a, 1.0f);
+    char hex[8];
+    std::snprintf(hex, sizeof hex, "#%02x%02x%02x", static_cast<int>(std::lround(c.r * 255)), static_cast<int>(std::lround(c.g * 255)),
+                  static_cast<int>(std::lround(c.b * 255)));
+    EXPECT_EQ(std::string(hex), expected) << "method '" << methods[i] << "'";
+    if (i < 5) distinct.push_back(hex);
+  }
+  std::sort(distinct.begin(), distinct.end());
+  EXPECT_EQ(std::unique(distinct.begin(), distinct.end()), distinct.end()) << "two methods share a colour";
 }
 
 TEST(OffscreenRenderer, ModelWithoutFloorGetsOne) {

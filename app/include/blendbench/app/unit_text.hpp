@@ -13,4 +13,8 @@ bool utf8_locale();
 // "µm" or "um" (utf8_locale()).
 const char* micrometre_text();
 
+// A text written for files (UTF-8, "µm") as the command line prints it: every "µm" written as
+// micrometre_text() says.
+std::string terminal_text(std::string text);
+
 }  // namespace blendbench

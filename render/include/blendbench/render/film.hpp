@@ -36,6 +36,7 @@ namespace blendbench {
 // What one variant's videos need, recorded while it ran (world frame, SI units).
 struct VariantFilm {
   std::string name;
+  std::string method;          // as summary.json names it: the planned path's colour (method_colour)
   std::string failure;         // non-empty: the variant has no motion to show, and why
   std::vector<Vec3> planned;   // the planned (blended) path, densely sampled
   // the arm's pose from the simulation, pose k at t = k / pose_rate_hz from t = 0
@@ -95,6 +96,14 @@ struct FilmSettings {
 // How far a render has come: frames drawn of the total.
 using FilmProgress = std::function<void(int done, int total)>;
 
+// Where a frame's overlays were drawn (frame pixels). Each overlay goes to the corner of its view
+// that hides the least of the projected path (the programmed and planned lines): the panel
+// preferring top left, top right, bottom right, bottom left; the legend, in a variant's video,
+// bottom left, bottom right, top right, top left of the corners the panel left.
+struct OverlayBoxes {
+  PixelRect panel, legend;  // legend: empty in a comparison's cell (the header holds it)
+};
+
 // One variant's video, frame by frame (t = k / fps, k < frames()).
 class VariantVideo {
  public:
@@ -109,6 +118,8 @@ class VariantVideo {
   const std::vector<std::uint8_t>& frame(int k);
   // The camera of frame k.
   [[nodiscard]] CameraPose camera(int k) const;
+  // The overlays of the last frame drawn.
+  [[nodiscard]] const OverlayBoxes& overlays() const;
 
  private:
   struct Impl;
@@ -152,6 +163,8 @@ class CompareVideo {
   [[nodiscard]] int synchronised_frames() const;  // the first segment
   const std::vector<std::uint8_t>& frame(int k);
   [[nodiscard]] const WorstCorner& corner() const;
+  // The overlays of cell `cell` (a variant's index) in the last frame drawn with it.
+  [[nodiscard]] const OverlayBoxes& overlays(int cell) const;
 
   // The zoom runs kSlowMotion times slower than real time.
   static constexpr int kSlowMotion = 4;

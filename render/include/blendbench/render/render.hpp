@@ -14,6 +14,7 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "blendbench/render/camera.hpp"
@@ -25,11 +26,21 @@ struct Rgba {
   float r = 0, g = 0, b = 0, a = 1;
 };
 
-// The video's colours, from the Okabe-Ito palette (told apart with the common colour-vision
-// deficiencies); lines are drawn unlit, so their pixels carry exactly these colours.
-inline constexpr Rgba kProgrammedColour{0.0f, 0.45f, 0.70f, 1};  // blue: the programmed path
-inline constexpr Rgba kPlannedColour{0.90f, 0.62f, 0.0f, 1};     // orange: the planned (blended) path
-inline constexpr Rgba kTrailColour{0.0f, 0.62f, 0.45f, 1};       // bluish green: the actual TCP so far
+// The video's colours, as report.html's 3D view draws the same lines: the programmed path thick
+// and grey, the planned (blended) path in its method's colour (method_colour), the actual TCP thin
+// and dark. None of them is a method's colour, so the legend stays unambiguous, and none occurs in
+// the lit scene or its background (the grey is warm and the dark is purple, where the arm and floor
+// are neutral greys, white and light blue and an empty background is black), so a line's pixels
+// can be told from the scene's. Lines are drawn unlit, so their pixels carry exactly these colours.
+inline constexpr Rgba kProgrammedColour{0.6f, 0.56f, 0.5f, 1};  // warm grey
+inline constexpr Rgba kTrailColour{0.3f, 0.0f, 0.3f, 1};        // dark purple
+
+// A method's colour (the method named as summary.json names it: none, arc, bezier, clothoid,
+// biclothoid), the same as in the report and its plots: render/method_colours.json is the one
+// table (compiled in by render/CMakeLists.txt, read by report/scripts/plotio.py); a method it
+// does not list takes one of its "others", picked by the sum of the name's character codes.
+Rgba method_colour(std::string_view method);
+
 // The tool on the flange (SceneStyle::tool), drawn lit like the arm, so its pixels are shades of:
 inline constexpr Rgba kToolColour{0.95f, 0.90f, 0.25f, 1};      // yellow: the tool's body, flange to TCP
 inline constexpr Rgba kToolAxisColour{0.80f, 0.60f, 0.70f, 1};  // reddish purple: the tool's z axis at the TCP
@@ -126,14 +137,21 @@ class OffscreenRenderer {
   // Fills `where` with a colour (blended by its alpha).
   void fill(const PixelRect& where, const Rgba& colour);
   // A two-column panel of rows (labels grey, values white) on a translucent dark box, in the
-  // given corner of `where`.
-  void draw_panel(const PixelRect& where, Corner corner, const std::vector<TextRow>& rows);
+  // given corner of `where`. Returns the box drawn (panel_box).
+  PixelRect draw_panel(const PixelRect& where, Corner corner, const std::vector<TextRow>& rows);
+  // The box draw_panel would draw.
+  [[nodiscard]] PixelRect panel_box(const PixelRect& where, Corner corner, const std::vector<TextRow>& rows) const;
   // A legend: one row per entry, a short bar of its colour and its text, on a translucent dark
-  // box in the given corner of `where`. Returns the box drawn.
+  // box in the given corner of `where`. Returns the box drawn (legend_box).
   PixelRect draw_legend(const PixelRect& where, Corner corner, const std::vector<LegendEntry>& entries);
+  // The box draw_legend would draw.
+  [[nodiscard]] PixelRect legend_box(const PixelRect& where, Corner corner, const std::vector<LegendEntry>& entries) const;
   // A filled rectangle with the text centred in it.
   void draw_label(const PixelRect& rect, const std::string& text, const Rgba& background, const Rgba& text_colour);
-  // Text with its top-left corner at (x, y) pixels.
+  // Text (UTF-8) with its top-left corner at (x, y) pixels. MuJoCo's bitmap fonts hold printable
+  // ASCII only: the micro sign (U+00B5, and the Greek mu U+03BC), which the overlays need for
+  // "µm", is composed from the font's own strokes (its "u" with the descender of its "p"); any
+  // other character beyond ASCII is drawn as "?".
   void draw_text(int x, int y, const std::string& text, const Rgba& colour);
   // Pixel width of `text` and the height of a line of text in this renderer's font.
   [[nodiscard]] int text_width(const std::string& text) const;
