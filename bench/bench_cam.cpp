@@ -154,6 +154,7 @@ void plan_bench(benchmark::State& state, const Program& program) {
     newton_steps = timing.newton_steps;
     iterations = timing.iterations;
     benchmark::DoNotOptimize(timing.cycle_time);
+    if (!timing.outcome.ok()) state.SkipWithError(timing.outcome.message.c_str());
   }
   per_segment(state);
   state.counters["samples"] = static_cast<double>(samples);

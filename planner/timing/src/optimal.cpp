@@ -19,7 +19,9 @@
 //    solved again (from the last solution); what is left (between nodes the limits can be
 //    exceeded by a hair) is removed by running the whole motion uniformly slower by the smallest
 //    factor that makes every sampled ratio at most 1 (v -> gamma v, a -> gamma^2 a, j -> gamma^3 j:
-//    the same path and shape of profile, stretched in time).
+//    the same path and shape of profile, stretched in time). A stretch of more than
+//    TimingOptions::local_refinement_nodes nodes is solved once, and what its samples exceed is
+//    taken by local slow-downs (Bump) before the uniform one.
 // 5. The reports of Timing (pieces, feed share, curvature steps) are read off the samples.
 // Where a stretch cannot be solved (no Newton progress, never seen in the property tests), the
 // plan falls back to seed 004's, with an outcome that says so.
@@ -45,6 +47,35 @@ namespace {
 constexpr int kMaxLinearisations = 24;
 // Rounds of halving the cells around samples that exceed a limit by more than kRefineShare.
 constexpr int kMaxRefinements = 4;
+// A stretch of more than TimingOptions::local_refinement_nodes nodes is not solved again after a
+// refinement: each round solves the whole stretch again from seed 004's start (a barrier method
+// cannot start from its last solution once limits are tightened: that solution lies on them,
+// and the path from a point so close to the barrier's boundary took more Newton steps than a
+// cold start, measured), some 100 Newton steps whatever its size; on the 10^4-line CAM contour
+// (46,668 nodes, one stretch) the three rounds after the first solve took 11 s of 21 s. What its
+// samples exceed after its one solve (by 0.1-0.5 % of the jerk limit there, a few dozen samples)
+// is taken by local slow-downs of the motion (Bump), in at most kLocalPasses passes, before the
+// uniform one (settle) takes the rest. (They cost less time than the re-solves: 3.94465 against
+// 3.9476 times the bound there, BM_CamPlan.)
+constexpr int kLocalPasses = 6;
+// ... where its samples ask for no more than this uniform slow-down (gamma, v -> gamma v): a
+// larger excess (a first solve far off between its nodes, seen on random paths of few nodes) is
+// refined and solved again as on a short stretch.
+constexpr double kLeastLocalScale = 0.99;
+// A bump's half-width in the motion's own time: kBumpPhases times sqrt(2 v / J) at the sample
+// (v its speed, J the piece's jerk limit), at least kMinBumpPeriods servo periods. The slow-down
+// adds jerk of its own, about gamma'' v = 6 depth v / width^2 at its middle, while it takes
+// 3 depth J off the jerk there; at 4 sqrt(2 v / J) the first is 1/16 of the second.
+constexpr double kBumpPhases = 4;
+constexpr double kMinBumpPeriods = 25;
+constexpr double kMaxBumpWidth = 10.0;  // s
+// A bump is deeper than the uniform slow-down its sample's ratio asks for by this factor: its
+// neighbours may ask for more, and the samples land elsewhere on the slower motion (1.1 to 1.5
+// all settled the 300-line CAM path of optimal_test in three passes; 1.25 with the least time
+// of those that leave a margin, 0.03 % below the re-solves).
+constexpr double kBumpDepth = 1.25;
+// No bump slows the motion by more than 1 - this share of its speed (the uniform slow-down takes it).
+constexpr double kLeastBumpSpeed = 0.5;
 constexpr double kRefineShare = 1e-3;
 // The share by which a tightened limit lies below the one the ratio asks for.
 constexpr double kTightenMargin = 1e-4;
@@ -64,6 +95,76 @@ constexpr double kReachShare = 1e-3;
 // Speeds below this share of the starting profile's largest are raised to it at inner nodes
 // (a barrier method needs v > 0 there).
 constexpr double kSmallestStartShare = 1e-9;
+
+// A local slow-down of a stretch's motion: around its own time `centre` the motion runs at
+// 1 - depth phi((tau - centre) / width) of its speed, phi(x) = (1 - x^2)^3 for |x| < 1 (zero
+// outside, and at |x| = 1 with its first two derivatives, so that the motion keeps a continuous
+// jerk); overlapping bumps multiply (gamma stays positive). A motion s(tau) run at gamma(tau) has,
+// in the time u = int dtau / gamma,
+//   ds/du = gamma v,  d2s/du2 = gamma^2 a + gamma gamma' v,
+//   d3s/du3 = gamma^3 j + 3 gamma^2 gamma' a + gamma (gamma'^2 + gamma gamma'') v   (' = d/dtau).
+struct Bump {
+  double centre = 0, width = 0, depth = 0;  // s, s, share
+};
+struct Warp {
+  double g = 1, d1 = 0, d2 = 0;  // gamma and its derivatives in tau (1/s, 1/s^2)
+};
+// The bumps (sorted by their starts, centre - width) at tau.
+Warp warp_at(const std::vector<Bump>& bumps, double tau) {
+  Warp w;
+  // (no bump is wider than kMaxBumpWidth: those that can reach tau start after tau - 2 of it)
+  const auto from = std::lower_bound(bumps.begin(), bumps.end(), tau - 2 * kMaxBumpWidth,
+                                     [](const Bump& b, double x) { return b.centre - b.width < x; });
+  for (auto it = from; it != bumps.end(); ++it) {
+    const Bump& b = *it;
+    if (b.centre - b.width >= tau) break;
+    const double x = (tau - b.centre) / b.width;
+    if (!(std::abs(x) < 1)) continue;
+    // f = 1 - depth phi and its derivatives; gamma = prod f: (log gamma)' = sum f'/f,
+    // gamma''/gamma = ((log gamma)')^2 + sum (f''/f - (f'/f)^2)
+    const double u = 1 - x * x;
+    const double f = 1 - b.depth * u * u * u;
+    const double f1 = -b.depth * (-6 * x * u * u) / b.width;
+    const double f2 = -b.depth * (-6 * u * u + 24 * x * x * u) / (b.width * b.width);
+    w.g *= f;
+    w.d1 += f1 / f;                       // (log gamma)' so far
+    w.d2 += f2 / f - (f1 / f) * (f1 / f);  // sum (f''/f - (f'/f)^2) so far
+  }
+  const double log1 = w.d1;
+  w.d1 = w.g * log1;
+  w.d2 = w.g * (log1 * log1 + w.d2);
+  return w;
+}
+// int (1 / gamma - 1) dtau over the bumps' supports within [0, total]: the time they add to a
+// motion of own duration `total` (composite Simpson).
+double warp_extra(const std::vector<Bump>& bumps, double total) {
+  std::vector<std::pair<double, double>> spans;
+  for (const Bump& b : bumps) {
+    const double lo = std::max(0.0, b.centre - b.width);
+    const double hi = std::min(total, b.centre + b.width);
+    if (!(hi > lo)) continue;
+    if (!spans.empty() && lo <= spans.back().second) {
+      spans.back().second = std::max(spans.back().second, hi);
+    } else {
+      spans.emplace_back(lo, hi);
+    }
+  }
+  double narrowest = kInf;
+  for (const Bump& b : bumps) narrowest = std::min(narrowest, b.width);
+  double extra = 0;
+  for (const auto& [lo, hi] : spans) {
+    // 64 steps per narrowest half-width, an even number
+    const int steps = 2 * static_cast<int>(std::ceil(32 * (hi - lo) / narrowest));
+    const double h = (hi - lo) / steps;
+    double sum = 0;
+    for (int i = 0; i <= steps; ++i) {
+      const double f = 1 / warp_at(bumps, lo + i * h).g - 1;
+      sum += (i == 0 || i == steps ? 1 : i % 2 == 1 ? 4 : 2) * f;
+    }
+    extra += sum * h / 3;
+  }
+  return extra;
+}
 
 // (v^2, a) of seed 004's chained spans at increasing arc lengths.
 class StartProfile {
@@ -115,11 +216,13 @@ struct Stretch {
   std::vector<CellMotion> cells;    // the optimiser's, times from 0
   double seed_t0 = 0, seed_t1 = 0;  // s, seed 004's times at its rests
   double gamma = 1;
+  std::vector<Bump> bumps;  // the optimiser's motion's local slow-downs, sorted by their starts
+  double extra = 0;         // s, the time they add (warp_extra)
   double t0 = 0;  // s, its start in the plan
   [[nodiscard]] double own_duration() const {
     return optimal ? (cells.empty() ? 0.0 : cells.back().t0 + cells.back().duration) : seed_t1 - seed_t0;
   }
-  [[nodiscard]] double duration() const { return own_duration() / gamma; }
+  [[nodiscard]] double duration() const { return (own_duration() + (optimal ? extra : 0.0)) / gamma; }
 };
 
 // seed 004's state at its time t (s, v, a, j; global s).
@@ -132,8 +235,9 @@ TimedSample seed_state(const std::vector<Span>& spans, std::size_t& cursor, doub
 }
 
 // The plan's samples at t = k dt (the last at rest at the end): each stretch's motion, scaled.
+// `own`: where not null, each sample's time in its stretch's own motion (tau).
 std::vector<TimedSample> sample_plan(const std::vector<Stretch>& stretches, const std::vector<Span>& seed,
-                                     double path_length, double dt) {
+                                     double path_length, double dt, std::vector<double>* own = nullptr) {
   const double total = stretches.empty() ? 0.0 : stretches.back().t0 + stretches.back().duration();
   const auto n = static_cast<std::size_t>(std::ceil(total / dt));
   std::vector<TimedSample> samples;
@@ -141,21 +245,51 @@ std::vector<TimedSample> sample_plan(const std::vector<Stretch>& stretches, cons
   std::size_t r = 0;
   std::size_t cell = 0;
   std::size_t cursor = 0;
+  if (own != nullptr) own->assign(n + 1, 0.0);
+  // on a stretch with bumps: tau at time `since` (its last sample, or its start)
+  double warped = 0;
+  double since = stretches.empty() ? 0.0 : stretches.front().t0;
   for (std::size_t k = 0; k < n; ++k) {
     const double t = static_cast<double>(k) * dt;
     while (r + 1 < stretches.size() && t >= stretches[r + 1].t0) {
       ++r;
       cell = 0;
+      warped = 0;
+      since = stretches[r].t0;
     }
     const Stretch& st = stretches[r];
     const double g = st.gamma;
-    const double tau = std::min((t - st.t0) * g, st.own_duration());
+    const bool warp = st.optimal && !st.bumps.empty();
+    double tau = (t - st.t0) * g;
+    if (warp) {
+      // dtau/dt = g gamma(tau), one classical Runge-Kutta step from the last sample (the bumps
+      // are many periods wide, so its error is far below the rounding of the positions)
+      const auto f = [&](double x) { return g * warp_at(st.bumps, x).g; };
+      const double h = t - since;
+      const double k1 = f(warped);
+      const double k2 = f(warped + 0.5 * h * k1);
+      const double k3 = f(warped + 0.5 * h * k2);
+      const double k4 = f(warped + h * k3);
+      tau = warped + h * (k1 + 2 * k2 + 2 * k3 + k4) / 6;
+      warped = tau;
+      since = t;
+    }
+    tau = std::min(tau, st.own_duration());
+    if (own != nullptr) (*own)[k] = tau;
     TimedSample x;
     if (st.optimal) {
       while (cell + 1 < st.cells.size() && tau >= st.cells[cell + 1].t0) ++cell;
       const CellMotion& m = st.cells[cell];
       const CellState c = cell_state(m, tau - m.t0);
       x = {t, std::clamp(m.s0 + c.x, m.s0, m.s0 + m.length), c.v, c.a, c.j};
+      if (warp) {
+        const Warp w = warp_at(st.bumps, tau);
+        const double v = c.v;
+        const double a = c.a;
+        x.v = w.g * v;
+        x.a = w.g * w.g * a + w.g * w.d1 * v;
+        x.j = w.g * w.g * w.g * c.j + 3 * w.g * w.g * w.d1 * a + w.g * (w.d1 * w.d1 + w.g * w.d2) * v;
+      }
     } else {
       x = seed_state(seed, cursor, st.seed_t0 + tau);
     }
@@ -412,6 +546,8 @@ Timing plan_optimal(const Path& path, const TimingOptions& options) {
       Stretch& st = stretches[r];
       if (!st.optimal) continue;
       const auto [k0, k1] = sample_range(stretches, r, options.dt, timing.samples.size());
+      // a long stretch whose samples are all close enough to the limits is slowed locally (4b)
+      if (st.last - st.first > options.local_refinement_nodes && check.scale(k0, k1) >= kLeastLocalScale) continue;
       for (std::size_t k = k0; k <= k1; ++k) {
         if (!(check.worst[k] > 1 + kRefineShare)) continue;
         for (std::size_t q = k == 0 ? 0 : k - 1; q <= std::min(k + 2, timing.samples.size() - 1); ++q) {
@@ -482,11 +618,75 @@ Timing plan_optimal(const Path& path, const TimingOptions& options) {
       check = check_samples(path, options, prepared, timing.samples);
     }
   };
+  // 4b. on a long stretch (solved once, local_refinement_nodes) what the samples exceed is
+  // taken by local slow-downs first: a bump at each sample over a limit, deep enough to bring it
+  // under (kBumpDepth), passes repeated while samples still exceed (the bumps' own jerk can push
+  // a neighbour over)
+  std::vector<double> unbumped(stretches.size(), 1.0);  // each stretch's sampled scale before
+  const bool any_long = std::any_of(stretches.begin(), stretches.end(), [&](const Stretch& st) {
+    return st.optimal && st.last - st.first > options.local_refinement_nodes;
+  });
+  for (int pass = 0; any_long; ++pass) {
+    chain(stretches);
+    std::vector<double> own;
+    timing.samples = sample_plan(stretches, start.spans, path.length(), options.dt, &own);
+    check = check_samples(path, options, prepared, timing.samples);
+    if (pass == 0) {
+      for (std::size_t r = 0; r < stretches.size(); ++r) {
+        const auto [k0, k1] = sample_range(stretches, r, options.dt, timing.samples.size());
+        unbumped[r] = check.scale(k0, k1);
+      }
+    }
+    if (pass == kLocalPasses) break;
+    bool added = false;
+    for (std::size_t r = 0; r < stretches.size(); ++r) {
+      Stretch& st = stretches[r];
+      if (!st.optimal || st.last - st.first <= options.local_refinement_nodes) continue;
+      const auto [k0, k1] = sample_range(stretches, r, options.dt, timing.samples.size());
+      const double total = st.own_duration();
+      double covered = -1;  // the end of the last bump added in this pass
+      for (std::size_t k = k0; k <= k1; ++k) {
+        if (!(check.worst[k] > 1) || own[k] < covered) continue;
+        const double here = own[k];
+        const Warp now = warp_at(st.bumps, here);
+        const double v = timing.samples[k].v / (st.gamma * now.g);
+        const double jerk = path.pieces()[path.locate(timing.samples[k].s).piece].limits.jerk;
+        double width = std::max(kMinBumpPeriods * options.dt, kBumpPhases * std::sqrt(2 * v / jerk));
+        // (a bump may reach over a rest at the stretch's ends: there it runs the start from rest
+        // uniformly slower, as the settle would)
+        width = std::min(width, kMaxBumpWidth);
+        const double depth = kBumpDepth * (1 - check.scale(k, k));
+        if (!(width >= kMinBumpPeriods * options.dt) || !(depth < 1 - kLeastBumpSpeed)) continue;
+        st.bumps.push_back({here, width, depth});
+        covered = here + 0.5 * width;
+        added = true;
+      }
+      std::sort(st.bumps.begin(), st.bumps.end(),
+                [](const Bump& x, const Bump& y) { return x.centre - x.width < y.centre - y.width; });
+      st.extra = warp_extra(st.bumps, total);
+      if (!std::isfinite(st.extra)) {
+        st.bumps.clear();  // (never seen: the uniform slow-down takes it all)
+        st.extra = 0;
+      }
+    }
+    if (!added) break;
+  }
+  // where the bumps left the samples further over a limit than before them (their own jerk, on a
+  // fast motion under a low jerk limit), the stretch drops them: the uniform slow-down takes it
+  for (std::size_t r = 0; r < stretches.size(); ++r) {
+    const auto [k0, k1] = sample_range(stretches, r, options.dt, timing.samples.size());
+    if (!stretches[r].bumps.empty() && check.scale(k0, k1) < unbumped[r]) {
+      stretches[r].bumps.clear();
+      stretches[r].extra = 0;
+    }
+  }
   settle(stretches);
   std::vector<Stretch> seed_plan = stretches;
   for (Stretch& st : seed_plan) {
     st.optimal = false;
     st.gamma = 1;
+    st.bumps.clear();
+    st.extra = 0;
   }
   settle(seed_plan);
   bool switched = false;

@@ -45,6 +45,12 @@ struct TimingOptions {
   // kOptimal: how many times denser than its own the grid in s is (>= 1; node spacing divided by
   // it). The tests solve the same problem on a 4x finer grid as an independent reference.
   double grid_refinement = 1;
+  // kOptimal: a stretch between stops with more grid nodes than this (a CAM stream of thousands
+  // of tiny lines is one) is solved once, and what its sampled output exceeds is taken by local
+  // slow-downs of the motion; a shorter one is solved again with the cells there tightened and
+  // split (optimal.cpp). Each solve costs some 100-250 Newton steps whatever the size, so on a
+  // long stretch the re-solves were half the planning time. The tests set it to compare both.
+  std::size_t local_refinement_nodes = 3000;
 };
 
 // One servo tick: time (s), arc length (m), path velocity (m/s), tangential acceleration
