@@ -607,8 +607,10 @@ Timing plan_optimal(const Path& path, const TimingOptions& options) {
         const double g = check.scale(k0, k1);
         if (g < 1) {
           // twice the share the samples ask for: the samples land elsewhere on the slower motion
-          // and may catch more of a bump between them
-          plan[r].gamma *= (1 - 2 * (1 - g)) * (1 - kSlowdownMargin);
+          // and may catch more of a bump between them; where that share would reach the whole
+          // speed (g below 2/3), half of what they ask (the factor turned negative below g = 1/2
+          // and the plan failed: found on random paths)
+          plan[r].gamma *= std::max(1 - 2 * (1 - g), g / 2) * (1 - kSlowdownMargin);
           changed = true;
         }
       }
