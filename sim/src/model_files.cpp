@@ -256,7 +256,10 @@ void check_obj(const std::string& text, const std::string& file) {
     for (std::size_t w = 1; w < words.size(); ++w) {
       // v, v/vt, v//vn or v/vt/vn
       std::string_view corner = words[w];
-      if (corner_without_normal_line == 0 && std::count(corner.begin(), corner.end(), '/') < 2) {
+      // without a normal: fewer than two slashes, or nothing after the second ("1//" too)
+      const std::size_t second_slash =
+          corner.find('/') == std::string_view::npos ? std::string_view::npos : corner.find('/', corner.find('/') + 1);
+      if (corner_without_normal_line == 0 && (second_slash == std::string_view::npos || second_slash + 1 == corner.size())) {
         corner_without_normal_line = line_number;
         corner_without_normal = std::string(corner);
       }

@@ -125,6 +125,8 @@ TEST(ModelFiles, ObjFacesMayIndexOnlyWhatTheFileHas) {
       {"f 1 2 99999999999\n", 11, "99999999999 is not a whole number"},
       // MuJoCo 2.2.2 read before its normals for a corner without one (fuzz_mjcf, AddressSanitizer)
       {"f 1//1 2 3//1\n", 11, "face 2: has no normal, but the file has normals (vn)"},
+      // an empty normal index is no normal either (fuzz_mjcf, AddressSanitizer)
+      {"f 1// 2//1 3//1\n", 11, "face 1//: has no normal, but the file has normals (vn)"},
   };
   for (const Case& c : cases) {
     test::expect_input_error([&] { check_obj(tetrahedron(c.extra), "tet.obj"); },
