@@ -14,10 +14,10 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "support/files.hpp"
 #include "support/program.hpp"
 #include "support/source_tree.hpp"
 
@@ -64,13 +64,6 @@ Result run(const std::vector<std::string>& args) {
 json read_json(const fs::path& file) {
   std::ifstream in(file);
   return json::parse(in);
-}
-
-std::string read_text(const fs::path& file) {
-  std::ifstream in(file);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 class SensitivityRun : public ::testing::Test {
@@ -173,7 +166,7 @@ TEST_F(SensitivityRun, TheBlockAgreesWithItsRunsAndThePlainRun) {
   // the ranking was told: its ties follow the study
   EXPECT_TRUE(summary.at("ranking").at("resolution").at("model_spread").get<bool>());
   // the report shows the conclusions next to the answer
-  const std::string report = read_text(dir_ / "sens" / "report.html");
+  const std::string report = blendbench::test::read_file(dir_ / "sens" / "report.html");
   EXPECT_NE(report.find("Sensitivity to the arm model"), std::string::npos);
   EXPECT_NE(report.find(s.at("conclusions")[0].at("statement").get<std::string>()), std::string::npos);
 }
