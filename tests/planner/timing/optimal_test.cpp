@@ -17,6 +17,7 @@
 #include "blendbench/corner/blend.hpp"
 #include "blendbench/io/scenario.hpp"
 #include "blendbench/timing/timing.hpp"
+#include "support/cam_program.hpp"
 #include "support/input_error.hpp"
 #include "support/profile_check.hpp"
 #include "support/property.hpp"
@@ -303,31 +304,9 @@ TEST(OptimalTiming, EveryShippedScenarioVariantIsAtMostSeed004sAndHoldsItsLimits
 // with the cells there tightened. Both hold every limit on the sampled output; the slow-downs
 // cost no more than the re-solves (they can cost less: a re-solve tightens whole cells).
 
-// `n` lines of 0.01-0.1 mm along a smooth curve (bench_cam's CAM contour, shorter), F2000,
-// 1000 mm/s^2, 10000 mm/s^3, every corner a biclothoid of 0.05 mm: one stretch, some 4.7 grid
-// nodes a line.
-Path cam_path(int n) {
-  std::mt19937_64 rng(1);
-  std::uniform_real_distribution<double> step(0.01e-3, 0.1e-3);
-  const auto at = [](double s) {
-    const double t = s / 0.02;
-    return Vec3(0.020 * std::sin(t) + 0.005 * std::sin(3.1 * t + 0.3), 0.015 * std::sin(0.7 * t + 1.0) + 0.004 * std::cos(2.3 * t),
-                0.0);
-  };
-  Program program;
-  double s = 0;
-  Vec3 p = at(0);
-  for (int k = 0; k < n; ++k) {
-    s += step(rng);
-    Move& move = program.moves.emplace_back();
-    move.geometry = Line{p, at(s)};
-    move.limits = {2.0 / 60.0, 1.0, 1.0, 10.0};
-    move.transition.method = Method::kBiclothoid;
-    move.transition.parameter = 0.05e-3;
-    p = at(s);
-  }
-  return blend(program);
-}
+// `n` lines of 0.01-0.1 mm along a smooth curve (bench_cam's CAM contour, shorter), every corner
+// a biclothoid of 0.05 mm: one stretch, some 4.7 grid nodes a line.
+Path cam_path(int n) { return blend(test::cam_program(n)); }
 
 TEST(OptimalTiming, LocalSlowDownsOnALongStretchHoldEveryLimitAndCostNoMoreThanReSolves) {
   const Path path = cam_path(300);
