@@ -183,7 +183,9 @@ void BM_Cardioid(benchmark::State& state) { figures(state, cardioid_program(stat
 void BM_Wave(benchmark::State& state) { figures(state, wave_program(static_cast<int>(state.range(0)))); }
 
 BENCHMARK(BM_CamPath)->Arg(10000)->Arg(100000)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_CamPlan)->Args({2000, 0})->Args({2000, 1})->Args({10000, 0})->Args({10000, 1})->Args({100000, 0})->Args({100000, 1})->Unit(benchmark::kMillisecond);
+// (the optimal planner evaluates long stretches on two threads: CPU time is the process's, and
+// the wall time is what the targets are stated in)
+BENCHMARK(BM_CamPlan)->Args({2000, 0})->Args({2000, 1})->Args({10000, 0})->Args({10000, 1})->Args({100000, 0})->Args({100000, 1})->Unit(benchmark::kMillisecond)->MeasureProcessCPUTime()->UseRealTime();
 BENCHMARK(BM_CamPathSmoothed)->Arg(10000)->Arg(100000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_CamPlanSmoothed)->Arg(10000)->Arg(100000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Cardioid)->Args({10000, 0})->Args({10000, 1})->Args({10000, 2})->Unit(benchmark::kMillisecond)->Iterations(1);

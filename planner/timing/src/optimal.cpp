@@ -28,6 +28,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 #include <tuple>
 
 #include "blendbench/core/format.hpp"
@@ -109,11 +110,19 @@ struct Bump {
 struct Warp {
   double g = 1, d1 = 0, d2 = 0;  // gamma and its derivatives in tau (1/s, 1/s^2)
 };
-// The bumps (sorted by their starts, centre - width) at tau.
-Warp warp_at(const std::vector<Bump>& bumps, double tau) {
+// The widest of the bumps' half-widths (0 for none).
+double widest(std::span<const Bump> bumps) {
+  double w = 0;
+  for (const Bump& b : bumps) w = std::max(w, b.width);
+  return w;
+}
+// The bumps (sorted by their starts, centre - width; `widest` their widest half-width) at tau.
+Warp warp_at(std::span<const Bump> bumps, double widest, double tau) {
   Warp w;
-  // (no bump is wider than kMaxBumpWidth: those that can reach tau start after tau - 2 of it)
-  const auto from = std::lower_bound(bumps.begin(), bumps.end(), tau - 2 * kMaxBumpWidth,
+  // (those that reach tau start after tau - 2 widest: the window is the widest bump's, not
+  // kMaxBumpWidth's, which held some hundred bumps on the CAM contour and made this a tenth of
+  // its planning time)
+  const auto from = std::lower_bound(bumps.begin(), bumps.end(), tau - 2 * widest,
                                      [](const Bump& b, double x) { return b.centre - b.width < x; });
   for (auto it = from; it != bumps.end(); ++it) {
     const Bump& b = *it;
@@ -151,6 +160,7 @@ double warp_extra(const std::vector<Bump>& bumps, double total) {
   }
   double narrowest = kInf;
   for (const Bump& b : bumps) narrowest = std::min(narrowest, b.width);
+  const double wide = widest(bumps);
   double extra = 0;
   for (const auto& [lo, hi] : spans) {
     // 64 steps per narrowest half-width, an even number
@@ -158,7 +168,7 @@ double warp_extra(const std::vector<Bump>& bumps, double total) {
     const double h = (hi - lo) / steps;
     double sum = 0;
     for (int i = 0; i <= steps; ++i) {
-      const double f = 1 / warp_at(bumps, lo + i * h).g - 1;
+      const double f = 1 / warp_at(bumps, wide, lo + i * h).g - 1;
       sum += (i == 0 || i == steps ? 1 : i % 2 == 1 ? 4 : 2) * f;
     }
     extra += sum * h / 3;
@@ -217,6 +227,7 @@ struct Stretch {
   double seed_t0 = 0, seed_t1 = 0;  // s, seed 004's times at its rests
   double gamma = 1;
   std::vector<Bump> bumps;  // the optimiser's motion's local slow-downs, sorted by their starts
+  double widest_bump = 0;   // s, the widest of their half-widths
   double extra = 0;         // s, the time they add (warp_extra)
   double t0 = 0;  // s, its start in the plan
   [[nodiscard]] double own_duration() const {
@@ -264,7 +275,7 @@ std::vector<TimedSample> sample_plan(const std::vector<Stretch>& stretches, cons
     if (warp) {
       // dtau/dt = g gamma(tau), one classical Runge-Kutta step from the last sample (the bumps
       // are many periods wide, so its error is far below the rounding of the positions)
-      const auto f = [&](double x) { return g * warp_at(st.bumps, x).g; };
+      const auto f = [&](double x) { return g * warp_at(st.bumps, st.widest_bump, x).g; };
       const double h = t - since;
       const double k1 = f(warped);
       const double k2 = f(warped + 0.5 * h * k1);
@@ -283,7 +294,7 @@ std::vector<TimedSample> sample_plan(const std::vector<Stretch>& stretches, cons
       const CellState c = cell_state(m, tau - m.t0);
       x = {t, std::clamp(m.s0 + c.x, m.s0, m.s0 + m.length), c.v, c.a, c.j};
       if (warp) {
-        const Warp w = warp_at(st.bumps, tau);
+        const Warp w = warp_at(st.bumps, st.widest_bump, tau);
         const double v = c.v;
         const double a = c.a;
         x.v = w.g * v;
@@ -520,7 +531,7 @@ Timing plan_optimal(const Path& path, const TimingOptions& options) {
       const auto to = b.begin() + static_cast<std::ptrdiff_t>(last) + 1;
       const std::vector<double> b0(from, to);
       const std::vector<double> a0(a.begin() + static_cast<std::ptrdiff_t>(first), a.begin() + static_cast<std::ptrdiff_t>(last) + 1);
-      const StretchResult res = solve_stretch(grid, first, last, b0, a0, kMaxLinearisations);
+      const StretchResult res = solve_stretch(grid, first, last, b0, a0, kMaxLinearisations, options.parallel_cells);
       linearisations = std::max(linearisations, res.linearisations);
       timing.newton_steps += res.newton_steps;
       if (!res.converged) continue;
@@ -647,10 +658,13 @@ Timing plan_optimal(const Path& path, const TimingOptions& options) {
       const auto [k0, k1] = sample_range(stretches, r, options.dt, timing.samples.size());
       const double total = st.own_duration();
       double covered = -1;  // the end of the last bump added in this pass
+      // (the samples ran under the bumps of the earlier passes: this pass's are appended
+      // unsorted until the pass ends)
+      const std::size_t earlier = st.bumps.size();
       for (std::size_t k = k0; k <= k1; ++k) {
         if (!(check.worst[k] > 1) || own[k] < covered) continue;
         const double here = own[k];
-        const Warp now = warp_at(st.bumps, here);
+        const Warp now = warp_at(std::span<const Bump>(st.bumps.data(), earlier), st.widest_bump, here);
         const double v = timing.samples[k].v / (st.gamma * now.g);
         const double jerk = path.pieces()[path.locate(timing.samples[k].s).piece].limits.jerk;
         double width = std::max(kMinBumpPeriods * options.dt, kBumpPhases * std::sqrt(2 * v / jerk));
@@ -665,6 +679,7 @@ Timing plan_optimal(const Path& path, const TimingOptions& options) {
       }
       std::sort(st.bumps.begin(), st.bumps.end(),
                 [](const Bump& x, const Bump& y) { return x.centre - x.width < y.centre - y.width; });
+      st.widest_bump = widest(st.bumps);
       st.extra = warp_extra(st.bumps, total);
       if (!std::isfinite(st.extra)) {
         st.bumps.clear();  // (never seen: the uniform slow-down takes it all)

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <thread>
 
 #include <Eigen/Dense>
 
@@ -23,12 +24,14 @@ using Vec2 = Eigen::Vector2d;
 // kGapShare of the time.
 constexpr double kStartGapShare = 0.1;
 // kGapShare/kBarrierGrowth measured (BM_CamPlan/2000 and the default scenario's variants, 7
-// December 2026): against 1e-7 and 8, these take 135 Newton steps instead of 211 on the CAM
-// contour and 0.24 s instead of 1.31 s on arc_0.5mm, the planned times within 0.013 %: a
+// December 2026): against 1e-7 and 8, these take 120 Newton steps instead of 211 on the CAM
+// contour and 0.21 s instead of 1.31 s on arc_0.5mm, the planned times within 0.013 %: a
 // smaller growth leaves each centring's start closer to its central point, so fewer of its
 // steps are cut short by the one node nearest a constraint (the step length is global), and a
-// gap of 1e-5 of the time is far below the grid's own resolution (0.1 %).
-constexpr double kGapShare = 1e-5;
+// gap of 1e-4 of the time (the most the time can lie above the subproblem's optimum) is well
+// below the grid's own resolution (0.1 %); the last centrings down to 1e-5 gained 0.007 % for
+// a fifth of the steps on the 10^4-line contour.
+constexpr double kGapShare = 1e-4;
 constexpr double kBarrierGrowth = 2;
 // A centring ends when the Newton decrement lambda^2 / 2 is below this (the barrier function's
 // own units: the time times t, plus logs).
@@ -116,10 +119,15 @@ Tangent tangent_at(double jerk, double q, double b_hat) {
   return {g0 - g1 * b_hat, g1};
 }
 
+class LogSum;
+
 // The stretch's problem.
 class Stretch {
  public:
-  Stretch(const Grid& grid, std::size_t first, std::size_t last, double v_ref, double a_ref);
+  // `parallel_cells`: from this many cells on, evaluate() runs in two halves on two threads
+  // (the barrier function and its derivatives are three quarters of a Newton step's work; a
+  // thread's start, some 50 us, is a few percent of one evaluation at 4096 cells).
+  Stretch(const Grid& grid, std::size_t first, std::size_t last, double v_ref, double a_ref, std::size_t parallel_cells);
 
   [[nodiscard]] std::size_t cells() const { return h_.size(); }
   [[nodiscard]] double barrier_parameter() const { return nu_; }
@@ -168,6 +176,12 @@ class Stretch {
  private:
   template <bool kDerivatives>
   double evaluate(const std::vector<double>& b, const std::vector<double>& a, double t, Derivatives* d) const;
+  // The objective's cells [c0, c1) and the constraints' nodes [i0, i1) of evaluate: adds the
+  // time times t to `total` and every barrier argument to `logs`; false outside the domain.
+  template <bool kDerivatives>
+  bool evaluate_part(const std::vector<double>& b, const std::vector<double>& a, double t, Derivatives* d,
+                     std::size_t c0, std::size_t c1, std::size_t i0, std::size_t i1, double& total,
+                     LogSum& logs) const;
 
   std::vector<double> h_;
   std::vector<CellShape> shape_;
@@ -179,9 +193,12 @@ class Stretch {
   bool cartesian_ = true;
   bool axes_ = false;
   double nu_ = 0;
+  std::size_t parallel_cells_ = 0;
 };
 
-Stretch::Stretch(const Grid& grid, std::size_t first, std::size_t last, double v_ref, double a_ref) {
+Stretch::Stretch(const Grid& grid, std::size_t first, std::size_t last, double v_ref, double a_ref,
+                 std::size_t parallel_cells)
+    : parallel_cells_(std::max<std::size_t>(parallel_cells, 8)) {
   // units: speed v_ref, acceleration a_ref, so length L0 = v^2 / a, time T0 = v / a, jerk a / T0
   const double l0 = v_ref * v_ref / a_ref;
   const double t0 = v_ref / a_ref;
@@ -422,16 +439,46 @@ void scatter_node(const Term<2>& term, std::size_t i, Derivatives& d) {
 template <bool kDerivatives>
 double Stretch::evaluate(const std::vector<double>& b, const std::vector<double>& a, double t, Derivatives* d) const {
   const std::size_t n = cells();
-  double total = 0;
-  LogSum logs;  // every barrier term's argument
+  if (n < parallel_cells_) {
+    double total = 0;
+    LogSum logs;  // every barrier term's argument
+    if (!evaluate_part<kDerivatives>(b, a, t, d, 0, n, 1, n, total, logs)) return kInfinity;
+    return total - logs.value();
+  }
+  // two halves on two threads, then the cells and nodes between them: cells [0, m - 1) and
+  // nodes [1, m - 1) write the derivatives of nodes <= m - 1 only, cells [m + 1, n) and nodes
+  // [m + 2, n) those of nodes >= m + 1, and the rest (cells m - 1, m; nodes m - 1 .. m + 1)
+  // follows them. The split depends on n alone, so the sums (and the plan) are the same to the
+  // bit whether the second half runs on its own thread or not.
+  const std::size_t m = n / 2;
+  std::array<double, 3> total{0, 0, 0};
+  std::array<LogSum, 3> logs;
+  std::array<bool, 3> inside{false, false, false};
+  {
+    std::jthread upper([&] {
+      inside[1] = evaluate_part<kDerivatives>(b, a, t, d, m + 1, n, m + 2, n, total[1], logs[1]);
+    });
+    inside[0] = evaluate_part<kDerivatives>(b, a, t, d, 0, m - 1, 1, m - 1, total[0], logs[0]);
+  }
+  inside[2] = inside[0] && inside[1] && evaluate_part<kDerivatives>(b, a, t, d, m - 1, m + 1, m - 1, m + 2, total[2], logs[2]);
+  if (!inside[2]) return kInfinity;
+  logs[0].absorb(logs[1]);
+  logs[0].absorb(logs[2]);
+  return total[0] + total[1] + total[2] - logs[0].value();
+}
 
+template <bool kDerivatives>
+bool Stretch::evaluate_part(const std::vector<double>& b, const std::vector<double>& a, double t, Derivatives* d,
+                            std::size_t c0, std::size_t c1, std::size_t i0, std::size_t i1, double& total,
+                            LogSum& logs) const {
+  const std::size_t n = cells();
   // the objective, cell by cell
-  for (std::size_t c = 0; c < n; ++c) {
+  for (std::size_t c = c0; c < c1; ++c) {
     const double h = h_[c];
     if (c == 0 || c + 1 == n) {
       const std::size_t i = c == 0 ? 1 : c;
       const double bb = b[i];
-      if (!(bb > 0)) return kInfinity;
+      if (!(bb > 0)) return false;
       const double root = std::sqrt(bb);
       total += t * 3 * h / root;
       if constexpr (kDerivatives) {
@@ -441,12 +488,12 @@ double Stretch::evaluate(const std::vector<double>& b, const std::vector<double>
       continue;
     }
     const CellShape& sh = shape_[c];
-    if (!(b[c] > 0) || !(b[c + 1] > 0)) return kInfinity;
+    if (!(b[c] > 0) || !(b[c + 1] > 0)) return false;
     for (int q = 0; q < CellShape::kPoints; ++q) {
       // the time at a quadrature point: weight / sqrt(b_q), b_q = m.(b_c, a_c, a_{c+1}, b_{c+1})
       const Eigen::Vector4d& m = sh.b_row(q);
       const double bq = m(0) * b[c] + m(1) * a[c] + m(2) * a[c + 1] + m(3) * b[c + 1];
-      if (!(bq > 0)) return kInfinity;
+      if (!(bq > 0)) return false;
       const double root = std::sqrt(bq);
       const double w = t * sh.weight(q);
       total += w / root;
@@ -470,7 +517,7 @@ double Stretch::evaluate(const std::vector<double>& b, const std::vector<double>
     // the cap at the time's quadrature points (where a bulge of b above it would gain time)
     if (std::isfinite(node.middle_b_max)) {
       for (int q = 0; q < CellShape::kPoints; ++q) {
-        if (!linear_term<4, kDerivatives>(node.middle_b_max, -sh.b_row(q), z, term)) return kInfinity;
+        if (!linear_term<4, kDerivatives>(node.middle_b_max, -sh.b_row(q), z, term)) return false;
       }
     }
     if (cartesian_) {
@@ -490,10 +537,10 @@ double Stretch::evaluate(const std::vector<double>& b, const std::vector<double>
         return true;
       };
       if (sm.acc == sm.dec) {
-        if (!quad(sm.acc, am, 1.0)) return kInfinity;
+        if (!quad(sm.acc, am, 1.0)) return false;
       } else {
-        if (!quad(sm.acc, std::max(am, 0.0), am > 0 ? 1.0 : 0.0)) return kInfinity;
-        if (!quad(sm.dec, std::min(am, 0.0), am < 0 ? 1.0 : 0.0)) return kInfinity;
+        if (!quad(sm.acc, std::max(am, 0.0), am > 0 ? 1.0 : 0.0)) return false;
+        if (!quad(sm.dec, std::min(am, 0.0), am < 0 ? 1.0 : 0.0)) return false;
       }
     }
     logs.absorb(term.logs);
@@ -514,14 +561,14 @@ double Stretch::evaluate(const std::vector<double>& b, const std::vector<double>
   }
 
   // the constraints, node by node
-  for (std::size_t i = 1; i < n; ++i) {
+  for (std::size_t i = i0; i < i1; ++i) {
     const ScaledNode& node = nodes_[i];
     const double bi = b[i];
     const double ai = a[i];
     // b <= b_max
     if (std::isfinite(node.b_max)) {
       const double c = node.b_max - bi;
-      if (!(c > 0)) return kInfinity;
+      if (!(c > 0)) return false;
       logs.add(c);
       if constexpr (kDerivatives) {
         d->grad[i](0) += 1 / c;
@@ -552,27 +599,27 @@ double Stretch::evaluate(const std::vector<double>& b, const std::vector<double>
             return true;
           };
           if (s.acc == s.dec) {
-            if (!quad(s.acc, ai, 1.0)) return kInfinity;
+            if (!quad(s.acc, ai, 1.0)) return false;
           } else {
-            if (!quad(s.acc, std::max(ai, 0.0), ai > 0 ? 1.0 : 0.0)) return kInfinity;
-            if (!quad(s.dec, std::min(ai, 0.0), ai < 0 ? 1.0 : 0.0)) return kInfinity;
+            if (!quad(s.acc, std::max(ai, 0.0), ai > 0 ? 1.0 : 0.0)) return false;
+            if (!quad(s.dec, std::min(ai, 0.0), ai < 0 ? 1.0 : 0.0)) return false;
           }
           if (axes_) {
             for (int x = 0; x < 3; ++x) {
               const Vec2 g(s.t(x), s.k(x));
-              if (!linear_term<2, kDerivatives>(s.axis_a(x), -g, zn, term)) return kInfinity;
-              if (!linear_term<2, kDerivatives>(s.axis_a(x), g, zn, term)) return kInfinity;
+              if (!linear_term<2, kDerivatives>(s.axis_a(x), -g, zn, term)) return false;
+              if (!linear_term<2, kDerivatives>(s.axis_a(x), g, zn, term)) return false;
             }
           }
         } else {
-          if (!linear_term<2, kDerivatives>(s.acc, Vec2(-1, 0), zn, term)) return kInfinity;
-          if (!linear_term<2, kDerivatives>(s.dec, Vec2(1, 0), zn, term)) return kInfinity;
+          if (!linear_term<2, kDerivatives>(s.acc, Vec2(-1, 0), zn, term)) return false;
+          if (!linear_term<2, kDerivatives>(s.dec, Vec2(1, 0), zn, term)) return false;
         }
         if (s.rotates && std::isfinite(s.alpha)) {
           Eigen::Matrix<double, 3, 2> m;
           m.col(0) = s.rho;
           m.col(1) = s.rho1;
-          if (!cone_term<2, kDerivatives>(m, Vec3::Zero(), Vec2::Zero(), s.alpha, zn, term)) return kInfinity;
+          if (!cone_term<2, kDerivatives>(m, Vec3::Zero(), Vec2::Zero(), s.alpha, zn, term)) return false;
         }
         logs.absorb(term.logs);
         if constexpr (kDerivatives) scatter_node(term, i, *d);
@@ -610,20 +657,20 @@ double Stretch::evaluate(const std::vector<double>& b, const std::vector<double>
         m.col(1) = ci * s.t + 3 * s.k;
         m.col(2) = s.dk;
         const Tangent tg = jerk_tangent(s.jerk, s.step_norm);
-        if (!cone_term<3, kDerivatives>(m, Vec3::Zero(), Vec3(0, 0, tg.r1), tg.r0, z, term)) return kInfinity;
+        if (!cone_term<3, kDerivatives>(m, Vec3::Zero(), Vec3(0, 0, tg.r1), tg.r0, z, term)) return false;
         if (axes_) {
           for (int x = 0; x < 3; ++x) {
             const Tangent ta = jerk_tangent(s.axis_j(x), std::abs(s.step(x)));
             const Vec3 row = m.row(x).transpose();
-            if (!linear_term<3, kDerivatives>(ta.r0, Vec3(0, 0, ta.r1) - row, z, term)) return kInfinity;
-            if (!linear_term<3, kDerivatives>(ta.r0, Vec3(0, 0, ta.r1) + row, z, term)) return kInfinity;
+            if (!linear_term<3, kDerivatives>(ta.r0, Vec3(0, 0, ta.r1) - row, z, term)) return false;
+            if (!linear_term<3, kDerivatives>(ta.r0, Vec3(0, 0, ta.r1) + row, z, term)) return false;
           }
         }
       } else {
         const Tangent tg = tangent_at(s.jerk, 0.0, b_hat);
         const Vec3 row(cp, ci, 0.0);
-        if (!linear_term<3, kDerivatives>(tg.r0, Vec3(0, 0, tg.r1) - row, z, term)) return kInfinity;
-        if (!linear_term<3, kDerivatives>(tg.r0, Vec3(0, 0, tg.r1) + row, z, term)) return kInfinity;
+        if (!linear_term<3, kDerivatives>(tg.r0, Vec3(0, 0, tg.r1) - row, z, term)) return false;
+        if (!linear_term<3, kDerivatives>(tg.r0, Vec3(0, 0, tg.r1) + row, z, term)) return false;
       }
       if (s.rotates && std::isfinite(s.eta)) {
         Eigen::Matrix3d m;
@@ -631,13 +678,13 @@ double Stretch::evaluate(const std::vector<double>& b, const std::vector<double>
         m.col(1) = ci * s.rho + 3 * s.rho1;
         m.col(2) = s.rho2;
         const Tangent tr = tangent_at(s.eta, 0.0, b_hat);
-        if (!cone_term<3, kDerivatives>(m, Vec3::Zero(), Vec3(0, 0, tr.r1), tr.r0, z, term)) return kInfinity;
+        if (!cone_term<3, kDerivatives>(m, Vec3::Zero(), Vec3(0, 0, tr.r1), tr.r0, z, term)) return false;
       }
       logs.absorb(term.logs);
       if constexpr (kDerivatives) scatter_side(term, i, p, n, *d);
     }
   }
-  return total - logs.value();
+  return true;
 }
 
 // The block tridiagonal KKT system of one Newton step (optimal_problem.hpp): block i (1 <= i <=
@@ -899,7 +946,7 @@ bool Solver::centre(double t) {
 }  // namespace
 
 StretchResult solve_stretch(const Grid& grid, std::size_t first, std::size_t last, const std::vector<double>& b0,
-                            const std::vector<double>& a0, int max_linearisations) {
+                            const std::vector<double>& a0, int max_linearisations, std::size_t parallel_cells) {
   const std::size_t n = last - first;
   StretchResult out;
   // units: the starting profile's largest speed and acceleration
@@ -914,7 +961,7 @@ StretchResult solve_stretch(const Grid& grid, std::size_t first, std::size_t las
     out.a = a0;
     return out;
   }
-  Stretch problem(grid, first, last, v_ref, a_ref);
+  Stretch problem(grid, first, last, v_ref, a_ref, parallel_cells);
   std::vector<double> b(n + 1, 0.0);
   std::vector<double> a(n + 1, 0.0);
   std::vector<double> lin(n + 1, 0.0);

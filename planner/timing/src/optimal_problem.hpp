@@ -71,8 +71,9 @@ struct StretchResult {
 // same motion run slower) as far as it takes to hold every constraint strictly, then optimised.
 // `max_linearisations` bounds the sequential convex programming. The result holds every
 // constraint at the nodes; converged is false (and the result the scaled start) when no scale
-// of the start holds them.
+// of the start holds them. A stretch of at least `parallel_cells` cells is evaluated on two
+// threads (TimingOptions::parallel_cells).
 StretchResult solve_stretch(const Grid& grid, std::size_t first, std::size_t last, const std::vector<double>& b0,
-                            const std::vector<double>& a0, int max_linearisations);
+                            const std::vector<double>& a0, int max_linearisations, std::size_t parallel_cells);
 
 }  // namespace blendbench::timing_detail

@@ -330,6 +330,27 @@ TEST(OptimalTiming, LocalSlowDownsOnALongStretchHoldEveryLimitAndCostNoMoreThanR
   EXPECT_LT(local.cycle_time, 0.8 * seed004.cycle_time);
 }
 
+TEST(OptimalTiming, ALongStretchEvaluatedOnTwoThreadsPlansAsOnOne) {
+  // the 300-line CAM path (some 1400 cells) with the two-thread evaluation from 64 cells on,
+  // against one thread: the halves change only the order of the sums, so the plans agree to
+  // the solver's tolerance, and both hold every limit (the threads write disjoint derivatives:
+  // the sanitizer build runs this too)
+  const Path path = cam_path(300);
+  TimingOptions options;
+  options.dt = 2e-3;
+  options.parallel_cells = std::numeric_limits<std::size_t>::max();
+  const Timing one = plan_with(path, options, Algorithm::kOptimal);
+  options.parallel_cells = 64;
+  const Timing two = plan_with(path, options, Algorithm::kOptimal);
+  for (const Timing* t : {&one, &two}) {
+    EXPECT_TRUE(t->outcome.ok()) << t->outcome.message;
+    (void)test::expect_cartesian_valid(path, *t, std::nullopt, "cam_path(300)");
+    EXPECT_EQ(t->seed004_stretches, 0);
+  }
+  std::printf("300 CAM lines: one thread %.9f s, two %.9f s\n", one.cycle_time, two.cycle_time);
+  EXPECT_NEAR(two.cycle_time, one.cycle_time, 1e-4 * one.cycle_time);
+}
+
 TEST(OptimalTiming, PropertyLocalSlowDownsHoldEveryLimitOnRandomPaths) {
   // every stretch of more than 8 nodes slowed locally: the same checks as on the re-solved plans
   // (20 cases, about 13 s; 40 measured 0.967 .. 1.005 against the re-solves)

@@ -51,6 +51,11 @@ struct TimingOptions {
   // split (optimal.cpp). Each solve costs some 100-250 Newton steps whatever the size, so on a
   // long stretch the re-solves were half the planning time. The tests set it to compare both.
   std::size_t local_refinement_nodes = 3000;
+  // kOptimal only: a stretch of at least this many grid cells evaluates its barrier function
+  // and derivatives (three quarters of each Newton step) in two halves on two threads. The
+  // halves depend on the size alone, so the plan does not depend on the cores there are; the
+  // tests lower it to compare both ways on a short path.
+  std::size_t parallel_cells = 4096;
 };
 
 // One servo tick: time (s), arc length (m), path velocity (m/s), tangential acceleration
