@@ -7,8 +7,9 @@ usage: /usr/bin/python3 plot_papers.py DIR PAPER     (PAPER: 004, 000 or 002)
 and writes velocity.png (path speed over time, cf. the paper's figs. 4, 12, 20), curvature.png
 (curvature along the path, cf. figs. 10, 19), table2.png (curvature and sharpness of the two
 fillets of table 2, cf. fig. 17) and path.png (Listing 1 with the fillets, cf. figs. 9, 18).
-000: reads DIR/profile_<run>.csv and writes velocity.png (speed and tangential acceleration over
-time, cf. figs. 16, 17) and path.png (the program in 3D, cf. fig. 15).
+000: reads DIR/profile_<run>.csv and DIR/profile_<run>_optimal.csv and writes velocity.png (speed
+and tangential acceleration over time under seed 004's and the optimal planner, cf. figs. 16, 17)
+and path.png (the program in 3D, cf. fig. 15).
 002: reads DIR/results.json and DIR/trace_<curve>.csv and writes following_error.png (each joint's
 drive following error around the corner per curve, cf. fig. 18) and path.png (the TCP near the
 corner and its tracking error along the path, cf. fig. 17).
@@ -114,10 +115,15 @@ def plot_000(d):
         profiles[name] = p
         ax1.plot(p["t"], p["v"], color=color, label=f"{label}: {p['t'][-1]:.2f} s")
         ax2.plot(p["t"], p["a"], color=color)
+        # the same path timed by the optimal planner, dashed beside seed 004's
+        q = read_csv(os.path.join(d, f"profile_{name}_optimal.csv"))
+        ax1.plot(q["t"], q["v"], color=color, ls="--", lw=1.0, label=f"  optimal planner: {q['t'][-1]:.2f} s")
+        ax2.plot(q["t"], q["a"], color=color, ls="--", lw=1.0)
     ax1.set_ylabel("path speed [mm/s]")
     ax2.set_ylabel("tangential acc. [mm/s²]")
     ax2.set_xlabel("time [s]")
-    ax1.set_title("000 section 3.2 program: 50 mm/s, 100 mm/s², 200 mm/s³ (cf. figs. 16, 17)", fontsize=10)
+    ax1.set_title("000 section 3.2 program: 50 mm/s, 100 mm/s², 200 mm/s³ (cf. figs. 16, 17);\n"
+                  "solid: seed 004's planner, dashed: the optimal planner", fontsize=10)
     ax1.legend(fontsize=8)
     ax1.grid(alpha=0.3)
     ax2.grid(alpha=0.3)

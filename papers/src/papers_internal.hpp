@@ -57,6 +57,10 @@ int shrunk(const Path& path);
 // Transition pieces of a run, and those whose peak velocity is bound by the programmed feed.
 std::pair<int, int> fillet_pieces_at_feed(const PlannedRun& run);
 
+// The label of a row that shows `run`'s optimal plan beside the row `label` of its seed 004 plan:
+// "<label>, optimal planner", plus how many stretches between stops kept seed 004's motion.
+std::string optimal_label(const std::string& label, const PlannedRun& run);
+
 // Listing 1 (scenarios/parts/listing1.ngc) in metres, with `transition` on every move and the
 // limits of the seed 004 (Shahzadeh et al.) experiments (paper_004.cpp).
 Program listing1(const Transition& transition);

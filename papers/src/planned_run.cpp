@@ -7,7 +7,9 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 #include <utility>
+#include <vector>
 
 #include "blendbench/corner/blend.hpp"
 #include "blendbench/timing/scurve.hpp"
@@ -93,6 +95,17 @@ std::pair<int, int> fillet_pieces_at_feed(const PlannedRun& run) {
   return {at_feed, all};
 }
 
+std::string optimal_label(const std::string& label, const PlannedRun& run) {
+  std::string out = label + ", optimal planner";
+  // where the optimal planner kept seed 004's motion on a stretch between stops (its own was not
+  // found there, or was not faster), the row says so
+  if (run.optimal.seed004_stretches > 0) {
+    out += " (seed 004's motion kept on " + std::to_string(run.optimal.seed004_stretches) + " stretch" +
+           (run.optimal.seed004_stretches == 1 ? "" : "es") + " between stops)";
+  }
+  return out;
+}
+
 }  // namespace papers_detail
 
 bool Figure::within_print_rounding() const {
@@ -119,11 +132,23 @@ PlannedRun plan_run(std::string name, std::string description, Program program, 
   // the sources' own model: tangential limits and eq. 25-27 of seed 004 (the paper tables compare
   // with it), not the vectors on the TCP that runs default to
   options.limits = LimitsMode::kPath;
-  run.timing = plan_timing(run.path, options);
-  if (!run.timing.outcome.ok()) {
-    throw std::runtime_error("reproduction '" + run.name + "': planning failed: " + run.timing.outcome.message);
-  }
-  run.margins = profile_margins(run.path, run.timing, handover_zones(run.path, options));
+  // seed 004's planner for the comparison with the papers, the optimal one beside it: in kPath
+  // both hold the same rules (eq. 25-27, kappa v^2, the kink and curvature-step junction bounds;
+  // timing.hpp), so the optimal plan is the faster one unless it keeps seed 004's motion
+  const auto plan = [&](TimingOptions::Algorithm algorithm) {
+    options.algorithm = algorithm;
+    Timing timing = plan_timing(run.path, options);
+    if (!timing.outcome.ok()) {
+      throw std::runtime_error("reproduction '" + run.name + "' (" + std::string(algorithm_name(algorithm)) +
+                               " planner): planning failed: " + timing.outcome.message);
+    }
+    return timing;
+  };
+  const std::vector<HandoverZone> zones = handover_zones(run.path, options);
+  run.timing = plan(TimingOptions::Algorithm::kSeed004);
+  run.margins = profile_margins(run.path, run.timing, zones);
+  run.optimal = plan(TimingOptions::Algorithm::kOptimal);
+  run.optimal_margins = profile_margins(run.path, run.optimal, zones);
   run.fillets = fillet_count(run.path);
   return run;
 }

@@ -53,27 +53,37 @@ nlohmann::json corner_summary(const Path& path) {
           {"limited_by_jerk_eq26", f.jerk_bound}};
 }
 
+nlohmann::json margins_json(const ProfileMargins& m) {
+  return {{"velocity", m.velocity},
+          {"tangential_acceleration", m.tangential_acceleration},
+          {"tangential_jerk", m.tangential_jerk},
+          {"normal_acceleration", m.normal_acceleration},
+          {"eq24_jerk", m.eq24_jerk},
+          {"axis_acceleration", m.axis_acceleration},
+          {"axis_jerk", m.axis_jerk},
+          {"axis_jerk_time_s", m.axis_jerk_time},
+          {"axis_jerk_s_mm", m.axis_jerk_s / kMm},
+          {"axis_jerk_over_time_s", m.axis_jerk_over_time}};
+}
+
+// Per run: seed 004's plan at the top level (as before issue 43), the optimal planner's in the
+// "optimal" block with the same keys, and the bound both are measured against.
 nlohmann::json runs_json(const std::vector<PlannedRun>& runs) {
   nlohmann::json out = nlohmann::json::array();
   for (const PlannedRun& r : runs) {
-    const ProfileMargins& m = r.margins;
     out.push_back({{"name", r.name},
                    {"description", r.description},
                    {"cycle_time_s", r.timing.cycle_time},
+                   {"bound_cycle_time_s", r.timing.bound_cycle_time},
                    {"path_length_mm", r.path.length() / kMm},
                    {"feed_share", r.timing.feed_share},
                    {"fillets", r.fillets},
-                   {"margins",
-                    {{"velocity", m.velocity},
-                     {"tangential_acceleration", m.tangential_acceleration},
-                     {"tangential_jerk", m.tangential_jerk},
-                     {"normal_acceleration", m.normal_acceleration},
-                     {"eq24_jerk", m.eq24_jerk},
-                     {"axis_acceleration", m.axis_acceleration},
-                     {"axis_jerk", m.axis_jerk},
-                     {"axis_jerk_time_s", m.axis_jerk_time},
-                     {"axis_jerk_s_mm", m.axis_jerk_s / kMm},
-                     {"axis_jerk_over_time_s", m.axis_jerk_over_time}}},
+                   {"margins", margins_json(r.margins)},
+                   {"optimal",
+                    {{"cycle_time_s", r.optimal.cycle_time},
+                     {"feed_share", r.optimal.feed_share},
+                     {"seed004_stretches", r.optimal.seed004_stretches},
+                     {"margins", margins_json(r.optimal_margins)}}},
                    {"corners", r.path.corners.size() <= kCornersListed ? corners_json(r.path) : corner_summary(r.path)}});
   }
   return out;
@@ -90,11 +100,11 @@ std::string csv_row(std::initializer_list<double> values) {
   return row;
 }
 
-// Every `decimate`-th sample of the timed profile (and the last): t,s,x,y,z,v,a,j,kappa in s,
-// mm, mm/s, mm/s^2, mm/s^3, 1/mm.
-std::string profile_csv(const PlannedRun& r, int decimate) {
+// Every `decimate`-th sample of the timed profile `timing` of run `r` (and the last):
+// t,s,x,y,z,v,a,j,kappa in s, mm, mm/s, mm/s^2, mm/s^3, 1/mm.
+std::string profile_csv(const PlannedRun& r, const Timing& timing, int decimate) {
   std::string out = "t,s,x,y,z,v,a,j,kappa\n";
-  const auto& x = r.timing.samples;
+  const auto& x = timing.samples;
   for (std::size_t k = 0; k < x.size(); ++k) {
     if (k % static_cast<std::size_t>(decimate) != 0 && k + 1 != x.size()) continue;
     const TimedSample& q = x[k];
@@ -178,7 +188,7 @@ int reproduce(const std::string& name, const std::filesystem::path& out_dir, boo
                               {"runs", runs_json(r.runs)}};
     write_file_atomic(dir / "results.json", j.dump(1) + "\n");
     for (const PlannedRun& run : r.runs) {
-      write_file_atomic(dir / ("profile_" + run.name + ".csv"), profile_csv(run, kDecimate004));
+      write_file_atomic(dir / ("profile_" + run.name + ".csv"), profile_csv(run, run.timing, kDecimate004));
       if (run.name == "biclothoid_0.1mm" || run.name == "bezier_0.1mm") {
         write_file_atomic(dir / ("path_" + run.name + ".csv"), curvature_csv(run.path, 0.1 * kMm));
       }
@@ -200,7 +210,8 @@ int reproduce(const std::string& name, const std::filesystem::path& out_dir, boo
                               {"runs", runs_json(r.runs)}};
     write_file_atomic(dir / "results.json", j.dump(1) + "\n");
     for (const PlannedRun& run : r.runs) {
-      write_file_atomic(dir / ("profile_" + run.name + ".csv"), profile_csv(run, kDecimate000));
+      write_file_atomic(dir / ("profile_" + run.name + ".csv"), profile_csv(run, run.timing, kDecimate000));
+      write_file_atomic(dir / ("profile_" + run.name + "_optimal.csv"), profile_csv(run, run.optimal, kDecimate000));
     }
     write_file_atomic(dir / "README.md", markdown_000(r));
     if (plots) plots_ok = plot(dir, "000", log) && plots_ok;

@@ -49,18 +49,24 @@ struct FigureTable {
   [[nodiscard]] const Figure& at(std::string_view key) const;
 };
 
-// One planned program: what it is, its path, its timing and the checks of its profile.
+// One planned program: what it is, its path, its timings and the checks of their profiles.
+// `timing` is seed 004's planner (TimingOptions::Algorithm::kSeed004), the one the papers'
+// figures are compared with; `optimal` is the same path under the same options planned by the
+// optimal (minimum-time, jerk-limited) planner, shown beside it (issue 43).
 struct PlannedRun {
   std::string name;         // file-name friendly, e.g. "biclothoid_0.1mm"
   std::string description;  // one line for the report
   Program program;
   Path path;
   Timing timing;
-  ProfileMargins margins;  // profile_margins (timing/profile_margins.hpp)
+  ProfileMargins margins;  // profile_margins (timing/profile_margins.hpp) of `timing`
+  Timing optimal;
+  ProfileMargins optimal_margins;  // of `optimal`
   int fillets = 0;  // corners replaced by a transition curve of non-zero length
 };
 
-// Plans `program` (blend, then plan_timing with dt = 1 ms and the given baseline) and checks it.
+// Plans `program` (blend, then plan_timing with dt = 1 ms, the path limits mode and the given
+// baseline, once with seed 004's planner and once with the optimal one) and checks both profiles.
 // Throws std::runtime_error when the planner reports a failure (the reproductions expect none).
 PlannedRun plan_run(std::string name, std::string description, Program program,
                     TimingOptions::Baseline baseline = TimingOptions::Baseline::kNone);
@@ -71,8 +77,12 @@ struct Paper004 {
   FigureTable section5;  // keys c1, s1, s2, x_end, y_end
   FigureTable table1;    // keys S1S2|S3S4|S5S6 . sharpness|kappa_max|feed_max
   FigureTable table2;    // keys biclothoid|bezier . length|kappa_max|sharpness_max|feed_max, time_ratio
-  FigureTable table3;    // keys biclothoid_0.1|biclothoid_0.01|bezier_0.1|bezier_0.01 . fillets|cycle_time, chords_0.1, chords_0.01
-  FigureTable section3;  // keys unlimited, junction_slowdown, exact_stop, ratio
+  // keys biclothoid_0.1|biclothoid_0.01|bezier_0.1|bezier_0.01 . fillets|cycle_time|cycle_time_optimal,
+  // chords_0.1, chords_0.01
+  FigureTable table3;
+  // keys unlimited, junction_slowdown, junction_slowdown_optimal, exact_stop, exact_stop_optimal,
+  // ratio, ratio_optimal
+  FigureTable section3;
   double table2_deviation = 0;         // m: the biclothoid's deviation on the 150 degree corner
   double table2_bezier_deviation = 0;  // m: the Bezier's, with TP chosen to match
   double table2_bezier_tp = 0;         // m
@@ -86,7 +96,9 @@ Paper004 reproduce_004();
 // 100 mm/s^2, 200 mm/s^3 with TP 5 mm, with and without transitions (the program is ours: the
 // paper shows it only in a figure; scenarios/papers/000_section_3_2.yaml).
 struct Paper000 {
-  FigureTable section3_2;  // keys with, without, ratio, with_tangential, without_tangential, ratio_tangential, with_tp20
+  // keys with, with_optimal, without, without_optimal, ratio, ratio_optimal, with_tangential,
+  // without_tangential, ratio_tangential, with_tp20, with_tp20_optimal
+  FigureTable section3_2;
   FigureTable corners;     // per corner (ours only): corner<k>.length|deviation|kappa_max|sharpness_max|feed_max|...
   std::vector<PlannedRun> runs;  // bezier_tp5, exact_stop, bezier_tp20
 };
