@@ -86,6 +86,11 @@ constexpr int kMaxSlowdowns = 8;
 // share (the optimum on a finer grid cannot lose to a feasible plan; the grid's can, by its
 // resolution).
 constexpr double kSeedPreference = 0.0;
+// A solved stretch whose motion is slower than seed 004's unchecked one by more than this factor
+// is not used (seed 004's settled motion is at most some 6 % slower than its unchecked one: its
+// largest excess on the shipped scenarios is 1.19 J, and the jerk scales with the cube of the
+// speed).
+constexpr double kMostSlowerThanSeed = 1.5;
 constexpr double kSlowdownMargin = 1e-10;
 // The most the node spacing in seed 004's time is stretched where seed 004 is slower than the bound.
 constexpr double kMaxSpacingStretch = 4;
@@ -540,8 +545,13 @@ Timing plan_optimal(const Path& path, const TimingOptions& options) {
       std::copy(res.b_lin.begin(), res.b_lin.end(), lin.begin() + static_cast<std::ptrdiff_t>(first));
       std::copy(res.a_lin.begin(), res.a_lin.end(), lin_a.begin() + static_cast<std::ptrdiff_t>(first));
       st.solved = make_motion(grid, first, last, b, a, lin, lin_a, st.cells);
-      // the optimiser's motion where it is at least as fast as seed 004's
-      st.optimal = st.solved && st.own_duration() <= (st.seed_t1 - st.seed_t0) * (1 + kSeedPreference);
+      // the optimiser's motion unless it is far slower than seed 004's (a motion the grid cannot
+      // represent: seen on a random path whose last cell, 0.1 mm from a junction's near-zero
+      // speed bound to the end, ran as one constant-jerk stop of 9e10 s). The choice between the
+      // two at the end compares them both settled; here seed 004's has not been checked yet and
+      // may be the faster by breaking a rule the optimiser holds (curvature steps).
+      const double motion = st.cells.empty() ? 0.0 : st.cells.back().t0 + st.cells.back().duration;
+      st.optimal = st.solved && motion <= (st.seed_t1 - st.seed_t0) * kMostSlowerThanSeed;
     }
     timing.iterations += linearisations;
     chain(stretches);

@@ -251,6 +251,26 @@ TEST(OptimalTiming, PropertyRandomPathsNeverLoseToSeed004AndHoldEveryLimit) {
   EXPECT_LT(best_ratio, 0.99);
 }
 
+TEST(OptimalTiming, AStretchTheGridCannotRepresentFallsBackToSeed004) {
+  // case 390 of the property above (found with BLENDBENCH_PROPERTY_CASES=2000): the optimiser's
+  // motion ran the last 0.1 mm, from a junction's near-zero speed bound to the end, as one
+  // constant-jerk stop of 9e10 s, and sampling it at the servo period threw std::bad_alloc; such
+  // a motion is not used, and the plan is seed 004's
+  const auto seed = static_cast<std::uint64_t>(43000390);
+  auto rng = test::make_rng(seed);
+  const Path path = with_steps_allowed(test::random_path(rng));
+  TimingOptions options;
+  options.baseline = static_cast<TimingOptions::Baseline>(390 % 3);
+  const Timing optimal = plan_with(path, options, Algorithm::kOptimal);
+  const Timing seed004 = plan_with(path, options, Algorithm::kSeed004);
+  const std::string where = test::seed_text(seed);
+  ASSERT_TRUE(optimal.outcome.ok()) << where << ": " << optimal.outcome.message;
+  EXPECT_LE(optimal.cycle_time, seed004.cycle_time * (1 + kGridShare)) << where;
+  EXPECT_GE(optimal.cycle_time, optimal.bound_cycle_time * (1 - 1e-9)) << where;
+  (void)test::expect_cartesian_valid(path, optimal, std::nullopt, where);
+  expect_rest_at_stops(path, optimal, options.baseline, where);
+}
+
 TEST(OptimalTiming, EveryShippedScenarioVariantIsAtMostSeed004sAndHoldsItsLimits) {
   int profiles = 0;
   std::size_t variant_index = 0;
