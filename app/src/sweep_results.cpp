@@ -371,8 +371,35 @@ std::string best_csv(const SweepPlan& plan, const SweepTable& table) {
   return out;
 }
 
+namespace {
+
+// A column of numbers (the page, the terminal): each with the same decimals, enough for three significant
+// digits of its smallest non-zero magnitude (0 to 6), so 0.8710605408 over 12.5 reads 0.871 over
+// 12.500. Cells that are not numbers stay as they are.
+void fix_decimals(std::vector<std::vector<std::string>>& cells, std::size_t column) {
+  double smallest = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 1; k < cells.size(); ++k) {
+    if (column >= cells[k].size() || cells[k][column].empty()) continue;
+    char* end = nullptr;
+    const double v = std::strtod(cells[k][column].c_str(), &end);
+    if (end == cells[k][column].c_str() || *end != '\0' || !std::isfinite(v)) return;  // not a number column
+    if (v != 0) smallest = std::min(smallest, std::abs(v));
+  }
+  int decimals = std::isfinite(smallest) ? std::clamp(2 - static_cast<int>(std::floor(std::log10(smallest))), 0, 6) : 0;
+  // times in s to the ms, as everywhere else (a cycle time of 1.854 s is not 1.85)
+  if (cells.front()[column].ends_with("_s")) decimals = std::max(decimals, 3);
+  for (std::size_t k = 1; k < cells.size(); ++k) {
+    if (column >= cells[k].size() || cells[k][column].empty()) continue;
+    cells[k][column] = format_fixed(std::strtod(cells[k][column].c_str(), nullptr), decimals);
+  }
+}
+
+}  // namespace
+
 std::string best_text(const SweepPlan& plan, const SweepTable& table) {
-  const std::vector<std::vector<std::string>> cells = best_cells(plan, table);
+  std::vector<std::vector<std::string>> cells = best_cells(plan, table);
+  // the metrics' columns in one count of decimals each (best.csv keeps every digit)
+  for (std::size_t c = 3 + plan.spec.axes.size(); c < cells.front().size(); ++c) fix_decimals(cells, c);
   std::vector<std::size_t> width(cells.front().size(), 0);
   for (const auto& line : cells) {
     for (std::size_t i = 0; i < line.size(); ++i) width[i] = std::max(width[i], line[i].size());
@@ -404,25 +431,6 @@ std::string best_text(const SweepPlan& plan, const SweepTable& table) {
 }
 
 namespace {
-
-// A column of numbers for the page: each with the same decimals, enough for three significant
-// digits of its smallest non-zero magnitude (0 to 6), so 0.8710605408 over 12.5 reads 0.871 over
-// 12.500. Cells that are not numbers stay as they are.
-void fix_decimals(std::vector<std::vector<std::string>>& cells, std::size_t column) {
-  double smallest = std::numeric_limits<double>::infinity();
-  for (std::size_t k = 1; k < cells.size(); ++k) {
-    if (column >= cells[k].size() || cells[k][column].empty()) continue;
-    char* end = nullptr;
-    const double v = std::strtod(cells[k][column].c_str(), &end);
-    if (end == cells[k][column].c_str() || *end != '\0' || !std::isfinite(v)) return;  // not a number column
-    if (v != 0) smallest = std::min(smallest, std::abs(v));
-  }
-  const int decimals = std::isfinite(smallest) ? std::clamp(2 - static_cast<int>(std::floor(std::log10(smallest))), 0, 6) : 0;
-  for (std::size_t k = 1; k < cells.size(); ++k) {
-    if (column >= cells[k].size() || cells[k][column].empty()) continue;
-    cells[k][column] = format_fixed(std::strtod(cells[k][column].c_str(), nullptr), decimals);
-  }
-}
 
 // A header that may break after each '_' (a long key does not widen the table past the page).
 std::string breakable(const std::string& key) {
