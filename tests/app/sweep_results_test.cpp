@@ -226,5 +226,20 @@ TEST(Table, CsvHasTheNamedColumnsAndEmptyCellsForMissingMetrics) {
   EXPECT_NE(html.find("data:image/png;base64,UE5H"), std::string::npos);
 }
 
+TEST(Table, TheBestSettingsTextReadsEachMetricInOneCountOfDecimals) {
+  // two methods whose metrics differ in magnitude: every cell of a column gets the decimals of
+  // three significant digits of its smallest value, a time in s at least the ms; best.csv keeps
+  // every digit
+  const SweepPlan plan = plan_of(1, {"a", "b"});
+  const SweepTable t = table_of(plan, {ok_outcome({entry("a", "arc", 1.8541234, 0.8710605408), entry("b", "bezier", 12.5, 0.0622486)})});
+  const std::string text = best_text(plan, t);
+  EXPECT_NE(text.find(" 1.854 "), std::string::npos) << text;
+  EXPECT_NE(text.find(" 12.500 "), std::string::npos) << text;
+  EXPECT_NE(text.find(" 0.8711"), std::string::npos) << text;
+  EXPECT_NE(text.find(" 0.0622"), std::string::npos) << text;
+  EXPECT_EQ(text.find("0.8710605408"), std::string::npos) << text;
+  EXPECT_NE(best_csv(plan, t).find("0.8710605408"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace blendbench
