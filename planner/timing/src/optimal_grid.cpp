@@ -30,7 +30,7 @@ constexpr double kNodesPerJerkPhase = 12;
 // brakes to 20-50 mm/s there under J = 50 m/s^3) and 12 % on a random path (seed 43100002: an arc
 // of 3.7 mm under J = 2.7 m/s^3, A / J = 0.55 s, crossed at 10-20 mm/s in 0.3 s, got 4 cells);
 // with 1 the worst was 0.50 % (arc_10mm), with 0.5 it is 0.23 %, and the default scenario's
-// variants plan in 0.54 times the time in all (fewer refinement rounds; docs/timing.md).
+// variants plan in 0.59 times the time in all (fewer refinement rounds; docs/timing.md).
 constexpr double kSlowPhase = 0.5;
 // A junction whose bound on v^2 is below this share of its pieces' own (feed, curvature) is the
 // profile's slowest point there, with a = 0 (GridNode::pinned).
@@ -243,7 +243,8 @@ void fill_middles(Grid& grid, const Path& path, const TimingOptions& options, co
 double piece_spacing(const PathPiece& piece, const TimingOptions& options, double v) {
   const Limits& lim = piece.limits;
   // (v infinite: the full jerk phase; v = 0: the floor of half a period)
-  const double phase = std::min(std::min(lim.acceleration, lim.deceleration) / lim.jerk, kSlowPhase * std::sqrt(std::max(v, 0.0) / lim.jerk));
+  const double full = std::min(lim.acceleration, lim.deceleration) / lim.jerk;
+  const double phase = std::min(full, kSlowPhase * std::sqrt(std::max(v, 0.0) / lim.jerk));
   return std::clamp(phase / kNodesPerJerkPhase, 0.5 * options.dt, std::max(kMaxNodeTime, 0.5 * options.dt));
 }
 

@@ -269,7 +269,8 @@ TEST(OptimalTiming, EveryShippedScenarioVariantIsAtMostSeed004sAndHoldsItsLimits
       EXPECT_TRUE(optimal.outcome.ok()) << where << ": " << optimal.outcome.message;
       // an optimum cannot lose to a feasible plan: seed 004's is one unless it breaks the vector
       // jerk across a limited curvature step (1.19 J at most, measured), which the optimal plan
-      // holds; there it may be slower (the default's arc_0.5mm: 6.037 s against 5.999 s)
+      // holds; there it may be slower (the default's arc_0.5mm was, 6.037 s against 5.999 s, before
+      // the grid's spacing at low speed; now 5.991 s)
       const bool seed004_feasible =
           options.limits == LimitsMode::kPath || jerk_across_limited_steps(path, seed004) <= 1 + 1e-6;
       if (seed004_feasible) {
