@@ -21,12 +21,30 @@ constexpr double kMaxNodeTime = 0.05;
 // Nodes per jerk phase: the profile's tangential acceleration is linear in s between nodes, and a
 // jerk phase (A / J in time) spans this many cells.
 constexpr double kNodesPerJerkPhase = 12;
+// Where the profile is slow the phases it can use are shorter than A / J: a jerk-limited change
+// of the speed by v (from a = 0 back to a = 0) takes 2 sqrt(v / J) when v < A^2 / J, so the jerk
+// phase the grid spaces its nodes by is the shorter of A / J and this factor times sqrt(v / J)
+// at the starting profile's speed v (a quarter of the time of doubling the speed). Measured
+// against the same problem on a 4x finer grid (optimal_test, AFourTimesFinerGrid...): with A / J
+// alone the grid lost 0.7-0.9 % near the default scenario's limited curvature steps (the profile
+// brakes to 20-50 mm/s there under J = 50 m/s^3) and 12 % on a random path (seed 43100002: an arc
+// of 3.7 mm under J = 2.7 m/s^3, A / J = 0.55 s, crossed at 10-20 mm/s in 0.3 s, got 4 cells);
+// with 1 the worst was 0.50 % (arc_10mm), with 0.5 it is 0.23 %, and the default scenario's
+// variants plan in 0.59 times the time in all (fewer refinement rounds; docs/timing.md).
+constexpr double kSlowPhase = 0.5;
 // A junction whose bound on v^2 is below this share of its pieces' own (feed, curvature) is the
 // profile's slowest point there, with a = 0 (GridNode::pinned).
 constexpr double kPinShare = 1e-4;
-// The least time (in units of tau, of the starting profile) between a time mark and a
-// mandatory one.
+// The least time (in units of its spacing, of the starting profile) between a time mark and a
+// mandatory one ...
 constexpr double kMinTimeGap = 0.5;
+// ... where its spacing counts as at least this share of its piece's at full speed: where the
+// starting profile creeps (next to a junction's tiny speed bound) a gap of the spacing at its
+// own speed left cells so short that the barrier method's first centring never reached its
+// equalities on the CAM contour's clothoid_points (15,968 nodes, which then fell back to seed
+// 004's plan, 17.38 s against 11.98); at 1/2 it converges there, and the grid agrees with the
+// 4x finer one within 0.23 % (1/4: 0.66 % on seed 43100002; 1: 0.37 % on bezier_0.5mm).
+constexpr double kLeastGapShare = 0.5;
 // Every stretch between two rests gets at least this many cells: the first and last are the
 // constant-jerk cells at the rests, and a cell between them carries the rest.
 constexpr std::size_t kMinCells = 4;
@@ -54,6 +72,8 @@ struct Mark {
   bool mandatory = false;
   bool rest = false;
   int joint = -1;  // index into prepared.joints at a junction
+  double spacing = 0;       // s, a time mark's own spacing (piece_spacing at the starting profile's speed)
+  double full_spacing = 0;  // s, and its piece's at full speed (a jerk phase of A / J)
 };
 
 NodeSide make_side(Grid& grid, const Path& path, const TimingOptions& options, std::size_t k, double local) {
@@ -220,9 +240,11 @@ void fill_middles(Grid& grid, const Path& path, const TimingOptions& options, co
   }
 }
 
-double piece_spacing(const PathPiece& piece, const TimingOptions& options) {
+double piece_spacing(const PathPiece& piece, const TimingOptions& options, double v) {
   const Limits& lim = piece.limits;
-  const double phase = std::min(lim.acceleration, lim.deceleration) / lim.jerk;
+  // (v infinite: the full jerk phase; v = 0: the floor of half a period)
+  const double full = std::min(lim.acceleration, lim.deceleration) / lim.jerk;
+  const double phase = std::min(full, kSlowPhase * std::sqrt(std::max(v, 0.0) / lim.jerk));
   return std::clamp(phase / kNodesPerJerkPhase, 0.5 * options.dt, std::max(kMaxNodeTime, 0.5 * options.dt));
 }
 
@@ -255,9 +277,8 @@ Grid build_grid(const Path& path, const TimingOptions& options, const Prepared& 
     const double len = length(segment);
     for (int i = 1; i < parts && len > 0; ++i) marks.push_back({path.offset(k) + len * i / parts, 0.0, true, false, -1});
   }
-  // time marks: every tau of the piece under the starting profile (its own jerk phase's share)
-  std::vector<double> piece_tau(pieces.size(), tau);
-  for (std::size_t k = 0; k < pieces.size(); ++k) piece_tau[k] = std::max(tau, stretch * piece_spacing(pieces[k], options));
+  // time marks: every piece_spacing of the piece at the starting profile's speed there (a share of
+  // its jerk phase at that speed), each with its own spacing for the gap rule below
   {
     double t = 0;
     std::size_t piece = 0;
@@ -266,17 +287,19 @@ Grid build_grid(const Path& path, const TimingOptions& options, const Prepared& 
       for (t = std::max(t, sp.t0); t < end;) {
         const double s = sp.s0 + sp.curve.at(t - sp.t0).s;
         while (piece + 1 < pieces.size() && path.offset(piece + 1) <= s) ++piece;
-        if (s > 0 && s < length_total) marks.push_back({s, t, false, false, -1});
-        t += piece_tau[piece];
+        const double spacing = std::max(tau, stretch * piece_spacing(pieces[piece], options, sp.curve.at(t - sp.t0).v));
+        const double full = std::max(tau, stretch * piece_spacing(pieces[piece], options, kInf));
+        if (s > 0 && s < length_total) marks.push_back({s, t, false, false, -1, spacing, full});
+        t += spacing;
       }
     }
   }
   std::sort(marks.begin(), marks.end(), [](const Mark& a, const Mark& b) {
     return a.s != b.s ? a.s < b.s : a.mandatory > b.mandatory;
   });
-  // a time mark closer than kMinTimeGap tau (in the starting profile's time) to a mandatory one
-  // is dropped: near a rest the starting profile creeps, and the marks there would make cells of
-  // nanometres
+  // a time mark closer than kMinTimeGap times its spacing (in the starting profile's time, and
+  // kLeastGapShare of its piece's at full speed at least) to a mandatory one is dropped: near a
+  // rest the starting profile creeps, and the marks there would make cells of nanometres
   {
     std::size_t span = 0;
     for (Mark& m : marks) {
@@ -297,7 +320,7 @@ Grid build_grid(const Path& path, const TimingOptions& options, const Prepared& 
         before = m.t;
         return false;
       }
-      const double gap = kMinTimeGap * piece_tau[path.locate(m.s).piece];
+      const double gap = kMinTimeGap * std::max(m.spacing, kLeastGapShare * m.full_spacing);
       return m.t - before < gap || next - m.t < gap;
     });
   }

@@ -4,8 +4,9 @@
 //
 // Nodes: both ends of the path, every junction between pieces of non-zero length, the ends of
 // the hand-over zones (where the feed term changes), kBezierCells equal parts of every Bezier
-// (whose curvature peaks inside), and in between one node every `tau` of the starting profile's
-// time (grid_spacing), so that a jerk phase spans several cells. A node at a stop is a rest:
+// (whose curvature peaks inside), and in between one node every piece_spacing of the starting
+// profile's time (a share of the jerk phase at the speed there), so that a jerk phase spans
+// several cells. A node at a stop is a rest:
 // the path is cut there into stretches from rest to rest, each optimised on its own.
 //
 // Each node has a side for the cell before it and one for the cell after it: the geometry and
@@ -89,10 +90,10 @@ struct Grid {
   double dt = 0;
 };
 
-// The node spacing in time (s) the grid aims at on a piece: a share of its jerk phase
-// (min(acceleration, deceleration) / jerk), at least half a servo period and at most
-// kMaxNodeTime.
-double piece_spacing(const PathPiece& piece, const TimingOptions& options);
+// The node spacing in time (s) the grid aims at on a piece where the profile runs at speed v (m/s):
+// a share of its jerk phase (min(acceleration, deceleration) / jerk, shorter at low speed:
+// kSlowPhase sqrt(v / jerk)), at least half a servo period and at most kMaxNodeTime.
+double piece_spacing(const PathPiece& piece, const TimingOptions& options, double v);
 
 // Builds the grid of `path` (validated; `prepared` from prepare(), its joints and zones) with
 // one node every piece_spacing times `stretch` (at least `tau`, s) of the profile `start` (seed
