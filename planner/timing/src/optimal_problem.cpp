@@ -24,8 +24,9 @@ using Vec2 = Eigen::Vector2d;
 // kGapShare of the time.
 constexpr double kStartGapShare = 0.1;
 // kGapShare/kBarrierGrowth measured (BM_CamPlan/2000 and the default scenario's variants, 7
-// December 2026): against 1e-7 and 8, these take 120 Newton steps instead of 211 on the CAM
-// contour and 0.21 s instead of 1.31 s on arc_0.5mm, the planned times within 0.013 %: a
+// December 2026, before the grid's spacing at low speed changed both problems): against 1e-7
+// and 8, these take 120 Newton steps instead of 211 on the CAM contour and 0.21 s instead of
+// 1.31 s on arc_0.5mm, the planned times within 0.013 %: a
 // smaller growth leaves each centring's start closer to its central point, so fewer of its
 // steps are cut short by the one node nearest a constraint (the step length is global), and a
 // gap of 1e-4 of the time (the most the time can lie above the subproblem's optimum) is well
