@@ -75,9 +75,10 @@ struct ProfileCheck {
 
 // Checks the samples against every limit the optimal plan holds (optimal_problem.hpp), in the
 // options' mode: feed; cartesian: |a| and |j| as vectors (analytic from v, a_t, j_t and the
-// path's frame) and per axis, and by second and third differences of the sampled x, y, z (the
-// stencils that cross a kink, or a curvature step that is allowed, skipped); path: the
-// tangential limits, eq. 25-27 and the finite differences of s; the tool's angular velocity,
+// path's frame) and per axis, and by first, second and third differences of the sampled x, y, z
+// (the second and third differences' stencils that cross a kink, or a curvature step that is
+// allowed, skipped); path: the tangential limits, eq. 25-27 and the first to third differences
+// of s; the tool's angular velocity,
 // acceleration and jerk where it rotates.
 ProfileCheck check_samples(const Path& path, const TimingOptions& options, const Prepared& prepared,
                            const std::vector<TimedSample>& samples);

@@ -271,6 +271,23 @@ TEST(OptimalTiming, AStretchTheGridCannotRepresentFallsBackToSeed004) {
   expect_rest_at_stops(path, optimal, options.baseline, where);
 }
 
+TEST(OptimalTiming, TheMeanSpeedOverEveryPeriodHoldsTheFeed) {
+  // case 1655 of the property above (path mode; found with BLENDBENCH_PROPERTY_CASES=2000): every
+  // sample's speed held the feed, but the motion bulged above it between two samples, and their
+  // first difference read 0.433437 m/s against the feed's 0.433436; the planner now checks the
+  // first differences too (as it did the second and third)
+  const auto seed = static_cast<std::uint64_t>(43001655);
+  auto rng = test::make_rng(seed);
+  const Path path = with_steps_allowed(test::random_path(rng));
+  TimingOptions options;
+  options.baseline = static_cast<TimingOptions::Baseline>(1655 % 3);
+  options.limits = LimitsMode::kPath;
+  const Timing optimal = plan_with(path, options, Algorithm::kOptimal);
+  const std::string where = test::seed_text(seed);
+  ASSERT_TRUE(optimal.outcome.ok()) << where << ": " << optimal.outcome.message;
+  (void)test::expect_valid(path, optimal, where + " path mode", options);
+}
+
 TEST(OptimalTiming, EveryShippedScenarioVariantIsAtMostSeed004sAndHoldsItsLimits) {
   int profiles = 0;
   std::size_t variant_index = 0;
