@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
+#include <system_error>
 #include <thread>
 
 #include <Eigen/Dense>
@@ -455,10 +457,16 @@ double Stretch::evaluate(const std::vector<double>& b, const std::vector<double>
   std::array<double, 3> total{0, 0, 0};
   std::array<LogSum, 3> logs;
   std::array<bool, 3> inside{false, false, false};
+  const auto upper_half = [&] {
+    inside[1] = evaluate_part<kDerivatives>(b, a, t, d, m + 1, n, m + 2, n, total[1], logs[1]);
+  };
   {
-    std::jthread upper([&] {
-      inside[1] = evaluate_part<kDerivatives>(b, a, t, d, m + 1, n, m + 2, n, total[1], logs[1]);
-    });
+    std::optional<std::jthread> upper;
+    try {
+      upper.emplace(upper_half);
+    } catch (const std::system_error&) {
+      upper_half();  // no thread to be had: the same sums on this one
+    }
     inside[0] = evaluate_part<kDerivatives>(b, a, t, d, 0, m - 1, 1, m - 1, total[0], logs[0]);
   }
   inside[2] = inside[0] && inside[1] && evaluate_part<kDerivatives>(b, a, t, d, m - 1, m + 1, m - 1, m + 2, total[2], logs[2]);
