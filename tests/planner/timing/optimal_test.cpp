@@ -196,6 +196,31 @@ TEST(OptimalTiming, AnArcWithItsCurvatureStepsAllowedRunsAtTheFeed) {
   (void)test::expect_cartesian_valid(path, timing, std::nullopt, "arc, steps allowed");
 }
 
+// Case i of the random-path property below: its path (every curvature step allowed: seed 004's
+// plan is then feasible under the optimal plan's rules; under `limit` it is not, its third
+// differences reading up to 1.13 J across a step, which the optimal plan holds to J; the
+// scenarios' test below compares those) and the options the case's index chooses.
+struct RandomCase {
+  std::string where;
+  Path path;
+  TimingOptions options;
+};
+RandomCase random_case(int i) {
+  const auto seed = static_cast<std::uint64_t>(43000000 + i);
+  auto rng = test::make_rng(seed);
+  RandomCase c{test::seed_text(seed), with_steps_allowed(test::random_path(rng)), TimingOptions{}};
+  c.options.baseline = static_cast<TimingOptions::Baseline>(i % 3);
+  c.options.limits = i % 4 == 3 ? LimitsMode::kPath : LimitsMode::kCartesian;
+  if (c.options.limits == LimitsMode::kCartesian && i % 2 == 1) {
+    c.options.axis_limits = AxisLimits{};
+    for (int a = 0; a < 3; ++a) {
+      c.options.axis_limits->acceleration[a] = test::log_uniform(rng, 0.1, 50.0);
+      c.options.axis_limits->jerk[a] = test::log_uniform(rng, 1.0, 5000.0);
+    }
+  }
+  return c;
+}
+
 TEST(OptimalTiming, PropertyRandomPathsNeverLoseToSeed004AndHoldEveryLimit) {
   // 40 cases by default (about 30 s: each case plans twice and checks every sample); 300 pass
   // with BLENDBENCH_PROPERTY_CASES=300 (measured at the commit that added this test)
@@ -203,23 +228,10 @@ TEST(OptimalTiming, PropertyRandomPathsNeverLoseToSeed004AndHoldEveryLimit) {
   double worst_ratio = 0;  // optimal / seed004
   double best_ratio = 2;
   for (int i = 0; i < cases; ++i) {
-    const auto seed = static_cast<std::uint64_t>(43000000 + i);
-    auto rng = test::make_rng(seed);
-    // every curvature step allowed: seed 004's plan is then feasible under the optimal plan's
-    // rules (under `limit` it is not: its third differences read up to 1.13 J across a step,
-    // which the optimal plan holds to J; the scenarios' test below compares those)
-    const Path path = with_steps_allowed(test::random_path(rng));
-    TimingOptions options;
-    options.baseline = static_cast<TimingOptions::Baseline>(i % 3);
-    options.limits = i % 4 == 3 ? LimitsMode::kPath : LimitsMode::kCartesian;
-    if (options.limits == LimitsMode::kCartesian && i % 2 == 1) {
-      options.axis_limits = AxisLimits{};
-      for (int a = 0; a < 3; ++a) {
-        options.axis_limits->acceleration[a] = test::log_uniform(rng, 0.1, 50.0);
-        options.axis_limits->jerk[a] = test::log_uniform(rng, 1.0, 5000.0);
-      }
-    }
-    const std::string where = test::seed_text(seed);
+    const RandomCase c = random_case(i);
+    const Path& path = c.path;
+    const TimingOptions& options = c.options;
+    const std::string& where = c.where;
     const Timing optimal = plan_with(path, options, Algorithm::kOptimal);
     const Timing seed004 = plan_with(path, options, Algorithm::kSeed004);
     EXPECT_TRUE(optimal.outcome.ok()) << where << ": " << optimal.outcome.message;
@@ -256,19 +268,16 @@ TEST(OptimalTiming, AStretchTheGridCannotRepresentFallsBackToSeed004) {
   // motion ran the last 0.1 mm, from a junction's near-zero speed bound to the end, as one
   // constant-jerk stop of 9e10 s, and sampling it at the servo period threw std::bad_alloc; such
   // a motion is not used, and the plan is seed 004's
-  const auto seed = static_cast<std::uint64_t>(43000390);
-  auto rng = test::make_rng(seed);
-  const Path path = with_steps_allowed(test::random_path(rng));
-  TimingOptions options;
-  options.baseline = static_cast<TimingOptions::Baseline>(390 % 3);
-  const Timing optimal = plan_with(path, options, Algorithm::kOptimal);
-  const Timing seed004 = plan_with(path, options, Algorithm::kSeed004);
-  const std::string where = test::seed_text(seed);
+  const RandomCase c = random_case(390);
+  const Path& path = c.path;
+  const std::string& where = c.where;
+  const Timing optimal = plan_with(path, c.options, Algorithm::kOptimal);
+  const Timing seed004 = plan_with(path, c.options, Algorithm::kSeed004);
   ASSERT_TRUE(optimal.outcome.ok()) << where << ": " << optimal.outcome.message;
   EXPECT_LE(optimal.cycle_time, seed004.cycle_time * (1 + kGridShare)) << where;
   EXPECT_GE(optimal.cycle_time, optimal.bound_cycle_time * (1 - 1e-9)) << where;
   (void)test::expect_cartesian_valid(path, optimal, std::nullopt, where);
-  expect_rest_at_stops(path, optimal, options.baseline, where);
+  expect_rest_at_stops(path, optimal, c.options.baseline, where);
 }
 
 TEST(OptimalTiming, TheMeanSpeedOverEveryPeriodHoldsTheFeed) {
@@ -276,16 +285,12 @@ TEST(OptimalTiming, TheMeanSpeedOverEveryPeriodHoldsTheFeed) {
   // sample's speed held the feed, but the motion bulged above it between two samples, and their
   // first difference read 0.433437 m/s against the feed's 0.433436; the planner now checks the
   // first differences too (as it did the second and third)
-  const auto seed = static_cast<std::uint64_t>(43001655);
-  auto rng = test::make_rng(seed);
-  const Path path = with_steps_allowed(test::random_path(rng));
-  TimingOptions options;
-  options.baseline = static_cast<TimingOptions::Baseline>(1655 % 3);
-  options.limits = LimitsMode::kPath;
-  const Timing optimal = plan_with(path, options, Algorithm::kOptimal);
-  const std::string where = test::seed_text(seed);
+  const RandomCase c = random_case(1655);
+  const Path& path = c.path;
+  const std::string& where = c.where;
+  const Timing optimal = plan_with(path, c.options, Algorithm::kOptimal);
   ASSERT_TRUE(optimal.outcome.ok()) << where << ": " << optimal.outcome.message;
-  (void)test::expect_valid(path, optimal, where + " path mode", options);
+  (void)test::expect_valid(path, optimal, where + " path mode", c.options);
 }
 
 TEST(OptimalTiming, EveryShippedScenarioVariantIsAtMostSeed004sAndHoldsItsLimits) {
