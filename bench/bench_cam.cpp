@@ -55,7 +55,7 @@ Program sampled_program(const Curve& curve, double t_end, int n, bool closed) {
     const double share = s[next] > s[j] ? (target - s[j]) / (s[next] - s[j]) : 0.0;
     points.push_back(rounded(dense[j] + share * (dense[next] - dense[j])));
   }
-  if (closed) points.back() = points.front();
+  if (closed && points.size() > 1) points.back() = points.front();
   Program program;
   for (std::size_t k = 0; k + 1 < points.size(); ++k) {
     Move& move = program.moves.emplace_back();
