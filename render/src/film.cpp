@@ -565,7 +565,9 @@ struct CompareVideo::Impl {
     char where[96];
     std::snprintf(where, sizeof where, "(%.1f, %.1f, %.1f) mm", p.x(), p.y(), p.z());
     const std::string error = fixed(corner.contour_error / kMm, 3) + " mm";
-    const std::string number = "C" + std::to_string(corner.index);
+    // (appended, not "C" + ...: GCC 12 warns -Wrestrict on that concatenation, a false positive)
+    std::string number = "C";
+    number += std::to_string(corner.index);
     const auto named = settings.corner_names.find(corner.index);
     const std::string name = named != settings.corner_names.end() ? named->second : number;
     draw_header({"worst corner " + name + " at " + std::string(where) + ": contour error up to " + error +
