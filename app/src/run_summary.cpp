@@ -111,7 +111,6 @@ nlohmann::json metrics_json(const Metrics& m) {
   return {
       {"cycle_time_s", m.cycle_time ? nlohmann::json(*m.cycle_time) : nlohmann::json()},
       {"settled", m.cycle_time.has_value()},
-      {"settled_sample_s", m.settled_sample_time ? nlohmann::json(*m.settled_sample_time) : nlohmann::json()},
       {"tracking_error_max_mm", m.tracking_error_max / kMm},
       {"tracking_error_rms_mm", m.tracking_error_rms / kMm},
       {"orientation_error_max_deg", m.orientation_error_max / kDeg},
@@ -269,8 +268,7 @@ nlohmann::json ranking_json(const Ranking& r) {
             {"model_spread", r.spread_used},
             {"rule", rule},
             {"source", r.spread_used ? "the sensitivity runs (the arm model's stated uncertainty) and the setpoint grid"
-                                     : "two setpoint periods (the settle instant is interpolated between setpoint samples on the "
-                                       "residual oscillation's envelope; a period or two of sampling remains) and the "
+                                     : "two setpoint periods (each settle instant lies on the setpoint grid) and the "
                                        "regression gate's cycle-time tolerance (results/baselines/tolerances.json, "
                                        "metrics.cycle_time_s); no sensitivity run"}}},
           {"constraints",

@@ -707,9 +707,7 @@ def report_html(run_dir, summary, variants, frame=None):
            f"compensation {on_off(s['deflection_compensation'])}; velocity-loop bandwidth "
            + ", ".join(f"{b:.1f}" for b in s["velocity_bandwidth_hz"])
            + f" Hz per joint. Settled: within {sim['settle_tolerance_mm']:g} mm and "
-           f"{sim['settle_speed_tolerance_mm_s']:g} mm/s for {sim['settle_window_s']:g} s after the reference ends; "
-           "the cycle time is the instant the residual oscillation's envelope falls within both, interpolated "
-           "between setpoint samples. "
+           f"{sim['settle_speed_tolerance_mm_s']:g} mm/s for {sim['settle_window_s']:g} s after the reference ends. "
            f"Residual vibration: tracking error high-passed at {sim['vibration_highpass_hz']:g} Hz, peak-to-peak in "
            f"{sim['vibration_window_s']:g} s windows.</p>")
     unreached, reached = tolerance_notes(summary)

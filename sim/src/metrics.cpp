@@ -74,60 +74,6 @@ std::vector<double> component(const std::vector<Vec3>& v, int c) {
   return out;
 }
 
-// The instant one settle ratio r (at most 1 within its tolerance) at times t on a uniform grid
-// falls through 1 for good: `first` is the first sample at or after the reference's end, [from,
-// until) the run of settled samples (both ratios) that lasts the settle window. Where r was at
-// most 1 from `first` on: that instant. Otherwise the oscillation's envelope is followed across
-// the tolerance: the highest sample of the last excursion over it and the next local maximum of
-// r (each refined by the parabola through its neighbours) are two peaks of the decaying
-// oscillation, and r = 1 is found between them on the exponential through both (exact for a
-// damped oscillation, whose peaks lie on one); where a refined peak in the run still lies over
-// the tolerance, the crossing is sought after it. Where the run holds no later maximum (a creep
-// with no oscillation), r = 1 is found on the line between the last sample over the tolerance
-// and the first within it.
-//
-// (The first sample of the settled run alone, Metrics::settled_sample_time, moves by up to half a
-// period of the oscillation when a peak's height crosses the tolerance: plans changed by a few
-// ppm moved measured cycles by 24-30 ms. The envelope's crossing moves with the peaks' heights.)
-double settle_instant(const std::vector<double>& r, const std::vector<double>& t, std::size_t first, std::size_t from,
-                      std::size_t until) {
-  std::size_t over = from;  // one past the last sample over the tolerance
-  while (over > first && !(r[over - 1] > 1)) --over;
-  if (over == first) return t[first];
-  const std::size_t last = over - 1;  // r[last] > 1
-  from = over;
-  std::size_t top = last;             // the highest sample of the excursion that ends at `last`
-  for (std::size_t k = last; k > first && r[k - 1] > 1; --k) {
-    if (r[k - 1] > r[top]) top = k - 1;
-  }
-  // (time, height) of the parabola's vertex through a sample and its neighbours
-  const auto peak = [&](std::size_t k) -> std::pair<double, double> {
-    if (k == 0 || k + 1 >= r.size()) return {t[k], r[k]};
-    const double a = r[k - 1];
-    const double b = r[k];
-    const double c = r[k + 1];
-    const double curvature = a - 2 * b + c;
-    if (!(b >= a && b >= c) || !(curvature < 0)) return {t[k], b};
-    const double x = 0.5 * (a - c) / curvature;  // within half a sample
-    return {t[k] + x * (t[k + 1] - t[k]), b - 0.25 * (a - c) * x};
-  };
-  // the peaks after the excursion's top, in turn, until one (refined) lies within the tolerance (a
-  // vertex between samples may still lie over it where every sample is within)
-  std::pair<double, double> over_peak = peak(top);  // height > 1
-  for (std::size_t k = from; k + 1 < until; ++k) {
-    if (!(r[k] >= r[k - 1] && r[k] > r[k + 1])) continue;
-    const auto [t2, p2] = peak(k);
-    if (p2 > 1) {
-      over_peak = {t2, p2};
-      continue;
-    }
-    const auto [t1, p1] = over_peak;
-    if (p2 > 0 && t2 > t1) return std::max(t[first], t1 + (t2 - t1) * std::log(p1) / std::log(p1 / p2));
-    break;
-  }
-  return t[last] + (t[from] - t[last]) * (r[last] - 1) / (r[last] - r[from]);
-}
-
 // Peak and RMS of |x'''| by central third differences (x[k+2] - 2x[k+1] + 2x[k-1] - x[k-2]) /
 // (2 dt^3) over samples k with t_k <= t_end; the magnitudes per sample go to `each` when given.
 std::pair<double, double> jerk_peak_rms(const std::vector<Vec3>& x, const std::vector<double>& t, double t_end,
@@ -308,29 +254,17 @@ Metrics compute_metrics(const Trace& trace, const Program& program, const Path& 
     const std::size_t a = k > 0 ? k - 1 : k, b = k + 1 < n ? k + 1 : k;
     if (b > a) m.tcp_speed[k] = (actual[b] - actual[a]).norm() / (t[b] - t[a]);
   }
-  // settle ratios, each at most 1 within its tolerance: the distance and the speed (each a
-  // decaying oscillation of its own, with its own peaks: the cycle time is the later of their
-  // crossings, settle_instant)
-  std::vector<double> r(n), r_distance(n), r_speed(n);
-  for (std::size_t k = 0; k < n; ++k) {
-    r_distance[k] = (actual[k] - options.end_point).norm() / options.settle_tolerance;
-    r_speed[k] = m.tcp_speed[k] / options.settle_speed_tolerance;
-    r[k] = std::max(r_distance[k], r_speed[k]);
-  }
-  std::size_t first = n;      // the first sample at or after the reference's end
   std::size_t run_start = n;  // first sample of the current run of settled samples
   for (std::size_t k = 0; k < n; ++k) {
-    if (!(t[k] >= t_end - 1e-12)) continue;
-    first = std::min(first, k);
-    if (!(r[k] <= 1)) {
+    const bool settled = t[k] >= t_end - 1e-12 && (actual[k] - options.end_point).norm() <= options.settle_tolerance &&
+                         m.tcp_speed[k] <= options.settle_speed_tolerance;
+    if (!settled) {
       run_start = n;
       continue;
     }
     if (run_start == n) run_start = k;
     if (t[k] - t[run_start] >= options.settle_window - 1e-9) {
-      m.settled_sample_time = t[run_start];
-      m.cycle_time = std::max(settle_instant(r_distance, t, first, run_start, k + 1),
-                              settle_instant(r_speed, t, first, run_start, k + 1));
+      m.cycle_time = t[run_start];
       break;
     }
   }

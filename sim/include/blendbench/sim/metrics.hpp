@@ -77,17 +77,9 @@ struct Vibration {
 };
 
 struct Metrics {
-  // the instant the TCP settles after the reference has ended: where it stays settled for the
-  // settle window from the first sample at or after the reference's end, that sample's time;
-  // otherwise the instant its settle ratio (the larger of distance / settle_tolerance and speed /
-  // settle_speed_tolerance) falls through 1, on the envelope of its decaying oscillation
-  // (metrics.cpp, settle_instant): a continuous function of the motion, not a sample's time.
-  // Empty when it does not settle within the simulated time.
+  // first instant after the reference has ended from which the TCP stays settled for the settle
+  // window; empty when it does not within the simulated time
   std::optional<double> cycle_time;
-  // the first sample (its time) from which the TCP stays settled for the settle window: the
-  // definition on the setpoint grid, which jumps by half an oscillation period when a peak's
-  // height crosses the tolerance (empty when cycle_time is)
-  std::optional<double> settled_sample_time;
   // over the motion only (the reference running: t <= reference end)
   double tracking_error_max = 0;     // m: |actual TCP - commanded TCP| at the same instant
   double tracking_error_rms = 0;     // m
