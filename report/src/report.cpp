@@ -102,7 +102,8 @@ nlohmann::json corner_json(const CornerReport& c) {
 }
 
 std::string corner_name(int index, const SourceRef& source) {
-  std::string name = "C" + std::to_string(index);
+  const std::string number = std::to_string(index);  // (named: GCC 12's -Wrestrict on "C" + a temporary)
+  std::string name = "C" + number;
   if (source.line <= 0) return name;
   const std::string file = std::filesystem::path(source.file).filename().string();
   return name + (file.empty() ? " (line " + std::to_string(source.line) + ")" : " (" + file + ":" + std::to_string(source.line) + ")");

@@ -215,8 +215,9 @@ TEST(UrdfModel, EveryEstimatedBodyIsValidWhateverItsLength) {
     };
     std::string parent = "base_link";
     for (int i = 1; i <= 6; ++i) {
-      const std::string child = "l" + std::to_string(i);
-      text += "<joint name='j" + std::to_string(i) + "' type='revolute'><parent link='" + parent + "'/><child link='" + child +
+      const std::string number = std::to_string(i);  // (named: GCC 12's -Wrestrict on "l" + a temporary)
+      const std::string child = "l" + number;
+      text += "<joint name='j" + number + "' type='revolute'><parent link='" + parent + "'/><child link='" + child +
               "'/><origin xyz='" + offset() + "' rpy='" + rpy() + "'/><axis xyz='" +
               axes[static_cast<int>(test::uniform(rng, 0, 2.999))] +
               "'/><limit effort='0' lower='-2' upper='2' velocity='3'/></joint>";

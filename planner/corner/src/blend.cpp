@@ -208,8 +208,9 @@ Path blend_moves(const Program& program, const std::vector<std::size_t>& program
     corner.out_available = b_shared ? 0.5 * lengths[k + 1] : lengths[k + 1];
     corner.spec = a.transition;
     corner.buffer = a.buffer;
-    corner.name = "C" + std::to_string(program_corner.empty() ? k : program_corner[k]) + " (" + move_name(program, k) +
-                  " -> " + move_name(program, k + 1) + ")";
+    // (the number named first: GCC 12 warns -Wrestrict on "C" + a temporary, a false positive)
+    const std::string number = std::to_string(program_corner.empty() ? k : program_corner[k]);
+    corner.name = "C" + number + " (" + move_name(program, k) + " -> " + move_name(program, k + 1) + ")";
     corner.where = a.where;
     CornerFit fit = fit_corner(corner);
     if (fit.outcome.ok()) {

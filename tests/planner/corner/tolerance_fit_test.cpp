@@ -175,7 +175,9 @@ TEST(ToleranceFit, LineLineClosedFormsAreTheDeviation) {
       const double dense = independent_deviation(c, fit);
       EXPECT_NEAR(dense, tol, 1e-9 * tol + kIndependentAgreement * corner_size(fit)) << to_string(method) << " " << deg;
       EXPECT_LE(corner_deviation(fit, c.in, c.out), tol);
-      if (method == Method::kArc) EXPECT_NEAR(fit.parameter_used, tol / std::tan(theta / 4), 1e-9 * fit.parameter_used);
+      if (method == Method::kArc) {
+        EXPECT_NEAR(fit.parameter_used, tol / std::tan(theta / 4), 1e-9 * fit.parameter_used);
+      }
       if (method == Method::kBezier) {
         EXPECT_NEAR(fit.parameter_used, 4 * tol / std::sin(theta / 2), 1e-9 * fit.parameter_used);
       }
