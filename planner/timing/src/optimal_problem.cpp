@@ -55,8 +55,9 @@ constexpr double kStepGrowth = 2;
 constexpr int kMaxBacktracks = 60;
 // The linearisations stop when one gains less than this share of the time.
 constexpr double kLinearisationTol = 1e-6;
-// The start, once inside every constraint, is run slower by this factor (b and a alike: every
-// constraint holds with a margin of some 1 - kStartShrink of its limit). The starting profile
+// The start, once inside every constraint, has its b and a scaled by this factor (the same motion
+// at sqrt(0.7) = 0.84 of its speed: every constraint then holds with a margin of at least
+// 1 - kStartShrink of its limit). The starting profile
 // (seed 004's) lies on its limits along much of the path, and from a point that close to the
 // barrier's boundary the first centring's global step was cut to a few percent for most of its
 // steps. Measured on the 10^4-line CAM contour (BM_CamPlan, 46,693 nodes; 7 December 2026): the
