@@ -1019,20 +1019,21 @@ StretchResult solve_stretch(const Grid& grid, std::size_t first, std::size_t las
   std::vector<double> ta(n + 1, 0.0);
   // (relinearise: at each scale tried, the linearisation moves there too, as for the start,
   // whose own speed may sit on a bound the linearisation takes as given elsewhere)
-  const auto scale_inside = [&](std::vector<double>& pb, std::vector<double>& pa, bool relinearise = false) {
-    for (const double scale : kStartScales) {
-      for (std::size_t i = 1; i < n; ++i) {
-        tb[i] = scale * pb[i];
-        ta[i] = scale * pa[i];
-      }
-      if (relinearise) problem.linearise(tb, ta);
-      if (std::isfinite(problem.value(tb, ta, 1.0))) {
-        pb.swap(tb);
-        pa.swap(ta);
-        return true;
-      }
+  // (pb, pa) scaled by `scale` where that holds every constraint strictly; true then
+  const auto try_scale = [&](std::vector<double>& pb, std::vector<double>& pa, double scale, bool relinearise) {
+    for (std::size_t i = 1; i < n; ++i) {
+      tb[i] = scale * pb[i];
+      ta[i] = scale * pa[i];
     }
-    return false;
+    if (relinearise) problem.linearise(tb, ta);
+    if (!std::isfinite(problem.value(tb, ta, 1.0))) return false;
+    pb.swap(tb);
+    pa.swap(ta);
+    return true;
+  };
+  const auto scale_inside = [&](std::vector<double>& pb, std::vector<double>& pa, bool relinearise = false) {
+    return std::any_of(kStartScales.begin(), kStartScales.end(),
+                       [&](double scale) { return try_scale(pb, pa, scale, relinearise); });
   };
   for (std::size_t i = 1; i < n; ++i) {
     b[i] = b0[i] / (v_ref * v_ref);
@@ -1060,18 +1061,9 @@ StretchResult solve_stretch(const Grid& grid, std::size_t first, std::size_t las
     if (!repaired) break;
   }
   const bool inside = scale_inside(b, a, true);
-  if (inside) {
-    // (every constraint is homogeneous in (b, a) or has a bound that loosens as b falls, so
-    // the slower start is inside as well; kept only if it is)
-    for (std::size_t i = 1; i < n; ++i) {
-      tb[i] = kStartShrink * b[i];
-      ta[i] = kStartShrink * a[i];
-    }
-    if (std::isfinite(problem.value(tb, ta, 1.0))) {
-      b.swap(tb);
-      a.swap(ta);
-    }
-  }
+  // (every constraint is homogeneous in (b, a) or has a bound that loosens as b falls, so the
+  // slower start is inside as well; kept only if it is)
+  if (inside) try_scale(b, a, kStartShrink, false);
   const auto to_si = [&] {
     out.b.assign(n + 1, 0.0);
     out.a.assign(n + 1, 0.0);

@@ -351,6 +351,13 @@ TEST(OptimalTiming, EveryShippedScenarioVariantIsAtMostSeed004sAndHoldsItsLimits
 // a biclothoid of 0.05 mm: one stretch, some 4.7 grid nodes a line.
 Path cam_path(int n) { return blend(test::cam_program(n)); }
 
+// A plan of cam_path(300): planned, every limit held on its samples, no stretch on seed 004's motion.
+void expect_cam_plan_valid(const Path& path, const Timing& t) {
+  EXPECT_TRUE(t.outcome.ok()) << t.outcome.message;
+  (void)test::expect_cartesian_valid(path, t, std::nullopt, "cam_path(300)");
+  EXPECT_EQ(t.seed004_stretches, 0);
+}
+
 TEST(OptimalTiming, LocalSlowDownsOnALongStretchHoldEveryLimitAndCostNoMoreThanReSolves) {
   const Path path = cam_path(300);
   TimingOptions options;
@@ -361,10 +368,8 @@ TEST(OptimalTiming, LocalSlowDownsOnALongStretchHoldEveryLimitAndCostNoMoreThanR
   const Timing local = plan_with(path, options, Algorithm::kOptimal);
   const Timing seed004 = plan_with(path, options, Algorithm::kSeed004);
   for (const Timing* t : {&resolved, &local}) {
-    EXPECT_TRUE(t->outcome.ok()) << t->outcome.message;
-    (void)test::expect_cartesian_valid(path, *t, std::nullopt, "cam_path(300)");
+    expect_cam_plan_valid(path, *t);
     expect_within_feed(path, *t, options, "cam_path(300)");
-    EXPECT_EQ(t->seed004_stretches, 0);
   }
   std::printf("300 CAM lines: re-solved %.5f s, slowed locally %.5f s, seed004 %.5f s\n", resolved.cycle_time,
               local.cycle_time, seed004.cycle_time);
@@ -385,11 +390,7 @@ TEST(OptimalTiming, ALongStretchEvaluatedOnTwoThreadsPlansAsOnOne) {
   const Timing one = plan_with(path, options, Algorithm::kOptimal);
   options.parallel_cells = 64;
   const Timing two = plan_with(path, options, Algorithm::kOptimal);
-  for (const Timing* t : {&one, &two}) {
-    EXPECT_TRUE(t->outcome.ok()) << t->outcome.message;
-    (void)test::expect_cartesian_valid(path, *t, std::nullopt, "cam_path(300)");
-    EXPECT_EQ(t->seed004_stretches, 0);
-  }
+  for (const Timing* t : {&one, &two}) expect_cam_plan_valid(path, *t);
   std::printf("300 CAM lines: one thread %.9f s, two %.9f s\n", one.cycle_time, two.cycle_time);
   EXPECT_NEAR(two.cycle_time, one.cycle_time, 1e-4 * one.cycle_time);
 }
