@@ -401,6 +401,7 @@ TEST(OptimalTiming, PropertyLocalSlowDownsHoldEveryLimitOnRandomPaths) {
   const int cases = test::property_cases(20);
   double worst = 0;  // local / re-solved
   double best = 2;
+  std::string worst_where;
   for (int i = 0; i < cases; ++i) {
     const auto seed = static_cast<std::uint64_t>(43200000 + i);
     auto rng = test::make_rng(seed);
@@ -419,14 +420,74 @@ TEST(OptimalTiming, PropertyLocalSlowDownsHoldEveryLimitOnRandomPaths) {
     expect_within_feed(path, local, options, where);
     expect_rest_at_stops(path, local, options.baseline, where);
     if (resolved.cycle_time > 0) {
-      worst = std::max(worst, local.cycle_time / resolved.cycle_time);
-      best = std::min(best, local.cycle_time / resolved.cycle_time);
+      const double ratio = local.cycle_time / resolved.cycle_time;
+      if (ratio > worst) worst_where = where;
+      worst = std::max(worst, ratio);
+      best = std::min(best, ratio);
     }
   }
   std::printf("slowed locally / re-solved over %d random paths: %.6f .. %.6f\n", cases, best, worst);
   // the slow-downs cost little where they are used (a long stretch, and small excesses: a first
   // solve far off is re-solved, kLeastLocalScale)
-  EXPECT_LE(worst, 1.01);
+  EXPECT_LE(worst, 1.01) << "the worst: " << worst_where;
+}
+
+// Case 180 of the property above at BLENDBENCH_PROPERTY_SEED=91000000 (found with 300 cases): a
+// random path of 10 pieces whose third stretch has 3786 nodes and crawls at 0.7 mm/s near a
+// junction's tiny speed bound; its baseline.
+Path case180_path() {
+  std::mt19937_64 rng(43200180 + 91000000);
+  return with_steps_allowed(test::random_path(rng));
+}
+const auto kCase180Baseline = static_cast<TimingOptions::Baseline>(180 % 3);
+
+TEST(OptimalTiming, AReSolveThatStallsKeepsTheLastMotion) {
+  // every stretch re-solved where its samples exceed a limit: the long stretch's re-solve, on
+  // the tightened and split cells, stalls before its equalities hold; it fell back to seed 004's
+  // motion (7.886 s in all, seed004_stretches 1), and now keeps its last motion, settled (as the
+  // default plan, which slows that stretch locally, does), holding every limit
+  const Path path = case180_path();
+  TimingOptions options;
+  options.baseline = kCase180Baseline;
+  const Timing usual = plan_with(path, options, Algorithm::kOptimal);
+  options.local_refinement_nodes = std::numeric_limits<std::size_t>::max();
+  const Timing resolved = plan_with(path, options, Algorithm::kOptimal);
+  ASSERT_TRUE(resolved.outcome.ok()) << resolved.outcome.message;
+  (void)test::expect_cartesian_valid(path, resolved, std::nullopt, "case 180");
+  expect_within_feed(path, resolved, options, "case 180");
+  std::printf("every stretch re-solved %.6f s (%d on seed 004's motion), as usual %.6f s\n", resolved.cycle_time,
+              resolved.seed004_stretches, usual.cycle_time);
+  EXPECT_EQ(resolved.seed004_stretches, 0);
+  EXPECT_LE(resolved.cycle_time, 1.001 * usual.cycle_time);
+}
+
+TEST(OptimalTiming, AfterItsFirstRoundTheSettleAddsLittleToWhatTheSamplesAsk) {
+  // case 180: the long stretch asked 0.24 % of uniform slow-down, and then, on the slower
+  // motion's samples, 1.2 % more at 0.7 mm/s; the settle doubled that share again and the plan
+  // with every stretch slowed locally ran 1.0125 times as long as the usual one (whose re-solve
+  // of a shorter stretch moved this one's samples to where they asked for less). With at most
+  // kSettleExtra more than asked after the first round: 1.0067, every limit held.
+  const Path path = case180_path();
+  TimingOptions options;
+  options.baseline = kCase180Baseline;
+  const Timing resolved = plan_with(path, options, Algorithm::kOptimal);
+  options.local_refinement_nodes = 8;
+  const Timing local = plan_with(path, options, Algorithm::kOptimal);
+  for (const Timing* t : {&resolved, &local}) {
+    ASSERT_TRUE(t->outcome.ok()) << t->outcome.message;
+    (void)test::expect_cartesian_valid(path, *t, std::nullopt, "case 180");
+    expect_within_feed(path, *t, options, "case 180");
+  }
+  std::printf("slowed locally %.6f s, re-solved %.6f s\n", local.cycle_time, resolved.cycle_time);
+  EXPECT_LE(local.cycle_time, 1.01 * resolved.cycle_time);
+  // case 122 of the same run: a sample whose jerk ratio falls by only half of what each slow-down
+  // predicts; asked exactly (no extra), the settle was still 1.1e-7 over after its 8 rounds
+  std::mt19937_64 rng(43200122 + 91000000);
+  const Path slow = with_steps_allowed(test::random_path(rng));
+  options.baseline = static_cast<TimingOptions::Baseline>(122 % 3);
+  const Timing settled = plan_with(slow, options, Algorithm::kOptimal);
+  ASSERT_TRUE(settled.outcome.ok()) << settled.outcome.message;
+  (void)test::expect_cartesian_valid(slow, settled, std::nullopt, "case 122");
 }
 
 // The independent reference: the same problem on a grid 4x as dense, whose plan must hold every
