@@ -23,12 +23,18 @@ export UBSAN_OPTIONS="suppressions=$root/tests/sanitizers/ubsan.supp:print_stack
 # fuzz_one HARNESS: fuzzes one harness; prints its one-line result, or the failure with the
 # reproducer; returns non-zero on a finding
 fuzz_one() {
-  local harness=$1 binary="$build/tests/fuzz/$1" work="$scratch/$1" start=$SECONDS
+  local harness=$1 binary="$build/tests/fuzz/$1" work="$scratch/$1" start=$SECONDS dict=$1 timeout=10
+  # fuzz_plan reads G-code (the reader's dictionary), and its inputs are planned: a second or
+  # more each under the sanitizers
+  if [ "$harness" = fuzz_plan ]; then
+    dict=fuzz_gcode
+    timeout=30
+  fi
   [ -x "$binary" ] || { echo "run_fuzzers: $binary is missing (configure with -DBLENDBENCH_FUZZ=ON)" >&2; return 2; }
   mkdir -p "$work/corpus" "$work/artifacts"
   # -timeout: seconds per input; -rss_limit_mb / -malloc_limit_mb: memory per process / allocation
-  if "$binary" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=1024 \
-       -print_final_stats=1 -dict="$here/$harness.dict" -artifact_prefix="$work/artifacts/" \
+  if "$binary" -max_total_time="$seconds" -timeout="$timeout" -rss_limit_mb=2048 -malloc_limit_mb=1024 \
+       -print_final_stats=1 -dict="$here/$dict.dict" -artifact_prefix="$work/artifacts/" \
        "$work/corpus" "$here/corpus/$harness" >"$work/log.txt" 2>&1 </dev/null; then
     local stats cov
     stats=$(grep -E '^stat::(number_of_executed_units|new_units_added)' "$work/log.txt" | sed 's/stat:://' | tr '\n' ' ' || true)
@@ -50,7 +56,7 @@ fuzz_one() {
 }
 
 # the harnesses, as many at a time as there are cores; each reports when it ends
-harnesses=(fuzz_scenario fuzz_gcode fuzz_sweep fuzz_urdf fuzz_mjcf fuzz_check)
+harnesses=(fuzz_scenario fuzz_gcode fuzz_plan fuzz_sweep fuzz_urdf fuzz_mjcf fuzz_check)
 parallel=$(nproc 2>/dev/null || echo 1)
 status=0
 pids=()
