@@ -461,6 +461,28 @@ TEST(OptimalTiming, AReSolveThatStallsKeepsTheLastMotion) {
   EXPECT_LE(resolved.cycle_time, 1.001 * usual.cycle_time);
 }
 
+TEST(OptimalTiming, AKeptMotionIsSlowedLocally) {
+  // case 177 of PropertyLocalSlowDowns... at BLENDBENCH_PROPERTY_SEED=92000000: a stretch of
+  // 2104 nodes (under local_refinement_nodes) re-solved once, then stalled on its second re-solve
+  // and kept its last motion, whose samples still exceeded the jerk limit where the re-solves
+  // were meant to mend it; slowed uniformly that motion took 2.180 s (seed 004's 2.309 s), with
+  // local slow-downs 1.732 s, as when every stretch is slowed locally
+  std::mt19937_64 rng(43200177 + 92000000);
+  const Path path = with_steps_allowed(test::random_path(rng));
+  TimingOptions options;
+  options.baseline = static_cast<TimingOptions::Baseline>(177 % 3);
+  const Timing usual = plan_with(path, options, Algorithm::kOptimal);
+  options.local_refinement_nodes = 8;
+  const Timing local = plan_with(path, options, Algorithm::kOptimal);
+  for (const Timing* t : {&usual, &local}) {
+    ASSERT_TRUE(t->outcome.ok()) << t->outcome.message;
+    (void)test::expect_cartesian_valid(path, *t, std::nullopt, "case 177");
+    expect_within_feed(path, *t, options, "case 177");
+  }
+  std::printf("as usual %.6f s, every stretch slowed locally %.6f s\n", usual.cycle_time, local.cycle_time);
+  EXPECT_LE(usual.cycle_time, 1.01 * local.cycle_time);
+}
+
 TEST(OptimalTiming, AfterItsFirstRoundTheSettleAddsLittleToWhatTheSamplesAsk) {
   // case 180: the long stretch asked 0.24 % of uniform slow-down, and then, on the slower
   // motion's samples, 1.2 % more at 0.7 mm/s; the settle doubled that share again and the plan
