@@ -532,6 +532,10 @@ Timing plan_optimal(const Path& path, const TimingOptions& options) {
   // 3.-4. solve, sample, check; refine where a limit is exceeded
   ProfileCheck check;
   int fallbacks = 0;
+  // a long stretch is solved once (local_refinement_nodes); it, and a stretch whose re-solve
+  // failed (kept), take what their samples exceed by local slow-downs (4b)
+  const auto long_stretch = [&](const Stretch& st) { return st.last - st.first > options.local_refinement_nodes; };
+  const auto slowed_locally = [&](const Stretch& st) { return st.optimal && (st.kept || long_stretch(st)); };
   for (int round = 0;; ++round) {
     int linearisations = 0;
     for (Stretch& st : stretches) {
@@ -598,7 +602,7 @@ Timing plan_optimal(const Path& path, const TimingOptions& options) {
       if (!st.optimal || st.kept) continue;
       const auto [k0, k1] = sample_range(stretches, r, options.dt, timing.samples.size());
       // a long stretch whose samples are all close enough to the limits is slowed locally (4b)
-      if (st.last - st.first > options.local_refinement_nodes && check.scale(k0, k1) >= kLeastLocalScale) continue;
+      if (long_stretch(st) && check.scale(k0, k1) >= kLeastLocalScale) continue;
       for (std::size_t k = k0; k <= k1; ++k) {
         if (!(check.worst[k] > 1 + kRefineShare)) continue;
         for (std::size_t q = k == 0 ? 0 : k - 1; q <= std::min(k + 2, timing.samples.size() - 1); ++q) {
@@ -681,10 +685,8 @@ Timing plan_optimal(const Path& path, const TimingOptions& options) {
   // push a neighbour over). (A kept stretch slowed uniformly instead ran 1.26 times as long:
   // OptimalTiming.AKeptMotionIsSlowedLocally.)
   std::vector<double> unbumped(stretches.size(), 1.0);  // each stretch's sampled scale before
-  const bool any_long = std::any_of(stretches.begin(), stretches.end(), [&](const Stretch& st) {
-    return st.optimal && (st.kept || st.last - st.first > options.local_refinement_nodes);
-  });
-  for (int pass = 0; any_long; ++pass) {
+  const bool any_local = std::any_of(stretches.begin(), stretches.end(), slowed_locally);
+  for (int pass = 0; any_local; ++pass) {
     chain(stretches);
     std::vector<double> own;
     timing.samples = sample_plan(stretches, start.spans, path.length(), options.dt, &own);
@@ -699,7 +701,7 @@ Timing plan_optimal(const Path& path, const TimingOptions& options) {
     bool added = false;
     for (std::size_t r = 0; r < stretches.size(); ++r) {
       Stretch& st = stretches[r];
-      if (!st.optimal || (!st.kept && st.last - st.first <= options.local_refinement_nodes)) continue;
+      if (!slowed_locally(st)) continue;
       const auto [k0, k1] = sample_range(stretches, r, options.dt, timing.samples.size());
       const double total = st.own_duration();
       double covered = -1;  // the end of the last bump added in this pass

@@ -432,29 +432,48 @@ TEST(OptimalTiming, PropertyLocalSlowDownsHoldEveryLimitOnRandomPaths) {
   EXPECT_LE(worst, 1.01) << "the worst: " << worst_where;
 }
 
-// Case 180 of the property above at BLENDBENCH_PROPERTY_SEED=91000000 (found with 300 cases): a
-// random path of 10 pieces whose third stretch has 3786 nodes and crawls at 0.7 mm/s near a
-// junction's tiny speed bound; its baseline.
-Path case180_path() {
-  std::mt19937_64 rng(43200180 + 91000000);
-  return with_steps_allowed(test::random_path(rng));
+// Case `index` of the property above at BLENDBENCH_PROPERTY_SEED=`offset` (the seed without the
+// environment, so the case replays as found): its path and options, as the property makes them.
+struct PropertyCase {
+  Path path;
+  TimingOptions options;
+  std::string name;
+};
+PropertyCase property_case(int index, std::uint64_t offset) {
+  std::mt19937_64 rng(43200000 + static_cast<std::uint64_t>(index) + offset);
+  PropertyCase out{with_steps_allowed(test::random_path(rng)), {}, "case " + std::to_string(index)};
+  out.options.baseline = static_cast<TimingOptions::Baseline>(index % 3);
+  return out;
 }
-const auto kCase180Baseline = static_cast<TimingOptions::Baseline>(180 % 3);
+// A plan of the case that succeeded and holds every limit.
+void expect_case_plan_valid(const PropertyCase& c, const Timing& t) {
+  ASSERT_TRUE(t.outcome.ok()) << c.name << ": " << t.outcome.message;
+  (void)test::expect_cartesian_valid(c.path, t, std::nullopt, c.name);
+  expect_within_feed(c.path, t, c.options, c.name);
+}
+// The case's usual plan and its plan with every stretch slowed locally (as the property plans
+// them), both valid.
+std::pair<Timing, Timing> usual_and_local(const PropertyCase& c) {
+  TimingOptions local = c.options;
+  local.local_refinement_nodes = 8;
+  std::pair<Timing, Timing> out{plan_with(c.path, c.options, Algorithm::kOptimal), plan_with(c.path, local, Algorithm::kOptimal)};
+  expect_case_plan_valid(c, out.first);
+  expect_case_plan_valid(c, out.second);
+  return out;
+}
+// Case 180 at 91000000 (found with 300 cases): a random path of 10 pieces whose third stretch has
+// 3786 nodes and crawls at 0.7 mm/s near a junction's tiny speed bound.
 
 TEST(OptimalTiming, AReSolveThatStallsKeepsTheLastMotion) {
   // every stretch re-solved where its samples exceed a limit: the long stretch's re-solve, on
   // the tightened and split cells, stalls before its equalities hold; it fell back to seed 004's
   // motion (7.886 s in all, seed004_stretches 1), and now keeps its last motion, settled (as the
   // default plan, which slows that stretch locally, does), holding every limit
-  const Path path = case180_path();
-  TimingOptions options;
-  options.baseline = kCase180Baseline;
-  const Timing usual = plan_with(path, options, Algorithm::kOptimal);
-  options.local_refinement_nodes = std::numeric_limits<std::size_t>::max();
-  const Timing resolved = plan_with(path, options, Algorithm::kOptimal);
-  ASSERT_TRUE(resolved.outcome.ok()) << resolved.outcome.message;
-  (void)test::expect_cartesian_valid(path, resolved, std::nullopt, "case 180");
-  expect_within_feed(path, resolved, options, "case 180");
+  PropertyCase c = property_case(180, 91000000);
+  const Timing usual = plan_with(c.path, c.options, Algorithm::kOptimal);
+  c.options.local_refinement_nodes = std::numeric_limits<std::size_t>::max();
+  const Timing resolved = plan_with(c.path, c.options, Algorithm::kOptimal);
+  expect_case_plan_valid(c, resolved);
   std::printf("every stretch re-solved %.6f s (%d on seed 004's motion), as usual %.6f s\n", resolved.cycle_time,
               resolved.seed004_stretches, usual.cycle_time);
   EXPECT_EQ(resolved.seed004_stretches, 0);
@@ -467,18 +486,7 @@ TEST(OptimalTiming, AKeptMotionIsSlowedLocally) {
   // and kept its last motion, whose samples still exceeded the jerk limit where the re-solves
   // were meant to mend it; slowed uniformly that motion took 2.180 s (seed 004's 2.309 s), with
   // local slow-downs 1.732 s, as when every stretch is slowed locally
-  std::mt19937_64 rng(43200177 + 92000000);
-  const Path path = with_steps_allowed(test::random_path(rng));
-  TimingOptions options;
-  options.baseline = static_cast<TimingOptions::Baseline>(177 % 3);
-  const Timing usual = plan_with(path, options, Algorithm::kOptimal);
-  options.local_refinement_nodes = 8;
-  const Timing local = plan_with(path, options, Algorithm::kOptimal);
-  for (const Timing* t : {&usual, &local}) {
-    ASSERT_TRUE(t->outcome.ok()) << t->outcome.message;
-    (void)test::expect_cartesian_valid(path, *t, std::nullopt, "case 177");
-    expect_within_feed(path, *t, options, "case 177");
-  }
+  const auto [usual, local] = usual_and_local(property_case(177, 92000000));
   std::printf("as usual %.6f s, every stretch slowed locally %.6f s\n", usual.cycle_time, local.cycle_time);
   EXPECT_LE(usual.cycle_time, 1.01 * local.cycle_time);
 }
@@ -489,27 +497,14 @@ TEST(OptimalTiming, AfterItsFirstRoundTheSettleAddsLittleToWhatTheSamplesAsk) {
   // with every stretch slowed locally ran 1.0125 times as long as the usual one (whose re-solve
   // of a shorter stretch moved this one's samples to where they asked for less). With at most
   // kSettleExtra more than asked after the first round: 1.0067, every limit held.
-  const Path path = case180_path();
-  TimingOptions options;
-  options.baseline = kCase180Baseline;
-  const Timing resolved = plan_with(path, options, Algorithm::kOptimal);
-  options.local_refinement_nodes = 8;
-  const Timing local = plan_with(path, options, Algorithm::kOptimal);
-  for (const Timing* t : {&resolved, &local}) {
-    ASSERT_TRUE(t->outcome.ok()) << t->outcome.message;
-    (void)test::expect_cartesian_valid(path, *t, std::nullopt, "case 180");
-    expect_within_feed(path, *t, options, "case 180");
-  }
+  const auto [resolved, local] = usual_and_local(property_case(180, 91000000));
   std::printf("slowed locally %.6f s, re-solved %.6f s\n", local.cycle_time, resolved.cycle_time);
   EXPECT_LE(local.cycle_time, 1.01 * resolved.cycle_time);
   // case 122 of the same run: a sample whose jerk ratio falls by only half of what each slow-down
   // predicts; asked exactly (no extra), the settle was still 1.1e-7 over after its 8 rounds
-  std::mt19937_64 rng(43200122 + 91000000);
-  const Path slow = with_steps_allowed(test::random_path(rng));
-  options.baseline = static_cast<TimingOptions::Baseline>(122 % 3);
-  const Timing settled = plan_with(slow, options, Algorithm::kOptimal);
-  ASSERT_TRUE(settled.outcome.ok()) << settled.outcome.message;
-  (void)test::expect_cartesian_valid(slow, settled, std::nullopt, "case 122");
+  PropertyCase slow = property_case(122, 91000000);
+  slow.options.local_refinement_nodes = 8;
+  expect_case_plan_valid(slow, plan_with(slow.path, slow.options, Algorithm::kOptimal));
 }
 
 // The independent reference: the same problem on a grid 4x as dense, whose plan must hold every
