@@ -708,6 +708,9 @@ Timing plan_optimal(const Path& path, const TimingOptions& options) {
   // OptimalTiming.AKeptMotionIsSlowedLocally.)
   const auto slow_locally = [&](std::vector<Stretch>& plan) {
     std::vector<double> unbumped(plan.size(), 1.0);  // each stretch's sampled scale before
+    // (stretches that come with bumps were slowed by an earlier call, and settled)
+    std::vector<char> bumped_before(plan.size(), 0);
+    for (std::size_t r = 0; r < plan.size(); ++r) bumped_before[r] = plan[r].bumps.empty() ? 0 : 1;
     const bool any_local = std::any_of(plan.begin(), plan.end(), slowed_locally);
     for (int pass = 0; any_local; ++pass) {
       chain(plan);
@@ -776,7 +779,7 @@ Timing plan_optimal(const Path& path, const TimingOptions& options) {
     bool any_uniform = false;
     for (std::size_t r = 0; r < plan.size(); ++r) {
       Stretch& st = uniform[r];
-      if (st.bumps.empty() || !(st.extra > st.own_duration() * (1 / unbumped[r] - 1))) continue;
+      if (bumped_before[r] || st.bumps.empty() || !(st.extra > st.own_duration() * (1 / unbumped[r] - 1))) continue;
       st.bumps.clear();
       st.widest_bump = 0;
       st.extra = 0;
