@@ -263,6 +263,13 @@ struct Stretch {
     return optimal ? (cells.empty() ? 0.0 : cells.back().t0 + cells.back().duration) : seed_t1 - seed_t0;
   }
   [[nodiscard]] double duration() const { return (own_duration() + (optimal ? extra : 0.0)) / gamma; }
+  // Drops every slow-down (uniform and local), as before the settle.
+  void unslow() {
+    gamma = 1;
+    bumps.clear();
+    widest_bump = 0;
+    extra = 0;
+  }
 };
 
 // seed 004's state at its time t (s, v, a, j; global s).
@@ -783,10 +790,7 @@ Timing plan_optimal(const Path& path, const TimingOptions& options) {
     for (std::size_t r = 0; r < plan.size(); ++r) {
       Stretch& st = uniform[r];
       if (bumped_before[r] || st.bumps.empty() || !(st.extra > st.own_duration() * (1 / unbumped[r] - 1))) continue;
-      st.bumps.clear();
-      st.widest_bump = 0;
-      st.extra = 0;
-      st.gamma = 1;
+      st.unslow();
       any_uniform = true;
     }
     if (any_uniform) take_faster(plan, uniform);
@@ -803,10 +807,7 @@ Timing plan_optimal(const Path& path, const TimingOptions& options) {
       if (st.first_motion.empty()) continue;
       st.cells = st.first_motion;
       st.optimal = st.kept = true;
-      st.gamma = 1;
-      st.bumps.clear();
-      st.widest_bump = 0;
-      st.extra = 0;
+      st.unslow();
     }
     slow_locally(first_plan);
     take_faster(stretches, first_plan);
@@ -814,32 +815,27 @@ Timing plan_optimal(const Path& path, const TimingOptions& options) {
   std::vector<Stretch> seed_plan = stretches;
   for (Stretch& st : seed_plan) {
     st.optimal = false;
-    st.gamma = 1;
-    st.bumps.clear();
-    st.extra = 0;
+    st.unslow();
   }
   settle(seed_plan);
-  for (std::size_t r = 0; r < stretches.size(); ++r) {
-    if (stretches[r].optimal && stretches[r].duration() <= seed_plan[r].duration() * (1 + kSeedPreference)) continue;
-    stretches[r] = seed_plan[r];
-  }
-  // (the samples and their check are the last plan settled: settle the chosen one again, which
-  // resamples it even where nothing was switched)
-  settle(stretches);
-  // A switch moves the starts of the stretches after it, and their samples then fall at other
-  // points of their motions: near a crawl that can find far more to slow down (a random path's
-  // stretch ran 1.663 s settled, 1.932 s after an earlier stretch switched and it started 80 us
-  // sooner, where seed 004's motion took 1.672 s; BLENDBENCH_PROPERTY_SEED=98000000, case 68 of
-  // PropertyLocalSlowDowns..., OptimalTiming.ASwitchToSeed004sMotionLeavesNoLaterStretchSlower).
-  // Such a stretch takes seed 004's motion too, and the plan is settled again.
-  for (int round = 0; round < kMaxSwitchRounds; ++round) {
+  // each stretch runs the faster of its motion and seed 004's (where the optimiser found none,
+  // seed 004's), and the plan is settled again. A switch moves the starts of the stretches after
+  // it, and their samples then fall at other points of their motions: near a crawl that can find
+  // far more to slow down (a random path's stretch ran 1.663 s settled, 1.932 s after an earlier
+  // stretch switched and it started 80 us sooner, where seed 004's motion took 1.672 s;
+  // BLENDBENCH_PROPERTY_SEED=98000000, case 68 of PropertyLocalSlowDowns...,
+  // OptimalTiming.ASwitchToSeed004sMotionLeavesNoLaterStretchSlower). So the choice is made again
+  // after each settle, in at most kMaxSwitchRounds more rounds. (The first settle runs even where
+  // nothing was switched: the samples and their check are the last plan settled, seed 004's.)
+  for (int round = 0; round <= kMaxSwitchRounds; ++round) {
     bool switched = false;
     for (std::size_t r = 0; r < stretches.size(); ++r) {
-      if (!stretches[r].optimal || stretches[r].duration() <= seed_plan[r].duration() * (1 + kSeedPreference)) continue;
-      stretches[r] = seed_plan[r];
-      switched = true;
+      Stretch& st = stretches[r];
+      if (st.optimal ? st.duration() <= seed_plan[r].duration() * (1 + kSeedPreference) : round > 0) continue;
+      switched = switched || st.optimal;
+      st = seed_plan[r];
     }
-    if (!switched) break;
+    if (round > 0 && !switched) break;
     settle(stretches);
   }
   for (const Stretch& st : stretches) fallbacks += st.optimal ? 0 : 1;
